@@ -1,0 +1,3 @@
+"""Visual and verbal perception of the social robot: detectors, pose, localisation, activity,
+speech, sentiment, requests.
+"""
