@@ -18,7 +18,8 @@ def write_map(tmp_path, pixels, **meta):
 
 
 def test_trinary_thresholds_and_row_order(tmp_path):
-    # Top image row = highest y. p=0 -> occ 1.0; p=254 -> 0.004; p=205 -> 0.1961 (unknown); p=50 -> 0.80.
+    # Top image row = highest y. Occupancy (255 - p) / 255: p=0 -> 1.0; p=254 -> 0.004;
+    # p=205 -> 0.1961 (between the thresholds: unknown); p=50 -> 0.80.
     grid = load_map(write_map(tmp_path, [[0, 254], [205, 50]]))
     assert grid.cells.tolist() == [[UNKNOWN, OCCUPIED], [OCCUPIED, FREE]]
     assert (grid.resolution, grid.origin) == (0.1, (-1.0, 2.0, 0.0))
@@ -50,7 +51,8 @@ def test_missing_key_names_the_key(tmp_path):
 
 def test_save_then_load_round_trip(tmp_path):
     cells = np.array([[FREE, OCCUPIED, UNKNOWN]], dtype=np.int8)
-    save_map(OccupancyMap(cells=cells, resolution=0.05, origin=(1.0, 2.0, 0.0)), tmp_path / "r.yaml")
+    grid = OccupancyMap(cells=cells, resolution=0.05, origin=(1.0, 2.0, 0.0))
+    save_map(grid, tmp_path / "r.yaml")
     again = load_map(tmp_path / "r.yaml")
     assert again.cells.tolist() == cells.tolist() and again.origin == (1.0, 2.0, 0.0)
 

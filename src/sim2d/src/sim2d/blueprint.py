@@ -22,7 +22,8 @@ def render_blueprint(blueprint):
     resolution = float(blueprint["resolution"])
     half = float(blueprint["wall_thickness"]) / 2.0
     cells = np.full((round(depth / resolution), round(width / resolution)), FREE, dtype=np.int8)
-    outline = [[0, 0, width, 0], [0, depth, width, depth], [0, 0, 0, depth], [width, 0, width, depth]]
+    outline = [[0, 0, width, 0], [0, depth, width, depth],
+               [0, 0, 0, depth], [width, 0, width, depth]]
     for x0, y0, x1, y1 in outline + list(blueprint.get("walls", [])):
         _fill(cells, [min(x0, x1) - half, min(y0, y1) - half, max(x0, x1) + half,
                       max(y0, y1) + half], OCCUPIED, resolution)
