@@ -104,9 +104,12 @@ class LaserSensor:
         self.table = table                            # RangeTable or None (ray marching)
         self.rng = np.random.default_rng(seed)
         self.angles = model.beam_angles()
-        self._normal_pool = self.rng.standard_normal(NOISE_POOL + model.num_beams)
-        self._dropout_pool = self.rng.random(NOISE_POOL + model.num_beams) < \
-            model.dropout_probability
+        # pools: N(0, 1) range noise, and 0 or +inf per beam (+inf = dropout, added to a range)
+        self._normal_pool = self.rng.standard_normal(NOISE_POOL + model.num_beams).astype(
+            np.float32)
+        self._dropout_pool = np.where(
+            self.rng.random(NOISE_POOL + model.num_beams) < model.dropout_probability,
+            np.inf, 0.0).astype(np.float32)
         steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
         self._fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
 
@@ -119,12 +122,14 @@ class LaserSensor:
     def true_ranges(self, pose, circles=()):
         """Noise-free ranges [m] from the map (and circular obstacles such as people)."""
         lx, ly, lyaw = self.pose_in_map(pose)
-        world_angles = self.angles + lyaw
         ranges = None
         if self._fan_step:
             ranges = self.table.cast_fan(lx, ly, lyaw + self.model.angle_min,
                                          self.model.num_beams, self._fan_step)
-        elif self.table is not None:
+            if ranges is not None and not len(circles):
+                return ranges
+        world_angles = self.angles + lyaw
+        if ranges is None and self.table is not None:
             ranges = self.table.cast(lx, ly, world_angles)
         if ranges is None:
             ranges = ray_march(self.geometry, lx, ly, world_angles, self.model.range_max)
@@ -143,11 +148,12 @@ class LaserSensor:
         m = self.model
         ranges = self.true_ranges(pose, circles)
         normal, dropout = self._next_random()
+        ranges = np.asarray(ranges, dtype=np.float32)
         if m.noise_fraction > 0:
-            sigma = np.maximum(m.noise_std, m.noise_fraction * ranges)
-            ranges = ranges + sigma * normal
+            ranges = ranges + np.maximum(m.noise_std, m.noise_fraction * ranges) * normal
         else:
-            ranges = ranges + m.noise_std * normal
-        ranges[(ranges > m.range_max) | dropout] = np.inf
+            ranges = ranges + np.float32(m.noise_std) * normal
+        ranges += dropout
+        ranges[ranges > m.range_max] = np.inf
         ranges[ranges < m.range_min] = -np.inf
-        return ranges.astype(np.float32)
+        return ranges

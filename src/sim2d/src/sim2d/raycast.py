@@ -17,9 +17,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+TABLE_FORMAT = "faces-dda-v2"   # bump when the table contents change (invalidates caches)
+FAR = 1e12               # [cells] stands in for "never" in cell-crossing times
 SAFE_MARGIN = 1.5        # [cells] DT bound loss: point-to-cell-centre plus half a cell diagonal
-MIN_STEP = 0.7           # [cells] smallest march step near obstacles (a ray may miss a
-                         # corner it clips by less than this; the hit range itself is exact)
 MAX_ITERATIONS = 4000    # guard against pathological grazing rays
 CLEARANCE_LOSS = np.sqrt(2.0)  # [cells] point-to-centre plus half the obstacle cell's diagonal
 
@@ -84,9 +84,11 @@ class GridGeometry:
 def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
     """Ranges [m] of rays from (ox, oy) at `angles` [rad] to the first occupied cell.
 
-    Sphere tracing on the distance transform, all rays at once; the last step is refined to the
-    exact entry into the hit cell's square. Rays that leave the map or exceed max_range return inf.
-    With return_faces, also a bool array: True where the ray entered through a y face.
+    Far from obstacles a ray jumps by the distance-transform bound (sphere tracing); within
+    SAFE_MARGIN + 1 cells of one it steps exactly from cell boundary to cell boundary (DDA), so
+    no cell is skipped; the hit range is the exact entry into the hit cell's square. All rays
+    advance together (no Python loop per ray). Rays that leave the map or exceed max_range
+    return inf. With return_faces, also a bool array: True where the ray entered through a y face.
     """
     angles = np.asarray(angles, dtype=float)
     ox = np.broadcast_to(np.asarray(ox, dtype=float), angles.shape).ravel()
@@ -94,31 +96,41 @@ def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
     cos, sin = np.cos(angles).ravel(), np.sin(angles).ravel()
     ranges = np.full(cos.shape, np.inf)
     faces = np.zeros(cos.shape, dtype=bool)
+    res, (h, w) = geometry.resolution, geometry.dist.shape
+    # ray origins in cell units relative to the grid corner; per-axis cell-crossing data
+    gx, gy = (ox - geometry.origin_x) / res, (oy - geometry.origin_y) / res
+    with np.errstate(divide="ignore"):   # an axis the ray does not move along is never crossed
+        inv_c = np.where(np.abs(cos) > 1e-12, 1.0 / cos, FAR)
+        inv_s = np.where(np.abs(sin) > 1e-12, 1.0 / sin, FAR)
+    step_x, step_y = (inv_c > 0).astype(float), (inv_s > 0).astype(float)
     # working set, compacted whenever fewer than half of its rays are still live
     idx = np.arange(cos.size)
-    wx, wy, wc, ws = ox, oy, cos, sin
-    t = np.zeros(cos.size)
+    wx, wy, wc, ws, ic, is_, sx, sy = gx, gy, cos, sin, inv_c, inv_s, step_x, step_y
+    t = np.zeros(cos.size)                # [cells] along the ray
     live = np.ones(cos.size, dtype=bool)
-    res, (h, w) = geometry.resolution, geometry.dist.shape
     flat = geometry.dist.ravel()
-    inv_res = 1.0 / res
+    limit = max_range / res
     for _ in range(MAX_ITERATIONS):
-        col = np.floor((wx + t * wc - geometry.origin_x) * inv_res).astype(np.int64)
-        row = np.floor((wy + t * ws - geometry.origin_y) * inv_res).astype(np.int64)
-        inside = (row >= 0) & (row < h) & (col >= 0) & (col < w) & (t <= max_range)
-        d = np.where(inside, flat[np.clip(row * w + col, 0, h * w - 1)], 0.0)
+        px, py = wx + t * wc, wy + t * ws
+        col, row = np.floor(px), np.floor(py)
+        inside = (row >= 0) & (row < h) & (col >= 0) & (col < w) & (t <= limit)
+        cell = np.clip(row * w + col, 0, h * w - 1).astype(np.int64)
+        d = np.where(inside, flat[cell], 0.0)
         hit = live & inside & (d == 0.0)
         if hit.any():
-            ranges[idx[hit]], faces[idx[hit]] = _cell_entry(
-                wx[hit], wy[hit], wc[hit], ws[hit], col[hit], row[hit],
-                geometry.origin_x, geometry.origin_y, res)
+            entry, face = _cell_entry(wx[hit], wy[hit], wc[hit], ws[hit], col[hit], row[hit],
+                                      0.0, 0.0, 1.0)
+            ranges[idx[hit]], faces[idx[hit]] = entry * res, face
         live &= inside & ~hit
         count = int(np.count_nonzero(live))
         if count == 0:
             break
-        t += np.maximum(d - SAFE_MARGIN, MIN_STEP) * res
+        # exact exit from the current cell (DDA) versus the distance-transform jump
+        exit_t = np.minimum((col + sx - wx) * ic, (row + sy - wy) * is_)
+        t = np.maximum(t + (d - SAFE_MARGIN), exit_t + 1e-9)
         if count < live.size // 2:
-            idx, wx, wy, wc, ws, t = (a[live] for a in (idx, wx, wy, wc, ws, t))
+            idx, wx, wy, wc, ws, ic, is_, sx, sy, t = (
+                a[live] for a in (idx, wx, wy, wc, ws, ic, is_, sx, sy, t))
             live = np.ones(count, dtype=bool)
     ranges[ranges > max_range] = np.inf
     if return_faces:
@@ -212,7 +224,7 @@ class RangeTable:
             return None
         digest = hashlib.sha256(np.packbits(geometry.occupied).tobytes())
         digest.update(repr((geometry.occupied.shape, geometry.resolution, geometry.origin_x,
-                            geometry.origin_y, config, "faces-v1")).encode())
+                            geometry.origin_y, config, TABLE_FORMAT)).encode())
         return Path(cache_dir) / f"range_table_{digest.hexdigest()[:16]}.npy"
 
     def _nearest(self, x, y):

@@ -88,6 +88,7 @@ class World:
         self.camera_geometry = self._camera_geometry(config.camera_transparent)
         self.cache_dir = cache_dir
         self._tables = {}
+        self._held = {}        # person name -> (pose, posture, holding) last applied
         self.people = list(config.people)
         self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
                         for o in config.objects}
@@ -169,9 +170,14 @@ class World:
     def _update_people(self, dt):
         for person in self.people:
             person.step(self.time, dt)
-        for obj in self.objects.values():
-            obj.held_by = ""
         for person in self.people:
+            key = (person.pose, person.posture, person.holding)
+            if self._held.get(person.name) == key:
+                continue                      # nothing moved: the held object stays put
+            self._held[person.name] = key
+            for obj in self.objects.values():
+                if obj.held_by == person.name:
+                    obj.held_by = ""
             if person.holding and person.holding in self.objects:
                 _, hold = person_keypoints(person.posture, person.pose, holding=True)
                 if hold is not None:
