@@ -17,7 +17,7 @@ def geometry():
 @pytest.fixture(scope="module")
 def table(geometry):
     return RangeTable.build(geometry, RangeTableConfig(cell_size=0.1, angle_bins=1440,
-                                                       min_clearance=0.3, max_range=30.0))
+                                                       min_clearance=1.0, max_range=30.0))
 
 
 def test_beam_perpendicular_to_wall_returns_its_distance(geometry):
@@ -55,7 +55,7 @@ def test_table_fan_equals_table_cast(table):
 
 
 def test_table_refuses_points_it_does_not_cover(table):
-    assert table.cast(4.9, 3.0, np.array([0.0])) is None     # 0.1 m from the wall
+    assert table.cast(4.5, 3.0, np.array([0.0])) is None     # 0.5 m from the wall
 
 
 def test_utm30lx_scan_of_a_wall_is_within_its_noise(geometry):
