@@ -74,3 +74,11 @@ def test_circle_ranges_hits_the_near_side_of_a_person():
     r = circle_ranges(0.0, 0.0, np.array([0.0, math.pi / 2]), [(2.0, 0.0, 0.2)])
     assert r[0] == pytest.approx(1.8)
     assert np.isinf(r[1])
+
+
+def test_segments_clear_only_where_no_wall_is_crossed(geometry):
+    from sim2d.raycast import segments_clear
+    # the inner wall spans x in [5.0, 5.2] below y = 8 m
+    clear = segments_clear(geometry, 2.0, 3.0, [(4.5, 3.0), (7.0, 3.0), (7.0, 9.0), (2.0, 7.9)])
+    assert clear.tolist() == [True, False, False, True]  # (7, 9): crosses x = 5 at y = 6.6
+    assert segments_clear(geometry, 2.0, 9.0, [(7.0, 9.0)]).tolist() == [True]   # above it

@@ -156,3 +156,20 @@ def test_unknown_object_reference_is_a_clear_error(tmp_path, room_map):
     data["people"][0]["holding"] = "sandwich"
     with pytest.raises(WorldError, match="unknown object 'sandwich'"):
         load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_face_is_not_seen_from_behind(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["people"][0]["pose"] = [4.0, 3.0, 0.0]          # Bob turns his back to the robot
+    data["people"][0]["holding"] = ""
+    world = World(load_world_config(write_world(tmp_path, data), LASER_DIR))
+    skeleton = world.camera_frame("pepper").skeletons[0]
+    assert np.all(skeleton.confidence[[0, 14, 15]] == 0)     # nose, eyes
+    assert np.all(skeleton.confidence[[1, 2, 5]] > 0)        # neck, shoulders
+
+
+def test_sitting_person_is_lower_in_the_image_than_standing(world):
+    standing = world.camera_frame("pepper").skeletons[0]
+    world.people[0].posture = "sitting"
+    sitting = world.camera_frame("pepper").skeletons[0]
+    assert sitting.y[0] > standing.y[0] + 50           # nose lower (larger row) when sitting

@@ -138,6 +138,29 @@ def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
     return ranges.reshape(angles.shape)
 
 
+def segments_clear(geometry, ox, oy, targets, spacing=0.5):
+    """True for each target (x, y) whose straight segment from (ox, oy) crosses no occupied
+    cell, sampled every `spacing` cells (all segments in one vectorised lookup)."""
+    t = np.asarray(targets, dtype=float).reshape(-1, 2)
+    if t.size == 0:
+        return np.zeros(0, dtype=bool)
+    res = geometry.resolution
+    lengths = np.hypot(t[:, 0] - ox, t[:, 1] - oy)
+    counts = np.maximum(np.ceil(lengths / (spacing * res)).astype(int), 1)
+    owner = np.repeat(np.arange(len(t)), counts)
+    starts = np.cumsum(counts) - counts
+    frac = (np.arange(owner.size) - starts[owner] + 0.5) / counts[owner]
+    xs = ox + frac * (t[owner, 0] - ox)
+    ys = oy + frac * (t[owner, 1] - oy)
+    col = np.floor((xs - geometry.origin_x) / res).astype(np.int64)
+    row = np.floor((ys - geometry.origin_y) / res).astype(np.int64)
+    h, w = geometry.occupied.shape
+    inside = (row >= 0) & (row < h) & (col >= 0) & (col < w)
+    blocked = ~inside
+    blocked[inside] = geometry.occupied[row[inside], col[inside]]
+    return np.bincount(owner, weights=blocked, minlength=len(t)) == 0
+
+
 @dataclass
 class RangeTableConfig:
     """Resolution of the lookup table."""
