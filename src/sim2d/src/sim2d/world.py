@@ -98,8 +98,16 @@ class World:
         self._update_people(0.0)
 
     @classmethod
-    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR):
-        return cls(load_world_config(path, laser_dir), cache_dir)
+    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None):
+        """Load a world file; raycast ("march" or "table") overrides every laser's choice."""
+        config = load_world_config(path, laser_dir)
+        if raycast:
+            if raycast not in ("march", "table"):
+                raise WorldError(f"raycast override must be 'march' or 'table', got {raycast!r}")
+            for robot in config.robots:
+                for laser in robot.lasers:
+                    laser.raycast = raycast
+        return cls(config, cache_dir)
 
     def _camera_geometry(self, transparent):
         if not transparent:
