@@ -82,3 +82,12 @@ def test_segments_clear_only_where_no_wall_is_crossed(geometry):
     clear = segments_clear(geometry, 2.0, 3.0, [(4.5, 3.0), (7.0, 3.0), (7.0, 9.0), (2.0, 7.9)])
     assert clear.tolist() == [True, False, False, True]  # (7, 9): crosses x = 5 at y = 6.6
     assert segments_clear(geometry, 2.0, 9.0, [(7.0, 9.0)]).tolist() == [True]   # above it
+
+
+def test_urg04lx_range_proportional_noise_keeps_no_return_as_inf(geometry):
+    model = find_laser_model("urg_04lx", LASER_DIR)
+    assert model.num_beams == 683
+    laser = LaserSensor(model, (0.0, 0.0, 0.0), geometry, seed=2)
+    ranges = laser.scan((1.0, 9.0, 0.0))            # 8.9 m to the east wall: beyond 5.6 m
+    assert not np.isnan(ranges).any()
+    assert np.isinf(ranges[341])                     # centre beam

@@ -9,6 +9,7 @@ import yaml
 from sim2d.raycast import ray_march
 
 NOISE_POOL = 1 << 18   # standard normals drawn once; each scan reads a slice at a random offset
+OFFSET_BLOCK = 4096    # random pool offsets drawn at once
 
 
 class LaserModelError(ValueError):
@@ -111,6 +112,7 @@ class LaserSensor:
         self._normal_pool = normal.astype(np.float32)
         self._dropout_pool = np.where(dropped, np.inf, 0.0).astype(np.float32)
         self._noise_pool = np.where(dropped, np.inf, model.noise_std * normal).astype(np.float32)
+        self._offsets, self._next_offset = [], 0
         steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
         self._fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
 
@@ -139,7 +141,11 @@ class LaserSensor:
         return ranges
 
     def _pool_slice(self, pool):
-        start = int(self.rng.integers(0, NOISE_POOL))
+        if self._next_offset == len(self._offsets):     # offsets drawn in bulk: cheaper per scan
+            self._offsets = self.rng.integers(0, NOISE_POOL, OFFSET_BLOCK).tolist()
+            self._next_offset = 0
+        start = self._offsets[self._next_offset]
+        self._next_offset += 1
         return pool[start:start + self.model.num_beams]
 
     def scan(self, pose, circles=()):
@@ -147,7 +153,8 @@ class LaserSensor:
         m = self.model
         ranges = np.asarray(self.true_ranges(pose, circles), dtype=np.float32)
         if m.noise_fraction > 0:
-            sigma = np.maximum(np.float32(m.noise_std), np.float32(m.noise_fraction) * ranges)
+            within = np.minimum(ranges, np.float32(m.range_max))   # no inf * noise = NaN
+            sigma = np.maximum(np.float32(m.noise_std), np.float32(m.noise_fraction) * within)
             ranges = ranges + sigma * self._pool_slice(self._normal_pool)
             ranges += self._pool_slice(self._dropout_pool)
         else:

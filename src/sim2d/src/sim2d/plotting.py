@@ -39,8 +39,9 @@ def draw_graph(ax, graph):
         ax.plot([pa[0], pb[0]], [pa[1], pb[1]], "--", color=GRAPH_COLOUR, lw=0.8)
 
 
-def plot_map(grid, graph=None, paths=(), title="", out_path=None):
-    """Render a map (and graph, and [(label, xy array)] paths) to out_path as PNG."""
+def plot_map(grid, graph=None, paths=(), title="", out_path=None, points=()):
+    """Render a map (and graph, [(label, xy array)] paths and [(label, xy array)] point sets,
+    e.g. laser returns) to out_path as PNG."""
     width = grid.width * grid.resolution
     height = grid.height * grid.resolution
     fig, ax = plt.subplots(figsize=(min(12.0, 2.0 + width / 3.0), min(12.0, 1.5 + height / 3.0)))
@@ -50,7 +51,10 @@ def plot_map(grid, graph=None, paths=(), title="", out_path=None):
     for (label, xy), colour in zip(paths, PATH_COLOURS * (1 + len(paths))):
         xy = np.asarray(xy)
         ax.plot(xy[:, 0], xy[:, 1], color=colour, lw=1.2, label=label)
-    if paths:
+    for label, xy in points:
+        xy = np.asarray(xy)
+        ax.plot(xy[:, 0], xy[:, 1], ".", color="tab:red", ms=1.5, label=label)
+    if paths or points:
         ax.legend(fontsize=7)
     ax.set_title(title)
     fig.tight_layout()
