@@ -96,3 +96,13 @@ def test_urg04lx_range_proportional_noise_keeps_no_return_as_inf(geometry):
     ranges = laser.scan((1.0, 9.0, 0.0))            # 8.9 m to the east wall: beyond 5.6 m
     assert not np.isnan(ranges).any()
     assert np.isinf(ranges[341])                     # centre beam
+
+
+def test_laser_falls_back_to_exact_marching_where_the_table_has_no_entry(table):
+    model = find_laser_model("utm_30lx", LASER_DIR)
+    laser = LaserSensor(model, (0.0, 0.0, 0.0), table.geometry, table, seed=1)
+    near_wall = (4.5, 3.0, 0.0)                     # 0.5 m from the wall: not tabulated
+    assert table.cast(4.5, 3.0, np.array([0.0])) is None
+    assert laser.true_ranges(near_wall)[540] == pytest.approx(0.5, abs=1e-9)
+    tabulated = (1.23, 3.01, 0.0)
+    assert laser.true_ranges(tabulated)[540] == pytest.approx(3.77, abs=1e-3)
