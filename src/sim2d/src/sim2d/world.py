@@ -5,6 +5,7 @@ schedules, held objects follow the hands, robots integrate their commands agains
 (stall on contact), odometry drifts, and each laser produces a scan whenever its scan period has
 elapsed. Camera frames are computed on request (`camera_frame`).
 """
+import copy
 import math
 import os
 from dataclasses import dataclass, field
@@ -91,7 +92,7 @@ class World:
         self.cache_dir = cache_dir
         self._tables = {}
         self._held = {}        # person name -> (pose, posture, holding) last applied
-        self.people = list(config.people)
+        self.people = copy.deepcopy(config.people)   # the world's own, moving copies
         self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
                         for o in config.objects}
         self.robots = [self._make_robot(rc, i) for i, rc in enumerate(config.robots)]
