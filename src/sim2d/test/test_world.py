@@ -183,3 +183,17 @@ def test_odometry_scale_error_drifts_by_the_configured_factor():
     for k in range(1, 101):                          # 2 m straight along +x in 2 cm steps
         odometry.update((1.0 + 0.02 * k, 1.0, 0.0))
     assert odometry.pose == pytest.approx((2.1, 0.0, 0.0))
+
+
+def test_place_robot_starts_an_episode_at_rest(world):
+    world.set_wheel_speeds("penguin", 4.0, 4.0)
+    for _ in range(20):
+        world.step(0.025)
+    world.place_robot("penguin", (2.0, 9.0, math.pi / 2))
+    robot = world.robot("penguin")
+    assert robot.state.pose == (2.0, 9.0, math.pi / 2)
+    assert robot.state.twist == (0.0, 0.0, 0.0) and robot.odometry.pose == (0.0, 0.0, 0.0)
+    world.step(0.025)
+    assert robot.scans[0].count == 1
+    with pytest.raises(WorldError, match="cannot be placed"):
+        world.place_robot("penguin", (5.1, 3.0, 0.0))

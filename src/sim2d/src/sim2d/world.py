@@ -156,6 +156,21 @@ class World:
                 return robot
         raise KeyError(f"no robot named {name!r}")
 
+    def place_robot(self, name, pose):
+        """Teleport a robot (e.g. to start an episode): at rest, odometry restarted at zero.
+
+        Raises WorldError if the pose is inside or against an obstacle.
+        """
+        robot = self.robot(name)
+        clearance = self.geometry.clearance_at(pose[0], pose[1])
+        if clearance < robot.config.radius:
+            raise WorldError(f"robot {name!r} cannot be placed at ({pose[0]:.2f}, {pose[1]:.2f}): "
+                             f"clearance {clearance:.2f} m < radius {robot.config.radius:.2f} m")
+        robot.state = RobotState(pose=tuple(float(v) for v in pose))
+        robot.odometry = Odometry(robot.config.odometry, robot.state.pose)
+        robot.scans = [None] * len(robot.lasers)
+        robot.next_scan = [self.time + laser.model.scan_time for laser in robot.lasers]
+
     # --- commands -------------------------------------------------------------------------
     def set_twist(self, name, vx, vy, wz):
         """Body twist command [m/s, m/s, rad/s]; a NaN or infinite value is refused."""
