@@ -89,7 +89,7 @@ def identify_first_below_threshold(observed, names, stored, threshold):
 
 
 def best_matches(distances, names, threshold):
-    """Per observed row of `distances` (N, M): the smallest-distance person below threshold, or None.
+    """Per row of `distances` (N, M): the closest person below threshold and the distance, or None.
 
     Improves Algorithm 3-1 (which returns the first person below threshold) by returning the
     closest one and its distance.
