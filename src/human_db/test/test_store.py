@@ -1,5 +1,6 @@
 """The SQLite store: round trips, history, bad input, WAL, migrations, refusing bad files."""
 import sqlite3
+import threading
 
 import pytest
 from conftest import make_human
@@ -207,3 +208,28 @@ def test_a_foreign_or_newer_database_is_refused(tmp_path):
 def test_a_directory_is_refused(tmp_path):
     with pytest.raises(DatabaseUnusable, match="not a regular file"):
         HumanStore(tmp_path)
+
+
+def test_two_stores_opening_a_new_file_together_both_work(tmp_path, alice, bob):
+    path = tmp_path / "new.sqlite"
+    stores, errors = [], []
+    start = threading.Barrier(2)
+
+    def open_store():
+        start.wait()
+        try:
+            stores.append(HumanStore(path))
+        except Exception as error:  # noqa: BLE001 - any error fails the test
+            errors.append(repr(error))
+
+    threads = [threading.Thread(target=open_store) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert errors == []
+    stores[0].register(alice)
+    stores[1].register(bob)
+    assert [h.name for h in stores[0].humans()] == ["Alice", "Bob"]
+    for store in stores:
+        store.close()

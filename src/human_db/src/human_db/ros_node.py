@@ -67,8 +67,8 @@ class HumanDbNode:
     def setup(self):
         """Open (or create) the database, import the household if it is empty, start the ROS API.
 
-        Raises DatabaseUnusable when the file is corrupted or foreign (it is left untouched), and
-        InvalidHuman when the household file is bad."""
+        Raises DatabaseUnusable when the file is corrupted or foreign (it is left untouched),
+        InvalidHuman/DuplicateHuman when the household file is bad, ValueError for bad params."""
         config = StoreConfig(busy_timeout=self.params.busy_timeout,
                              retry_timeout=self.params.retry_timeout,
                              synchronous=self.params.synchronous)
