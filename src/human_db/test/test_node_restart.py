@@ -10,6 +10,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -117,21 +118,22 @@ def test_kill_9_mid_update_loses_no_acknowledged_update(ros_env, tmp_path):
     node = _start_node(ros_env, db_path)
     writer = subprocess.Popen([sys.executable, "-c", WRITER], env=ros_env, text=True,
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-    acked = []
+    acked, lines = [], []
+    watchdog = threading.Timer(TIMEOUT * 2, writer.kill)   # a hung writer ends the loop below
+    watchdog.start()
     try:
-        for line in writer.stdout:
+        for line in writer.stdout:   # read to the end: acks may still come after the kill
+            lines.append(line.strip())
             if line.startswith("ack"):
                 acked.append(int(line.split()[1]))
-            if len(acked) == ACKS_BEFORE_KILL:
+            if len(acked) == ACKS_BEFORE_KILL and node.poll() is None:
                 os.kill(node.pid, signal.SIGKILL)   # while the writer keeps updating
-                break
-        tail = writer.communicate(timeout=TIMEOUT)[0].splitlines()
     finally:
+        watchdog.cancel()
         _stop(writer)
         _stop(node)
-    acked += [int(line.split()[1]) for line in tail if line.startswith("ack")]
     assert acked == list(range(len(acked))) and len(acked) >= ACKS_BEFORE_KILL
-    assert tail and tail[-1].startswith("error"), f"the writer should lose the node: {tail[-3:]}"
+    assert lines[-1].startswith("error"), f"the writer should lose the node: {lines[-3:]}"
     assert node.returncode == -signal.SIGKILL
 
     restarted = _start_node(ros_env, db_path)
