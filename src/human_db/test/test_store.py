@@ -5,6 +5,7 @@ import threading
 import pytest
 from conftest import make_human
 
+from human_db.colour import ColourIndex
 from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidColour, InvalidHuman,
                              UnknownHuman)
 from human_db.model import ScheduleEntry
@@ -30,6 +31,18 @@ def test_register_and_get_round_trip(store, alice, bob):
     assert names == ["Alice", "Bob"]
     assert colours.shape == (2, 3, 3)
     assert colours[1, 2].tolist() == [35, 70, 190]
+
+
+def test_initialization_then_recall_on_the_table_5_1_example(store, bob):
+    # Table 5-1 (a) is the query image of the Initialization phase, (b) the test image of Recall.
+    store.register(bob)
+    store.initialize("Query", [(215, 250, 220), (32, 77, 238), (29, 74, 219)], "male", 25)
+    index = ColourIndex(*store.shirt_colour_table())
+    match = index.identify([(253, 255, 199), (172, 190, 168), (87, 100, 142)])
+    assert match.name == "Query"
+    assert match.distance == pytest.approx(189.43967, abs=1e-5)
+    with pytest.raises(DuplicateHuman):
+        store.initialize("Query", [(0, 0, 0)] * 3, "male", 25)
 
 
 def test_file_is_wal_at_the_latest_schema_version(store):

@@ -143,6 +143,13 @@ class HumanStore:
         at `now` [s] (default: wall-clock time) with source "register"."""
         self.register_all([human], replace, now)
 
+    def initialize(self, name, query_colours, gender, age, ip="", now=None):
+        """§3.2.3 Initialization phase: register a newly met person (name, gender and age asked
+        by the robot) with the shirt colours at joints 1, 2, 5 of the query observation."""
+        human = Human(name=name, gender=gender, age=age, ip=ip, shirt_colour=query_colours)
+        self.register(human, now=now)
+        return human
+
     def register_all(self, humans, replace=False, now=None):
         """Register several people in one transaction: all of them, or none on any error."""
         now = _check_time(wallclock.time() if now is None else now)
