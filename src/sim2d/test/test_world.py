@@ -197,3 +197,14 @@ def test_place_robot_starts_an_episode_at_rest(world):
     assert robot.scans[0].count == 1
     with pytest.raises(WorldError, match="cannot be placed"):
         world.place_robot("penguin", (5.1, 3.0, 0.0))
+
+
+def test_household_people_agree_with_the_human_database():
+    """config/worlds/household.yaml and config/household.yaml name the same people and shirts."""
+    repo = LASER_DIR.parent.parent
+    humans = yaml.safe_load((repo / "config" / "household.yaml").read_text())["humans"]
+    expected = {h["name"]: tuple(tuple(h["shirt_color"][k]) for k in ("joint1", "joint2", "joint5"))
+                for h in humans}
+    world = load_world_config(repo / "config" / "worlds" / "household.yaml", LASER_DIR)
+    assert {p.name: p.shirt_colour for p in world.people} == expected
+    assert len(world.objects) >= 30
