@@ -59,7 +59,12 @@ def test_non_finite_command_is_rejected_and_stops_at_once(controller, bad):
         controller.command(*bad, 1.01)
     wheels = controller.update(1.02)
     assert (wheels.left, wheels.right) == (0.0, 0.0)
+    assert wheels.stop_reason == "last /cmd_vel rejected (not finite)"
     assert controller.invalid_count == 1
+    assert controller.diagnostics(1.02)[0] == WARN
+    assert controller.diagnostics(6.02)[0] == OK  # 5 s after the problem
+    controller.command(0.2, 0.0, 1.04)             # a valid command resumes
+    assert controller.update(1.06).stop_reason == ""
 
 
 def test_watchdog_stops_the_wheels_after_the_timeout(controller):

@@ -30,6 +30,7 @@ class BaseConfig:
     stall_min_command: float = 0.5     # [rad/s] wheel command above which a stall can be detected
     stall_speed_ratio: float = 0.1     # [-] measured/commanded wheel speed below this = stalling
     stall_time: float = 1.0            # [s] stalling this long -> stop
+    problem_report_window: float = 5.0  # [s] diagnostics stay WARN this long after a bad command
 
     @property
     def max_wheel_speed(self):

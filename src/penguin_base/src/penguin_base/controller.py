@@ -41,6 +41,8 @@ class BaseController:
         self.invalid_count = 0
         self.clamped_count = 0
         self.last_problem = ""
+        self._last_problem_time = None
+        self._rejected = False
         self.last_command = WheelCommand(0.0, 0.0, 0.0, 0.0, "no command yet")
 
     def command(self, v, omega, now):
@@ -50,19 +52,23 @@ class BaseController:
             v, omega, clamped = sanitize_twist(v, omega, c.max_linear_speed, c.max_angular_speed)
         except InvalidCommand as error:
             self.invalid_count += 1
-            self.last_problem = str(error)
+            self._note_problem(str(error), now)
             self._target = (0.0, 0.0)
-            self.watchdog = CommandWatchdog(c.watchdog_timeout)  # stay stopped until a good one
+            self._rejected = True  # stay stopped until a valid command arrives
             raise
         if clamped:
             self.clamped_count += 1
-            self.last_problem = f"command clamped to ({v:.3f} m/s, {omega:.3f} rad/s)"
+            self._note_problem(f"command clamped to ({v:.3f} m/s, {omega:.3f} rad/s)", now)
+        self._rejected = False
         self._target = (v, omega)
         self.watchdog.feed(now)
         self.bumper.on_command(v, omega)
         if v == 0.0 and omega == 0.0:
             self.stall.reset()
         return v, omega
+
+    def _note_problem(self, text, now):
+        self.last_problem, self._last_problem_time = text, now
 
     def set_estop(self, engaged):
         self.estop.set(engaged)
@@ -78,6 +84,8 @@ class BaseController:
             return "bumper pressed" if self.bumper.pressed else "bumped: waiting for a zero command"
         if self.stall.stalled:
             return "wheel stall: waiting for a zero command"
+        if self._rejected:
+            return "last /cmd_vel rejected (not finite)"
         if self.watchdog.expired(now):
             return "no /cmd_vel" if self.watchdog.age(now) is None else "command watchdog expired"
         return ""
@@ -106,7 +114,8 @@ class BaseController:
         reason = self.stop_reason(now)
         if self.estop.engaged or self.bumper.stopping or self.stall.stalled:
             level = ERROR
-        elif self.invalid_count or self.clamped_count:
+        elif (self._last_problem_time is not None
+              and now - self._last_problem_time <= self.config.problem_report_window):
             level = WARN
         else:
             level = OK
