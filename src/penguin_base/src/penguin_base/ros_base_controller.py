@@ -40,14 +40,14 @@ class BaseControllerNode:
         self._timers = []
 
     def start(self):
-        self.wheel_pub = rospy.Publisher("wheel_commands", JointState, queue_size=1)
+        self.wheel_pub = rospy.Publisher("wheel_command", JointState, queue_size=1)
         self.odom_pub = rospy.Publisher("odom", Odometry, queue_size=5)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.tf_broadcaster = tf2_ros.TransformBroadcaster()
         rospy.Subscriber("cmd_vel", Twist, self._on_cmd_vel, queue_size=10)
         rospy.Subscriber("e_stop", Bool, self._on_estop, queue_size=5)
         rospy.Subscriber("bumper", Bool, self._on_bumper, queue_size=5)
-        rospy.Subscriber("wheel_states", JointState, self._on_wheel_states, queue_size=20)
+        rospy.Subscriber("joint_states", JointState, self._on_joint_states, queue_size=20)
         self._timers = [
             rospy.Timer(rospy.Duration(1.0 / self.config.control_rate), self._control_step),
             rospy.Timer(rospy.Duration(1.0), self._publish_diagnostics)]
@@ -67,7 +67,7 @@ class BaseControllerNode:
         with self._lock:
             self._bumper = msg.data
 
-    def _on_wheel_states(self, msg):
+    def _on_joint_states(self, msg):
         with self._lock:
             self._encoders.append(msg)
 
