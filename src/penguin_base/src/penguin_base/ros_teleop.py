@@ -27,7 +27,8 @@ def main():
         rospy.logfatal("teleop: bad configuration: %s", error)
         return 2
     cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)
-    class_pub = rospy.Publisher("instruction_class", UInt8, queue_size=5)
+    # latched: a class key pressed before the recorder connected still reaches it
+    class_pub = rospy.Publisher("instruction_class", UInt8, queue_size=5, latch=True)
 
     def publish(v, omega):
         cmd_pub.publish(twist_msg(v, omega))

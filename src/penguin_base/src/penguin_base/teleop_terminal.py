@@ -40,11 +40,11 @@ def run_teleop(state, publish, clock, running, announce_class=None):
 def _loop(screen, state, publish, clock, running, announce_class):
     period = 1.0 / state.config.publish_rate
     screen.keypad(True)
-    screen.timeout(max(1, int(period * 1000)))
     _hide_cursor()
     next_publish = clock()
     status = "ready"
     while running():
+        screen.timeout(max(1, int((next_publish - clock()) * 1000)))  # wake up for the next send
         key = screen.getch()
         now = clock()
         if key in QUIT_KEYS:
@@ -52,7 +52,7 @@ def _loop(screen, state, publish, clock, running, announce_class):
         status = _handle_key(key, state, now, announce_class) or status
         if now >= next_publish:
             publish(*state.command(now))
-            next_publish = now + period
+            next_publish = max(next_publish + period, now)  # keep the rate; never a burst
         _draw(screen, state.command(now), status)
 
 
