@@ -114,7 +114,8 @@ def exhaustive_optimum(problem, max_instructions=10):
 @functools.lru_cache(maxsize=4)
 def _permutation_table(size):
     """All permutations of range(size) as an int array (size!, size)."""
-    return np.array(list(itertools.permutations(range(size))), dtype=int).reshape(-1, size)
+    return np.array(list(itertools.permutations(range(size))), dtype=int).reshape(
+        math.factorial(size), size)
 
 
 def _evaluate_permutations(problem, head):
