@@ -9,6 +9,8 @@ directly next - cannot beat the best complete order found so far (an admissible 
 of Reward-Maximising A*). The result is a provably optimal order over all orders respecting
 `previous_id` chains; it equals the exhaustive Opt wherever Opt runs.
 """
+import time
+
 import numpy as np
 
 from task_planner.baselines import PlannerTooLarge
@@ -17,12 +19,17 @@ from task_planner.problem import order_reward
 _TOLERANCE = 1e-12  # rewards closer than this count as equal when pruning
 
 
-def exact_optimum(problem, max_instructions=40, initial_order=None):
+class SolverTimeout(RuntimeError):
+    """The exact optimiser ran past its time limit."""
+
+
+def exact_optimum(problem, max_instructions=40, initial_order=None, time_limit_s=None):
     """Provably optimal service order (list of instruction indices) of a static problem.
 
     Args:
         max_instructions: refuse larger sets (PlannerTooLarge): the worst case is exponential.
         initial_order: any valid order; its reward seeds the pruning bound.
+        time_limit_s: raise SolverTimeout when the search runs longer [s]; None = no limit.
     """
     count = problem.count
     if count > max_instructions:
@@ -32,9 +39,10 @@ def exact_optimum(problem, max_instructions=40, initial_order=None):
         return []
     best_order = list(initial_order) if initial_order is not None else _greedy_order(problem)
     best_reward = order_reward(problem, best_order)
+    deadline = None if time_limit_s is None else time.perf_counter() + time_limit_s
     layer = {(0, problem.start_node): [(0.0, 0.0, ())]}
     for _ in range(count):
-        layer = _extend_layer(problem, layer, best_reward)
+        layer = _extend_layer(problem, layer, best_reward, deadline)
     for labels in layer.values():
         for _, reward, order in labels:
             if reward > best_reward + _TOLERANCE:
@@ -42,7 +50,7 @@ def exact_optimum(problem, max_instructions=40, initial_order=None):
     return [int(i) for i in best_order]
 
 
-def _extend_layer(problem, layer, best_reward):
+def _extend_layer(problem, layer, best_reward, deadline):
     """All non-dominated, not-pruned labels with one more instruction served."""
     p = problem
     full = (1 << p.count) - 1
@@ -51,6 +59,8 @@ def _extend_layer(problem, layer, best_reward):
     gamma, beta = p.gamma, p.beta
     following = {}
     for (served, node), labels in layer.items():
+        if deadline is not None and time.perf_counter() > deadline:
+            raise SolverTimeout(f"exact optimiser: {p.count} instructions, time limit exceeded")
         remaining = [i for i in range(p.count) if not served >> i & 1]
         ready = [i for i in remaining if predecessor_bit[i] & served == predecessor_bit[i]]
         rem = np.array(remaining)
@@ -124,3 +134,45 @@ def _greedy_order(problem):
         served.add(ready[pick])
         node, clock = int(p.node[ready[pick]]), finish[pick]
     return order
+
+
+class ExactReplanner:
+    """Online use of the exact optimiser: re-solve over the known instructions whenever new ones
+    have appeared, then serve the first instruction of the optimal order (a target planner).
+
+    Rewards are counted from each launch, so at time `clock` an instruction launched at L is worth
+    gamma * beta ** (clock - L) now: the sub-problem starts at the robot's node at t = 0 with those
+    initial rewards.
+    """
+
+    name = "Exact-replan"
+
+    def __init__(self, max_instructions=40):
+        self.max_instructions = max_instructions
+
+    def reset(self, problem):
+        self.problem, self.plan, self.known = problem, [], frozenset()
+
+    def choose(self, node, clock, available):
+        known = frozenset(available.tolist())
+        if not known <= self.known or not self.plan:
+            self.plan = self._solve(node, clock, available)
+            self.known = known
+        for index in list(self.plan):
+            self.plan.remove(index)
+            if index in known:
+                return index
+        raise RuntimeError("exact replanner: no available instruction in its plan")
+
+    def _solve(self, node, clock, available):
+        from dataclasses import replace
+
+        from task_planner.problem import Problem
+
+        p = self.problem
+        worth = np.maximum(p.gamma[available] * p.beta[available] ** (clock - p.launch[available]),
+                           np.finfo(float).tiny)  # Instruction needs gamma > 0
+        present = [replace(p.instructions[i], start_time=0.0, gamma=float(w), previous_id=0)
+                   for i, w in zip(available, worth)]
+        sub = Problem(p.graph, tuple(present), p.speed_mps, int(node))
+        return [int(available[k]) for k in exact_optimum(sub, self.max_instructions)]

@@ -60,6 +60,7 @@ class Schedule:
     waits: dict = field(default_factory=dict)  # route position -> depart not before [s]
     decision_before: list = field(default_factory=list)  # cumulative decision time per serve [s]
     decision_s: float = 0.0              # total decision time [s]
+    decision_calls: list = field(default_factory=list)  # wall time of each planner call [s]
     completion: np.ndarray = None        # per served entry: completion time [s]
 
 
