@@ -59,7 +59,8 @@ def random_problem(rng, graph, count, chains=False):
         previous = int(rng.integers(1, k)) if chains and k > 1 and rng.random() < 0.3 else 0
         instructions.append(make_instruction(k, int(rng.integers(graph.size)), gamma, beta,
                                              int(rng.integers(0, 11)), previous_id=previous))
-    return Problem(graph, tuple(instructions), speed_mps=0.5, start_node=int(rng.integers(graph.size)))
+    start = int(rng.integers(graph.size))
+    return Problem(graph, tuple(instructions), speed_mps=0.5, start_node=start)
 
 
 @pytest.fixture

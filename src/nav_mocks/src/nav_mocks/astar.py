@@ -26,7 +26,7 @@ class GridPath:
 
 
 def inflate_obstacles(obstacles, resolution, robot_radius):
-    """Obstacles grown by `robot_radius` [m]: a cell is blocked if an obstacle centre lies closer."""
+    """Obstacles grown by `robot_radius` [m]: blocked if an obstacle centre lies closer."""
     obstacles = np.asarray(obstacles, dtype=bool)
     if robot_radius <= 0 or not obstacles.any():
         return obstacles.copy()

@@ -25,7 +25,8 @@ def parse_args(argv=None):
     defaults = bench.BenchConfig()
     for name in ("static_trials", "opt_trials", "scaling_trials", "exact_trials",
                  "dynamic_trials", "seed"):
-        parser.add_argument("--" + name.replace("_", "-"), type=int, default=getattr(defaults, name))
+        parser.add_argument("--" + name.replace("_", "-"), type=int,
+                            default=getattr(defaults, name))
     parser.add_argument("--exact-limit-s", type=float, default=defaults.exact_limit_s)
     parser.add_argument("--command", default="scripts/bench_planner", help=argparse.SUPPRESS)
     return parser.parse_args(argv)

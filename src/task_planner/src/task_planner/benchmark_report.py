@@ -22,7 +22,8 @@ def static_table(rows):
     for name in _names({n for row in rows for n in row}):
         entries = [row[name] for row in rows if name in row]
         mean = lambda key: float(np.mean([e[key] for e in entries]))  # noqa: E731
-        out.append([name, len(entries), f"{mean('reward'):.3f}", f"{mean('reward_with_decision'):.3f}",
+        out.append([name, len(entries), f"{mean('reward'):.3f}",
+                    f"{mean('reward_with_decision'):.3f}",
                     f"{mean('completion_s'):.1f}", f"{mean('completion_with_decision_s'):.1f}",
                     f"{1e3 * mean('decision_s'):.2f}", f"{mean('similarity'):.2f}",
                     f"{100 * mean('ratio_to_exact'):.1f}",

@@ -22,7 +22,7 @@ class GraphError(ValueError):
 
 @dataclass(frozen=True)
 class TopologicalGraph:
-    """Places and weighted edges; `adjacency[i, j]` = edge length [m], 0 where no edge (Fig. 4-7b)."""
+    """Places and weighted edges; `adjacency[i, j]` = edge length [m], 0 = no edge (Fig. 4-7b)."""
 
     names: tuple               # place names, index = node id
     adjacency: np.ndarray      # (V, V) edge lengths [m]; 0 = no edge
@@ -170,7 +170,8 @@ def _read_graph_spec(graph_path):
         raise GraphError(f"{graph_path}: needs 'map', 'nodes' and 'edges'")
     for position, node in enumerate(spec["nodes"]):
         if node.get("id") != position or "name" not in node or len(node.get("pose", ())) < 2:
-            raise GraphError(f"{graph_path}: node #{position} needs id {position}, a name and a pose")
+            raise GraphError(
+                f"{graph_path}: node #{position} needs id {position}, a name and a pose")
     index = {node["name"]: node["id"] for node in spec["nodes"]}
     pairs = []
     for edge in spec["edges"]:

@@ -116,5 +116,5 @@ def order_reward(problem, order):
 def respects_chains(problem, order):
     """True when every instruction comes after its predecessor (if that is in the set)."""
     position = {int(index): k for k, index in enumerate(order)}
-    return all(problem.predecessor[i] < 0 or position[int(problem.predecessor[i])] < position[int(i)]
-               for i in order)
+    before = problem.predecessor
+    return all(before[i] < 0 or position[int(before[i])] < position[int(i)] for i in order)

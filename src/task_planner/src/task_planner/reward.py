@@ -41,7 +41,8 @@ def load_priorities(path):
         try:
             gamma, beta = float(row["gamma"]), float(row["beta"])
         except (TypeError, KeyError, ValueError) as error:
-            raise PriorityError(f"{path}: priority '{name}' needs numeric gamma and beta") from error
+            raise PriorityError(
+                f"{path}: priority '{name}' needs numeric gamma and beta") from error
         if gamma <= 0 or not 0 < beta < 1:
             raise PriorityError(f"{path}: priority '{name}': need gamma > 0 and 0 < beta < 1, "
                                 f"got gamma={gamma}, beta={beta}")

@@ -43,7 +43,7 @@ def value_iteration_step(state, gamma, beta, nodes, step_adj, shortest_steps, st
 
 
 def ripple_field(gamma, beta, nodes, shortest_steps, step_s):
-    """Fig. 4-6: accumulated expected reward on every node, sum_i gamma_i beta_i ** (D[m_i][n] step_s)."""
+    """Fig. 4-6: expected reward on each node, sum_i gamma_i * beta_i ** (D[m_i][n] * step_s)."""
     exponents = shortest_steps[nodes, :] * step_s
     return np.sum(gamma[:, None] * np.power(beta[:, None], exponents), axis=0)
 
