@@ -28,15 +28,15 @@ TABLE_5_6 = [(3, .94), (8, .98), (1, .90), (1, .90), (2, .92), (3, .96), (1, .90
 class BenchConfig:
     """What the benchmark runs; times in seconds."""
 
-    static_trials: int = 100          # random sets of `static_count` instructions
+    static_trials: int = 200          # random sets of `static_count` instructions
     static_count: int = 10
-    opt_trials: int = 5               # of those, how many also run the exhaustive Opt
+    opt_trials: int = 10              # of those, how many also run the exhaustive Opt
     scaling_counts: tuple = (10, 20, 50, 100, 200)
-    scaling_trials: int = 5
-    exact_counts: tuple = (8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30)
+    scaling_trials: int = 10
+    exact_counts: tuple = (8, 10, 12, 15, 20, 25, 30, 35, 40)
     exact_trials: int = 3
     exact_limit_s: float = 10.0       # the exact optimiser's time budget per set [s]
-    dynamic_trials: int = 20
+    dynamic_trials: int = 40
     dynamic_count: int = 20
     dynamic_mean_gap_s: float = 20.0  # mean time between Poisson launches [s]
     duration_min_s: int = 1           # instruction durations are uniform integers [s]
