@@ -49,7 +49,7 @@ def main(argv=None):
     graph = load_graph(args.graph, robot_radius=radius)
     priorities = list(load_priorities(args.priorities).values())
     args.out_dir.mkdir(parents=True, exist_ok=True)
-    clock = time.perf_counter()
+    clock, load_before = time.perf_counter(), os.getloadavg()[0]
     parts = {}
     for name, run in (("static", lambda: bench.run_static(graph, priorities, config)),
                       ("named", lambda: bench.run_named_case(graph, config)),
@@ -62,7 +62,8 @@ def main(argv=None):
     elapsed = time.perf_counter() - clock
     if args.json:
         write_json(args.json, graph, config, parts)
-    text = results_markdown(args, config, graph, parts, elapsed)
+    load = (load_before, os.getloadavg()[0])
+    text = results_markdown(args, config, graph, parts, elapsed, load)
     (args.out_dir / "RESULTS.md").write_text(text)
     write_plots(args.out_dir, parts)
     print(text)
@@ -88,7 +89,7 @@ def write_plots(out_dir, parts):
     report.plot_exact(parts["exact"], out_dir / "exact_runtime.png")
 
 
-def results_markdown(args, config, graph, parts, elapsed):
+def results_markdown(args, config, graph, parts, elapsed, load):
     static_rows = parts["static"][1]
     problem, named_record, schedules = parts["named"]
     guard = sum(t["planners"]["Ours(seed)"]["guard_activations"] for t in parts["static"][0])
@@ -96,8 +97,9 @@ def results_markdown(args, config, graph, parts, elapsed):
         "# Task planner benchmark (thesis 000 §5.3)", "",
         "Written by `scripts/bench_planner` from one run:", "", f"    {args.command}", "",
         f"Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores "
-        f"(shared with other jobs), Python {platform.python_version()}; total run time "
-        f"{elapsed:.0f} s. Graph `{args.graph.name}`: {graph.size} places, "
+        f"shared with other jobs (1-min load average {load[0]:.1f} at the start, {load[1]:.1f} at "
+        f"the end; decision times are wall-clock), Python {platform.python_version()}; total run "
+        f"time {elapsed:.0f} s. Graph `{args.graph.name}`: {graph.size} places, "
         f"{len(graph.edges())} edges (A* lengths); speed {config.speed_mps} m/s; robot starts on "
         f"`{graph.names[config.start_node]}`; durations uniform {config.duration_min_s}-"
         f"{config.duration_max_s} s; priorities of Table 5-5 drawn uniformly; seed {config.seed}.",
@@ -108,7 +110,7 @@ def results_markdown(args, config, graph, parts, elapsed):
         f"## Static sets of {config.static_count} instructions (Tables 5-7, 5-9)", "",
         f"{config.static_trials} random sets; Opt ran on the first {config.opt_trials} only "
         "(its row averages those). Similarity cost (Eq. 5-1) is to the exact optimum's order.", "",
-        report.static_table(static_rows), "",
+        report.static_table(static_rows), "", report.opt_check(static_rows), "",
         f"Loop guard of Ours(seed) fired {guard} times in these {config.static_trials} trials.", "",
         "## The seed's example set (Table 5-6 / Table 5-8)", "",
         "gamma and beta from Table 5-6; the thesis does not give nodes or durations, so they are "
