@@ -12,6 +12,7 @@ from task_planner import benchmark as bench
 from task_planner import benchmark_report as report
 from task_planner.graph import load_graph
 from task_planner.reward import load_priorities
+from task_planner.rollout_planner import RolloutConfig
 
 
 def parse_args(argv=None):
@@ -39,7 +40,10 @@ def make_config(args):
         scaling_trials=args.scaling_trials, exact_trials=args.exact_trials,
         exact_limit_s=args.exact_limit_s, dynamic_trials=args.dynamic_trials, seed=args.seed,
         speed_mps=float(planner["speed_mps"]), step_s=float(planner["step_s"]),
-        opt_max_instructions=int(planner["opt_max_instructions"]))
+        opt_max_instructions=int(planner["opt_max_instructions"]),
+        exact_max_instructions=int(planner["exact_max_instructions"]),
+        rollout=RolloutConfig(int(planner["rollout_candidates"]), int(planner["rollout_horizon"]),
+                              float(planner["rollout_tail_weight"])))
 
 
 def main(argv=None):

@@ -5,7 +5,7 @@ planner on seeded random instruction sets over a topological graph, and returns 
 serialise to the JSON schema of the issue (see `trial_record`).
 """
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -16,7 +16,7 @@ from task_planner.instruction import Instruction
 from task_planner.metrics import completion_time, navigation_time, similarity_cost, time_ratio
 from task_planner.problem import Problem, schedule_reward
 from task_planner.ripple_planner import RipplePlanner
-from task_planner.rollout_planner import RolloutPlanner
+from task_planner.rollout_planner import RolloutConfig, RolloutPlanner
 from task_planner.simulate import run_planner
 
 # Table 5-6: the seed's example set (gamma, beta); its nodes and durations are not given
@@ -45,6 +45,8 @@ class BenchConfig:
     step_s: float = 1.0               # ripple planner time step [s]
     start_node: int = 0               # the robot starts here (charging place on the household map)
     opt_max_instructions: int = 10
+    exact_max_instructions: int = 40
+    rollout: RolloutConfig = field(default_factory=RolloutConfig)  # improved planner settings
     seed: int = 0
 
 
@@ -61,9 +63,9 @@ def random_instructions(rng, count, priorities, node_count, config, launches=Non
     return tuple(instructions)
 
 
-def warm_exact(problem, time_limit_s=None, max_instructions=40):
+def warm_exact(problem, time_limit_s=None, max_instructions=40, rollout=None):
     """The exact optimiser, its pruning bound seeded by the rollout planner's order."""
-    warm = run_planner(problem, RolloutPlanner())
+    warm = run_planner(problem, RolloutPlanner(rollout))
     return exact_optimum(problem, max_instructions, [i for i, _ in warm.served], time_limit_s)
 
 
@@ -71,7 +73,8 @@ def static_planners(config, trial, with_opt):
     """The planners of Table 5-7 (plus ours and the exact optimiser) for one trial."""
     planners = [FirstComeFirstServe(), RandomOrder(seed=config.seed * 100003 + trial),
                 PriorityFirst(), ShortestTimeFirst(), RipplePlanner(config.step_s),
-                RolloutPlanner(), PlannedOrder("Exact", warm_exact)]
+                RolloutPlanner(config.rollout), PlannedOrder("Exact", lambda p: warm_exact(
+                    p, max_instructions=config.exact_max_instructions, rollout=config.rollout))]
     if with_opt:
         planners.append(PlannedOrder(
             "Opt", lambda p: exhaustive_optimum(p, config.opt_max_instructions)))
@@ -182,7 +185,8 @@ def run_scaling(graph, priorities, config):
             instructions = random_instructions(rng, count, priorities, graph.size, config)
             problem = Problem(graph, instructions, config.speed_mps, config.start_node)
             planners = [FirstComeFirstServe(), RandomOrder(seed=trial), PriorityFirst(),
-                        ShortestTimeFirst(), RipplePlanner(config.step_s), RolloutPlanner()]
+                        ShortestTimeFirst(), RipplePlanner(config.step_s),
+                        RolloutPlanner(config.rollout)]
             for planner in planners:
                 schedule = run_planner(problem, planner)
                 calls = np.array(schedule.decision_calls)
@@ -210,7 +214,7 @@ def run_exact_scaling(graph, priorities, config):
             problem = Problem(graph, instructions, config.speed_mps, config.start_node)
             started = time.perf_counter()
             try:
-                warm_exact(problem, config.exact_limit_s, max_instructions=max(config.exact_counts))
+                warm_exact(problem, config.exact_limit_s, max(config.exact_counts), config.rollout)
                 solved += 1
             except SolverTimeout:
                 pass
@@ -233,8 +237,8 @@ def run_dynamic(graph, priorities, config):
                                            config, launches)
         problem = Problem(graph, instructions, config.speed_mps, config.start_node)
         planners = [FirstComeFirstServe(), RandomOrder(seed=trial), PriorityFirst(),
-                    ShortestTimeFirst(), RipplePlanner(config.step_s), RolloutPlanner(),
-                    ExactReplanner()]
+                    ShortestTimeFirst(), RipplePlanner(config.step_s),
+                    RolloutPlanner(config.rollout), ExactReplanner(config.exact_max_instructions)]
         record, _ = run_trial(problem, planners, keep_waits=True)
         trials.append(record)
         rows.append(record["planners"])
