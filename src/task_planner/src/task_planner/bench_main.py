@@ -96,7 +96,7 @@ def write_plots(out_dir, parts):
 def results_markdown(args, config, graph, parts, elapsed, load):
     static_rows = parts["static"][1]
     problem, named_record, schedules = parts["named"]
-    guard = sum(t["planners"]["Ours(seed)"]["guard_activations"] for t in parts["static"][0])
+    guard = sum(row["Ours(seed)"]["guard_activations"] for row in static_rows)
     return "\n".join([
         "# Task planner benchmark (thesis 000 §5.3)", "",
         "Written by `scripts/bench_planner` from one run:", "", f"    {args.command}", "",

@@ -125,8 +125,7 @@ def run_trial(problem, planners, keep_waits=False):
         if keep_waits:
             records[planner.name]["waits"] = [[int(k), float(t)] for k, t in
                                               sorted(schedule.waits.items())]
-        if isinstance(planner, RipplePlanner):
-            records[planner.name]["guard_activations"] = planner.guard_activations
+        schedule.guard_activations = getattr(planner, "guard_activations", 0)
     trial = {"instructions": [instruction_record(i) for i in problem.instructions],
              "planners": records}
     return trial, schedules
@@ -160,7 +159,8 @@ def _static_row(problem, record, schedules):
         row[name] = dict(entry, similarity=similarity_cost(served_order(problem, schedule),
                                                            exact_order),
                          ratio_to_exact=entry["reward"] / best,
-                         completion_with_decision_s=completion_time(schedule, True))
+                         completion_with_decision_s=completion_time(schedule, True),
+                         guard_activations=schedule.guard_activations)
     return row
 
 

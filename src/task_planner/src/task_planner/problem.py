@@ -62,6 +62,7 @@ class Schedule:
     decision_s: float = 0.0              # total decision time [s]
     decision_calls: list = field(default_factory=list)  # wall time of each planner call [s]
     completion: np.ndarray = None        # per served entry: completion time [s]
+    guard_activations: int = 0           # loop-guard activations (the seed's planner only)
 
 
 def score_route(problem, route, served, waits=None):
