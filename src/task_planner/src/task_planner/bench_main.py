@@ -127,7 +127,9 @@ def results_markdown(args, config, graph, parts, elapsed, load):
         report.scaling_table(parts["scaling"], "total_s", "{:.0f}"), "",
         "Time ratio (Eq. 5-2: task time / (task + decision + navigation time)):", "",
         report.scaling_table(parts["scaling"], "time_ratio", "{:.3f}"), "",
-        "Decision latency per planner call of the online planners:", "",
+        "Decision latency per planner call of the online planners (wall clock: mean, median of "
+        "the per-set medians, worst per-set p99, max; and the worst per-set p99 of the calls' "
+        "thread CPU time, which leaves out time spent waiting for a shared core):", "",
         report.latency_table(parts["scaling"]), "",
         "![processing time](fig_5_8_processing_time.png) ![time ratio](fig_5_9_time_ratio.png)",
         "![latency](decision_latency.png)", "",

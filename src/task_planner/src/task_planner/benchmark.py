@@ -196,6 +196,8 @@ def run_scaling(graph, priorities, config):
                     "time_ratio": time_ratio(float(problem.duration.sum()), schedule.decision_s,
                                              navigation_time(problem, schedule)),
                     "latency_mean_ms": 1e3 * float(calls.mean()),
+                    "latency_median_ms": 1e3 * float(np.median(calls)),
+                    "cpu_p99_ms": 1e3 * float(np.percentile(schedule.decision_cpu_calls, 99)),
                     "latency_p99_ms": 1e3 * float(np.percentile(calls, 99)),
                     "latency_max_ms": 1e3 * float(calls.max()),
                     "reward": schedule_reward(problem, schedule)})

@@ -81,11 +81,13 @@ def latency_table(results, names=("Ours(seed)", "Ours(rollout)")):
         for name in names:
             entries = results[name][count]
             row += [f"{np.mean([e['latency_mean_ms'] for e in entries]):.3f}",
+                    f"{np.median([e['latency_median_ms'] for e in entries]):.3f}",
                     f"{max(e['latency_p99_ms'] for e in entries):.3f}",
-                    f"{max(e['latency_max_ms'] for e in entries):.3f}"]
+                    f"{max(e['latency_max_ms'] for e in entries):.3f}",
+                    f"{max(e['cpu_p99_ms'] for e in entries):.3f}"]
         rows.append(row)
-    header = ["instructions"] + [f"{n} {k}" for n in names
-                                 for k in ("mean [ms]", "p99 [ms]", "max [ms]")]
+    header = ["instructions"] + [f"{n} {k}" for n in names for k in (
+        "mean [ms]", "median [ms]", "p99 [ms]", "max [ms]", "CPU p99 [ms]")]
     return _table(header, rows)
 
 

@@ -61,6 +61,7 @@ class Schedule:
     decision_before: list = field(default_factory=list)  # cumulative decision time per serve [s]
     decision_s: float = 0.0              # total decision time [s]
     decision_calls: list = field(default_factory=list)  # wall time of each planner call [s]
+    decision_cpu_calls: list = field(default_factory=list)  # thread CPU time of each call [s]
     completion: np.ndarray = None        # per served entry: completion time [s]
     guard_activations: int = 0           # loop-guard activations (the seed's planner only)
 

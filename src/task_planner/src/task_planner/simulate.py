@@ -24,12 +24,13 @@ def run_planner(problem, planner):
         if not len(available):
             run.wait_for_next_launch()
             continue
-        started = time.perf_counter()
+        started, started_cpu = time.perf_counter(), time.thread_time()
         if hasattr(planner, "decide"):
             action, value = planner.decide(run.node, run.clock, available)
         else:
             action, value = "target", planner.choose(run.node, run.clock, available)
         run.decision_calls.append(time.perf_counter() - started)
+        run.decision_cpu_calls.append(time.thread_time() - started_cpu)
         run.decision_s += run.decision_calls[-1]
         run.apply(action, value)
     return run.finish()
@@ -43,7 +44,7 @@ class _Run:
         self.node, self.clock = problem.start_node, 0.0
         self.pending = set(range(problem.count))
         self.route, self.served, self.waits, self.decision_before = [self.node], [], {}, []
-        self.decision_s, self.decision_calls = 0.0, []
+        self.decision_s, self.decision_calls, self.decision_cpu_calls = 0.0, [], []
 
     def available(self):
         p = self.problem
@@ -90,6 +91,7 @@ class _Run:
     def finish(self):
         schedule = Schedule(route=self.route, served=self.served, waits=self.waits,
                             decision_before=self.decision_before, decision_s=self.decision_s,
-                            decision_calls=self.decision_calls)
+                            decision_calls=self.decision_calls,
+                            decision_cpu_calls=self.decision_cpu_calls)
         schedule.completion = score_route(self.problem, self.route, self.served, self.waits)
         return schedule
