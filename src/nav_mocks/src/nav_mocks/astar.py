@@ -41,13 +41,15 @@ def _check_cell(name, cell, shape):
         raise ValueError(f"A*: {name} cell {cell} lies outside the {shape[0]}x{shape[1]} grid")
 
 
-def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0):
+def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0, cell_penalty=None):
     """Shortest 8-connected path from `start` to `goal` (row, col) through free cells.
 
     Args:
         obstacles: bool array (H, W), True = blocked.
         resolution: cell side [m].
         robot_radius: obstacles are inflated by this radius first [m]; 0 = no inflation.
+        cell_penalty: optional float array (H, W) >= 0 added to the cost of entering a cell
+            [cells of length], as navfn adds costmap cost; the octile heuristic stays admissible.
     Returns:
         GridPath, or None when the goal cannot be reached (or start/goal are blocked).
     """
@@ -59,13 +61,19 @@ def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0):
     padded = np.pad(blocked, 1, constant_values=True)  # border of obstacles: no bounds checks
     width = padded.shape[1]
     to_flat = lambda cell: (cell[0] + 1) * width + cell[1] + 1  # noqa: E731
-    parent = _search(padded.ravel().tobytes(), width, to_flat(start), to_flat(goal))
+    penalty = None
+    if cell_penalty is not None:
+        cell_penalty = np.asarray(cell_penalty, dtype=float)
+        if cell_penalty.shape != blocked.shape or (cell_penalty < 0).any():
+            raise ValueError(f"A*: cell_penalty must be >= 0 with shape {blocked.shape}")
+        penalty = array("d", np.pad(cell_penalty, 1).ravel().tobytes())
+    parent = _search(padded.ravel().tobytes(), width, to_flat(start), to_flat(goal), penalty)
     if parent is None:
         return None
     return _trace(parent, width, to_flat(start), to_flat(goal), resolution)
 
 
-def _search(blocked, width, start, goal):
+def _search(blocked, width, start, goal, penalty=None):
     """A* on flat indices; returns the parent array, or None if the goal is unreachable."""
     goal_row, goal_col = divmod(goal, width)
     straight = ((1, 1.0), (-1, 1.0), (width, 1.0), (-width, 1.0))
@@ -88,7 +96,11 @@ def _search(blocked, width, start, goal):
         steps += [(cell + d, base + SQRT2) for d, a, b in diagonal
                   if not blocked[cell + a] and not blocked[cell + b]]
         for nxt, new_cost in steps:
-            if blocked[nxt] or closed[nxt] or new_cost >= cost[nxt]:
+            if blocked[nxt] or closed[nxt]:
+                continue
+            if penalty is not None:
+                new_cost += penalty[nxt]
+            if new_cost >= cost[nxt]:
                 continue
             cost[nxt] = new_cost
             parent[nxt] = cell
