@@ -25,3 +25,18 @@ def integrate(pose, cmd, dt):
     vx, vy, wz = cmd
     return (x + (vx * math.cos(th) - vy * math.sin(th)) * dt,
             y + (vx * math.sin(th) + vy * math.cos(th)) * dt, th + wz * dt)
+
+
+def fake_scan(world_occupied, grid, pose, beams=180, max_range=4.0, step=0.01):
+    """Reference laser for tests: march each beam in `step` metres until an occupied cell."""
+    from nav_mocks.scan_rays import Scan
+    angles = np.linspace(-math.pi, math.pi, beams, endpoint=False)
+    r = np.arange(step, max_range, step)
+    a = angles[:, None] + pose[2]
+    rows, cols = grid.world_to_cell(pose[0] + r * np.cos(a), pose[1] + r * np.sin(a))
+    inside = grid.inside(rows, cols)
+    blocked = ~inside
+    blocked[inside] = world_occupied[rows[inside], cols[inside]]
+    first = np.argmax(blocked, axis=1)
+    ranges = np.where(blocked.any(axis=1), r[first], np.inf)
+    return Scan(angles, ranges, 0.05, max_range)

@@ -15,6 +15,7 @@ from nav_mocks.costmap import LETHAL_OBSTACLE, NO_INFORMATION
 from nav_mocks.dwa import DwaController, LocalCostmap
 from nav_mocks.global_planner import GlobalPlanner, NoPath
 from nav_mocks.pose2d import distance, wrap_angle
+from nav_mocks.scan_rays import beam_cells, hit_points
 
 # actionlib_msgs/GoalStatus values
 PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
@@ -73,6 +74,7 @@ class MoveBaseCore:
         self.planner = GlobalPlanner(costmap, planner_config)
         self.controller = DwaController(dwa_config, costmap.config)
         self.run = None
+        self.scan_points = np.zeros((0, 2))   # last laser hits, map frame [m]
 
     # goal life cycle ---------------------------------------------------------------------------
     def check_goal(self, goal):
@@ -111,43 +113,50 @@ class MoveBaseCore:
         return self.planner.plan(start[:2], goal[:2])
 
     # control cycle -----------------------------------------------------------------------------
-    def step(self, now, pose, velocity, scan_points):
-        """One control cycle. pose (x, y, yaw) map frame; velocity (vx, vy, wz) base frame;
-        scan_points (M, 2) map-frame laser hits."""
+    def observe(self, scan, laser_pose):
+        """Obstacle layer update from a scan taken at laser_pose (map frame); keeps its hits."""
+        cfg = self.costmap.config
+        free, hit = beam_cells(scan, laser_pose, self.costmap.grid, cfg.raytrace_range,
+                               cfg.obstacle_range)
+        self.costmap.update_from_scan(free, hit)
+        self.scan_points = hit_points(scan, laser_pose)
+
+    def step(self, now, pose, velocity):
+        """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
+
+        Uses the laser hits of the last observe() for the local costmap."""
         run = self.run
         if run is None or run.status != ACTIVE:
             return StepResult(ZERO, run.status if run else PENDING, run.reason if run else "")
         new_plan = None
-        if run.plan is None or now - run.last_plan_time >= 1.0 / self.config.planner_frequency:
+        due = now - run.last_plan_time >= 1.0 / self.config.planner_frequency
+        if not run.rotating and (run.plan is None or due):
             new_plan = self._replan(run, now, pose)
-            if run.status != ACTIVE:
-                return StepResult(ZERO, run.status, run.reason, new_plan)
-        cmd = self._control(run, now, pose, velocity, scan_points)
+        if run.status != ACTIVE or (run.plan is None and not run.rotating):
+            return StepResult(ZERO, run.status, run.reason, new_plan)
+        cmd = self._control(run, now, pose, velocity)
         return StepResult(cmd, run.status, run.reason, new_plan)
 
     def _replan(self, run, now, pose):
-        """Replan; on failure clear the laser marks (if any) and try once more, else abort."""
+        """Replan. Without a path: abort at once if only the static map is in the way (nothing
+        to recover), else run the next recovery behaviour (abort when none is left)."""
         run.last_plan_time = now
         try:
             run.plan = self.planner.plan(pose[:2], run.goal[:2])
         except NoPath as error:
-            if CLEAR not in self.config.recovery_behaviors or not self.costmap.marked.any():
+            run.plan = None
+            if not self.costmap.marked.any() and run.recovery_index == 0:
                 self._abort(run, str(error))
-                return None
-            self.costmap.clear_obstacles()
-            run.history.append(CLEAR)
-            try:
-                run.plan = self.planner.plan(pose[:2], run.goal[:2])
-            except NoPath as again:
-                self._abort(run, str(again))
-                return None
+            else:
+                self._recover(run, now, pose, str(error))
+            return None
         self.controller.set_plan(run.plan.points)
         return run.plan
 
     def _abort(self, run, reason):
         run.status, run.reason = ABORTED, reason
 
-    def _control(self, run, now, pose, velocity, scan_points):
+    def _control(self, run, now, pose, velocity):
         if run.rotating:
             return self._rotate_recovery(run, pose, velocity)
         if run.xy_reached or self.controller.at_goal_xy(pose, run.goal):
@@ -157,7 +166,7 @@ class MoveBaseCore:
                 run.status = SUCCEEDED
             return cmd
         self._track_progress(run, now, pose)
-        local = LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose, scan_points,
+        local = LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose, self.scan_points,
                              self.controller.config.local_window)
         cmd = self.controller.best_command(pose, velocity, local)
         if cmd is not None:
