@@ -42,7 +42,8 @@ def test_rollout_straight_arc_and_lateral():
 def test_local_plan_starts_at_the_nearest_point():
     plan = np.column_stack((np.linspace(0, 5, 51), np.zeros(51)))
     segment, index = local_plan(plan, (2.02, 0.3, 0.0), 0, 1.0)
-    assert index == 20 and segment[0, 0] == pytest.approx(2.0) and segment[-1, 0] == pytest.approx(3.0)
+    assert index == 20 and segment[0, 0] == pytest.approx(2.0)
+    assert segment[-1, 0] == pytest.approx(3.0)
 
 
 def drive(controller, pose, goal, points, steps=120):

@@ -26,6 +26,7 @@ class CostmapConfig:
     unknown_is_lethal: bool = True      # [-] track_unknown_space=false: unknown is an obstacle
     obstacle_range: float = 2.5         # [m] scan hits farther than this are not marked
     raytrace_range: float = 3.0         # [m] cells along a beam up to this range are cleared
+    static_match_distance: float = 0.1  # [m] hits this close to a map obstacle are that obstacle
 
     @property
     def inscribed_radius(self):
@@ -83,6 +84,7 @@ class Costmap:
         self.unknown = grid.cells < 0
         self.marked = np.zeros(grid.cells.shape, dtype=bool)   # obstacle layer
         self._costs = None
+        self._static_distance = None
 
     @property
     def resolution(self):
@@ -96,6 +98,21 @@ class Costmap:
         self.static_lethal = grid.cells >= 50
         self.unknown = grid.cells < 0
         self._costs = None
+        self._static_distance = None
+
+    def static_distance(self):
+        """Distance [m] from each cell centre to the nearest obstacle of the static map."""
+        if self._static_distance is None:
+            self._static_distance = obstacle_distance(self.static_lethal) * self.resolution
+        return self._static_distance
+
+    def new_obstacle(self, rows, cols):
+        """Boolean mask over hit cells: True where a hit is not a wall of the static map.
+
+        A laser hit within static_match_distance of a map obstacle is that obstacle seen with
+        range noise; marking it would grow the walls by the noise and close narrow doors.
+        """
+        return self.static_distance()[rows, cols] > self.config.static_match_distance
 
     def lethal(self):
         lethal = self.static_lethal | self.marked
@@ -118,7 +135,9 @@ class Costmap:
         Args: (rows, cols) index arrays, as returned by scan_rays.beam_cells (inside the grid).
         """
         self.marked[free_cells] = False
-        self.marked[hit_cells] = True
+        rows, cols = hit_cells
+        keep = self.new_obstacle(rows, cols)
+        self.marked[rows[keep], cols[keep]] = True
         self._costs = None
 
     def clear_obstacles(self):

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nav_mocks.costmap import LETHAL_OBSTACLE, NO_INFORMATION
+from nav_mocks.costmap import LETHAL_OBSTACLE
 from nav_mocks.dwa import DwaController, LocalCostmap
 from nav_mocks.global_planner import GlobalPlanner, NoPath
 from nav_mocks.pose2d import distance, wrap_angle
@@ -86,9 +86,11 @@ class MoveBaseCore:
         row, col = grid.world_to_cell(x, y)
         if not grid.inside(row, col):
             return f"goal ({x:.2f}, {y:.2f}) lies outside the map"
-        if self.costmap.static_lethal[row, col] or self.costmap.costs()[row, col] in (
-                LETHAL_OBSTACLE, NO_INFORMATION) or grid.cells[row, col] < 0:
-            return f"goal ({x:.2f}, {y:.2f}) lies in an obstacle or unknown space"
+        if self.costmap.static_lethal[row, col] or self.costmap.costs()[row, col] == \
+                LETHAL_OBSTACLE:
+            return f"goal ({x:.2f}, {y:.2f}) lies in an obstacle"
+        if grid.cells[row, col] < 0 and self.costmap.config.unknown_is_lethal:
+            return f"goal ({x:.2f}, {y:.2f}) lies in unknown space"
         return ""
 
     def start_goal(self, goal, now, pose):
@@ -119,7 +121,12 @@ class MoveBaseCore:
         free, hit = beam_cells(scan, laser_pose, self.costmap.grid, cfg.raytrace_range,
                                cfg.obstacle_range)
         self.costmap.update_from_scan(free, hit)
-        self.scan_points = hit_points(scan, laser_pose)
+        points = hit_points(scan, laser_pose)
+        rows, cols = self.costmap.grid.world_to_cell(points[:, 0], points[:, 1])
+        inside = self.costmap.grid.inside(rows, cols)
+        keep = np.zeros(len(points), dtype=bool)
+        keep[inside] = self.costmap.new_obstacle(rows[inside], cols[inside])
+        self.scan_points = points[keep]   # the map's own walls are in the local costmap already
 
     def step(self, now, pose, velocity):
         """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
