@@ -23,7 +23,7 @@ from nav_mocks.costmap import INSCRIBED_INFLATED_OBSTACLE, Costmap, CostmapConfi
 from nav_mocks.dwa import DwaConfig
 from nav_mocks.global_planner import NoPath, PlannerConfig
 from nav_mocks.move_base_core import ACTIVE, SUCCEEDED, MoveBaseConfig, MoveBaseCore
-from nav_mocks.pose2d import compose
+from nav_mocks.pose2d import between, compose
 from nav_mocks.scan_rays import Scan
 
 ROOT = Path(__file__).resolve().parents[4]
@@ -96,6 +96,12 @@ def load_nav_configs(path, holonomic):
             PlannerConfig(**section["planner"]), float(section["controller_frequency"]))
 
 
+def load_amcl_config(path):
+    """The amcl section of config/nav_mocks.yaml as an AmclConfig (other keys are node-only)."""
+    section = yaml.safe_load(Path(path).read_text())["amcl"]
+    return AmclConfig(**{k: v for k, v in section.items() if k in AmclConfig.__dataclass_fields__})
+
+
 class NavigationBenchmark:
     def __init__(self, config):
         from sim2d.world import World   # the simulator is only needed here
@@ -109,8 +115,9 @@ class NavigationBenchmark:
         dwa_cfg.control_period = self.control_period
         self.core = MoveBaseCore(Costmap(self.world.grid, costmap_cfg), mb_cfg, dwa_cfg,
                                  planner_cfg)
-        noise = AmclConfig() if config.localisation_noise else AmclConfig(noise_xy_std=0.0,
-                                                                          noise_yaw_std=0.0)
+        noise = load_amcl_config(config.nav_config)
+        if not config.localisation_noise:
+            noise.noise_xy_std = noise.noise_yaw_std = 0.0
         self.amcl = AmclModel(noise, seed=config.seed)
         self.rng = np.random.default_rng(config.seed)
         costs = self.core.costmap.costs()
@@ -118,6 +125,7 @@ class NavigationBenchmark:
         self.candidates = np.argwhere(~self.blocked)
         self.mount = self.robot.laser_mounts[0].mount
         self.angles = self.robot.lasers[0].model.beam_angles()
+        self.scan_pose = None      # true pose at which the latest unused scan was taken
 
     def _draw_goal(self, pose):
         """A random free cell the global planner reaches from `pose`; its A* optimum [m]."""
@@ -137,6 +145,16 @@ class NavigationBenchmark:
                 yaw = float(self.rng.uniform(-math.pi, math.pi))
                 return (x, y, yaw), best.length_m
 
+    def _sim_step(self):
+        """One simulator step; remembers the pose of a new scan. Returns the distance moved."""
+        before = self.robot.state.pose
+        count = self.robot.scans[0].count if self.robot.scans[0] is not None else 0
+        self.world.step(self.config.sim_dt)
+        after = self.robot.state.pose
+        if self.robot.scans[0] is not None and self.robot.scans[0].count != count:
+            self.scan_pose = after
+        return math.hypot(after[0] - before[0], after[1] - before[1])
+
     def _scan(self):
         model = self.robot.lasers[0].model
         ranges = np.asarray(self.robot.scans[0].ranges, dtype=float)
@@ -152,24 +170,26 @@ class NavigationBenchmark:
         driven, result = 0.0, None
         substeps = max(1, int(round(self.control_period / cfg.sim_dt)))
         while self.world.time - start_time < limit:
-            estimate = self.amcl.estimate(self.world.time, self.robot.state.pose)[0]
-            if self.robot.scans[0] is not None:
-                self.core.observe(self._scan(), compose(estimate, self.mount))
+            truth = self.robot.state.pose
+            estimate = self.amcl.estimate(self.world.time, truth)[0]
+            if self.scan_pose is not None:
+                # the scan was taken at scan_pose; place it with the estimate's current error,
+                # as move_base looks tf up at the scan's stamp
+                error = between(truth, estimate)
+                self.core.observe(self._scan(), compose(compose(self.scan_pose, error), self.mount))
+                self.scan_pose = None
             result = self.core.step(self.world.time, estimate, self.robot.state.twist)
             self.world.set_twist(self.robot.name, *result.cmd)
             if result.status != ACTIVE:
                 break
             for _ in range(substeps):
-                before = self.robot.state.pose
-                self.world.step(cfg.sim_dt)
-                after = self.robot.state.pose
-                driven += math.hypot(after[0] - before[0], after[1] - before[1])
+                driven += self._sim_step()
         else:
             self.core.cancel("benchmark time limit")
             result = None
         self.world.set_twist(self.robot.name, 0.0, 0.0, 0.0)
         for _ in range(int(1.0 / cfg.sim_dt)):   # let the robot come to rest
-            self.world.step(cfg.sim_dt)
+            self._sim_step()
         status = result.status if result else -1
         reason = result.reason if result else f"time limit {limit:.0f} s"
         return GoalOutcome(status, reason, optimum, driven, self.world.time - start_time,

@@ -90,9 +90,17 @@ class MoveBaseNode:
         self.goal_pub.publish(action_goal)
 
     # helpers -------------------------------------------------------------------------------------
-    def _lookup(self, frame):
-        """Pose (x, y, yaw) of `frame` in the global frame, latest available."""
-        tf = self.tf_buffer.lookup_transform(self.global_frame, frame.lstrip("/"), rospy.Time(0),
+    def _lookup(self, frame, stamp=None):
+        """Pose (x, y, yaw) of `frame` in the global frame at `stamp` (None: latest available)."""
+        frame = frame.lstrip("/")
+        if stamp is not None:
+            try:
+                tf = self.tf_buffer.lookup_transform(self.global_frame, frame, stamp,
+                                                     rospy.Duration(0.05))
+                return pose_from_transform(tf.transform)
+            except tf2_ros.ExtrapolationException:
+                pass   # the scan is newer than the last map -> odom: use the latest
+        tf = self.tf_buffer.lookup_transform(self.global_frame, frame, rospy.Time(0),
                                              rospy.Duration(0.05))
         return pose_from_transform(tf.transform)
 
@@ -147,7 +155,8 @@ class MoveBaseNode:
             return
         if scan is not None:
             try:
-                self.core.observe(scan_from_msg(scan), self._lookup(scan.header.frame_id))
+                self.core.observe(scan_from_msg(scan),
+                                  self._lookup(scan.header.frame_id, scan.header.stamp))
             except TF_ERRORS as error:
                 rospy.logwarn_throttle(10.0, "move_base mock: scan not placed: %s", error)
         velocity = (0.0, 0.0, 0.0)
