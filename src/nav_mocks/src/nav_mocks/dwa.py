@@ -19,6 +19,7 @@ from nav_mocks.costmap import CostmapConfig, inflation_cost, obstacle_distance
 from nav_mocks.pose2d import wrap_angle
 
 ALIGNMENT_OFF_FACTOR = 2.0  # [-] alignment terms off within this many forward-point distances
+LATE_COLLISION_COST = 1e3   # [-] ranks trajectories that would collide after a stop behind all
 
 
 @dataclass
@@ -205,6 +206,29 @@ class DwaController:
         step = cfg.acc_lim_theta * cfg.control_period
         return (0.0, 0.0, float(np.clip(wanted, w0 - step, w0 + step))), False
 
+    def _collision_cost(self, samples, clearance, here):
+        """0 for collision-free trajectories; inf for inadmissible ones; a ranking penalty for
+        those that would reach an obstacle only after the robot could have stopped.
+
+        Fox et al.'s admissibility: the robot must be able to stop, at full deceleration and one
+        control period late, before the first trajectory point inside the inscribed radius (a
+        point may be inside only to move away from an obstacle the robot is already too close
+        to). A trajectory that would collide later is still a safe command for this cycle, which
+        matters at speed: the robot then slows down along an arc instead of coasting blindly.
+        Among those, slower ones rank first.
+        """
+        cfg = self.config
+        bad = (clearance <= self.costmap_config.inscribed_radius) & (clearance < here)
+        hits = bad.any(axis=1)
+        speed = np.hypot(samples[:, 0], samples[:, 1])
+        steps = clearance.shape[1]
+        first = np.where(hits, np.argmax(bad, axis=1), steps)
+        reach = speed * (first + 1) * (cfg.sim_time / steps)    # distance before the first bad
+        braking = min(cfg.acc_lim_x, cfg.acc_lim_y if cfg.holonomic else cfg.acc_lim_x)
+        stop = speed ** 2 / (2.0 * braking) + speed * cfg.control_period
+        penalty = np.where(hits, LATE_COLLISION_COST * (1.0 + speed / cfg.max_vel_x), 0.0)
+        return np.where(hits & (reach <= stop), np.inf, penalty)
+
     def best_command(self, pose, velocity, local_costmap):
         """Best (vx, vy, wz) along the plan, or None when every trajectory collides."""
         cfg = self.config
@@ -220,11 +244,7 @@ class DwaController:
         align = to_goal > ALIGNMENT_OFF_FACTOR * cfg.forward_point_distance
         cost = score_trajectories(trajectories, segment, clearance, self.costmap_config, cfg,
                                   align)
-        # A trajectory may not enter the inscribed radius, except to move away from an obstacle
-        # the robot is already too close to (a laser hit seen late must not freeze it).
-        inscribed = self.costmap_config.inscribed_radius
-        worst = clearance.min(axis=1)
-        cost[(worst <= inscribed) & (worst < here)] = np.inf
+        cost += self._collision_cost(samples, clearance, here)
         still = np.all(np.abs(samples) < 1e-9, axis=1)
         cost[still] = np.inf   # standing still is not a plan; no motion left means "blocked"
         best = int(np.argmin(cost))
