@@ -79,7 +79,7 @@ def test_inflate_marks_cells_within_radius():
     obstacles = np.zeros((5, 5), bool)
     obstacles[2, 2] = True
     grown = inflate_obstacles(obstacles, 1.0, 1.2)
-    # radius 1.2: the obstacle and its 4 orthogonal neighbours (distance 1), not the diagonals (1.41)
+    # radius 1.2: the obstacle and its 4 orthogonal neighbours (at 1), not the diagonals (1.41)
     assert grown.sum() == 5 and grown[1, 2] and not grown[1, 1]
     assert inflate_obstacles(obstacles, 1.0, 1.5).sum() == 9
 
@@ -100,7 +100,8 @@ def dijkstra_length(obstacles, start, goal):
                 nr, nc = r + dr, c + dc
                 if (dr, dc) == (0, 0) or not (0 <= nr < rows and 0 <= nc < cols):
                     continue
-                if obstacles[nr, nc] or (dr and dc and (obstacles[r + dr, c] or obstacles[r, c + dc])):
+                corner = dr and dc and (obstacles[r + dr, c] or obstacles[r, c + dc])
+                if obstacles[nr, nc] or corner:
                     continue
                 new = dist + (R2 if dr and dc else 1.0)
                 if new < best.get((nr, nc), math.inf):
