@@ -2,8 +2,9 @@
 
 ROS-free. Cells at or above the inscribed cost are blocked; cheaper inflated cells cost extra in
 proportion to their cost (navfn's cost factor), so plans keep away from walls where there is room.
-The robot's own footprint is cleared first (costmap_2d's clearRobotCell, widened to the whole
-inscribed disk), so a robot standing close to a wall can still leave.
+When the robot stands in an inscribed cell, its footprint is cleared first (costmap_2d's
+clearRobotCell, widened to the whole inscribed disk) so that it can still leave; otherwise the
+plan keeps to cells the local controller will accept.
 """
 from dataclasses import dataclass
 
@@ -65,10 +66,11 @@ class GlobalPlanner:
             raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) is closer than the robot "
                          "radius to an obstacle")
         blocked = costs >= INSCRIBED_INFLATED_OBSTACLE
-        footprint = _footprint_cells(grid, start_xy[0], start_xy[1],
-                                     self.costmap.config.inscribed_radius)
-        blocked[footprint & (costs != LETHAL_OBSTACLE)] = False
-        blocked[start] = False
+        if blocked[start]:   # only a robot already too close to an obstacle needs a way out
+            footprint = _footprint_cells(grid, start_xy[0], start_xy[1],
+                                         self.costmap.config.inscribed_radius)
+            blocked[footprint & (costs != LETHAL_OBSTACLE)] = False
+            blocked[start] = False
         found = astar(blocked, start, goal, grid.resolution,
                       cell_penalty=cost_penalty(costs, self.config.cost_factor))
         if found is None:
