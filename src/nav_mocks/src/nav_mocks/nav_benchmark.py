@@ -51,6 +51,8 @@ class GoalOutcome:
     driven_m: float
     seconds: float        # simulated
     bumps: int
+    trace: list = field(default_factory=list)   # true (x, y) of the robot, once per cycle
+    plan: object = None                         # (N, 2) first global plan
 
 
 @dataclass
@@ -167,7 +169,7 @@ class NavigationBenchmark:
         limit = cfg.timeout_base + cfg.timeout_factor * optimum / speed
         pose = self.robot.state.pose
         self.core.start_goal(goal, self.world.time, self.amcl.estimate(self.world.time, pose)[0])
-        driven, result = 0.0, None
+        driven, result, trace, first_plan = 0.0, None, [], None
         substeps = max(1, int(round(self.control_period / cfg.sim_dt)))
         while self.world.time - start_time < limit:
             truth = self.robot.state.pose
@@ -180,6 +182,9 @@ class NavigationBenchmark:
                 self.scan_pose = None
             result = self.core.step(self.world.time, estimate, self.robot.state.twist)
             self.world.set_twist(self.robot.name, *result.cmd)
+            trace.append(truth[:2])
+            if first_plan is None and result.new_plan is not None:
+                first_plan = result.new_plan.points
             if result.status != ACTIVE:
                 break
             for _ in range(substeps):
@@ -193,7 +198,7 @@ class NavigationBenchmark:
         status = result.status if result else -1
         reason = result.reason if result else f"time limit {limit:.0f} s"
         return GoalOutcome(status, reason, optimum, driven, self.world.time - start_time,
-                           self.robot.state.bumps - bumps0)
+                           self.robot.state.bumps - bumps0, trace, first_plan)
 
 
 def run_navigation_benchmark(config, progress=False):
