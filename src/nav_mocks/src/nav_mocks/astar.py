@@ -41,13 +41,15 @@ def _check_cell(name, cell, shape):
         raise ValueError(f"A*: {name} cell {cell} lies outside the {shape[0]}x{shape[1]} grid")
 
 
-def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0):
+def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0, cell_penalty=None):
     """Shortest 8-connected path from `start` to `goal` (row, col) through free cells.
 
     Args:
         obstacles: bool array (H, W), True = blocked.
         resolution: cell side [m].
         robot_radius: obstacles are inflated by this radius first [m]; 0 = no inflation.
+        cell_penalty: optional float array (H, W) >= 0 added to the cost of entering a cell
+            [cells of length], as navfn adds costmap cost; the octile heuristic stays admissible.
     Returns:
         GridPath, or None when the goal cannot be reached (or start/goal are blocked).
     """
@@ -59,43 +61,62 @@ def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0):
     padded = np.pad(blocked, 1, constant_values=True)  # border of obstacles: no bounds checks
     width = padded.shape[1]
     to_flat = lambda cell: (cell[0] + 1) * width + cell[1] + 1  # noqa: E731
-    parent = _search(padded.ravel().tobytes(), width, to_flat(start), to_flat(goal))
+    penalty = None
+    if cell_penalty is not None:
+        cell_penalty = np.asarray(cell_penalty, dtype=float)
+        if cell_penalty.shape != blocked.shape or (cell_penalty < 0).any():
+            raise ValueError(f"A*: cell_penalty must be >= 0 with shape {blocked.shape}")
+        penalty = array("d", np.pad(cell_penalty, 1).ravel().tobytes())
+    parent = _search(padded.ravel().tobytes(), width, to_flat(start), to_flat(goal), penalty)
     if parent is None:
         return None
     return _trace(parent, width, to_flat(start), to_flat(goal), resolution)
 
 
-def _search(blocked, width, start, goal):
-    """A* on flat indices; returns the parent array, or None if the goal is unreachable."""
+def _search(blocked, width, start, goal, penalty=None):
+    """A* on flat indices; returns the parent array, or None if the goal is unreachable.
+
+    Ties in f are broken towards the larger g (the node nearer the goal), which on open grids
+    expands far fewer of the many equal-f cells without changing the optimal length.
+    """
     goal_row, goal_col = divmod(goal, width)
-    straight = ((1, 1.0), (-1, 1.0), (width, 1.0), (-width, 1.0))
-    diagonal = ((width + 1, width, 1), (width - 1, width, -1),
-                (-width + 1, -width, 1), (-width - 1, -width, -1))
+    # (offset, step length, corner offsets that must both be free for a diagonal; 0 = straight)
+    moves = ((1, 1.0, 0, 0), (-1, 1.0, 0, 0), (width, 1.0, 0, 0), (-width, 1.0, 0, 0),
+             (width + 1, SQRT2, width, 1), (width - 1, SQRT2, width, -1),
+             (-width + 1, SQRT2, -width, 1), (-width - 1, SQRT2, -width, -1))
+    octile = SQRT2 - 2.0
     cost = array("d", [math.inf]) * len(blocked)
     parent = array("l", [-1]) * len(blocked)
     closed = bytearray(len(blocked))
     cost[start] = 0.0
-    frontier = [(0.0, start)]
+    frontier = [(0.0, 0.0, start)]
+    push, pop = heapq.heappush, heapq.heappop
     while frontier:
-        _, cell = heapq.heappop(frontier)
+        _, _, cell = pop(frontier)
         if closed[cell]:
             continue
         if cell == goal:
             return parent
         closed[cell] = 1
         base = cost[cell]
-        steps = [(cell + d, base + c) for d, c in straight]
-        steps += [(cell + d, base + SQRT2) for d, a, b in diagonal
-                  if not blocked[cell + a] and not blocked[cell + b]]
-        for nxt, new_cost in steps:
-            if blocked[nxt] or closed[nxt] or new_cost >= cost[nxt]:
+        for offset, step, corner_a, corner_b in moves:
+            nxt = cell + offset
+            if blocked[nxt] or closed[nxt]:
+                continue
+            if corner_a and (blocked[cell + corner_a] or blocked[cell + corner_b]):
+                continue
+            new_cost = base + step
+            if penalty is not None:
+                new_cost += penalty[nxt]
+            if new_cost >= cost[nxt]:
                 continue
             cost[nxt] = new_cost
             parent[nxt] = cell
             row, col = divmod(nxt, width)
-            dr, dc = abs(row - goal_row), abs(col - goal_col)
-            heuristic = dr + dc + (SQRT2 - 2.0) * min(dr, dc)  # octile distance
-            heapq.heappush(frontier, (new_cost + heuristic, nxt))
+            dr = row - goal_row if row > goal_row else goal_row - row
+            dc = col - goal_col if col > goal_col else goal_col - col
+            heuristic = dr + dc + octile * (dr if dr < dc else dc)   # octile distance
+            push(frontier, (new_cost + heuristic, -new_cost, nxt))
     return None
 
 

@@ -1,0 +1,84 @@
+"""Global planner of the move_base mock: grid A* on the inflated costmap (navfn/global_planner).
+
+ROS-free. Cells at or above the inscribed cost are blocked; cheaper inflated cells cost extra in
+proportion to their cost (navfn's cost factor), so plans keep away from walls where there is room.
+When the robot stands in an inscribed cell, its footprint is cleared first (costmap_2d's
+clearRobotCell, widened to the whole inscribed disk) so that it can still leave; otherwise the
+plan keeps to cells the local controller will accept.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from nav_mocks.astar import astar
+from nav_mocks.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, cost_penalty
+
+
+@dataclass
+class PlannerConfig:
+    cost_factor: float = 3.0   # [cells] extra length for crossing a cell of cost 252
+
+
+@dataclass
+class Plan:
+    points: np.ndarray   # (N, 2) map-frame waypoints [m], start first, goal last
+    length_m: float      # [m] length of the polyline
+
+
+class NoPath(Exception):
+    """No plan exists; the message says why (for an ABORTED result or a make_plan reply)."""
+
+
+def polyline_length(points):
+    return float(np.hypot(*np.diff(points, axis=0).T).sum()) if len(points) > 1 else 0.0
+
+
+def _footprint_cells(grid, x, y, radius):
+    """Boolean mask of the cells whose centres lie within `radius` of (x, y)."""
+    rows, cols = np.ogrid[:grid.height, :grid.width]
+    cx, cy = grid.cell_to_world(rows, cols)
+    return np.hypot(cx - x, cy - y) <= radius
+
+
+class GlobalPlanner:
+    """Plans on a Costmap (nav_mocks.costmap.Costmap)."""
+
+    def __init__(self, costmap, config=None):
+        self.costmap = costmap
+        self.config = config or PlannerConfig()
+
+    def cell_of(self, x, y, what):
+        grid = self.costmap.grid
+        row, col = grid.world_to_cell(x, y)
+        if not grid.inside(row, col):
+            raise NoPath(f"{what} ({x:.2f}, {y:.2f}) lies outside the map")
+        return int(row), int(col)
+
+    def plan(self, start_xy, goal_xy):
+        """A Plan from start to goal, or NoPath naming the reason."""
+        grid = self.costmap.grid
+        start = self.cell_of(*start_xy, "start")
+        goal = self.cell_of(*goal_xy, "goal")
+        costs = self.costmap.costs()
+        if costs[goal] == LETHAL_OBSTACLE:
+            raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) lies in an obstacle")
+        if costs[goal] >= INSCRIBED_INFLATED_OBSTACLE:
+            raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) is closer than the robot "
+                         "radius to an obstacle")
+        blocked = costs >= INSCRIBED_INFLATED_OBSTACLE
+        if blocked[start]:   # only a robot already too close to an obstacle needs a way out
+            footprint = _footprint_cells(grid, start_xy[0], start_xy[1],
+                                         self.costmap.config.inscribed_radius)
+            blocked[footprint & (costs != LETHAL_OBSTACLE)] = False
+            blocked[start] = False
+        found = astar(blocked, start, goal, grid.resolution,
+                      cell_penalty=cost_penalty(costs, self.config.cost_factor))
+        if found is None:
+            raise NoPath(f"no path from ({start_xy[0]:.2f}, {start_xy[1]:.2f}) to "
+                         f"({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) on the costmap")
+        rows, cols = np.array(found.cells).T
+        xs, ys = grid.cell_to_world(rows, cols)
+        points = np.column_stack((xs, ys))
+        points[0] = start_xy[:2]
+        points[-1] = goal_xy[:2]
+        return Plan(points=points, length_m=polyline_length(points))

@@ -1,0 +1,220 @@
+"""move_base mock, ROS-free: goal checks, global planning, DWA control, recovery, outcomes.
+
+One `step()` per control cycle. Goal states use actionlib_msgs/GoalStatus numbers. The recovery
+sequence is move_base's conservative one: when the robot is blocked (no admissible trajectory for
+controller_patience) or makes no progress (less than oscillation_distance in oscillation_timeout),
+or the planner finds no path, it first clears the costmap's laser marks and replans, then rotates
+in place once; if it is still stuck the goal is ABORTED with the reason.
+"""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nav_mocks.costmap import LETHAL_OBSTACLE
+from nav_mocks.dwa import DwaController, LocalCostmap
+from nav_mocks.global_planner import GlobalPlanner, NoPath
+from nav_mocks.pose2d import distance, wrap_angle
+from nav_mocks.scan_rays import beam_cells, hit_points
+
+# actionlib_msgs/GoalStatus values
+PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
+ZERO = (0.0, 0.0, 0.0)
+CLEAR, ROTATE = "clear_costmaps", "rotate_recovery"
+
+
+@dataclass
+class MoveBaseConfig:
+    planner_frequency: float = 1.0       # [Hz] replanning rate while a goal is active
+    controller_patience: float = 3.0     # [s] blocked this long -> recovery
+    oscillation_timeout: float = 10.0    # [s] no progress this long -> recovery
+    oscillation_distance: float = 0.3    # [m] progress that resets the oscillation timer
+    recovery_behaviors: tuple = (CLEAR, ROTATE)  # tried in order
+    rotation_angle: float = 2.0 * math.pi  # [rad] turned by the rotate recovery
+
+    def validate(self):
+        if self.planner_frequency <= 0 or self.controller_patience <= 0:
+            raise ValueError("move_base: planner_frequency and controller_patience must be > 0")
+        unknown = set(self.recovery_behaviors) - {CLEAR, ROTATE}
+        if unknown:
+            raise ValueError(f"move_base: unknown recovery behaviour(s) {sorted(unknown)}")
+
+
+@dataclass
+class StepResult:
+    cmd: tuple                      # (vx [m/s], vy [m/s], wz [rad/s]) in the base frame
+    status: int                     # GoalStatus value of the current goal
+    reason: str = ""                # why a goal ended ABORTED / REJECTED / PREEMPTED
+    new_plan: object = None         # a Plan made in this step (for /plan), else None
+
+
+@dataclass
+class _GoalRun:
+    goal: tuple                     # (x, y, yaw) map frame
+    status: int = ACTIVE
+    reason: str = ""
+    plan: object = None
+    last_plan_time: float = -math.inf
+    blocked_since: object = None    # time the controller first found no trajectory
+    progress_pose: object = None
+    progress_time: float = 0.0
+    recovery_index: int = 0
+    rotating: bool = False
+    rotated: float = 0.0
+    last_yaw: float = 0.0
+    xy_reached: bool = False
+    history: list = field(default_factory=list)  # recoveries run, for diagnostics
+
+
+class MoveBaseCore:
+    def __init__(self, costmap, config=None, dwa_config=None, planner_config=None):
+        self.config = config or MoveBaseConfig()
+        self.config.validate()
+        self.costmap = costmap
+        self.planner = GlobalPlanner(costmap, planner_config)
+        self.controller = DwaController(dwa_config, costmap.config)
+        self.run = None
+        self.scan_points = np.zeros((0, 2))   # last laser hits, map frame [m]
+
+    # goal life cycle ---------------------------------------------------------------------------
+    def check_goal(self, goal):
+        """Reason to REJECT a goal (outside the map, in an obstacle or unknown), else ''."""
+        x, y, yaw = goal
+        if not all(math.isfinite(v) for v in (x, y, yaw)):
+            return f"goal ({x}, {y}, {yaw}) is not finite"
+        grid = self.costmap.grid
+        row, col = grid.world_to_cell(x, y)
+        if not grid.inside(row, col):
+            return f"goal ({x:.2f}, {y:.2f}) lies outside the map"
+        if self.costmap.static_lethal[row, col] or self.costmap.costs()[row, col] == \
+                LETHAL_OBSTACLE:
+            return f"goal ({x:.2f}, {y:.2f}) lies in an obstacle"
+        if grid.cells[row, col] < 0 and self.costmap.config.unknown_is_lethal:
+            return f"goal ({x:.2f}, {y:.2f}) lies in unknown space"
+        return ""
+
+    def start_goal(self, goal, now, pose):
+        """Accept (ACTIVE) or reject (REJECTED) a new goal; a running goal is preempted."""
+        reason = self.check_goal(goal)
+        if reason:
+            return REJECTED, reason
+        self.run = _GoalRun(goal=tuple(float(v) for v in goal), progress_pose=pose,
+                            progress_time=now)
+        return ACTIVE, ""
+
+    def cancel(self, reason="cancelled"):
+        if self.run is not None and self.run.status == ACTIVE:
+            self.run.status, self.run.reason = PREEMPTED, reason
+
+    @property
+    def active(self):
+        return self.run is not None and self.run.status == ACTIVE
+
+    def make_plan(self, start, goal):
+        """make_plan service: a Plan between two map points, or NoPath (does not touch a run)."""
+        return self.planner.plan(start[:2], goal[:2])
+
+    # control cycle -----------------------------------------------------------------------------
+    def observe(self, scan, laser_pose):
+        """Obstacle layer update from a scan taken at laser_pose (map frame); keeps its hits."""
+        cfg = self.costmap.config
+        free, hit = beam_cells(scan, laser_pose, self.costmap.grid, cfg.raytrace_range,
+                               cfg.obstacle_range)
+        self.costmap.update_from_scan(free, hit)
+        points = hit_points(scan, laser_pose)
+        rows, cols = self.costmap.grid.world_to_cell(points[:, 0], points[:, 1])
+        inside = self.costmap.grid.inside(rows, cols)
+        keep = np.zeros(len(points), dtype=bool)
+        keep[inside] = self.costmap.new_obstacle(rows[inside], cols[inside])
+        self.scan_points = points[keep]   # the map's own walls are in the local costmap already
+
+    def step(self, now, pose, velocity):
+        """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
+
+        Uses the laser hits of the last observe() for the local costmap."""
+        run = self.run
+        if run is None or run.status != ACTIVE:
+            return StepResult(ZERO, run.status if run else PENDING, run.reason if run else "")
+        new_plan = None
+        due = now - run.last_plan_time >= 1.0 / self.config.planner_frequency
+        if not run.rotating and (run.plan is None or due):
+            new_plan = self._replan(run, now, pose)
+        if run.status != ACTIVE or (run.plan is None and not run.rotating):
+            return StepResult(ZERO, run.status, run.reason, new_plan)
+        cmd = self._control(run, now, pose, velocity)
+        return StepResult(cmd, run.status, run.reason, new_plan)
+
+    def _replan(self, run, now, pose):
+        """Replan. Without a path: abort at once if only the static map is in the way (nothing
+        to recover), else run the next recovery behaviour (abort when none is left)."""
+        run.last_plan_time = now
+        try:
+            run.plan = self.planner.plan(pose[:2], run.goal[:2])
+        except NoPath as error:
+            run.plan = None
+            if not self.costmap.marked.any() and run.recovery_index == 0:
+                self._abort(run, str(error))
+            else:
+                self._recover(run, now, pose, str(error))
+            return None
+        self.controller.set_plan(run.plan.points)
+        return run.plan
+
+    def _abort(self, run, reason):
+        run.status, run.reason = ABORTED, reason
+
+    def _control(self, run, now, pose, velocity):
+        if run.rotating:
+            return self._rotate_recovery(run, pose, velocity)
+        if run.xy_reached or self.controller.at_goal_xy(pose, run.goal):
+            run.xy_reached = True  # latch_xy_goal_tolerance: finish by turning in place
+            cmd, done = self.controller.rotate_to(pose, run.goal, velocity)
+            if done:
+                run.status = SUCCEEDED
+            return cmd
+        self._track_progress(run, now, pose)
+        local = LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose, self.scan_points,
+                             self.controller.config.local_window)
+        cmd = self.controller.best_command(pose, velocity, local)
+        if cmd is not None:
+            run.blocked_since = None
+            return cmd
+        run.blocked_since = now if run.blocked_since is None else run.blocked_since
+        if now - run.blocked_since >= self.config.controller_patience:
+            self._recover(run, now, pose, "blocked: no collision-free trajectory")
+        return ZERO
+
+    def _track_progress(self, run, now, pose):
+        if distance(pose, run.progress_pose) >= self.config.oscillation_distance:
+            run.progress_pose, run.progress_time = pose, now
+            run.recovery_index = 0
+        elif now - run.progress_time >= self.config.oscillation_timeout:
+            self._recover(run, now, pose, "no progress")
+
+    def _recover(self, run, now, pose, why):
+        """Run the next recovery behaviour, or abort when all have been tried."""
+        behaviours = self.config.recovery_behaviors
+        if run.recovery_index >= len(behaviours):
+            self._abort(run, f"stuck ({why}) after recovery: {', '.join(behaviours)}")
+            return
+        behaviour = behaviours[run.recovery_index]
+        run.recovery_index += 1
+        run.history.append(behaviour)
+        run.blocked_since = None
+        run.progress_pose, run.progress_time = pose, now
+        if behaviour == CLEAR:
+            self.costmap.clear_obstacles()
+            run.last_plan_time = -math.inf   # replan on the next cycle
+        else:
+            run.rotating, run.rotated, run.last_yaw = True, 0.0, pose[2]
+
+    def _rotate_recovery(self, run, pose, velocity):
+        run.rotated += abs(wrap_angle(pose[2] - run.last_yaw))
+        run.last_yaw = pose[2]
+        if run.rotated >= self.config.rotation_angle:
+            run.rotating = False
+            run.last_plan_time = -math.inf
+            return ZERO
+        cfg = self.controller.config
+        w = min(cfg.max_vel_theta, abs(velocity[2]) + cfg.acc_lim_theta * cfg.control_period)
+        return (0.0, 0.0, float(np.copysign(w, 1.0)))

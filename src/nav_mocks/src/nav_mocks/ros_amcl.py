@@ -1,0 +1,109 @@
+"""AMCL mock node: /amcl_pose and tf map -> odom from ground truth plus the AMCL noise model.
+
+Subscribes /base_pose_ground_truth (nav_msgs/Odometry, map frame), /odom (nav_msgs/Odometry) and
+/initialpose (PoseWithCovarianceStamped); publishes /amcl_pose and the map -> odom transform
+(post-dated by ~transform_tolerance, as amcl does) at ~update_rate, and /diagnostics.
+"""
+import threading
+
+import rospy
+import tf2_ros
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav_msgs.msg import Odometry
+
+from nav_mocks.amcl_model import AmclConfig, AmclModel, map_to_odom
+from nav_mocks.conversions import pose_from_msg, pose_to_msg, transform_msg
+from nav_mocks.ros_params import config_from_params
+
+
+class AmclNode:
+    def __init__(self):
+        self.global_frame = rospy.get_param("~global_frame_id", "map")
+        self.odom_frame = rospy.get_param("~odom_frame_id", "odom")
+        self.tolerance = rospy.Duration(float(rospy.get_param("~transform_tolerance", 0.1)))
+        rate = float(rospy.get_param("~update_rate", 10.0))          # [Hz]
+        self.model = AmclModel(config_from_params(AmclConfig, "~"),
+                               seed=int(rospy.get_param("~seed", 0)))
+        self.lock = threading.Lock()
+        self.truth = self.odom = self.initial = None
+        self.published = 0
+        self.pose_pub = rospy.Publisher("amcl_pose", PoseWithCovarianceStamped, queue_size=2,
+                                        latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.tf_pub = tf2_ros.TransformBroadcaster()
+        rospy.Subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=1)
+        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=1)
+        rospy.Subscriber("initialpose", PoseWithCovarianceStamped, self._on_initial, queue_size=1)
+        rospy.Timer(rospy.Duration(1.0 / rate), self._update)
+        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+
+    def _on_truth(self, msg):
+        with self.lock:
+            self.truth = msg
+
+    def _on_odom(self, msg):
+        with self.lock:
+            self.odom = msg
+
+    def _on_initial(self, msg):
+        with self.lock:
+            self.initial = msg
+
+    def _update(self, _event):
+        with self.lock:
+            truth, odom, initial = self.truth, self.odom, self.initial
+            self.initial = None
+        if truth is None or odom is None:
+            return
+        now = rospy.Time.now()
+        true_pose = pose_from_msg(truth.pose.pose)
+        if initial is not None:
+            if initial.header.frame_id.lstrip("/") not in ("", self.global_frame):
+                rospy.logwarn("amcl mock: ignored /initialpose in frame %r (expected %r)",
+                              initial.header.frame_id, self.global_frame)
+            else:
+                try:
+                    start = pose_from_msg(initial.pose.pose)
+                except ValueError as error:
+                    rospy.logwarn("amcl mock: ignored /initialpose: %s", error)
+                else:
+                    self.model.set_initial_pose(now.to_sec(), start, true_pose)
+                    rospy.loginfo("amcl mock: initial pose (%.2f, %.2f, %.2f)", *start)
+        result = self.model.estimate(now.to_sec(), true_pose)
+        if result is None:
+            rospy.logwarn_throttle(10.0, "amcl mock: not localised; waiting for /initialpose")
+            return
+        estimate, covariance = result
+        msg = PoseWithCovarianceStamped()
+        msg.header.stamp, msg.header.frame_id = now, self.global_frame
+        pose_to_msg(estimate, msg.pose.pose)
+        msg.pose.covariance = covariance
+        self.pose_pub.publish(msg)
+        correction = map_to_odom(estimate, pose_from_msg(odom.pose.pose))
+        self.tf_pub.sendTransform(transform_msg(correction, self.global_frame, self.odom_frame,
+                                                now + self.tolerance))
+        self.published += 1
+
+    def _diagnose(self, _event):
+        localised = self.model.localised
+        status = DiagnosticStatus(
+            level=DiagnosticStatus.OK if localised else DiagnosticStatus.WARN,
+            name="nav_mocks: amcl", hardware_id="amcl_mock",
+            message="localised" if localised else "not localised: waiting for /initialpose")
+        status.values = [KeyValue("estimates_published", str(self.published)),
+                         KeyValue("converging", str(self.model.converging))]
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self.diag_pub.publish(array)
+
+
+def main(_argv):
+    rospy.init_node("amcl")
+    try:
+        AmclNode()
+    except ValueError as error:
+        rospy.logfatal("amcl mock: %s", error)
+        return 1
+    rospy.spin()
+    return 0

@@ -1,0 +1,122 @@
+"""map_server / GMapping mock node: latched /map and /map_metadata, static_map and dynamic_map.
+
+In "static" mode the map file is served as map_server does. In "mapping" mode the map grows
+from the laser as GMapping's would: each /scan reveals the cells its beams crossed, located with
+the simulator's ground truth (/base_pose_ground_truth) and the base -> laser transform from tf.
+"""
+import threading
+
+import rospy
+import tf2_ros
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from nav_msgs.msg import MapMetaData, OccupancyGrid, Odometry
+from nav_msgs.srv import GetMap, GetMapResponse
+from sensor_msgs.msg import LaserScan
+from sim2d.occupancy_map import MapError, load_map
+
+from nav_mocks.conversions import (map_metadata, map_to_msg, pose_from_msg,
+                                   pose_from_transform, scan_from_msg)
+from nav_mocks.mapping import RevealedMap
+from nav_mocks.pose2d import compose
+
+MODES = ("static", "mapping")
+
+
+class MapServerNode:
+    def __init__(self, map_file):
+        self.frame_id = rospy.get_param("~frame_id", "map")
+        self.mode = rospy.get_param("~mode", "static")
+        if self.mode not in MODES:
+            raise ValueError(f"~mode must be one of {MODES}, got {self.mode!r}")
+        self.base_frame = rospy.get_param("~base_frame", "base_link")
+        self.update_interval = float(rospy.get_param("~map_update_interval", 1.0))  # [s]
+        self.truth = load_map(map_file)
+        self.map_file = map_file
+        self.lock = threading.Lock()
+        self.latest_scan = None
+        self.latest_truth_pose = None
+        self.mapping = None
+        if self.mode == "mapping":
+            max_range = float(rospy.get_param("~max_urange", 8.0))   # GMapping's maxUrange [m]
+            self.mapping = RevealedMap(self.truth, max_range)
+        self.map_pub = rospy.Publisher("map", OccupancyGrid, queue_size=1, latch=True)
+        self.meta_pub = rospy.Publisher("map_metadata", MapMetaData, queue_size=1, latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.current = None
+        self._publish(self.truth if self.mapping is None else self.mapping.current())
+        rospy.Service("static_map", GetMap, self._serve)
+        rospy.Service("dynamic_map", GetMap, self._serve)
+        if self.mapping is not None:
+            self.tf_buffer = tf2_ros.Buffer()
+            self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+            rospy.Subscriber("scan", LaserScan, self._on_scan, queue_size=1)
+            rospy.Subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=1)
+            rospy.Timer(rospy.Duration(self.update_interval), self._integrate)
+        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        rospy.loginfo("map_server mock: %s (%dx%d at %.3f m) in %s mode", map_file,
+                      self.truth.width, self.truth.height, self.truth.resolution, self.mode)
+
+    def _publish(self, grid):
+        stamp = rospy.Time.now()
+        msg = map_to_msg(grid, self.frame_id, stamp)
+        with self.lock:
+            self.current = msg
+        self.map_pub.publish(msg)
+        self.meta_pub.publish(map_metadata(grid, stamp))
+
+    def _serve(self, _request):
+        with self.lock:
+            return GetMapResponse(map=self.current)
+
+    def _on_scan(self, msg):
+        with self.lock:
+            self.latest_scan = msg
+
+    def _on_truth(self, msg):
+        with self.lock:
+            self.latest_truth_pose = msg.pose.pose
+
+    def _integrate(self, _event):
+        with self.lock:
+            scan, truth = self.latest_scan, self.latest_truth_pose
+            self.latest_scan = None
+        if scan is None or truth is None:
+            return
+        try:
+            mount = self.tf_buffer.lookup_transform(self.base_frame, scan.header.frame_id,
+                                                    rospy.Time(0), rospy.Duration(0.1))
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException) as error:
+            rospy.logwarn_throttle(10.0, "map_server mock: no %s -> %s transform: %s",
+                                   self.base_frame, scan.header.frame_id, error)
+            return
+        laser_pose = compose(pose_from_msg(truth), pose_from_transform(mount.transform))
+        if self.mapping.integrate_scan(scan_from_msg(scan), laser_pose):
+            self._publish(self.mapping.current())
+
+    def _diagnose(self, _event):
+        status = DiagnosticStatus(level=DiagnosticStatus.OK, name="nav_mocks: map_server",
+                                  hardware_id=self.map_file, message=f"serving ({self.mode})")
+        status.values = [KeyValue("mode", self.mode),
+                         KeyValue("size", f"{self.truth.width}x{self.truth.height}")]
+        if self.mapping is not None:
+            status.values.append(KeyValue("explored_fraction",
+                                          f"{self.mapping.explored_fraction():.3f}"))
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self.diag_pub.publish(array)
+
+
+def main(argv):
+    rospy.init_node("map_server")
+    map_file = argv[0] if argv else rospy.get_param("~map_file", "")
+    if not map_file:
+        rospy.logfatal("map_server mock: give the map YAML as argument or ~map_file")
+        return 1
+    try:
+        MapServerNode(map_file)
+    except (MapError, ValueError) as error:
+        rospy.logfatal("map_server mock: %s", error)
+        return 1
+    rospy.spin()
+    return 0

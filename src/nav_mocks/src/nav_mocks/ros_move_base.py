@@ -1,0 +1,274 @@
+"""move_base mock node: actionlib `move_base` (MoveBaseAction), /move_base_simple/goal, plan,
+make_plan, /cmd_vel, /diagnostics. The work is done by nav_mocks.move_base_core each cycle.
+
+Callbacks only cache under the lock; the control timer (~controller_frequency) takes new goals,
+cancels, the latest scan and the robot pose (tf global_frame -> base_frame) and runs the core.
+"""
+import threading
+import time
+
+import actionlib
+import rospy
+import tf2_ros
+from actionlib_msgs.msg import GoalStatus
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseStamped, Twist
+from move_base_msgs.msg import (MoveBaseAction, MoveBaseActionGoal, MoveBaseFeedback,
+                                MoveBaseResult)
+from nav_msgs.msg import OccupancyGrid, Odometry, Path
+from nav_msgs.srv import GetPlan, GetPlanResponse
+from sensor_msgs.msg import LaserScan
+
+from nav_mocks.conversions import (map_from_msg, path_to_msg, pose_from_msg, pose_from_transform,
+                                   pose_to_msg, scan_from_msg)
+from nav_mocks.costmap import Costmap, CostmapConfig
+from nav_mocks.dwa import DwaConfig
+from nav_mocks.global_planner import NoPath, PlannerConfig
+from nav_mocks.move_base_core import (ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCCEEDED,
+                                      MoveBaseConfig, MoveBaseCore)
+from nav_mocks.pose2d import compose
+from nav_mocks.ros_params import config_from_params
+
+TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+             tf2_ros.ExtrapolationException)
+
+
+class MoveBaseNode:
+    def __init__(self):
+        self.global_frame = rospy.get_param("~global_frame", "map")
+        self.base_frame = rospy.get_param("~robot_base_frame", "base_link")
+        self.period = 1.0 / float(rospy.get_param("~controller_frequency", 10.0))  # [s]
+        self.costmap_config = config_from_params(CostmapConfig, "~costmap")
+        self.dwa_config = config_from_params(DwaConfig, "~DWAPlannerROS")
+        self.dwa_config.control_period = self.period
+        self.config = config_from_params(MoveBaseConfig, "~")
+        self.planner_config = config_from_params(PlannerConfig, "~planner")
+        self.lock = threading.Lock()
+        self.map_msg = self.scan = self.odom = None
+        self.new_goals, self.cancels = [], []
+        self.handle = None            # goal handle being executed
+        self.core = None
+        self.last_cycle = {"duration": 0.0, "status": "idle"}
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)
+        self.plan_pub = rospy.Publisher("~plan", Path, queue_size=1, latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.goal_pub = rospy.Publisher("move_base/goal", MoveBaseActionGoal, queue_size=1)
+        rospy.Subscriber("map", OccupancyGrid, self._cache("map_msg"), queue_size=1)
+        rospy.Subscriber("scan", LaserScan, self._cache("scan"), queue_size=1)
+        rospy.Subscriber("odom", Odometry, self._cache("odom"), queue_size=1)
+        rospy.Subscriber("move_base_simple/goal", PoseStamped, self._on_simple_goal, queue_size=1)
+        self.server = actionlib.ActionServer("move_base", MoveBaseAction, self._on_goal,
+                                             self._on_cancel, auto_start=False)
+        rospy.Service("~make_plan", GetPlan, self._make_plan)
+        rospy.on_shutdown(self._stop)
+        self.server.start()
+        rospy.Timer(rospy.Duration(self.period), self._cycle)
+        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+
+    # callbacks: cache only -----------------------------------------------------------------------
+    def _cache(self, name):
+        def store(msg):
+            with self.lock:
+                setattr(self, name, msg)
+        return store
+
+    def _on_goal(self, handle):
+        with self.lock:
+            self.new_goals.append(handle)
+
+    def _on_cancel(self, handle):
+        with self.lock:
+            self.cancels.append(handle)
+
+    def _on_simple_goal(self, msg):
+        """As move_base: a /move_base_simple/goal becomes a goal of its own action server."""
+        action_goal = MoveBaseActionGoal()
+        action_goal.header.stamp = rospy.Time.now()
+        action_goal.goal.target_pose = msg
+        self.goal_pub.publish(action_goal)
+
+    # helpers -------------------------------------------------------------------------------------
+    def _lookup(self, frame, stamp=None):
+        """Pose (x, y, yaw) of `frame` in the global frame at `stamp` (None: latest available)."""
+        frame = frame.lstrip("/")
+        if stamp is not None:
+            try:
+                tf = self.tf_buffer.lookup_transform(self.global_frame, frame, stamp,
+                                                     rospy.Duration(0.05))
+                return pose_from_transform(tf.transform)
+            except tf2_ros.ExtrapolationException:
+                pass   # the scan is newer than the last map -> odom: use the latest
+        tf = self.tf_buffer.lookup_transform(self.global_frame, frame, rospy.Time(0),
+                                             rospy.Duration(0.05))
+        return pose_from_transform(tf.transform)
+
+    def _goal_in_global(self, target):
+        """PoseStamped -> (x, y, yaw) in the global frame; ValueError names the problem."""
+        frame = target.header.frame_id.lstrip("/")
+        pose = pose_from_msg(target.pose)
+        if frame in ("", self.global_frame):
+            return pose
+        try:
+            return compose(self._lookup(frame), pose)
+        except TF_ERRORS as error:
+            raise ValueError(f"cannot transform the goal from {frame!r}: {error}") from error
+
+    def _update_map(self, map_msg):
+        try:
+            grid = map_from_msg(map_msg)
+        except ValueError as error:
+            rospy.logwarn_throttle(10.0, "move_base mock: bad /map: %s", error)
+            return
+        if self.core is None:
+            self.core = MoveBaseCore(Costmap(grid, self.costmap_config), self.config,
+                                     self.dwa_config, self.planner_config)
+            rospy.loginfo("move_base mock: map %dx%d received", grid.width, grid.height)
+        else:
+            self.core.costmap.set_static(grid)
+
+    def _publish_cmd(self, cmd):
+        twist = Twist()
+        twist.linear.x, twist.linear.y, twist.angular.z = cmd
+        self.cmd_pub.publish(twist)
+
+    def _stop(self):
+        self._publish_cmd((0.0, 0.0, 0.0))
+
+    # the control cycle ---------------------------------------------------------------------------
+    def _cycle(self, _event):
+        started = time.perf_counter()
+        with self.lock:
+            map_msg, self.map_msg = self.map_msg, None
+            scan, self.scan = self.scan, None
+            odom = self.odom
+            goals, self.new_goals = self.new_goals, []
+            cancels, self.cancels = self.cancels, []
+        if map_msg is not None:
+            self._update_map(map_msg)
+        self._handle_cancels(cancels)
+        pose = self._robot_pose()
+        for handle in goals:
+            self._handle_new_goal(handle, pose)
+        if self.core is None or pose is None or self.handle is None:
+            return
+        if scan is not None:
+            try:
+                self.core.observe(scan_from_msg(scan),
+                                  self._lookup(scan.header.frame_id, scan.header.stamp))
+            except TF_ERRORS as error:
+                rospy.logwarn_throttle(10.0, "move_base mock: scan not placed: %s", error)
+        velocity = (0.0, 0.0, 0.0)
+        if odom is not None:
+            twist = odom.twist.twist
+            velocity = (twist.linear.x, twist.linear.y, twist.angular.z)
+        result = self.core.step(rospy.get_time(), pose, velocity)
+        self._publish_cmd(result.cmd)
+        if result.new_plan is not None:
+            self.plan_pub.publish(path_to_msg(result.new_plan.points, self.global_frame,
+                                              rospy.Time.now(), self.core.run.goal[2]))
+        self._report(result, pose)
+        self.last_cycle = {"duration": time.perf_counter() - started, "status": result.status}
+
+    def _robot_pose(self):
+        try:
+            return self._lookup(self.base_frame)
+        except TF_ERRORS as error:
+            rospy.logwarn_throttle(10.0, "move_base mock: no robot pose: %s", error)
+            return None
+
+    def _handle_cancels(self, cancels):
+        for handle in cancels:
+            if self.handle is not None and handle.get_goal_id().id == self.handle.get_goal_id().id:
+                self.core.cancel("cancelled")
+                self._stop()
+                self.handle = None
+            handle.set_canceled(MoveBaseResult(), "cancelled")
+
+    def _handle_new_goal(self, handle, pose):
+        if handle.get_goal_status().status in (GoalStatus.RECALLING, GoalStatus.RECALLED):
+            return   # cancelled before this cycle picked it up
+        reason = ""
+        try:
+            goal = self._goal_in_global(handle.get_goal().target_pose)
+        except ValueError as error:
+            reason = str(error)
+        if not reason and (self.core is None or pose is None):
+            reason = "no map yet" if self.core is None else "no robot pose (tf) yet"
+        status = REJECTED
+        if not reason:
+            status, reason = self.core.start_goal(goal, rospy.get_time(), pose)
+        if status == REJECTED:
+            rospy.logwarn("move_base mock: goal rejected: %s", reason)
+            handle.set_rejected(MoveBaseResult(), reason)
+            return
+        if self.handle is not None:
+            self.handle.set_canceled(MoveBaseResult(), "preempted by a new goal")
+        self.handle = handle
+        handle.set_accepted("accepted")
+        rospy.loginfo("move_base mock: new goal (%.2f, %.2f, %.2f)", *goal)
+
+    def _report(self, result, pose):
+        if result.status == ACTIVE:
+            feedback = MoveBaseFeedback()
+            feedback.base_position.header.stamp = rospy.Time.now()
+            feedback.base_position.header.frame_id = self.global_frame
+            pose_to_msg(pose, feedback.base_position.pose)
+            self.handle.publish_feedback(feedback)
+            return
+        if result.status == SUCCEEDED:
+            self.handle.set_succeeded(MoveBaseResult(), "goal reached")
+        elif result.status == ABORTED:
+            rospy.logwarn("move_base mock: goal aborted: %s", result.reason)
+            self.handle.set_aborted(MoveBaseResult(), result.reason)
+        elif result.status == PREEMPTED:
+            self.handle.set_canceled(MoveBaseResult(), result.reason)
+        self.handle = None
+
+    # make_plan service and diagnostics ------------------------------------------------------------
+    def _make_plan(self, request):
+        """nav_msgs/GetPlan: an empty path when no plan exists (as move_base replies)."""
+        response = GetPlanResponse()
+        response.plan.header.frame_id = self.global_frame
+        response.plan.header.stamp = rospy.Time.now()
+        if self.core is None:
+            rospy.logwarn("move_base mock: make_plan before a map arrived")
+            return response
+        try:
+            start = self._goal_in_global(request.start)
+            goal = self._goal_in_global(request.goal)
+            plan = self.core.make_plan(start, goal)
+        except (ValueError, NoPath) as error:
+            rospy.logwarn("move_base mock: make_plan: %s", error)
+            return response
+        response.plan = path_to_msg(plan.points, self.global_frame, rospy.Time.now(), goal[2])
+        return response
+
+    def _diagnose(self, _event):
+        names = {ACTIVE: "active", SUCCEEDED: "succeeded", ABORTED: "aborted",
+                 PREEMPTED: "preempted", GoalStatus.PENDING: "idle"}
+        if self.core is None:
+            level, message = DiagnosticStatus.WARN, "waiting for /map"
+        elif self.last_cycle["duration"] > self.period:
+            level, message = DiagnosticStatus.WARN, "control cycle slower than its period"
+        else:
+            level, message = DiagnosticStatus.OK, names.get(self.last_cycle["status"], "idle")
+        status = DiagnosticStatus(level=level, name="nav_mocks: move_base",
+                                  hardware_id="move_base_mock", message=message)
+        status.values = [KeyValue("cycle_ms", f"{1e3 * self.last_cycle['duration']:.1f}"),
+                         KeyValue("goal_active", str(self.handle is not None))]
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self.diag_pub.publish(array)
+
+
+def main(_argv):
+    rospy.init_node("move_base")
+    try:
+        MoveBaseNode()
+    except ValueError as error:
+        rospy.logfatal("move_base mock: %s", error)
+        return 1
+    rospy.spin()
+    return 0

@@ -1,0 +1,67 @@
+import math
+
+import numpy as np
+import pytest
+from helpers import grid_from_rows, open_room
+from sim2d.occupancy_map import OCCUPIED
+
+from nav_mocks.costmap import Costmap, CostmapConfig
+from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig
+
+# a point robot: no inflation, so lengths can be computed by hand
+POINT = CostmapConfig(robot_radius=0.0, footprint_padding=0.0, inflation_radius=0.0)
+
+
+def test_plan_length_equals_hand_computed_optimum():
+    grid = grid_from_rows(["..........",
+                           "..........",
+                           "######....",
+                           ".........."], resolution=1.0)
+    plan = GlobalPlanner(Costmap(grid, POINT), PlannerConfig(cost_factor=0.0)).plan(
+        (0.5, 3.5), (0.5, 0.5))
+    # cell (3,0) to (0,0) round the wall's end at column 5; a diagonal may not cut a blocked
+    # corner, so: 6 straight to (3,6), 2 up to (1,6), one diagonal to (0,5), 5 straight to (0,0)
+    expected = 6 + 2 + math.sqrt(2) + 5
+    assert plan.length_m == pytest.approx(expected)
+    assert tuple(plan.points[0]) == (0.5, 3.5) and tuple(plan.points[-1]) == (0.5, 0.5)
+
+
+def test_unreachable_goal_raises_no_path():
+    grid = grid_from_rows([".....",
+                           ".###.",
+                           ".#.#.",
+                           ".###.",
+                           "....."], resolution=1.0)
+    with pytest.raises(NoPath, match="no path"):
+        GlobalPlanner(Costmap(grid, POINT)).plan((0.5, 0.5), (2.5, 2.5))
+
+
+def test_goal_in_obstacle_or_outside_map():
+    grid = grid_from_rows(["...", ".#.", "..."], resolution=1.0)
+    planner = GlobalPlanner(Costmap(grid, POINT))
+    with pytest.raises(NoPath, match="in an obstacle"):
+        planner.plan((0.5, 0.5), (1.5, 1.5))
+    with pytest.raises(NoPath, match="outside the map"):
+        planner.plan((0.5, 0.5), (5.0, 0.5))
+
+
+def test_inflation_keeps_the_plan_off_walls_and_closes_narrow_gaps():
+    grid = open_room(40, 20, resolution=0.05)          # 2.0 m x 1.0 m inside the walls
+    grid.cells[:, 20] = OCCUPIED
+    grid.cells[8:12, 20] = 0                           # a 0.2 m gap: narrower than the robot
+    cfg = CostmapConfig(robot_radius=0.15, footprint_padding=0.0, inflation_radius=0.3)
+    with pytest.raises(NoPath):
+        GlobalPlanner(Costmap(grid, cfg)).plan((0.3, 0.5), (1.7, 0.5))
+    grid.cells[4:16, 20] = 0                           # widen it to 0.6 m
+    plan = GlobalPlanner(Costmap(grid, cfg)).plan((0.3, 0.5), (1.7, 0.5))
+    costmap = Costmap(grid, cfg)
+    clear = [costmap.cost_at(x, y) for x, y in plan.points]
+    assert max(clear) < 253
+
+
+def test_cost_factor_prefers_the_middle_of_a_corridor():
+    grid = open_room(60, 16, resolution=0.05)          # a corridor 0.7 m wide
+    cfg = CostmapConfig(robot_radius=0.1, footprint_padding=0.0, inflation_radius=0.4)
+    planner = GlobalPlanner(Costmap(grid, cfg), PlannerConfig(cost_factor=3.0))
+    plan = planner.plan((0.3, 0.35), (2.6, 0.35))
+    assert np.abs(plan.points[:, 1] - 0.425).max() <= 0.1   # stays near the centre line

@@ -1,0 +1,115 @@
+import math
+
+import numpy as np
+from helpers import fake_scan, integrate, open_room
+from sim2d.occupancy_map import OCCUPIED
+
+from nav_mocks.costmap import Costmap, CostmapConfig
+from nav_mocks.dwa import DwaConfig
+from nav_mocks.move_base_core import (ABORTED, ACTIVE, CLEAR, PREEMPTED, REJECTED, ROTATE,
+                                      SUCCEEDED, ZERO, MoveBaseConfig, MoveBaseCore)
+
+COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.05, inflation_radius=0.5)
+DT = 0.1
+
+
+def two_rooms():
+    """4 m x 3 m, a wall at x = 2 m with a 0.8 m door at y in [0.5, 1.3]; a closed cupboard."""
+    grid = open_room(80, 60, resolution=0.05)
+    grid.cells[:, 40] = OCCUPIED
+    grid.cells[10:26, 40] = 0
+    grid.cells[34:58, 50:78] = OCCUPIED           # closet: walls round a free 1.2 m x 1.1 m
+    grid.cells[35:57, 51:77] = 0
+    return grid
+
+
+def run(core, pose, world=None, seconds=60.0, on_step=None):
+    velocity, t, result = ZERO, 0.0, None
+    while t < seconds:
+        if world is not None:
+            core.observe(fake_scan(world, core.costmap.grid, pose), pose)
+        result = core.step(t, pose, velocity)
+        if on_step:
+            on_step(t, result)
+        if result.status != ACTIVE:
+            break
+        pose = integrate(pose, result.cmd, DT)
+        velocity, t = result.cmd, t + DT
+    return result, pose
+
+
+def make_core(grid=None, **config):
+    return MoveBaseCore(Costmap(grid or two_rooms(), COSTMAP), MoveBaseConfig(**config),
+                        DwaConfig(max_vel_y=0.3))
+
+
+def test_reaches_a_goal_in_the_next_room():
+    core = make_core()
+    start = (0.6, 2.4, 0.0)
+    assert core.start_goal((3.0, 0.6, math.pi / 2), 0.0, start) == (ACTIVE, "")
+    result, pose = run(core, start)
+    assert result.status == SUCCEEDED
+    assert math.hypot(pose[0] - 3.0, pose[1] - 0.6) <= 0.1
+    assert abs(math.remainder(pose[2] - math.pi / 2, 2 * math.pi)) <= 0.15
+
+
+def test_rejects_goals_outside_the_map_or_in_a_wall():
+    core = make_core()
+    assert core.start_goal((5.0, 1.0, 0.0), 0.0, (0.6, 2.4, 0.0))[0] == REJECTED
+    status, reason = core.start_goal((2.02, 2.5, 0.0), 0.0, (0.6, 2.4, 0.0))
+    assert status == REJECTED and "obstacle" in reason
+
+
+def test_aborts_a_goal_that_cannot_be_reached():
+    core = make_core()
+    core.start_goal((3.175, 2.275, 0.0), 0.0, (0.6, 2.4, 0.0))   # inside the closet
+    result, _ = run(core, (0.6, 2.4, 0.0))
+    assert result.status == ABORTED and "no path" in result.reason
+
+
+def test_cancel_stops_on_the_next_cycle():
+    core = make_core()
+    core.start_goal((3.0, 0.6, 0.0), 0.0, (0.6, 2.4, 0.0))
+    commands = []
+
+    def cancel_at_2s(t, result):
+        commands.append(result.cmd)
+        if t >= 2.0 and core.active:
+            core.cancel()
+
+    result, _ = run(core, (0.6, 2.4, 0.0), on_step=cancel_at_2s)
+    assert result.status == PREEMPTED and result.cmd == ZERO
+    assert any(abs(c[0]) > 0.1 for c in commands[:-1])   # it was moving before the cancel
+
+
+def test_replans_around_an_obstacle_only_the_laser_sees():
+    grid = two_rooms()
+    world = grid.occupied_mask().copy()
+    world[22:34, 16:28] = True                     # a box of 0.6 m on the straight line
+    core = make_core(grid)
+    core.start_goal((3.0, 1.4, 0.0), 0.0, (0.4, 1.4, 0.0))
+    plans = []
+    result, pose = run(core, (0.4, 1.4, 0.0), world=world,
+                       on_step=lambda t, r: plans.append(r.new_plan) if r.new_plan else None)
+    assert result.status == SUCCEEDED
+
+    def through_box(plan):
+        rows, cols = grid.world_to_cell(plan.points[:, 0], plan.points[:, 1])
+        return world[rows, cols].any()
+
+    # on the map alone the plan runs through the box; with the laser marks, every plan avoids it
+    assert through_box(make_core(grid).make_plan((0.4, 1.4, 0.0), (3.0, 1.4, 0.0)))
+    assert plans and not any(through_box(plan) for plan in plans)
+
+
+def test_boxed_in_robot_aborts_after_recovery():
+    grid = two_rooms()
+    world = grid.occupied_mask().copy()
+    rows, cols = np.ogrid[:60, :80]
+    ring = np.hypot(rows - 30, cols - 12)
+    world[(ring >= 7) & (ring <= 8)] = True          # a ring of radius 0.35-0.4 m around (0.6, 1.5)
+    core = make_core(grid)
+    core.start_goal((3.0, 0.6, 0.0), 0.0, (0.625, 1.525, 0.0))
+    result, _ = run(core, (0.625, 1.525, 0.0), world=world, seconds=120.0)
+    assert result.status == ABORTED and "after recovery" in result.reason
+    assert core.run.history == [CLEAR, ROTATE]
