@@ -40,6 +40,10 @@ class KeywordConfig:
     functions: dict           # name -> RobotFunction
     physical_function: str    # function requested by a physical term alone
     physical_terms: tuple     # phrases (tuples of lowercase words)
+    physical_exceptions: tuple  # phrases inside which a physical term does not count
+    negations: tuple          # phrases that cancel a physical term shortly after them
+    negation_window: int      # how many words before a physical term a negation reaches [words]
+    sentiment_neutral_words: frozenset  # lowercase words left out of the text VADER scores
     chains: dict              # function name -> tuple of follow-up function names
     status_codes: dict        # priority level -> Instruction.status
     caregiver: str            # name of the household member who receives reports
@@ -56,6 +60,8 @@ class KeywordConfig:
             words.update(w for phrase in function.keywords for w in phrase)
         words.update(w for phrase in self.physical_terms for w in phrase)
         words.update(w for phrase in self.person_slot_after for w in phrase)
+        words.update(w for phrase in self.physical_exceptions + self.negations for w in phrase)
+        words.update(self.sentiment_neutral_words)
         return frozenset(words)
 
 
@@ -118,9 +124,25 @@ def check_text(text, config, is_known_name):
     return tokens
 
 
+def _covered(start, size, spans):
+    return any(s <= start and start + size <= s + n for s, n in spans)
+
+
+def _negated(words, start, config):
+    window = words[max(0, start - config.negation_window):start]
+    return any(True for _ in find_phrases(window, config.negations))
+
+
 def find_physical_terms(words, config):
-    """§3.3: the physical terms of the dictionary that occur in the sentence, in order."""
-    return tuple(" ".join(phrase) for _, phrase in find_phrases(words, config.physical_terms))
+    """§3.3: the physical terms of the dictionary that occur in the sentence, in order.
+
+    Beyond the seed's plain dictionary look-up, a term inside an exception phrase ("fell asleep")
+    or shortly after a negation ("I don't have a headache") does not count.
+    """
+    exceptions = [(s, len(p)) for s, p in find_phrases(words, config.physical_exceptions)]
+    return tuple(" ".join(phrase) for start, phrase in find_phrases(words, config.physical_terms)
+                 if not _covered(start, len(phrase), exceptions)
+                 and not _negated(words, start, config))
 
 
 def extract_function(words, config, physical_terms):
@@ -197,6 +219,8 @@ def _validate(config):
         raise KeywordConfigError(f"status_codes lacks {sorted(missing)}")
     if not 0.0 <= config.min_english_share <= 1.0 or config.max_text_chars <= 0:
         raise KeywordConfigError("min_english_share must lie in [0, 1] and max_text_chars > 0")
+    if config.negation_window < 0:
+        raise KeywordConfigError(f"negation_window must be >= 0; got {config.negation_window}")
 
 
 def keyword_config_from_dict(data):
@@ -207,6 +231,12 @@ def keyword_config_from_dict(data):
                        for name, entry in data["functions"].items()},
             physical_function=data["physical_function"],
             physical_terms=tuple(phrase_of(t, "physical_terms") for t in data["physical_terms"]),
+            physical_exceptions=tuple(phrase_of(t, "physical_exceptions")
+                                      for t in data.get("physical_exceptions") or ()),
+            negations=tuple(phrase_of(t, "negations") for t in data.get("negations") or ()),
+            negation_window=int(data.get("negation_window", 0)),
+            sentiment_neutral_words=frozenset(str(w).lower() for w in
+                                              data.get("sentiment_neutral_words") or ()),
             chains={name: tuple(follow) for name, follow in (data.get("chains") or {}).items()},
             status_codes={k: int(v) for k, v in data["status_codes"].items()},
             caregiver=str(data["caregiver"]),

@@ -1,4 +1,5 @@
 """Sentence sentiment with VADER (thesis 000 §3.1.3, §3.3): compound score and its label."""
+import re
 from dataclasses import dataclass
 
 from vaderSentiment.vaderSentiment import SentimentIntensityAnalyzer
@@ -32,6 +33,18 @@ def sentiment_label(compound, threshold=SentimentConfig.threshold):
     if compound <= -threshold:
         return NEGATIVE
     return NEUTRAL
+
+
+def mood_text(text, ignored_words):
+    """The text VADER should score: `text` without words that only frame a request.
+
+    Our addition to §3.3: request verbs such as "cheer", "help" or "play" are positive in VADER's
+    lexicon, which pulls every request towards positive whatever the speaker's mood.
+    """
+    if not ignored_words:
+        return text
+    pattern = r"\b(?:" + "|".join(re.escape(w) for w in sorted(ignored_words)) + r")\b"
+    return re.sub(pattern, "", text, flags=re.IGNORECASE)
 
 
 class SentimentAnalyzer:

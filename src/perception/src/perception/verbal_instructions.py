@@ -12,6 +12,7 @@ from task_planner.instruction import HUMAN, Instruction
 
 from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, check_text,
                                  extract_function, find_physical_terms, find_target)
+from perception.sentiment import mood_text
 
 ANONYMOUS = "anonymous"
 
@@ -109,7 +110,7 @@ def interpret(text, keywords, analyser, directory):
     if match is None:
         raise RejectedUtterance(f"no robot function requested in {text!r}")
     target = find_target(tokens, keywords, canonical_name)
-    sentiment = analyser.analyse(text)
+    sentiment = analyser.analyse(mood_text(text, keywords.sentiment_neutral_words))
     return Interpretation(text=text, compound=sentiment.compound, sentiment=sentiment.label,
                           physical_terms=physical, function=match.function, keyword=match.keyword,
                           target_name=target, level=priority_level(physical, sentiment.label))
@@ -182,3 +183,18 @@ class InstructionBuilder:
             text=interpretation.text)
         self._next_id += 1
         return instruction
+
+
+class VerbalPipeline:
+    """Fig. 3-15 end to end: utterance text + phone IP -> instructions (or RejectedUtterance)."""
+
+    def __init__(self, keywords, analyser, builder, directory):
+        self.keywords = keywords
+        self.analyser = analyser
+        self.builder = builder
+        self.directory = directory
+
+    def process(self, text, ip, start_time):
+        """Returns (Interpretation, BuildResult); raises RejectedUtterance naming the problem."""
+        interpretation = interpret(text, self.keywords, self.analyser, self.directory)
+        return interpretation, self.builder.build(interpretation, ip, start_time)
