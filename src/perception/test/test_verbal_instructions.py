@@ -7,7 +7,7 @@ from perception.verbal_instructions import (DictPeopleDirectory, InstructionBuil
                                             Priority, priority_level)
 from task_planner.instruction import HUMAN
 
-ALEX, BOB, CAROL = "10.0.0.11", "10.0.0.12", "10.0.0.13"
+ALEX, ALICE, BOB, DAVID = "192.168.1.110", "192.168.1.101", "192.168.1.102", "192.168.1.104"
 LIVING_ROOM, WELCOME, DINING_ROOM, OFFICE, BEDROOM = 2, 3, 4, 5, 6  # maps/household.graph.yaml
 
 
@@ -26,13 +26,13 @@ def test_seed_example_chat_with_me_i_feel_bad(pipeline):
 
 def test_seed_chain_check_bob_status(pipeline):
     """§4.2.1: the caregiver's "check Bob status" -> check Bob, then report to the caregiver."""
-    _, result = pipeline.process("check Bob status", CAROL, 0.0)
+    _, result = pipeline.process("check Bob status", ALICE, 0.0)
     check, report = result.instructions
     assert (check.function, check.target, check.destination, check.previous_id) == \
         (3, "Bob", BEDROOM, 0)
     assert (report.function, report.target, report.destination, report.previous_id) == \
-        (7, "Carol", OFFICE, check.id)
-    assert {check.source, report.source} == {"Carol"}
+        (7, "Alice", OFFICE, check.id)
+    assert {check.source, report.source} == {"Alice"}
     assert (check.gamma, check.beta) == (report.gamma, report.beta) == (3, 0.94)  # neutral
 
 
@@ -52,7 +52,7 @@ def test_physical_terms_outrank_vader_neutral(pipeline):
 
 
 def test_positive_request_gets_positive_priority(pipeline):
-    _, result = pipeline.process("I love piano music, please play some.", "10.0.0.14", 0.0)
+    _, result = pipeline.process("I love piano music, please play some.", DAVID, 0.0)
     (music,) = result.instructions
     assert (music.function, music.gamma, music.beta, music.destination) == \
         (6, 2, 0.92, DINING_ROOM)
@@ -62,7 +62,7 @@ def test_report_to_caregiver_goes_to_the_caregiver(pipeline):
     _, result = pipeline.process("Tell the nurse I fell in the kitchen.", ALEX, 0.0)
     (report,) = result.instructions
     assert (report.function, report.source, report.target, report.destination, report.gamma) == \
-        (7, "Alex", "Carol", OFFICE, 8)
+        (7, "Alex", "Alice", OFFICE, 8)
 
 
 def test_unknown_ip_is_served_anonymously_at_the_default_place(pipeline):
