@@ -34,6 +34,9 @@ def function_of(text, keywords):
     ("Tell the nurse I fell", ("report_to_caregiver", "nurse")),
     ("I have a headache and fever", ("ask_physical_request", "headache")),
     ("The weather is nice today", None),
+    ("Reminded me to take my pills", ("remind", "remind")),   # inflected, as STT may hear it
+    ("I am checking on Bob", ("check_status", "check")),
+    ("Please talking to me", ("chat", "talk to me")),          # longest phrase at the same start
 ])
 def test_earliest_keyword_selects_the_function(keywords, text, expected):
     assert function_of(text, keywords) == expected

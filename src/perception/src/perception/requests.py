@@ -4,6 +4,7 @@ Fig. 3-15 "Extract Requested Robot Functions"), with the checks that turn bad te
 Matching is on whole words, case-insensitive; phrases are sequences of words. The keyword tables
 come from config/keywords.yaml (see load_keyword_config).
 """
+import functools
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -89,13 +90,27 @@ def phrase_of(entry, where):
     return words
 
 
+@functools.lru_cache(maxsize=4096)
+def inflections(word):
+    """A keyword word and its regular inflections (remind: reminds, reminded, reminding), so that
+    "reminded me", as a recogniser may hear "remind me", still matches."""
+    forms = {word, word + "s", word + "es", word + "ed", word + "ing"}
+    if word.endswith("e"):
+        forms |= {word + "d", word[:-1] + "ing"}
+    return frozenset(forms)
+
+
+def _matches_at(words, start, phrase):
+    return all(words[start + k] in inflections(part) for k, part in enumerate(phrase))
+
+
 def find_phrases(words, phrases):
-    """All (start index, phrase) where a phrase occurs in the word list, sorted by start."""
+    """All (start index, phrase) where a phrase (or a regular inflection of its words) occurs
+    in the word list, sorted by start, longer phrases first."""
     found = []
     for phrase in phrases:
-        size = len(phrase)
-        found.extend((i, phrase) for i in range(len(words) - size + 1)
-                     if tuple(words[i:i + size]) == phrase)
+        found.extend((i, phrase) for i in range(len(words) - len(phrase) + 1)
+                     if _matches_at(words, i, phrase))
     return sorted(found, key=lambda hit: (hit[0], -len(hit[1])))
 
 

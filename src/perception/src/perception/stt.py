@@ -35,6 +35,9 @@ class SttConfig:
     beam_size: int = 1           # 1 = greedy decoding (fastest); 5 = Whisper's default search
     language: str = "en"         # tiny.en is English only
     vad_filter: bool = True      # Silero VAD drops silence before decoding (no text from silence)
+    temperatures: tuple = (0.0,)  # decoding temperatures; one 0.0 = deterministic. Whisper's
+    #                               fallback (0.2 ... 1.0 on poor decodes) samples at random, so
+    #                               the same audio could give different text run to run
 
 
 @dataclass(frozen=True)
@@ -123,7 +126,8 @@ class SpeechToText:
         start = time.monotonic()
         segments, _ = self._model.transcribe(
             samples, language=self.config.language, beam_size=self.config.beam_size,
-            vad_filter=self.config.vad_filter, condition_on_previous_text=False)
+            vad_filter=self.config.vad_filter, condition_on_previous_text=False,
+            temperature=list(self.config.temperatures))
         text = " ".join(segment.text.strip() for segment in segments).strip()
         return Transcript(text=text, audio_s=samples.size / WHISPER_RATE,
                           latency_s=time.monotonic() - start)
