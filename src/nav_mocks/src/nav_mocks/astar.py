@@ -1,0 +1,111 @@
+"""Grid A* of the move_base mock: 8-connected, octile heuristic, optional robot-radius inflation.
+
+ROS-free. The grid is a boolean obstacle array indexed [row, col]; cells are square with side
+`resolution` metres. A diagonal step may not cut the corner of an obstacle (both orthogonal
+neighbours must be free), so a path never squeezes between two diagonally touching obstacles.
+The search runs on flat cell indices with compact arrays (array('d'), bytearray) and heapq, so no
+Python object is created per cell.
+"""
+import heapq
+import math
+from array import array
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+SQRT2 = math.sqrt(2.0)
+
+
+@dataclass(frozen=True)
+class GridPath:
+    """A* result: the (row, col) cells from start to goal and the path length in metres."""
+
+    cells: list      # [(row, col), ...] start first, goal last
+    length_m: float  # sum of step lengths (1 or sqrt(2) cells) times the resolution [m]
+
+
+def inflate_obstacles(obstacles, resolution, robot_radius):
+    """Obstacles grown by `robot_radius` [m]: blocked if an obstacle centre lies closer."""
+    obstacles = np.asarray(obstacles, dtype=bool)
+    if robot_radius <= 0 or not obstacles.any():
+        return obstacles.copy()
+    free = (~obstacles).astype(np.uint8)
+    distance_cells = cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    return distance_cells * resolution < robot_radius
+
+
+def _check_cell(name, cell, shape):
+    row, col = cell
+    if not (0 <= row < shape[0] and 0 <= col < shape[1]):
+        raise ValueError(f"A*: {name} cell {cell} lies outside the {shape[0]}x{shape[1]} grid")
+
+
+def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0):
+    """Shortest 8-connected path from `start` to `goal` (row, col) through free cells.
+
+    Args:
+        obstacles: bool array (H, W), True = blocked.
+        resolution: cell side [m].
+        robot_radius: obstacles are inflated by this radius first [m]; 0 = no inflation.
+    Returns:
+        GridPath, or None when the goal cannot be reached (or start/goal are blocked).
+    """
+    blocked = inflate_obstacles(obstacles, resolution, robot_radius)
+    _check_cell("start", start, blocked.shape)
+    _check_cell("goal", goal, blocked.shape)
+    if blocked[start] or blocked[goal]:
+        return None
+    padded = np.pad(blocked, 1, constant_values=True)  # border of obstacles: no bounds checks
+    width = padded.shape[1]
+    to_flat = lambda cell: (cell[0] + 1) * width + cell[1] + 1  # noqa: E731
+    parent = _search(padded.ravel().tobytes(), width, to_flat(start), to_flat(goal))
+    if parent is None:
+        return None
+    return _trace(parent, width, to_flat(start), to_flat(goal), resolution)
+
+
+def _search(blocked, width, start, goal):
+    """A* on flat indices; returns the parent array, or None if the goal is unreachable."""
+    goal_row, goal_col = divmod(goal, width)
+    straight = ((1, 1.0), (-1, 1.0), (width, 1.0), (-width, 1.0))
+    diagonal = ((width + 1, width, 1), (width - 1, width, -1),
+                (-width + 1, -width, 1), (-width - 1, -width, -1))
+    cost = array("d", [math.inf]) * len(blocked)
+    parent = array("l", [-1]) * len(blocked)
+    closed = bytearray(len(blocked))
+    cost[start] = 0.0
+    frontier = [(0.0, start)]
+    while frontier:
+        _, cell = heapq.heappop(frontier)
+        if closed[cell]:
+            continue
+        if cell == goal:
+            return parent
+        closed[cell] = 1
+        base = cost[cell]
+        steps = [(cell + d, base + c) for d, c in straight]
+        steps += [(cell + d, base + SQRT2) for d, a, b in diagonal
+                  if not blocked[cell + a] and not blocked[cell + b]]
+        for nxt, new_cost in steps:
+            if blocked[nxt] or closed[nxt] or new_cost >= cost[nxt]:
+                continue
+            cost[nxt] = new_cost
+            parent[nxt] = cell
+            row, col = divmod(nxt, width)
+            dr, dc = abs(row - goal_row), abs(col - goal_col)
+            heuristic = dr + dc + (SQRT2 - 2.0) * min(dr, dc)  # octile distance
+            heapq.heappush(frontier, (new_cost + heuristic, nxt))
+    return None
+
+
+def _trace(parent, width, start, goal, resolution):
+    """Follow parents back from the goal; cells are returned in unpadded (row, col)."""
+    flat = [goal]
+    while flat[-1] != start:
+        flat.append(parent[flat[-1]])
+    flat.reverse()
+    cells = [(idx // width - 1, idx % width - 1) for idx in flat]
+    length = sum(SQRT2 if (a[0] != b[0] and a[1] != b[1]) else 1.0
+                 for a, b in zip(cells, cells[1:]))
+    return GridPath(cells=cells, length_m=length * resolution)

@@ -1,0 +1,95 @@
+"""Executes a planner on a problem, online: instructions appear at their launch times.
+
+Two planner forms are supported:
+- node planners (`decide(node, clock, available)` -> ('serve', i) or ('move', neighbour)) are asked
+  again at every node, like the seed's planner;
+- target planners (`choose(node, clock, available)` -> i) pick one instruction, the robot drives
+  the shortest path to it and serves it, then the planner is asked again.
+`available` holds the indices of launched, pending instructions whose predecessor is done. Wall
+time spent in the planner is measured per call (decision time).
+"""
+import time
+
+import numpy as np
+
+from task_planner.problem import Schedule, score_route
+
+
+def run_planner(problem, planner):
+    """Run `planner` to completion on `problem`; returns a scored Schedule."""
+    planner.reset(problem)
+    run = _Run(problem)
+    while run.pending:
+        available = run.available()
+        if not len(available):
+            run.wait_for_next_launch()
+            continue
+        started = time.perf_counter()
+        if hasattr(planner, "decide"):
+            action, value = planner.decide(run.node, run.clock, available)
+        else:
+            action, value = "target", planner.choose(run.node, run.clock, available)
+        run.decision_calls.append(time.perf_counter() - started)
+        run.decision_s += run.decision_calls[-1]
+        run.apply(action, value)
+    return run.finish()
+
+
+class _Run:
+    """Mutable execution state of one run."""
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.node, self.clock = problem.start_node, 0.0
+        self.pending = set(range(problem.count))
+        self.route, self.served, self.waits, self.decision_before = [self.node], [], {}, []
+        self.decision_s, self.decision_calls = 0.0, []
+
+    def available(self):
+        p = self.problem
+        return np.array(sorted(i for i in self.pending if p.launch[i] <= self.clock
+                               and (p.predecessor[i] < 0 or p.predecessor[i] not in self.pending)),
+                        dtype=int)
+
+    def wait_for_next_launch(self):
+        p = self.problem
+        self.clock = min(p.launch[i] for i in self.pending if p.launch[i] > self.clock) \
+            if any(p.launch[i] > self.clock for i in self.pending) else self._stuck()
+        self.waits[len(self.route) - 1] = self.clock
+
+    def _stuck(self):
+        raise RuntimeError("pending instructions can never become available")
+
+    def apply(self, action, value):
+        if action == "serve":
+            self._serve(value)
+        elif action == "move":
+            self._move(value)
+        else:  # a target planner's choice: drive there, then serve
+            for node in self.problem.graph.path(self.node, int(self.problem.node[value]))[1:]:
+                self._move(node)
+            self._serve(value)
+
+    def _move(self, neighbour):
+        length_s = self.problem.edge_s[self.node, neighbour]
+        if length_s <= 0:
+            raise RuntimeError(f"planner moved from node {self.node} to non-neighbour {neighbour}")
+        self.clock += length_s
+        self.node = int(neighbour)
+        self.route.append(self.node)
+
+    def _serve(self, index):
+        p = self.problem
+        if index not in self.pending or p.node[index] != self.node:
+            raise RuntimeError(f"planner served instruction {index} away from its node or twice")
+        self.clock = max(self.clock, p.launch[index]) + p.duration[index]
+        self.pending.discard(index)
+        self.served.append((int(index), len(self.route) - 1))
+        self.decision_before.append(self.decision_s)
+
+    def finish(self):
+        schedule = Schedule(route=self.route, served=self.served, waits=self.waits,
+                            decision_before=self.decision_before, decision_s=self.decision_s,
+                            decision_calls=self.decision_calls)
+        schedule.completion = score_route(self.problem, self.route, self.served, self.waits)
+        return schedule

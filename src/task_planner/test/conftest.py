@@ -1,0 +1,22 @@
+"""Shared fixtures: small hand-made graphs and instruction factories."""
+import pytest
+
+from task_planner.graph import graph_from_edges
+from task_planner.instruction import Instruction
+
+
+def make_instruction(id, node, gamma=3.0, beta=0.94, duration=0, **more):
+    return Instruction(id=id, gamma=gamma, beta=beta, destination=node, duration=duration, **more)
+
+
+@pytest.fixture
+def line_graph():
+    """A -1- B -2- C -3- D (metres)."""
+    return graph_from_edges("ABCD", [("A", "B", 1.0), ("B", "C", 2.0), ("C", "D", 3.0)])
+
+
+@pytest.fixture
+def star_graph():
+    """Hub H with leaves L1, L2, L3 at 4 m each."""
+    return graph_from_edges(["H", "L1", "L2", "L3"],
+                            [("H", "L1", 4.0), ("H", "L2", 4.0), ("H", "L3", 4.0)])
