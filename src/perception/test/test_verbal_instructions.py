@@ -4,8 +4,9 @@ from verbal_test_support import TABLE_5_5
 
 from perception.requests import RejectedUtterance
 from perception.verbal_instructions import (DictPeopleDirectory, InstructionBuilder, Person,
-                                            Priority, priority_level)
+                                            priority_level)
 from task_planner.instruction import HUMAN
+from task_planner.reward import Priority
 
 ALEX, ALICE, BOB, DAVID = "192.168.1.110", "192.168.1.101", "192.168.1.102", "192.168.1.104"
 LIVING_ROOM, WELCOME, DINING_ROOM, OFFICE, BEDROOM = 2, 3, 4, 5, 6  # maps/household.graph.yaml
@@ -121,7 +122,7 @@ def test_priority_order_physical_first(terms, sentiment, level):
 
 
 def test_builder_refuses_incomplete_priority_table(keywords, place_ids, directory):
-    partial = {"physical": Priority(8, 0.98)}
+    partial = {"physical": Priority("physical", 8, 0.98)}
     with pytest.raises(ValueError, match="lacks levels"):
         InstructionBuilder(keywords, partial, place_ids, directory)
 

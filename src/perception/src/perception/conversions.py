@@ -3,7 +3,7 @@ import rospy
 from tamp_msgs.msg import Utterance
 
 from perception.stt import pcm16_to_float, resample
-from perception.verbal_instructions import Person, Priority
+from perception.verbal_instructions import Person
 
 
 def person_from_msg(msg):
@@ -26,12 +26,3 @@ def audio_from_msg(msg):
     """tamp_msgs/AudioUtterance -> float32 mono at 16 kHz (raises AudioError on a bad rate)."""
     return resample(pcm16_to_float(msg.samples), msg.sample_rate)
 
-
-def priorities_from_param(table):
-    """{level: {gamma, beta}} (config/priorities.yaml `priorities`) -> {level: Priority}."""
-    try:
-        return {level: Priority(gamma=float(entry["gamma"]), beta=float(entry["beta"]))
-                for level, entry in table.items()}
-    except (AttributeError, KeyError, TypeError, ValueError) as error:
-        raise ValueError(f"priorities must map each level to {{gamma, beta}}; got {table!r}") \
-            from error

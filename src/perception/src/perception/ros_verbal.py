@@ -13,19 +13,20 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.msg import Utterance
 
-from perception.conversions import priorities_from_param, utterance_time
+from perception.conversions import utterance_time
 from perception.places import load_place_ids
 from perception.requests import RejectedUtterance, keyword_config_from_dict
 from perception.ros_people import HumanTableDirectory
 from perception.sentiment import SentimentAnalyzer
 from perception.verbal_instructions import InstructionBuilder, VerbalPipeline
 from task_planner.conversions import instruction_to_msg
+from task_planner.reward import load_priorities
 
 
 @dataclass(frozen=True)
 class VerbalParams:
     keywords: dict                        # ~keywords: config/keywords.yaml (rosparam load)
-    priorities: dict                      # ~priorities: config/priorities.yaml `priorities`
+    priorities_file: str                  # ~priorities_file: config/priorities.yaml (Table 5-5)
     graph: str                            # ~graph: maps/<map>.graph.yaml
     first_id: int = 1                     # ~first_id: id of the first instruction published
     humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
@@ -37,7 +38,7 @@ class VerbalParams:
 def read_params():
     """Node parameters; raises KeyError naming a missing required parameter."""
     required = {}
-    for name in ("keywords", "priorities", "graph"):
+    for name in ("keywords", "priorities_file", "graph"):
         if not rospy.has_param("~" + name):
             raise KeyError(f"parameter ~{name} is not set (see src/perception/launch/"
                            f"verbal.launch)")
@@ -65,7 +66,7 @@ class VerbalNode:
         """Build the pipeline from the parameters and start the ROS API; raises ValueError on
         bad configuration (the message names the entry)."""
         keywords = keyword_config_from_dict(self.params.keywords)
-        builder = InstructionBuilder(keywords, priorities_from_param(self.params.priorities),
+        builder = InstructionBuilder(keywords, load_priorities(self.params.priorities_file),
                                      load_place_ids(self.params.graph), self.directory,
                                      first_id=self.params.first_id)
         self.pipeline = VerbalPipeline(keywords, SentimentAnalyzer(), builder, self.directory)

@@ -56,12 +56,6 @@ class DictPeopleDirectory(PeopleDirectory):
 
 
 @dataclass(frozen=True)
-class Priority:
-    gamma: float  # initial reward (Eq. 4-2)
-    beta: float   # decay factor per second (Eq. 4-2)
-
-
-@dataclass(frozen=True)
 class Interpretation:
     """Fig. 3-15: what one sentence means to the robot."""
 
@@ -121,7 +115,8 @@ class InstructionBuilder:
 
     def __init__(self, keywords, priorities, place_ids, directory, first_id=1):
         """Args:
-            priorities: {level: Priority} with every level of Table 5-5 used by verbal requests.
+            priorities: {level: task_planner.reward.Priority} (config/priorities.yaml, read by
+                load_priorities) holding every level of Table 5-5 that speech can produce.
             place_ids: {graph place name: node id}.
         """
         missing = set(PRIORITY_LEVELS) - set(priorities)
