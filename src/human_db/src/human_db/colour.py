@@ -31,6 +31,8 @@ def shirt_colours(value, what="shirt colour"):
 
     Raises InvalidColour naming `what` and the offending value.
     """
+    if isinstance(value, str):
+        raise InvalidColour(f"{what}: expected 3 joints x RGB, got the text {value!r}")
     try:
         flat = [channel for joint in value for channel in joint] if _nested(value) else list(value)
     except TypeError:
@@ -47,7 +49,8 @@ def shirt_colours(value, what="shirt colour"):
 
 
 def _nested(value):
-    return len(value) == len(JOINTS) and all(hasattr(joint, "__len__") for joint in value)
+    return len(value) == len(JOINTS) and all(
+        hasattr(joint, "__len__") and not isinstance(joint, str | bytes) for joint in value)
 
 
 def approximate_colour_distance(c1, c2):
@@ -86,7 +89,7 @@ def identify_first_below_threshold(observed, names, stored, threshold):
 
 
 def best_matches(distances, names, threshold):
-    """Per observed row of `distances` (N, M): the smallest-distance person below threshold, or None.
+    """Per row of `distances` (N, M): the closest person below threshold and the distance, or None.
 
     Improves Algorithm 3-1 (which returns the first person below threshold) by returning the
     closest one and its distance.

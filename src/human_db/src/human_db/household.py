@@ -75,12 +75,16 @@ def human_from_dict(entry, where, places=()):
     schedules = entry.get("schedules") or []
     if not isinstance(schedules, list):
         raise InvalidHuman(f"{where}: schedules must be a list")
-    human = Human(
-        name=entry["name"], ip=str(entry.get("ip") or ""), gender=entry["gender"], age=entry["age"],
-        shirt_colour=tuple(colour[k] for k in JOINT_KEYS), location=entry.get("location") or "",
-        activity=entry.get("activity") or "", last_seen=entry.get("last_seen"),
-        schedules=tuple(_schedule_from_dict(s, f"{where}: schedules[{i}]")
-                        for i, s in enumerate(schedules)))
+    schedules = tuple(_schedule_from_dict(s, f"{where}: schedules[{i}]")
+                      for i, s in enumerate(schedules))
+    try:
+        human = Human(
+            name=entry["name"], ip=str(entry.get("ip") or ""), gender=entry["gender"],
+            age=entry["age"], shirt_colour=tuple(colour[k] for k in JOINT_KEYS),
+            location=entry.get("location") or "", activity=entry.get("activity") or "",
+            last_seen=entry.get("last_seen"), schedules=schedules)
+    except InvalidHuman as error:  # same error class, with the file and entry in front
+        raise type(error)(f"{where}: {error}") from None
     _check_places(human, places, where)
     return human
 
@@ -90,8 +94,12 @@ def _schedule_from_dict(entry, where):
         raise InvalidHuman(f"{where}: expected a mapping, got {entry!r}")
     _check_keys(entry, SCHEDULE_KEYS, ("start", "end"), where)
     end = parse_clock(entry["end"], f"{where}: end")
-    return ScheduleEntry(start=parse_clock(entry["start"], f"{where}: start") % DAY, end=end,
-                         place=entry.get("place") or "", activity=entry.get("activity") or "")
+    start = parse_clock(entry["start"], f"{where}: start") % DAY
+    try:
+        return ScheduleEntry(start=start, end=end, place=entry.get("place") or "",
+                             activity=entry.get("activity") or "")
+    except InvalidHuman as error:
+        raise InvalidHuman(f"{where}: {error}") from None
 
 
 def _check_keys(entry, allowed, required, where):

@@ -27,7 +27,7 @@ class ScheduleEntry:
             raise InvalidHuman(f"schedule entry {self}: start must lie in [0, 86400) s")
         if not 0 <= self.end <= DAY:
             raise InvalidHuman(f"schedule entry {self}: end must lie in [0, 86400] s")
-        if self.start == self.end % DAY:
+        if self.start == self.end:
             raise InvalidHuman(f"schedule entry {self}: start and end coincide")
         if not (self.place.strip() or self.activity.strip()):
             raise InvalidHuman(f"schedule entry {self}: needs a place or an activity")

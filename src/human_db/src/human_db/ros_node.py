@@ -59,6 +59,7 @@ class HumanDbNode:
         self._published_revision = None
         self._counts = {"requests": 0, "refused": 0, "failed": 0}
         self._last_failure = ""
+        self._failed_at_last_report = 0  # WARN only while new failures keep coming
         self._write_seconds = 0.0        # latency of the last write [s]
         self._services, self._timers = [], []
         self._known = self._diagnostics = None
@@ -66,8 +67,8 @@ class HumanDbNode:
     def setup(self):
         """Open (or create) the database, import the household if it is empty, start the ROS API.
 
-        Raises DatabaseUnusable when the file is corrupted or foreign (it is left untouched), and
-        InvalidHuman when the household file is bad."""
+        Raises DatabaseUnusable when the file is corrupted or foreign (it is left untouched),
+        InvalidHuman/DuplicateHuman when the household file is bad, ValueError for bad params."""
         config = StoreConfig(busy_timeout=self.params.busy_timeout,
                              retry_timeout=self.params.retry_timeout,
                              synchronous=self.params.synchronous)
@@ -231,9 +232,11 @@ class HumanDbNode:
             status.level, status.message = DiagnosticStatus.ERROR, f"unreadable: {error}"
             people = -1
         else:
-            status.level = DiagnosticStatus.WARN if counts["failed"] else DiagnosticStatus.OK
-            status.message = (f"{people} people" if not counts["failed"] else
-                              f"{counts['failed']} failed writes; last: {last_failure}")
+            new_failures = counts["failed"] - self._failed_at_last_report
+            status.level = DiagnosticStatus.WARN if new_failures else DiagnosticStatus.OK
+            status.message = (f"{people} people" if not new_failures else
+                              f"{new_failures} failed requests; last: {last_failure}")
+        self._failed_at_last_report = counts["failed"]
         values = dict(people=people, requests=counts["requests"], refused=counts["refused"],
                       failed=counts["failed"], busy_retries=self.store.busy_retries,
                       last_write_ms=f"{write_ms:.2f}", revision=self.store.revision)

@@ -13,8 +13,8 @@ import numpy as np
 
 from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidHuman, StoreBusy,
                              UnknownHuman)
-from human_db.model import Human, ScheduleEntry, check_ip, check_schedules
 from human_db.colour import shirt_colours
+from human_db.model import Human, ScheduleEntry, check_ip, check_schedules
 from human_db.schema import COLOUR_COLUMNS, MIGRATIONS, OWN_TABLES, SCHEMA_VERSION
 
 SQLITE_HEADER = b"SQLite format 3\x00"
@@ -60,8 +60,12 @@ class HumanStore:
         self._pool = []                # idle connections; a working thread takes its own
         self._connections = []         # every connection, to close them all
         check_database_file(self.path)
-        with self._connection() as connection:
-            open_schema(connection, self.path)
+        try:
+            with self._connection() as connection:
+                open_schema(connection, self.path)
+        except BaseException:
+            self.close()
+            raise
 
     # -- connections and transactions -------------------------------------------------------
     def _connect(self):
@@ -138,6 +142,13 @@ class HumanStore:
         `replace`, which keeps the person's history. A given location/activity enters the history
         at `now` [s] (default: wall-clock time) with source "register"."""
         self.register_all([human], replace, now)
+
+    def initialize(self, name, query_colours, gender, age, ip="", now=None):
+        """§3.2.3 Initialization phase: register a newly met person (name, gender and age asked
+        by the robot) with the shirt colours at joints 1, 2, 5 of the query observation."""
+        human = Human(name=name, gender=gender, age=age, ip=ip, shirt_colour=query_colours)
+        self.register(human, now=now)
+        return human
 
     def register_all(self, humans, replace=False, now=None):
         """Register several people in one transaction: all of them, or none on any error."""
@@ -302,6 +313,9 @@ def migrate(connection, version):
     for target in range(version + 1, SCHEMA_VERSION + 1):
         connection.execute("BEGIN IMMEDIATE")
         try:
+            if connection.execute("PRAGMA user_version").fetchone()[0] >= target:
+                connection.execute("ROLLBACK")   # another process migrated meanwhile
+                continue
             for statement in MIGRATIONS[target - 1]:
                 connection.execute(statement)
             connection.execute(f"PRAGMA user_version = {target}")
