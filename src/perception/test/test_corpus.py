@@ -23,11 +23,11 @@ def test_every_unambiguous_case_is_understood(corpus, pipeline):
     assert failures == []
 
 
-def test_ambiguous_cases_are_scored_not_hidden(corpus, pipeline):
-    # The ambiguous cases count in the reported accuracy; at least one of them is read wrongly by
-    # the keyword method, which is why they are marked (see docs/perception/verbal.md).
+def test_ambiguous_marking_is_rare_and_explained(corpus):
+    # Marking a case ambiguous takes it out of the 100% requirement, so it must stay the
+    # exception (at most a tenth of the corpus) and say why; docs/perception/verbal.md reports
+    # accuracy over all cases, ambiguous ones included.
     _, cases = corpus
     ambiguous = [c for c in cases if c.ambiguous]
-    assert ambiguous and all(c.why for c in ambiguous)
-    passed = [case_passes(c, outcome_of(pipeline, c.text, c.ip)) for c in ambiguous]
-    assert not all(passed)
+    assert len(ambiguous) <= len(cases) // 10
+    assert all(c.why for c in ambiguous)
