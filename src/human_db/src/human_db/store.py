@@ -289,9 +289,11 @@ def open_schema(connection, path):
         if problems != ["ok"]:
             raise DatabaseUnusable(f"{path}: database is corrupted ({'; '.join(problems[:3])}); "
                                    "refusing to start, the file is left untouched")
-        version = connection.execute("PRAGMA user_version").fetchone()[0]
-        tables = {row[0] for row in connection.execute(
-            "SELECT name FROM sqlite_master WHERE type = 'table'")}
+        # One statement, one snapshot: another process may be creating the schema meanwhile.
+        version, names = connection.execute(
+            "SELECT user_version, (SELECT group_concat(name, ',') FROM sqlite_master "
+            "WHERE type = 'table') FROM pragma_user_version").fetchone()
+        tables = set(names.split(",")) if names else set()
     except sqlite3.DatabaseError as error:
         raise DatabaseUnusable(f"{path}: unreadable database ({error}); refusing to start, "
                                "the file is left untouched") from error
