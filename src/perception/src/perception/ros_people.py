@@ -1,0 +1,42 @@
+"""PeopleDirectory over the human database's latched table (/humans/known, tamp_msgs/HumanArray)."""
+import threading
+
+import rospy
+from tamp_msgs.msg import HumanArray
+
+from perception.conversions import person_from_msg
+from perception.verbal_instructions import DictPeopleDirectory, PeopleDirectory
+
+
+class HumanTableDirectory(PeopleDirectory):
+    """Latest table of human_db; lookups read a snapshot, the callback only swaps it in."""
+
+    def __init__(self, topic="/humans/known"):
+        self.topic = topic
+        self._lock = threading.Lock()
+        self._table = None  # DictPeopleDirectory, None until the first table arrives
+        self._subscriber = None
+
+    def setup(self):
+        self._subscriber = rospy.Subscriber(self.topic, HumanArray, self._on_table, queue_size=1)
+
+    def _on_table(self, msg):
+        table = DictPeopleDirectory([person_from_msg(h) for h in msg.humans])
+        with self._lock:
+            self._table = table
+
+    def received(self):
+        with self._lock:
+            return self._table is not None
+
+    def _snapshot(self):
+        with self._lock:
+            return self._table
+
+    def lookup_by_ip(self, ip):
+        table = self._snapshot()
+        return table.lookup_by_ip(ip) if table else None
+
+    def lookup_by_name(self, name):
+        table = self._snapshot()
+        return table.lookup_by_name(name) if table else None

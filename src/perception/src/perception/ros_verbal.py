@@ -1,0 +1,148 @@
+"""The verbal perception node: /voice_message (tamp_msgs/Utterance) -> /task_planner/instructions.
+
+Thesis 000 §3.3 / Fig. 3-15: the speaker is found from the phone IP in the human database, the
+sentence is read for sentiment, physical terms, the requested robot function and its target, and
+the result becomes one instruction or a chain (§4.2.1) with Table 5-5 priorities.
+"""
+import collections
+import threading
+from dataclasses import dataclass
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from tamp_msgs.msg import Instruction as InstructionMsg
+from tamp_msgs.msg import Utterance
+
+from perception.conversions import utterance_time
+from perception.places import load_place_ids
+from perception.requests import RejectedUtterance, keyword_config_from_dict
+from perception.ros_people import HumanTableDirectory
+from perception.sentiment import SentimentAnalyzer
+from perception.verbal_instructions import InstructionBuilder, VerbalPipeline
+from task_planner.conversions import instruction_to_msg
+from task_planner.reward import load_priorities
+
+
+@dataclass(frozen=True)
+class VerbalParams:
+    keywords: dict                        # ~keywords: config/keywords.yaml (rosparam load)
+    priorities_file: str                  # ~priorities_file: config/priorities.yaml (Table 5-5)
+    graph: str                            # ~graph: maps/<map>.graph.yaml
+    first_id: int = 1                     # ~first_id: id of the first instruction published
+    humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
+    period: float = 0.05                  # ~period: work timer period [s]
+    max_queue: int = 20                   # ~max_queue: utterances kept while busy
+    diagnostics_period: float = 1.0       # ~diagnostics_period [s]
+
+
+def read_params():
+    """Node parameters; raises KeyError naming a missing required parameter."""
+    required = {}
+    for name in ("keywords", "priorities_file", "graph"):
+        if not rospy.has_param("~" + name):
+            raise KeyError(f"parameter ~{name} is not set (see src/perception/launch/"
+                           f"verbal.launch)")
+        required[name] = rospy.get_param("~" + name)
+    return VerbalParams(
+        **required, first_id=int(rospy.get_param("~first_id", VerbalParams.first_id)),
+        humans_topic=rospy.get_param("~humans_topic", VerbalParams.humans_topic),
+        period=float(rospy.get_param("~period", VerbalParams.period)),
+        max_queue=int(rospy.get_param("~max_queue", VerbalParams.max_queue)),
+        diagnostics_period=float(rospy.get_param("~diagnostics_period",
+                                                 VerbalParams.diagnostics_period)))
+
+
+class VerbalNode:
+    def __init__(self, params):
+        self.params = params
+        self._lock = threading.Lock()
+        self._queue = collections.deque()
+        self._counts = {"accepted": 0, "refused": 0, "instructions": 0, "dropped": 0}
+        self.pipeline = self._publisher = self._diagnostics = None
+        self.directory = HumanTableDirectory(params.humans_topic)
+        self._timers = []
+
+    def setup(self):
+        """Build the pipeline from the parameters and start the ROS API; raises ValueError on
+        bad configuration (the message names the entry)."""
+        keywords = keyword_config_from_dict(self.params.keywords)
+        builder = InstructionBuilder(keywords, load_priorities(self.params.priorities_file),
+                                     load_place_ids(self.params.graph), self.directory,
+                                     first_id=self.params.first_id)
+        self.pipeline = VerbalPipeline(keywords, SentimentAnalyzer(), builder, self.directory)
+        self.directory.setup()
+        self._publisher = rospy.Publisher("/task_planner/instructions", InstructionMsg,
+                                          queue_size=20)
+        self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        rospy.Subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        self._timers = [
+            rospy.Timer(rospy.Duration(self.params.period), self._on_work),
+            rospy.Timer(rospy.Duration(self.params.diagnostics_period), self._on_diagnostics)]
+
+    def _on_utterance(self, msg):
+        with self._lock:
+            if len(self._queue) >= self.params.max_queue:
+                self._queue.popleft()
+                self._counts["dropped"] += 1
+                rospy.logwarn_throttle(5.0, "verbal: more than %d voice messages waiting; "
+                                       "dropping the oldest", self.params.max_queue)
+            self._queue.append(msg)
+
+    def _on_work(self, _event):
+        while True:
+            with self._lock:
+                if not self._queue:
+                    return
+                msg = self._queue.popleft()
+            self.handle(msg)
+
+    def handle(self, msg):
+        """Turn one voice message into published instructions, or log why not."""
+        sender = msg.ip or "an unknown phone"
+        if not self.directory.received():
+            rospy.logwarn_throttle(10.0, "verbal: no human table on %s yet; speakers cannot be "
+                                   "identified", self.directory.topic)
+        try:
+            meaning, result = self.pipeline.process(msg.text, msg.ip, utterance_time(msg))
+        except RejectedUtterance as error:
+            with self._lock:
+                self._counts["refused"] += 1
+            rospy.logwarn("verbal: voice message from %s refused: %s", sender, error)
+            return
+        for note in result.notes:
+            rospy.logwarn("verbal: %s", note)
+        for instruction in result.instructions:
+            self._publisher.publish(instruction_to_msg(instruction))
+        with self._lock:
+            self._counts["accepted"] += 1
+            self._counts["instructions"] += len(result.instructions)
+        rospy.loginfo("verbal: %r from %s: %s (keyword %r), %s (compound %.3f) -> %s",
+                      msg.text, sender, meaning.function.name, meaning.keyword, meaning.level,
+                      meaning.compound, ", ".join(f"#{i.id} at {i.destination_name}"
+                                                  for i in result.instructions))
+
+    def _on_diagnostics(self, _event):
+        with self._lock:
+            counts = dict(self._counts, queued=len(self._queue))
+        table = self.directory.received()
+        status = DiagnosticStatus(
+            name="perception: verbal", hardware_id="voice_message",
+            level=DiagnosticStatus.OK if table else DiagnosticStatus.WARN,
+            message="ok" if table else f"no human table on {self.directory.topic}",
+            values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())])
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self._diagnostics.publish(array)
+
+
+def main():
+    rospy.init_node("verbal")
+    try:
+        node = VerbalNode(read_params())
+        node.setup()
+    except (KeyError, ValueError) as error:
+        rospy.logfatal("verbal: cannot start: %s", error)
+        return 1
+    rospy.loginfo("verbal: listening on /voice_message")
+    rospy.spin()
+    return 0

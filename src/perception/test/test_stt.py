@@ -1,0 +1,113 @@
+"""Offline speech to text: model lookup, audio reading, resampling, WER, and one real
+transcription of synthesised speech (espeak-ng + sox) and of silence."""
+import wave
+
+import numpy as np
+import pytest
+
+from perception.speech_metrics import normalise_words, word_edit_distance, word_error_rate
+from perception.speech_synthesis import synthesise
+from perception.stt import (AudioError, ModelMissing, SpeechToText, pcm16_to_float, read_wav,
+                            resample, whisper_model_dir)
+
+
+def write_wav(path, samples, rate, channels=1, width=2):
+    with wave.open(str(path), "wb") as stream:
+        stream.setnchannels(channels)
+        stream.setsampwidth(width)
+        stream.setframerate(rate)
+        stream.writeframes(samples.tobytes())
+
+
+def test_missing_model_names_setup(tmp_path, monkeypatch):
+    monkeypatch.setenv("TAMP_MODEL_CACHE", str(tmp_path))
+    with pytest.raises(ModelMissing, match=r"whisper_tiny_en.*scripts/setup"):
+        whisper_model_dir()
+
+
+def test_partial_model_lists_missing_files(tmp_path):
+    (tmp_path / "config.json").write_text("{}")
+    with pytest.raises(ModelMissing, match="missing model.bin, tokenizer.json, vocabulary.txt"):
+        whisper_model_dir(str(tmp_path))
+
+
+def sine(frequency, rate, seconds=1.0):
+    t = np.arange(int(rate * seconds)) / rate
+    return np.sin(2 * np.pi * frequency * t)
+
+
+def test_resample_48k_sine_to_16k_matches_a_16k_sine():
+    out = resample(sine(440.0, 48000), 48000, 16000)
+    assert out.size == 16000
+    assert np.max(np.abs(out - sine(440.0, 16000))) < 1e-4
+
+
+def test_resample_8k_to_16k_doubles_length_and_keeps_tone():
+    out = resample(sine(300.0, 8000), 8000, 16000)
+    assert out.size == 16000
+    assert np.max(np.abs(out - sine(300.0, 16000))) < 1e-4
+
+
+def test_resample_refuses_zero_rate():
+    with pytest.raises(AudioError, match="sample rate must be > 0"):
+        resample(np.zeros(10), 0)
+
+
+def test_pcm16_scale():
+    assert pcm16_to_float([-32768, 0, 16384]).tolist() == [-1.0, 0.0, 0.5]
+
+
+def test_read_stereo_8k_wav_gives_mono_16k(tmp_path):
+    left = (sine(200.0, 8000) * 16000).astype("<i2")
+    stereo = np.stack([left, left], axis=1).reshape(-1)
+    write_wav(tmp_path / "s.wav", stereo, 8000, channels=2)
+    samples = read_wav(tmp_path / "s.wav")
+    assert samples.size == 16000
+    assert np.max(np.abs(samples - sine(200.0, 16000) * 16000 / 32768)) < 1e-3
+
+
+def test_read_wav_refuses_8_bit_and_non_wav(tmp_path):
+    write_wav(tmp_path / "b.wav", np.zeros(100, dtype=np.uint8), 16000, width=1)
+    with pytest.raises(AudioError, match="need 16-bit PCM, got 8-bit"):
+        read_wav(tmp_path / "b.wav")
+    (tmp_path / "t.wav").write_text("not audio")
+    with pytest.raises(AudioError, match="cannot read WAV file .*t.wav"):
+        read_wav(tmp_path / "t.wav")
+
+
+def test_word_error_rate_by_hand():
+    assert normalise_words("Chat with me, I feel bad.") == ["chat", "with", "me", "i", "feel",
+                                                             "bad"]
+    assert word_edit_distance("a b c".split(), "a x c d".split()) == 2  # 1 sub + 1 ins
+    # 1 substitution in 6 words + 1 deletion in 3 words = 2 edits / 9 words.
+    wer = word_error_rate(["Chat with me, I feel bad.", "check Bob status"],
+                          ["chat with me I fell bad", "check Bob"])
+    assert wer == pytest.approx(2 / 9)
+    with pytest.raises(ValueError, match="2 references but 1 hypotheses"):
+        word_error_rate(["a", "b"], ["a"])
+
+
+@pytest.fixture(scope="module")
+def stt():
+    return SpeechToText()
+
+
+def test_synthesised_request_is_transcribed(stt, tmp_path):
+    wav = synthesise("Chat with me, I feel bad.", tmp_path / "chat.wav")
+    with wave.open(str(wav), "rb") as stream:
+        assert (stream.getframerate(), stream.getnchannels(), stream.getsampwidth()) == \
+            (16000, 1, 2)
+    transcript = stt.transcribe(read_wav(wav))
+    assert normalise_words(transcript.text) == ["chat", "with", "me", "i", "feel", "bad"]
+    assert transcript.audio_s == pytest.approx(1.88, abs=0.3)
+
+
+def test_silence_gives_no_text(stt):
+    assert stt.transcribe(np.zeros(32000, dtype=np.float32)).text == ""
+
+
+def test_empty_and_non_finite_audio_refused(stt):
+    with pytest.raises(AudioError, match="non-empty mono"):
+        stt.transcribe(np.zeros(0, dtype=np.float32))
+    with pytest.raises(AudioError, match="NaN"):
+        stt.transcribe(np.full(1600, np.nan, dtype=np.float32))

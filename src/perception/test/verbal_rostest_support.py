@@ -1,0 +1,72 @@
+"""Helpers of the perception rostest nodes: household set-up through human_db's services and
+collectors for the topics under test (imported by the rostest executables of this directory)."""
+import threading
+
+import rospy
+from tamp_msgs.msg import Human, HumanArray, Instruction, Utterance
+from tamp_msgs.srv import RegisterHuman, UpdateHuman
+
+ALEX_IP = "192.168.1.110"     # the seed's speaker (Fig. 3-15), registered by the tests
+ALICE_IP = "192.168.1.101"    # config/household.yaml; the caregiver of config/keywords.yaml
+LIVING_ROOM, WELCOME, OFFICE, BEDROOM = 2, 3, 5, 6  # node ids of maps/household.graph.yaml
+CHAT, CHECK_STATUS, REPORT, PLAY_MUSIC = 1, 3, 7, 6  # function codes of config/keywords.yaml
+PLACES = {"Alex": "living_room", "Alice": "office", "Bob": "bedroom"}
+
+
+class Collector:
+    """Messages of one topic, in arrival order."""
+
+    def __init__(self, topic, kind):
+        self._lock = threading.Lock()
+        self._messages = []
+        self._subscriber = rospy.Subscriber(topic, kind, self._on_message, queue_size=50)
+
+    def _on_message(self, msg):
+        with self._lock:
+            self._messages.append(msg)
+
+    def messages(self):
+        with self._lock:
+            return list(self._messages)
+
+    def wait_for(self, count, timeout):
+        """Messages once at least `count` arrived, or what arrived by `timeout` [s]."""
+        deadline = rospy.get_time() + timeout
+        while len(self.messages()) < count and rospy.get_time() < deadline:
+            rospy.sleep(0.05)
+        return self.messages()
+
+
+def instructions():
+    return Collector("/task_planner/instructions", Instruction)
+
+
+def voice_messages():
+    return Collector("/voice_message", Utterance)
+
+
+def place_household(timeout=20.0):
+    """Register Alex and put Alex, Alice and Bob at their places; wait until /humans/known shows
+    it (the verbal node reads the same latched table)."""
+    rospy.wait_for_service("/human_db/register", timeout)
+    rospy.wait_for_service("/human_db/update", timeout)
+    alex = Human(name="Alex", ip=ALEX_IP, gender=Human.GENDER_MALE, age=30,
+                 shirt_color=[250, 250, 250, 245, 245, 245, 248, 248, 248],
+                 location=PLACES["Alex"])
+    reply = rospy.ServiceProxy("/human_db/register", RegisterHuman)(human=alex, replace=True)
+    assert reply.success, reply.message
+    update = rospy.ServiceProxy("/human_db/update", UpdateHuman)
+    for name in ("Alice", "Bob"):
+        reply = update(name=name, location=PLACES[name], source="rostest")
+        assert reply.success, reply.message
+    table = Collector("/humans/known", HumanArray)
+    deadline = rospy.get_time() + timeout
+    while rospy.get_time() < deadline:
+        latest = table.messages()[-1:] or [None]
+        if latest[0] is not None:
+            places = {h.name: h.location for h in latest[0].humans}
+            if all(places.get(name) == place for name, place in PLACES.items()):
+                rospy.sleep(0.5)  # the verbal node's copy of the table arrives alongside
+                return
+        rospy.sleep(0.05)
+    raise AssertionError(f"/humans/known never showed {PLACES}")

@@ -1,0 +1,14 @@
+"""Paths and numbers shared by the verbal perception tests (imported by conftest and tests)."""
+from pathlib import Path
+
+from task_planner.reward import load_priorities
+
+WS = Path(__file__).resolve().parents[3]
+KEYWORDS = WS / "config" / "keywords.yaml"
+GRAPH = WS / "maps" / "household.graph.yaml"
+CORPUS = WS / "src" / "perception" / "data" / "verbal_corpus.yaml"
+PRIORITIES = WS / "config" / "priorities.yaml"
+
+# The deployment table; the tests assert the instructions' gamma and beta against thesis 000
+# Table 5-5's own numbers (physical 8/0.98, negative 5/0.96, neutral 3/0.94, positive 2/0.92).
+TABLE_5_5 = load_priorities(PRIORITIES)
