@@ -11,7 +11,7 @@ from sim2d.blueprint import render_blueprint
 from sim2d.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
-EXPECTED = yaml.safe_load((Path(__file__).parent / "fixtures" /
+EXPECTED = yaml.safe_load((Path(__file__).parents[1] / "fixtures" /
                            "oracle_expected_goals.yaml").read_text())
 CASES = [(floor, i, label) for floor, starts in EXPECTED.items()
          for i, entry in enumerate(starts) for label in range(1, 11)]
