@@ -149,12 +149,14 @@ def _wall_direction(field, origin, angle, config):
     u = np.array([math.cos(angle), math.sin(angle)])
     directions = []
     for side in (math.pi / 2, -math.pi / 2):
-        points = []
-        for s in np.arange(0.0, 4.0, 0.25):
-            p = origin + s * u
-            d = field.cast(p[0], p[1], angle + side, config.max_half_width)
-            if d < config.max_half_width:
-                points.append(p + d * np.array([math.cos(angle + side), math.sin(angle + side)]))
+        normal = np.array([math.cos(angle + side), math.sin(angle + side)])
+        samples = [(p, field.cast(p[0], p[1], angle + side, config.max_half_width))
+                   for p in (origin + s * u for s in np.arange(0.0, 4.0, 0.25))]
+        distances = np.array([d for _, d in samples])
+        # wall points only: not through doors, not furniture seen through them
+        keep = np.abs(distances - np.median(distances)) < 0.25
+        points = [p + d * normal for (p, d), k in zip(samples, keep)
+                  if k and d < config.max_half_width]
         if len(points) >= 6:
             points = np.array(points) - np.mean(points, axis=0)
             direction = np.linalg.svd(points, full_matrices=False)[2][0]
@@ -234,7 +236,8 @@ def walk_corridor(field, start, config):
     origin = np.array([x, y])
     if max(left, right) <= config.max_half_width:   # both walls seen: move onto the centre line
         origin = origin + 0.5 * (left - right) * np.array([-math.sin(axis), math.cos(axis)])
-    strip = 0.5 * config.min_branch_width - config.step
+    # the strip must fit the corridor itself (narrow household alleys) but not a door
+    strip = min(0.5 * config.min_branch_width, 0.8 * min(left, right)) - config.step
     walk = CorridorWalk(origin, axis, 0.0, field.cast_wide(*origin, axis, 200.0, strip), [], [])
     back = field.cast_wide(*origin, axis + math.pi, config.behind, strip)
     positions = np.arange(-math.floor(back / config.step) + 1,
