@@ -267,6 +267,18 @@ def _turn_goal(walk, branch, config):
     return (float(xy[0]), float(xy[1]), math.remainder(heading, 2 * math.pi))
 
 
+def goal_branch(walk, label):
+    """The branch a turn class (2, 3, 5-10) turns into, or None when there is none."""
+    side, kind = SIDE[label], KIND.get(label)
+    if kind is None:
+        corner = next((c for c in walk.corners if side in c.branches), None)
+    elif kind == "end":
+        corner = walk.corners[-1] if walk.corners and walk.corners[-1].at_end else None
+    else:
+        corner = walk.corners[NTH[kind] - 1] if len(walk.corners) >= NTH[kind] else None
+    return corner.branches.get(side) if corner else None
+
+
 def goal_pose(walk, label, config):
     """Table 3.1-1 class -> goal pose (x, y, yaw), or None when not applicable here."""
     if label == 1:
@@ -278,17 +290,8 @@ def goal_pose(walk, label, config):
     if label == 4:
         xy = walk.origin
         return (float(xy[0]), float(xy[1]), math.remainder(walk.axis + math.pi, 2 * math.pi))
-    side, kind = SIDE[label], KIND.get(label)
-    if kind is None:
-        corner = next((c for c in walk.corners if side in c.branches), None)
-    elif kind == "end":
-        corner = walk.corners[-1] if walk.corners and walk.corners[-1].at_end else None
-    else:
-        n = NTH[kind]
-        corner = walk.corners[n - 1] if len(walk.corners) >= n else None
-    if corner is None or side not in corner.branches:
-        return None
-    return _turn_goal(walk, corner.branches[side], config)
+    branch = goal_branch(walk, label)
+    return None if branch is None else _turn_goal(walk, branch, config)
 
 
 class RouteOracle:
