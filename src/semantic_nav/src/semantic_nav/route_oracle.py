@@ -144,27 +144,29 @@ class DistanceField:
                    for k in (-1.0, 0.0, 1.0))
 
 
-def _wall_direction(field, origin, angle, config):
-    """Direction of the side walls next to the first metres of a corridor (line fit), or None."""
+def _theil_sen_slope(s, d):
+    """Median of the pairwise slopes: robust to a few rays through doors."""
+    i, j = np.triu_indices(len(s), k=1)
+    return float(np.median((d[j] - d[i]) / (s[j] - s[i])))
+
+
+def _tilt(field, origin, angle, config):
+    """Angle between `angle` and the side walls from how the side distances change along it
+    (left distances shrink by tan δ per metre when turned δ towards the left wall), or None."""
     u = np.array([math.cos(angle), math.sin(angle)])
-    directions = []
-    for side in (math.pi / 2, -math.pi / 2):
-        normal = np.array([math.cos(angle + side), math.sin(angle + side)])
-        samples = [(p, field.cast(p[0], p[1], angle + side, config.max_half_width))
-                   for p in (origin + s * u for s in np.arange(0.0, 4.0, 0.25))]
-        distances = np.array([d for _, d in samples])
-        # wall points only: not through doors, not furniture seen through them
-        keep = np.abs(distances - np.median(distances)) < 0.25
-        points = [p + d * normal for (p, d), k in zip(samples, keep)
-                  if k and d < config.max_half_width]
-        if len(points) >= 6:
-            points = np.array(points) - np.mean(points, axis=0)
-            direction = np.linalg.svd(points, full_matrices=False)[2][0]
-            directions.append(direction if direction @ u > 0 else -direction)
-    if not directions:
-        return None
-    mean = np.mean(directions, axis=0)
-    return math.atan2(mean[1], mean[0])
+    estimates = []
+    for sign in (1.0, -1.0):
+        s_d = []
+        for s in np.arange(-1.0, 3.01, 0.25):
+            p = origin + s * u
+            if field.at(*p) > 0.0:
+                d = field.cast(*p, angle + sign * math.pi / 2, config.max_half_width)
+                if d < config.max_half_width:
+                    s_d.append((s, d))
+        if len(s_d) >= 5:
+            s_values, d_values = np.array(s_d).T
+            estimates.append(-sign * math.atan(_theil_sen_slope(s_values, d_values)))
+    return float(np.mean(estimates)) if estimates else None
 
 
 def corridor_axis(field, x, y, yaw, config):
@@ -174,10 +176,15 @@ def corridor_axis(field, x, y, yaw, config):
     lengths = np.array([field.cast(x, y, a, 100.0) for a in angles])
     near_best = np.flatnonzero(lengths >= 0.97 * lengths.max())
     coarse = float(angles[near_best[np.argmin(np.abs(angles[near_best] - yaw))]])
-    refined = _wall_direction(field, np.array([x, y]), coarse, config)
-    if refined is None or abs(math.remainder(refined - coarse, 2 * math.pi)) > math.radians(10):
-        return coarse
-    return refined
+    axis = coarse
+    for _ in range(3):
+        tilt = _tilt(field, np.array([x, y]), axis, config)
+        if tilt is None:
+            break
+        axis -= tilt
+        if abs(tilt) < math.radians(0.1):
+            break
+    return axis if abs(axis - coarse) <= math.radians(config.axis_search) else coarse
 
 
 def _side_runs(open_mask):
@@ -221,6 +228,23 @@ def group_corners(openings, last_position, config):
     return corners
 
 
+def _centre_offset(field, xy, axis, config):
+    """Sideways shift onto the centre line: median over the metre before and after the start
+    of half the difference of the side distances, where both walls are seen."""
+    u = np.array([math.cos(axis), math.sin(axis)])
+    normal = np.array([-u[1], u[0]])
+    shifts = []
+    for s in np.arange(-1.0, 1.01, 0.1):
+        p = np.asarray(xy) + s * u
+        if field.at(*p) <= 0.0:
+            continue
+        left = field.cast(*p, axis + math.pi / 2, config.max_half_width)
+        right = field.cast(*p, axis - math.pi / 2, config.max_half_width)
+        if max(left, right) < config.max_half_width:
+            shifts.append(0.5 * (left - right))
+    return float(np.median(shifts)) * normal if shifts else np.zeros(2)
+
+
 def walk_corridor(field, start, config):
     """Walk from `start` = (x, y, yaw) along its corridor to the wall ahead -> CorridorWalk."""
     x, y, yaw = (float(v) for v in start)
@@ -233,9 +257,7 @@ def walk_corridor(field, start, config):
     if min(left, right) > config.max_half_width:
         raise OracleError(f"no corridor at ({x:.2f}, {y:.2f}): no wall within "
                           f"{config.max_half_width} m on either side")
-    origin = np.array([x, y])
-    if max(left, right) <= config.max_half_width:   # both walls seen: move onto the centre line
-        origin = origin + 0.5 * (left - right) * np.array([-math.sin(axis), math.cos(axis)])
+    origin = np.array([x, y]) + _centre_offset(field, (x, y), axis, config)
     # the strip must fit the corridor itself (narrow household alleys) but not a door
     strip = min(0.5 * config.min_branch_width, 0.8 * min(left, right)) - config.step
     walk = CorridorWalk(origin, axis, 0.0, field.cast_wide(*origin, axis, 200.0, strip), [], [])
