@@ -3,6 +3,7 @@ poses sampled on corridor centre lines (for demonstrations on any floor)."""
 import math
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from semantic_nav.route_oracle import OracleError
@@ -15,6 +16,21 @@ class FloorStructure:
     skeleton: np.ndarray     # bool (H, W)
     junctions: np.ndarray    # (K, 2) cells with >= 3 skeleton branches
     dead_ends: np.ndarray    # (M, 2) cells with one skeleton neighbour
+    corridors: np.ndarray    # bool (H, W): the corridor network (see corridor_network)
+
+
+def corridor_network(field, skeleton, min_branch_width):
+    """The longest free region that doors cannot split: 8-connected components of the cells with
+    at least half a corridor branch's width of clearance, ranked by the skeleton length inside.
+    On an office floor this is the corridor network; rooms hang off it through doors and fall
+    into other components, and they are compact where corridors are long."""
+    wide = (field.clearance >= 0.5 * min_branch_width - 0.1).astype(np.uint8)
+    count, labels = cv2.connectedComponents(wide, connectivity=8)
+    if count < 2:
+        return np.zeros(wide.shape, dtype=bool)
+    length = np.bincount(labels[skeleton], minlength=count)
+    length[0] = 0
+    return labels == int(np.argmax(length))
 
 
 def _neighbours(image):
@@ -48,8 +64,8 @@ def zhang_suen_skeleton(mask):
             return image
 
 
-def floor_structure(field, robot_radius):
-    """Skeleton of the cells a robot of robot_radius fits in, with junctions and dead ends."""
+def floor_structure(field, robot_radius, min_branch_width=1.3):
+    """Skeleton of the cells a robot of robot_radius fits in, junctions, dead ends, corridors."""
     traversable = field.clearance >= robot_radius
     if not traversable.any():
         raise OracleError(f"no free space with {robot_radius} m clearance on this map")
@@ -60,7 +76,8 @@ def floor_structure(field, robot_radius):
     count = sum(x.astype(int) for x in n)
     junctions = np.argwhere(skeleton & (branches >= 3))
     dead_ends = np.argwhere(skeleton & (count == 1))
-    return FloorStructure(skeleton, junctions, dead_ends)
+    return FloorStructure(skeleton, junctions, dead_ends,
+                          corridor_network(field, skeleton, min_branch_width))
 
 
 def _skeleton_heading(structure, row, col, cells):
@@ -75,18 +92,28 @@ def _skeleton_heading(structure, row, col, cells):
     return math.atan2(d_row, d_col)
 
 
+def walled_fraction(walk, window):
+    """Share of [-window, window] along the walk where neither side wall has an opening."""
+    covered = np.zeros(int(round(2 * window / 0.05)) + 1, dtype=bool)
+    s = np.linspace(-window, window, covered.size)
+    for opening in walk.openings:
+        covered |= (s >= opening.start) & (s <= opening.end)
+    return 1.0 - covered.mean()
+
+
 def sample_corridor_starts(oracle, structure, count, rng, max_corridor_width=3.0,
-                           max_tries=None):
+                           min_walled=0.7, window=1.5, max_tries=None):
     """`count` start poses on corridor centre lines, facing along the corridor either way.
 
-    A candidate skeleton cell (clearance between half a branch width and half of
+    A candidate skeleton cell of the corridor network (clearance up to half of
     max_corridor_width [m]) is kept when the oracle's walk from it finds a corridor whose axis
-    agrees with the skeleton (within 10°) and whose walls are both near the centre line.
+    agrees with the skeleton (within 10°), whose walls are both near the centre line, and whose
+    side walls are closed over at least `min_walled` of ±`window` [m] round the start (so neither
+    junctions nor passages beside furniture in rooms are starts).
     """
     grid, config = oracle.field.grid, oracle.config
     half = 0.5 * max_corridor_width
-    cells = structure.skeleton & (oracle.field.clearance >= 0.5 * config.min_branch_width - 0.1) \
-        & (oracle.field.clearance <= half)
+    cells = structure.skeleton & structure.corridors & (oracle.field.clearance <= half)
     candidates = np.argwhere(cells)
     if candidates.size == 0:
         raise OracleError("no corridor on this map: no skeleton cell with corridor clearance")
@@ -106,7 +133,8 @@ def sample_corridor_starts(oracle, structure, count, rng, max_corridor_width=3.0
             continue
         aligned = abs(math.remainder(walk.axis - heading, 2 * math.pi)) < math.radians(10)
         near = oracle.field.at(x, y) <= 1.2 * walk.half_width
-        if aligned and near and walk.half_width <= half:
+        if aligned and near and walk.half_width <= half \
+                and walled_fraction(walk, window) >= min_walled:
             starts.append((x, y, math.remainder(walk.axis, 2 * math.pi)))
     if len(starts) < count:
         raise OracleError(f"found only {len(starts)} of {count} corridor starts in {tries} tries")

@@ -1,10 +1,12 @@
-"""Plots of the route oracle: the walked corridor, its openings and the goal of every class."""
+"""Plots of the route oracle (the walked corridor, its openings and the goal of every class) and
+of the whole-floor structure (skeleton, junctions, dead ends, corridor network, starts)."""
 import math
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 from sim2d.plotting import draw_map  # noqa: E402
 
@@ -56,6 +58,34 @@ def plot_oracle_goals(grid, start, walk, goals, title, out_path, names):
     ax.plot([], [], color="tab:orange", lw=3, alpha=0.7, label="door / side opening")
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     ax.set_title(f"{title}\nnot applicable here: {', '.join(absent) or 'none'}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out_path, dpi=100)
+    plt.close(fig)
+
+
+def plot_floor_structure(grid, structure, starts, title, out_path):
+    """Corridor network (tinted), skeleton, junctions, dead ends and sampled starts."""
+    width, height = grid.width * grid.resolution, grid.height * grid.resolution
+    fig, ax = plt.subplots(figsize=(min(13.0, 2.5 + width / 2.6), min(11.0, 1.5 + height / 2.6)))
+    draw_map(ax, grid)
+    x0, y0 = grid.origin[0], grid.origin[1]
+    extent = [x0, x0 + width, y0, y0 + height]
+    tint = np.ma.masked_where(~structure.corridors, structure.corridors.astype(float))
+    ax.imshow(tint, cmap="Greens", vmin=0, vmax=3, origin="lower", extent=extent, alpha=0.5)
+    rows, cols = np.nonzero(structure.skeleton)
+    ax.plot(*grid.cell_to_world(rows, cols), ",", color="tab:blue")
+    for cells, marker, label in ((structure.junctions, "o", "junction cell"),
+                                 (structure.dead_ends, "s", "dead-end cell")):
+        if len(cells):
+            ax.plot(*grid.cell_to_world(cells[:, 0], cells[:, 1]), marker, ms=4, mfc="none",
+                    color="tab:red" if marker == "o" else "tab:purple", label=label)
+    for start in starts:
+        _arrow(ax, start, "k", length=0.6, width=0.2)
+    ax.plot([], [], color="tab:blue", label="skeleton")
+    ax.plot([], [], color="tab:green", lw=6, alpha=0.4, label="corridor network")
+    ax.plot([], [], "k>", label="sampled start")
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    ax.set_title(title, fontsize=9)
     fig.tight_layout()
     fig.savefig(out_path, dpi=100)
     plt.close(fig)
