@@ -111,7 +111,7 @@ def sample_corridor_starts(oracle, structure, count, rng, max_corridor_width=3.0
     side walls are closed over at least `min_walled` of ±`window` [m] round the start (so neither
     junctions nor passages beside furniture in rooms are starts).
     """
-    grid, config = oracle.field.grid, oracle.config
+    grid = oracle.field.grid
     half = 0.5 * max_corridor_width
     cells = structure.skeleton & structure.corridors & (oracle.field.clearance <= half)
     candidates = np.argwhere(cells)
