@@ -115,3 +115,47 @@ def test_goal_region_contains():
     assert not goal.contains(goal.pose[0] + 0.8, goal.pose[1], 0.0)
     assert not goal.contains(goal.pose[0], goal.pose[1], math.radians(50))
     assert np.isfinite(goal.pose).all()
+
+
+def _rotated(grid, theta):
+    """The grid rotated by theta about its centre (nearest cell, outside = wall), and the
+    function that carries a pose of the original map into the rotated one."""
+    res = grid.resolution
+    h, w = grid.cells.shape
+    c_old = np.array([w * res / 2, h * res / 2])
+    size = int(math.ceil(math.hypot(w, h))) + 4
+    c_new = np.full(2, size * res / 2)
+    v, u = np.mgrid[0:size, 0:size]
+    x, y = (u + 0.5) * res - c_new[0], (v + 0.5) * res - c_new[1]
+    xs = math.cos(theta) * x + math.sin(theta) * y + c_old[0]
+    ys = -math.sin(theta) * x + math.cos(theta) * y + c_old[1]
+    col, row = np.floor(xs / res).astype(int), np.floor(ys / res).astype(int)
+    inside = (row >= 0) & (row < h) & (col >= 0) & (col < w)
+    cells = np.full((size, size), 100, dtype=np.int8)
+    cells[inside] = grid.cells[row[inside], col[inside]]
+
+    def carry(pose):
+        dx, dy = pose[0] - c_old[0], pose[1] - c_old[1]
+        return (math.cos(theta) * dx - math.sin(theta) * dy + c_new[0],
+                math.sin(theta) * dx + math.cos(theta) * dy + c_new[1], pose[2] + theta)
+    return type(grid)(cells=cells, resolution=res, origin=(0.0, 0.0, 0.0)), carry
+
+
+@pytest.mark.parametrize("floor", sorted(EXPECTED))
+@pytest.mark.parametrize("degrees", [30, -62])
+def test_oracle_on_rotated_floors(floor, degrees):
+    """Floors nobody has seen: the same buildings turned off the grid axes (stair-step walls)."""
+    grid, carry = _rotated(load_map(ROOT / "maps" / f"{floor}.yaml"), math.radians(degrees))
+    oracle = RouteOracle(grid)
+    for entry in EXPECTED[floor]:
+        x, y, yaw = entry["start"]
+        goals = oracle.goals(carry((x, y, math.radians(yaw))))
+        for label, expected in entry["goals"].items():
+            if expected == "n/a":
+                assert goals[label] is None, (entry["start"], label)
+                continue
+            ex, ey, eyaw = carry((expected[0], expected[1], math.radians(expected[2])))
+            assert goals[label] is not None, (entry["start"], label)
+            gx, gy, gyaw = goals[label].pose
+            assert math.hypot(gx - ex, gy - ey) <= 0.3, (entry["start"], label)
+            assert abs(math.remainder(gyaw - eyaw, 2 * math.pi)) <= math.radians(10)
