@@ -1,0 +1,94 @@
+"""ROS node `recorder`: records /scan, /cmd_vel, /odom and the instruction class into a rosbag."""
+import os
+import signal
+import threading
+import time
+
+import rosbag
+import rospy
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import UInt8
+
+from penguin_base.record_format import NUM_CLASSES
+
+FLUSH_PERIOD = 0.2  # [s] how often cached messages are written to the bag
+
+
+class RecorderNode:
+    """Callbacks cache (topic, message, time) under a lock; a timer writes them to the bag."""
+
+    def __init__(self):
+        if not rospy.has_param("~bag"):
+            raise ValueError("parameter ~bag (path of the bag to write) is required")
+        self.path = os.path.expanduser(rospy.get_param("~bag"))
+        self.initial_class = int(rospy.get_param("~instruction_class", 0))
+        if not 0 <= self.initial_class <= NUM_CLASSES:
+            raise ValueError(f"~instruction_class must be 0..{NUM_CLASSES} (0: wait for "
+                             f"{rospy.resolve_name('instruction_class')}), "
+                             f"got {self.initial_class}")
+        self._lock = threading.Lock()
+        self._pending = []
+        self.counts = {}
+        self.bag = None
+
+    def start(self):
+        self.bag = rosbag.Bag(self.path, "w")
+        self.class_topic = rospy.resolve_name("instruction_class")
+        if self.initial_class:
+            self._cache(self.class_topic, UInt8(data=self.initial_class))
+        for name, kind in (("scan", LaserScan), ("cmd_vel", Twist), ("odom", Odometry),
+                           ("instruction_class", UInt8)):
+            topic = rospy.resolve_name(name)
+            rospy.Subscriber(topic, kind, self._cache_from(topic), queue_size=50)
+        self.timer = rospy.Timer(rospy.Duration(FLUSH_PERIOD), self._flush)
+        rospy.loginfo("recorder: writing %s", self.path)
+
+    def _cache_from(self, topic):
+        return lambda msg: self._cache(topic, msg)
+
+    def _cache(self, topic, msg):
+        with self._lock:
+            self._pending.append((topic, msg, rospy.Time.now()))
+
+    def _flush(self, _event=None):
+        with self._lock:
+            pending, self._pending = self._pending, []
+            for topic, msg, stamp in pending:
+                self.bag.write(topic, msg, stamp)
+                self.counts[topic] = self.counts.get(topic, 0) + 1
+
+    def close(self):
+        """Flush, end an open sequence started by ~instruction_class, close the bag."""
+        self.timer.shutdown()
+        if self.initial_class:
+            self._cache(self.class_topic, UInt8(data=0))
+        self._flush()
+        with self._lock:
+            self.bag.close()
+        rospy.loginfo("recorder: closed %s with %s", self.path, self.counts)
+
+
+def _raise_interrupt(_signum, _frame):
+    raise KeyboardInterrupt
+
+
+def main():
+    rospy.init_node("recorder", disable_signals=True)
+    signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        node = RecorderNode()
+        node.start()
+    except (ValueError, OSError) as error:
+        rospy.logfatal("recorder: %s", error)
+        return 2
+    try:
+        while not rospy.is_shutdown():
+            time.sleep(0.1)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        node.close()
+        rospy.signal_shutdown("recorder exiting")
+    return 0

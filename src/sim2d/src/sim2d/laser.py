@@ -1,0 +1,159 @@
+"""Laser range finders: models from config/lasers/*.yaml and scans with noise and dropouts."""
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from sim2d.raycast import ray_march
+
+NOISE_POOL = 1 << 18   # standard normals drawn once; each scan reads a slice at a random offset
+
+
+class LaserModelError(ValueError):
+    """A laser model file or name that cannot be used."""
+
+
+@dataclass
+class LaserModel:
+    """One laser range finder model (sensor_msgs/LaserScan conventions)."""
+
+    name: str
+    angle_min: float            # [rad]
+    angle_max: float            # [rad]
+    angle_increment: float      # [rad]
+    range_min: float            # [m]
+    range_max: float            # [m]
+    scan_time: float            # [s] time per scan = publication period
+    noise_std: float = 0.0      # [m] range noise floor (1 sigma)
+    noise_fraction: float = 0.0  # [-] range-proportional noise (1 sigma / range)
+    dropout_probability: float = 0.0  # [-] chance a beam returns nothing
+    num_beams: int = 0          # [-] 0: derived from the angle span
+
+    def __post_init__(self):
+        if self.num_beams <= 0:
+            span = (self.angle_max - self.angle_min) / self.angle_increment
+            self.num_beams = int(round(span)) + 1
+        self.angle_max = self.angle_min + (self.num_beams - 1) * self.angle_increment
+
+    def beam_angles(self):
+        """Beam directions [rad] in the laser frame."""
+        return self.angle_min + np.arange(self.num_beams) * self.angle_increment
+
+
+LASER_FIELDS = ("name", "angle_min", "angle_max", "angle_increment", "range_min", "range_max",
+                "scan_time")
+
+
+def load_laser_model(path):
+    """Read one config/lasers/<model>.yaml; LaserModelError names the file and the problem."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (OSError, yaml.YAMLError) as error:
+        raise LaserModelError(f"{path}: cannot read laser model: {error}") from error
+    if not isinstance(data, dict):
+        raise LaserModelError(f"{path}: laser model must be a mapping")
+    missing = [key for key in LASER_FIELDS if key not in data]
+    if missing:
+        raise LaserModelError(f"{path}: missing key(s) {', '.join(missing)}")
+    unknown = set(data) - set(LaserModel.__dataclass_fields__)
+    if unknown:
+        raise LaserModelError(f"{path}: unknown key(s) {', '.join(sorted(unknown))}")
+    model = LaserModel(**data)
+    if not (model.angle_increment > 0 and 0 <= model.range_min < model.range_max
+            and model.scan_time > 0):
+        raise LaserModelError(f"{path}: need angle_increment > 0, 0 <= range_min < range_max "
+                              f"and scan_time > 0")
+    return model
+
+
+def find_laser_model(name, laser_dir):
+    """The model called `name` in laser_dir; the error lists the models that exist."""
+    path = Path(laser_dir) / f"{name}.yaml"
+    if not path.is_file():
+        known = sorted(p.stem for p in Path(laser_dir).glob("*.yaml"))
+        raise LaserModelError(f"unknown laser model {name!r} (known in {laser_dir}: "
+                              f"{', '.join(known) or 'none'})")
+    return load_laser_model(path)
+
+
+def circle_ranges(ox, oy, angles, circles):
+    """Ranges [m] along each ray to the nearest of `circles` [(x, y, r)], inf if none is hit."""
+    if len(circles) == 0:
+        return np.full(np.shape(angles), np.inf)
+    c = np.asarray(circles, dtype=float)
+    dx, dy = c[:, 0:1] - ox, c[:, 1:2] - oy
+    cos, sin = np.cos(angles)[None, :], np.sin(angles)[None, :]
+    along = dx * cos + dy * sin
+    perp2 = dx * dx + dy * dy - along * along
+    half = np.sqrt(np.maximum(c[:, 2:3] ** 2 - perp2, 0.0))
+    t = along - half
+    hit = (perp2 <= c[:, 2:3] ** 2) & (t > 0)
+    return np.where(hit, t, np.inf).min(axis=0)
+
+
+class LaserSensor:
+    """A laser of a given model mounted on a robot; `scan(pose)` returns noisy ranges."""
+
+    def __init__(self, model, mount, geometry, table=None, seed=0):
+        self.model = model
+        self.mount = tuple(float(v) for v in mount)   # (x, y, yaw) in base_link [m, m, rad]
+        self.geometry = geometry
+        self.table = table                            # RangeTable or None (ray marching)
+        self.rng = np.random.default_rng(seed)
+        self.angles = model.beam_angles()
+        # pools: N(0, 1) range noise, and 0 or +inf per beam (+inf = dropout, added to a range)
+        self._normal_pool = self.rng.standard_normal(NOISE_POOL + model.num_beams).astype(
+            np.float32)
+        self._dropout_pool = np.where(
+            self.rng.random(NOISE_POOL + model.num_beams) < model.dropout_probability,
+            np.inf, 0.0).astype(np.float32)
+        steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
+        self._fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
+
+    def pose_in_map(self, pose):
+        x, y, yaw = pose
+        mx, my, myaw = self.mount
+        c, s = math.cos(yaw), math.sin(yaw)
+        return x + c * mx - s * my, y + s * mx + c * my, yaw + myaw
+
+    def true_ranges(self, pose, circles=()):
+        """Noise-free ranges [m] from the map (and circular obstacles such as people)."""
+        lx, ly, lyaw = self.pose_in_map(pose)
+        ranges = None
+        if self._fan_step:
+            ranges = self.table.cast_fan(lx, ly, lyaw + self.model.angle_min,
+                                         self.model.num_beams, self._fan_step)
+            if ranges is not None and not len(circles):
+                return ranges
+        world_angles = self.angles + lyaw
+        if ranges is None and self.table is not None:
+            ranges = self.table.cast(lx, ly, world_angles)
+        if ranges is None:
+            ranges = ray_march(self.geometry, lx, ly, world_angles, self.model.range_max)
+        if len(circles):
+            ranges = np.minimum(ranges, circle_ranges(lx, ly, world_angles, circles))
+        return ranges
+
+    def _next_random(self):
+        """Noise and dropouts for one scan: slices of the pools at independent random offsets."""
+        n = self.model.num_beams
+        a, b = self.rng.integers(0, NOISE_POOL, size=2)
+        return self._normal_pool[a:a + n], self._dropout_pool[b:b + n]
+
+    def scan(self, pose, circles=()):
+        """One scan [m]: Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117)."""
+        m = self.model
+        ranges = self.true_ranges(pose, circles)
+        normal, dropout = self._next_random()
+        ranges = np.asarray(ranges, dtype=np.float32)
+        if m.noise_fraction > 0:
+            ranges = ranges + np.maximum(m.noise_std, m.noise_fraction * ranges) * normal
+        else:
+            ranges = ranges + np.float32(m.noise_std) * normal
+        ranges += dropout
+        ranges[ranges > m.range_max] = np.inf
+        ranges[ranges < m.range_min] = -np.inf
+        return ranges

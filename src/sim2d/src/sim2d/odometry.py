@@ -1,0 +1,61 @@
+"""Odometry with drift: the robot's own estimate of its motion, integrated from noisy increments.
+
+The noise is the odometry motion model of Thrun, Burgard & Fox, Probabilistic Robotics, Table 5.6
+(alpha1..alpha4), plus a systematic scale error per axis (miscalibrated wheel radius and track).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from sim2d.kinematics import wrap_angle
+
+
+@dataclass
+class OdometryConfig:
+    """Drift parameters."""
+
+    alpha_rot_rot: float = 0.02       # [rad/rad] rotation noise per rotation (alpha1)
+    alpha_rot_trans: float = 0.01     # [rad/m] rotation noise per translation (alpha2)
+    alpha_trans_trans: float = 0.02   # [m/m] translation noise per translation (alpha3)
+    alpha_trans_rot: float = 0.005    # [m/rad] translation noise per rotation (alpha4)
+    scale_linear: float = 1.0         # [-] systematic factor on measured translation
+    scale_angular: float = 1.0        # [-] systematic factor on measured rotation
+    seed: int = 0
+
+
+def noisy_increment(previous, current, config, rng):
+    """Probabilistic Robotics Table 5.6: (rot1, trans, rot2) of a true move, with sampled noise."""
+    dx, dy = current[0] - previous[0], current[1] - previous[1]
+    trans = math.hypot(dx, dy)
+    rot1 = wrap_angle(math.atan2(dy, dx) - previous[2]) if trans > 1e-9 else 0.0
+    if abs(rot1) > math.pi / 2:          # moving backwards: keep rot1 small, trans negative
+        rot1, trans = wrap_angle(rot1 - math.pi), -trans
+    rot2 = wrap_angle(current[2] - previous[2] - rot1)
+    a1, a2 = config.alpha_rot_rot, config.alpha_rot_trans
+    a3, a4 = config.alpha_trans_trans, config.alpha_trans_rot
+    noise = rng.standard_normal(3)
+    rot1 += noise[0] * (a1 * abs(rot1) + a2 * abs(trans))
+    trans += noise[1] * (a3 * abs(trans) + a4 * (abs(rot1) + abs(rot2)))
+    rot2 += noise[2] * (a1 * abs(rot2) + a2 * abs(trans))
+    return (rot1 * config.scale_angular, trans * config.scale_linear,
+            rot2 * config.scale_angular)
+
+
+class Odometry:
+    """Integrates noisy increments of the true pose into an odometry pose (odom frame)."""
+
+    def __init__(self, config, start_pose):
+        self.config = config
+        self.rng = np.random.default_rng(config.seed)
+        self.pose = (0.0, 0.0, 0.0)           # odom frame starts at the robot's start pose
+        self._last_truth = tuple(start_pose)
+
+    def update(self, true_pose):
+        rot1, trans, rot2 = noisy_increment(self._last_truth, true_pose, self.config, self.rng)
+        self._last_truth = tuple(true_pose)
+        x, y, yaw = self.pose
+        yaw1 = yaw + rot1
+        self.pose = (x + trans * math.cos(yaw1), y + trans * math.sin(yaw1),
+                     wrap_angle(yaw1 + rot2))
+        return self.pose

@@ -1,0 +1,282 @@
+"""Vectorised 2D ray casting on an occupancy grid.
+
+Two casters share one geometry (occupied cells are squares of side `resolution`):
+
+* `ray_march`: sphere tracing on a Euclidean distance transform, vectorised over all rays
+  (no Python loop per beam); exact up to the final sub-cell refinement. Used for short-range,
+  few-beam lasers, line-of-sight tests and to build the table below.
+* `RangeTable`: a per-cell, per-angle lookup table for static maps (the LUT of rangelibc;
+  Walsh & Karaman, ICRA 2018). A whole scan is then one gather from four table rows plus a
+  bilinear blend, which is what makes real-time factors in the hundreds reachable in numpy.
+"""
+import hashlib
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+TABLE_FORMAT = "faces-dda-v2"   # bump when the table contents change (invalidates caches)
+FAR = 1e12               # [cells] stands in for "never" in cell-crossing times
+SAFE_MARGIN = 1.5        # [cells] DT bound loss: point-to-cell-centre plus half a cell diagonal
+MAX_ITERATIONS = 4000    # guard against pathological grazing rays
+CLEARANCE_LOSS = np.sqrt(2.0)  # [cells] point-to-centre plus half the obstacle cell's diagonal
+
+
+def distance_transform(occupied):
+    """Distance [cells] from every cell centre to the nearest occupied cell centre (0 inside)."""
+    free = np.ascontiguousarray(~occupied, dtype=np.uint8)
+    return cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE).astype(np.float32)
+
+
+def _cell_entry(ox, oy, cos, sin, col, row, origin_x, origin_y, resolution):
+    """Range at which each ray enters its cell square (slab method), and whether it enters
+    through a face parallel to x (a "y face", normal along y)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x0 = origin_x + col * resolution
+        y0 = origin_y + row * resolution
+        tx = np.where(cos > 0, (x0 - ox) / cos, (x0 + resolution - ox) / cos)
+        ty = np.where(sin > 0, (y0 - oy) / sin, (y0 + resolution - oy) / sin)
+        tx = np.where(np.abs(cos) < 1e-12, -np.inf, tx)
+        ty = np.where(np.abs(sin) < 1e-12, -np.inf, ty)
+    return np.maximum(np.maximum(tx, ty), 0.0), ty > tx
+
+
+@dataclass
+class GridGeometry:
+    """What a caster needs to know of a map: occupancy, distance transform and placement."""
+
+    occupied: np.ndarray   # bool (H, W)
+    dist: np.ndarray       # float32 (H, W) distance transform [cells]
+    resolution: float      # [m/cell]
+    origin_x: float        # [m] map-frame x of cell (0, 0)'s corner
+    origin_y: float        # [m]
+
+    @classmethod
+    def from_map(cls, grid):
+        if abs(grid.origin[2]) > 1e-9:
+            raise ValueError(f"rotated map origins are not supported (yaw {grid.origin[2]})")
+        occupied = grid.occupied_mask()
+        return cls(occupied, distance_transform(occupied), float(grid.resolution),
+                   float(grid.origin[0]), float(grid.origin[1]))
+
+    def clearance_at(self, x, y):
+        """Scalar clearance (see `clearance`), without numpy overhead."""
+        col = math.floor((x - self.origin_x) / self.resolution)
+        row = math.floor((y - self.origin_y) / self.resolution)
+        if not (0 <= row < self.dist.shape[0] and 0 <= col < self.dist.shape[1]):
+            return 0.0
+        d = float(self.dist[row, col])
+        return max(d - CLEARANCE_LOSS, 0.0) * self.resolution if d > 0 else 0.0
+
+    def clearance(self, x, y):
+        """Lower bound [m] of the free distance around map points (0 outside or in obstacles)."""
+        col = np.floor((np.asarray(x, dtype=float) - self.origin_x) / self.resolution).astype(int)
+        row = np.floor((np.asarray(y, dtype=float) - self.origin_y) / self.resolution).astype(int)
+        h, w = self.dist.shape
+        inside = (row >= 0) & (row < h) & (col >= 0) & (col < w)
+        d = np.zeros(np.shape(col), dtype=float)
+        d[inside] = self.dist[row[inside], col[inside]]
+        return np.maximum(d - CLEARANCE_LOSS, 0.0) * self.resolution * (d > 0)
+
+
+def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
+    """Ranges [m] of rays from (ox, oy) at `angles` [rad] to the first occupied cell.
+
+    Far from obstacles a ray jumps by the distance-transform bound (sphere tracing); within
+    SAFE_MARGIN + 1 cells of one it steps exactly from cell boundary to cell boundary (DDA), so
+    no cell is skipped; the hit range is the exact entry into the hit cell's square. All rays
+    advance together (no Python loop per ray). Rays that leave the map or exceed max_range
+    return inf. With return_faces, also a bool array: True where the ray entered through a y face.
+    """
+    angles = np.asarray(angles, dtype=float)
+    ox = np.broadcast_to(np.asarray(ox, dtype=float), angles.shape).ravel()
+    oy = np.broadcast_to(np.asarray(oy, dtype=float), angles.shape).ravel()
+    cos, sin = np.cos(angles).ravel(), np.sin(angles).ravel()
+    ranges = np.full(cos.shape, np.inf)
+    faces = np.zeros(cos.shape, dtype=bool)
+    res, (h, w) = geometry.resolution, geometry.dist.shape
+    # ray origins in cell units relative to the grid corner; per-axis cell-crossing data
+    gx, gy = (ox - geometry.origin_x) / res, (oy - geometry.origin_y) / res
+    with np.errstate(divide="ignore"):   # an axis the ray does not move along is never crossed
+        inv_c = np.where(np.abs(cos) > 1e-12, 1.0 / cos, FAR)
+        inv_s = np.where(np.abs(sin) > 1e-12, 1.0 / sin, FAR)
+    step_x, step_y = (inv_c > 0).astype(float), (inv_s > 0).astype(float)
+    # working set, compacted whenever fewer than half of its rays are still live
+    idx = np.arange(cos.size)
+    wx, wy, wc, ws, ic, is_, sx, sy = gx, gy, cos, sin, inv_c, inv_s, step_x, step_y
+    t = np.zeros(cos.size)                # [cells] along the ray
+    live = np.ones(cos.size, dtype=bool)
+    flat = geometry.dist.ravel()
+    limit = max_range / res
+    for _ in range(MAX_ITERATIONS):
+        px, py = wx + t * wc, wy + t * ws
+        col, row = np.floor(px), np.floor(py)
+        inside = (row >= 0) & (row < h) & (col >= 0) & (col < w) & (t <= limit)
+        cell = np.clip(row * w + col, 0, h * w - 1).astype(np.int64)
+        d = np.where(inside, flat[cell], 0.0)
+        hit = live & inside & (d == 0.0)
+        if hit.any():
+            entry, face = _cell_entry(wx[hit], wy[hit], wc[hit], ws[hit], col[hit], row[hit],
+                                      0.0, 0.0, 1.0)
+            ranges[idx[hit]], faces[idx[hit]] = entry * res, face
+        live &= inside & ~hit
+        count = int(np.count_nonzero(live))
+        if count == 0:
+            break
+        # exact exit from the current cell (DDA) versus the distance-transform jump
+        exit_t = np.minimum((col + sx - wx) * ic, (row + sy - wy) * is_)
+        t = np.maximum(t + (d - SAFE_MARGIN), exit_t + 1e-9)
+        if count < live.size // 2:
+            idx, wx, wy, wc, ws, ic, is_, sx, sy, t = (
+                a[live] for a in (idx, wx, wy, wc, ws, ic, is_, sx, sy, t))
+            live = np.ones(count, dtype=bool)
+    ranges[ranges > max_range] = np.inf
+    if return_faces:
+        return ranges.reshape(angles.shape), faces.reshape(angles.shape)
+    return ranges.reshape(angles.shape)
+
+
+@dataclass
+class RangeTableConfig:
+    """Resolution of the lookup table."""
+
+    cell_size: float = 0.1        # [m] spacing of the table's sample points
+    angle_bins: int = 1440        # [-] directions over 360 deg (1440 = UTM-30LX's 0.25 deg)
+    min_clearance: float = 0.15   # [m] sample points closer to an obstacle are not tabulated
+    max_range: float = 30.0       # [m] longest range stored (at most 32.766 m)
+    max_shift: float = 0.3        # [m] largest correction from sample point to query point
+
+
+class RangeTable:
+    """Per-sample-point, per-direction ranges of one static map (uint16 entries).
+
+    Entry = range in millimetres (bits 0-14) | hit face (bit 15: 1 = a face parallel to x).
+    Occupied cells are axis-aligned squares, so the face a ray hits is either an x face or a
+    y face; a parallel ray from a nearby point hits the same face at a range that differs by
+    exactly dx / cos(theta) (x face) or dy / sin(theta) (y face) while the face continues.
+    """
+
+    MM = 1000.0
+    FACE_BIT = np.uint16(1 << 15)
+    RANGE_MASK = np.uint16((1 << 15) - 1)
+    NO_HIT = (1 << 15) - 1          # 32.767 m: beyond every supported max_range
+
+    def __init__(self, geometry, config, index, table):
+        self.geometry, self.config = geometry, config
+        self.index = index      # int32 (rows, cols): table row of each sample point, -1 if none
+        self.table = table      # uint16 (n, angle_bins), see the class docstring
+        self.bin_width = 2.0 * np.pi / config.angle_bins
+        angles = np.arange(config.angle_bins) * self.bin_width
+        with np.errstate(divide="ignore"):
+            inv_cos, inv_sin = 1.0 / np.cos(angles), 1.0 / np.sin(angles)
+        limit = 1e6
+        self._inv_cos = np.clip(np.nan_to_num(inv_cos, posinf=limit, neginf=-limit),
+                                -limit, limit).astype(np.float32)
+        self._inv_sin = np.clip(np.nan_to_num(inv_sin, posinf=limit, neginf=-limit),
+                                -limit, limit).astype(np.float32)
+
+    @classmethod
+    def build(cls, geometry, config=None, cache_dir=None, chunk_rays=2_000_000):
+        """Tabulate every sample point with enough clearance; reuse a cached table if present."""
+        config = config or RangeTableConfig()
+        if config.max_range * cls.MM >= cls.NO_HIT:
+            raise ValueError(f"RangeTable stores ranges below {cls.NO_HIT / cls.MM} m, "
+                             f"max_range {config.max_range} m is too long")
+        index, xs, ys = cls._sample_points(geometry, config)
+        cache = cls._cache_path(geometry, config, cache_dir)
+        if cache is not None and cache.is_file():
+            table = np.load(cache)
+            if table.shape == (xs.size, config.angle_bins):
+                return cls(geometry, config, index, table)
+        angles = np.arange(config.angle_bins) * (2.0 * np.pi / config.angle_bins)
+        table = np.empty((xs.size, config.angle_bins), dtype=np.uint16)
+        per_chunk = max(1, chunk_rays // config.angle_bins)
+        for start in range(0, xs.size, per_chunk):
+            stop = min(start + per_chunk, xs.size)
+            ranges, faces = ray_march(geometry, xs[start:stop, None], ys[start:stop, None],
+                                      np.broadcast_to(angles, (stop - start, angles.size)),
+                                      config.max_range, return_faces=True)
+            mm = np.where(np.isfinite(ranges), np.round(ranges * cls.MM), cls.NO_HIT)
+            table[start:stop] = mm.astype(np.uint16) | (faces.astype(np.uint16) << 15)
+        if cache is not None:
+            cache.parent.mkdir(parents=True, exist_ok=True)
+            np.save(cache, table)
+        return cls(geometry, config, index, table)
+
+    @staticmethod
+    def _sample_points(geometry, config):
+        g = geometry
+        cols = int(np.floor(g.dist.shape[1] * g.resolution / config.cell_size))
+        rows = int(np.floor(g.dist.shape[0] * g.resolution / config.cell_size))
+        x = g.origin_x + (np.arange(cols) + 0.5) * config.cell_size
+        y = g.origin_y + (np.arange(rows) + 0.5) * config.cell_size
+        gx, gy = np.meshgrid(x, y)
+        ok = g.clearance(gx, gy) >= config.min_clearance
+        index = np.full(ok.shape, -1, dtype=np.int32)
+        index[ok] = np.arange(int(ok.sum()), dtype=np.int32)
+        return index, gx[ok], gy[ok]
+
+    @staticmethod
+    def _cache_path(geometry, config, cache_dir):
+        if cache_dir is None:
+            return None
+        digest = hashlib.sha256(np.packbits(geometry.occupied).tobytes())
+        digest.update(repr((geometry.occupied.shape, geometry.resolution, geometry.origin_x,
+                            geometry.origin_y, config, TABLE_FORMAT)).encode())
+        return Path(cache_dir) / f"range_table_{digest.hexdigest()[:16]}.npy"
+
+    def _nearest(self, x, y):
+        """(table row, dx, dy) of the sample point nearest to (x, y), or None if untabulated."""
+        size = self.config.cell_size
+        col = math.floor((x - self.geometry.origin_x) / size)
+        row = math.floor((y - self.geometry.origin_y) / size)
+        if not (0 <= row < self.index.shape[0] and 0 <= col < self.index.shape[1]):
+            return None
+        entry = int(self.index[row, col])
+        if entry < 0:
+            return None
+        dx = x - (self.geometry.origin_x + (col + 0.5) * size)
+        dy = y - (self.geometry.origin_y + (row + 0.5) * size)
+        return entry, dx, dy
+
+    def cast(self, x, y, angles):
+        """Ranges [m] from (x, y) along `angles` [rad] (nearest table bin); None if untabulated.
+
+        Values above max_range mean no return.
+        """
+        found = self._nearest(x, y)
+        if found is None:
+            return None
+        angles = np.asarray(angles, dtype=float)
+        bins = np.rint(angles / self.bin_width).astype(np.int64) % self.config.angle_bins
+        raw = self.table[found[0], bins]
+        return self._shifted(raw, found[1], found[2], self._inv_cos[bins], self._inv_sin[bins])
+
+    def cast_fan(self, x, y, first_angle, count, step_bins):
+        """Like cast for `count` beams `step_bins` table bins apart from first_angle [rad]."""
+        found = self._nearest(x, y)
+        if found is None:
+            return None
+        n = self.config.angle_bins
+        k0 = int(round(first_angle / self.bin_width)) % n
+        span = (count - 1) * step_bins + 1
+        if k0 + span <= n:
+            window = slice(k0, k0 + span, step_bins)
+            raw = self.table[found[0], window]
+            inv_cos, inv_sin = self._inv_cos[window], self._inv_sin[window]
+        else:
+            bins = (k0 + step_bins * np.arange(count)) % n
+            raw = self.table[found[0], bins]
+            inv_cos, inv_sin = self._inv_cos[bins], self._inv_sin[bins]
+        return self._shifted(raw, found[1], found[2], inv_cos, inv_sin)
+
+    def _shifted(self, raw, dx, dy, inv_cos, inv_sin):
+        """Table ranges moved from the sample point by (dx, dy) along each hit face."""
+        ranges = (raw & self.RANGE_MASK).astype(np.float32)
+        ranges *= np.float32(1.0 / self.MM)
+        shift = np.where(raw >= self.FACE_BIT, np.float32(dy) * inv_sin, np.float32(dx) * inv_cos)
+        np.clip(shift, -self.config.max_shift, self.config.max_shift, out=shift)
+        ranges -= shift
+        return ranges

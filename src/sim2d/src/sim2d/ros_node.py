@@ -1,0 +1,271 @@
+"""ROS node around sim2d.World: sim-time clock, lasers, odometry, tf, wheels, camera, markers.
+
+Callbacks only cache commands under a lock; one loop thread steps the world at `~step` seconds
+of sim time, paced to `~speed` x real time by the wall clock, and publishes what is due.
+"""
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+
+import rospy
+import tf2_ros
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import JointState, LaserScan
+from std_msgs.msg import Bool
+from tamp_msgs.msg import PerceptionFrame
+from visualization_msgs.msg import MarkerArray
+
+from sim2d import conversions
+from sim2d.kinematics import DIFFERENTIAL, twist_to_wheels
+from sim2d.world import CommandError, World
+
+
+@dataclass
+class NodeConfig:
+    """~parameters of the node (all times in sim seconds)."""
+
+    world: str = ""                 # world YAML (required)
+    laser_dir: str = ""             # laser models; "" = <world dir>/../lasers
+    speed: float = 1.0              # [-] sim seconds per wall second; <= 0: as fast as possible
+    step: float = 0.005             # [s] integration step
+    odom_rate: float = 50.0         # [Hz] /odom, tf, ground truth, joint_states
+    marker_rate: float = 2.0        # [Hz]
+    diagnostics_rate: float = 1.0   # [Hz]
+    cmd_timeout: float = 0.5        # [s] stop a robot whose last command is older than this
+    publish_map_odom: bool = False  # also publish map -> odom from ground truth (no AMCL)
+    diff_drive_cmd_vel: bool = False  # differential robots also obey cmd_vel (no penguin_base)
+
+
+def read_config():
+    config = NodeConfig()
+    for name, default in vars(NodeConfig()).items():
+        setattr(config, name, type(default)(rospy.get_param("~" + name, default)))
+    return config
+
+
+@dataclass
+class RobotIO:
+    """Publishers, subscribers and cached commands of one simulated robot."""
+
+    robot: object
+    prefix: str                      # "" or "<namespace>/"
+    scans: list = field(default_factory=list)    # [(publisher, frame_id, last count)]
+    command: tuple = None            # ("twist", vx, vy, wz) or ("wheels", left, right)
+    command_time: float = -1e9       # [s] sim time of the last command
+
+
+class SimNode:
+    def __init__(self):
+        self.config = read_config()
+        self.lock = threading.Lock()
+        self.world = None
+        self.io = []
+        self.last = {}
+        self.started_wall = None
+
+    def setup(self):
+        """Load the world and create the ROS interfaces; False (with a log line) on bad input."""
+        if not self.config.world:
+            rospy.logfatal("sim2d: parameter ~world (path of a world YAML) is required")
+            return False
+        try:
+            self.world = World.from_file(self.config.world, self.config.laser_dir or None)
+        except (ValueError, OSError) as error:
+            rospy.logfatal("sim2d: cannot load world: %s", error)
+            return False
+        if not (self.config.step > 0):
+            rospy.logfatal("sim2d: ~step must be > 0, got %s", self.config.step)
+            return False
+        self.clock_pub = rospy.Publisher("/clock", Clock, queue_size=10)
+        self.marker_pub = rospy.Publisher("sim2d/markers", MarkerArray, queue_size=1, latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
+        self.tf = tf2_ros.TransformBroadcaster()
+        self.static_tf = tf2_ros.StaticTransformBroadcaster()
+        statics = []
+        for robot in self.world.robots:
+            io = RobotIO(robot, f"{robot.config.namespace}/" if robot.config.namespace else "")
+            self._make_interfaces(io)
+            statics += self._static_transforms(io)
+            self.io.append(io)
+        self.static_tf.sendTransform(statics)
+        return True
+
+    def frame(self, io, name):
+        return name if name.startswith(io.prefix) else io.prefix + name
+
+    def _make_interfaces(self, io):
+        rc, p = io.robot.config, io.prefix
+        for mount in io.robot.laser_mounts:
+            io.scans.append([rospy.Publisher(p + mount.topic, LaserScan, queue_size=5),
+                             self.frame(io, mount.frame), 0])
+        io.odom_pub = rospy.Publisher(p + "odom", Odometry, queue_size=10)
+        io.truth_pub = rospy.Publisher(p + "base_pose_ground_truth", Odometry, queue_size=10)
+        io.stall_pub = rospy.Publisher(p + "stall", Bool, queue_size=1, latch=True)
+        if rc.drive != DIFFERENTIAL or self.config.diff_drive_cmd_vel:
+            rospy.Subscriber(p + "cmd_vel", Twist, self._on_twist, io, queue_size=1)
+        if rc.drive == DIFFERENTIAL:
+            rospy.Subscriber(p + "wheel_command", JointState, self._on_wheels, io, queue_size=1)
+            io.joint_pub = rospy.Publisher(p + "joint_states", JointState, queue_size=10)
+        if io.robot.camera is not None:
+            io.camera_pub = rospy.Publisher(p + "camera/detections", PerceptionFrame,
+                                            queue_size=2)
+
+    def _static_transforms(self, io):
+        base = self.frame(io, "base_link")
+        out = [conversions.transform_msg(0.0, base, self.frame(io, m.frame), m.mount[0],
+                                         m.mount[1], m.mount_height, yaw=m.mount[2])
+               for m in io.robot.laser_mounts]
+        rig = io.robot.config.camera
+        if rig is not None:
+            for name, cam in (("camera_top", rig.top), ("camera_bottom", rig.bottom)):
+                out.append(conversions.transform_msg(0.0, base, self.frame(io, name),
+                                                     cam.mount_x, 0.0, cam.mount_height,
+                                                     pitch=cam.tilt))
+                # REP 103 optical frame: z forward, x right, y down
+                out.append(conversions.transform_msg(0.0, self.frame(io, name),
+                                                     self.frame(io, name + "_optical"), 0.0, 0.0,
+                                                     0.0, roll=-math.pi / 2, yaw=-math.pi / 2))
+        return out
+
+    # --- callbacks: cache only -----------------------------------------------------------
+    def _on_twist(self, msg, io):
+        command = conversions.twist_command(msg)
+        if not all(math.isfinite(v) for v in command):
+            rospy.logwarn_throttle(5.0, "sim2d: %s: rejected non-finite cmd_vel %s",
+                                   io.robot.name, command)
+            return
+        with self.lock:
+            io.command, io.command_time = ("twist",) + command, self.world.time
+
+    def _on_wheels(self, msg, io):
+        try:
+            command = conversions.wheel_command(msg)
+        except ValueError as error:
+            rospy.logwarn_throttle(5.0, "sim2d: %s: rejected wheel command: %s",
+                                   io.robot.name, error)
+            return
+        if not all(math.isfinite(v) for v in command):
+            rospy.logwarn_throttle(5.0, "sim2d: %s: rejected non-finite wheel command %s",
+                                   io.robot.name, command)
+            return
+        with self.lock:
+            io.command, io.command_time = ("wheels",) + command, self.world.time
+
+    # --- loop ----------------------------------------------------------------------------
+    def _apply_commands(self):
+        with self.lock:
+            for io in self.io:
+                name = io.robot.name
+                fresh = self.world.time - io.command_time <= self.config.cmd_timeout
+                try:
+                    if io.command is None or not fresh:
+                        if io.robot.config.drive == DIFFERENTIAL:
+                            self.world.set_wheel_speeds(name, 0.0, 0.0)
+                        else:
+                            self.world.set_twist(name, 0.0, 0.0, 0.0)
+                    elif io.command[0] == "wheels":
+                        self.world.set_wheel_speeds(name, *io.command[1:])
+                    else:
+                        self.world.set_twist(name, *io.command[1:])
+                except CommandError as error:
+                    rospy.logwarn_throttle(5.0, "sim2d: rejected command: %s", error)
+                    io.command = None
+
+    def _due(self, key, rate):
+        if rate <= 0:
+            return False
+        if self.world.time + 1e-9 >= self.last.get(key, 0.0):
+            self.last[key] = self.last.get(key, 0.0) + 1.0 / rate
+            return True
+        return False
+
+    def _publish(self):
+        now = self.world.time
+        self.clock_pub.publish(Clock(clock=conversions.stamp(now)))
+        odom_due = self._due("odom", self.config.odom_rate)
+        for io in self.io:
+            self._publish_scans(io)
+            if odom_due:
+                self._publish_odometry(io, now)
+            rig = io.robot.config.camera
+            if rig is not None and self._due(("camera", io.robot.name), rig.rate):
+                frame = self.world.camera_frame(io.robot.name)
+                io.camera_pub.publish(conversions.frame_msg(
+                    frame, now, self.frame(io, "camera_top_optical")))
+        if self._due("markers", self.config.marker_rate):
+            self.marker_pub.publish(MarkerArray(
+                markers=conversions.people_markers(now, self.world.people)
+                + conversions.object_markers(now, list(self.world.objects.values()))))
+        if self._due("diagnostics", self.config.diagnostics_rate):
+            self._publish_diagnostics(now)
+
+    def _publish_scans(self, io):
+        for j, entry in enumerate(io.scans):
+            scan = io.robot.scans[j]
+            if scan is not None and scan.count != entry[2]:
+                entry[2] = scan.count
+                entry[0].publish(conversions.scan_msg(scan, io.robot.laser_mounts[j].model,
+                                                      entry[1]))
+
+    def _publish_odometry(self, io, now):
+        robot, odom, base = io.robot, self.frame(io, "odom"), self.frame(io, "base_link")
+        state = robot.state
+        pose = robot.odometry.pose
+        io.odom_pub.publish(conversions.odometry_msg(now, odom, base, pose, state.twist))
+        io.truth_pub.publish(conversions.odometry_msg(now, "map", base, state.pose, state.twist))
+        transforms = [conversions.transform_msg(now, odom, base, pose[0], pose[1], 0.0,
+                                                yaw=pose[2])]
+        if self.config.publish_map_odom:
+            transforms.append(self._map_to_odom(now, odom, state.pose, pose))
+        self.tf.sendTransform(transforms)
+        io.stall_pub.publish(Bool(data=state.stalled))
+        if robot.config.drive == DIFFERENTIAL:
+            wheels = robot.config.wheels
+            speeds = twist_to_wheels(state.twist[0], state.twist[2], wheels)
+            io.joint_pub.publish(conversions.encoder_msg(now, state.wheel_angles, speeds,
+                                                         wheels.encoder_ticks_per_rev))
+
+    @staticmethod
+    def _map_to_odom(now, odom_frame, truth, odom):
+        """map -> odom such that map -> odom -> base_link equals the ground truth."""
+        yaw = truth[2] - odom[2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        x = truth[0] - (c * odom[0] - s * odom[1])
+        y = truth[1] - (s * odom[0] + c * odom[1])
+        return conversions.transform_msg(now, "map", odom_frame, x, y, 0.0, yaw=yaw)
+
+    def _publish_diagnostics(self, now):
+        wall = time.monotonic() - self.started_wall
+        factor = now / wall if wall > 0 else 0.0
+        array = DiagnosticArray()
+        array.header.stamp = conversions.stamp(now)
+        for io in self.io:
+            state = io.robot.state
+            status = DiagnosticStatus(name=f"sim2d: {io.robot.name}", hardware_id="sim2d")
+            status.level = DiagnosticStatus.WARN if state.stalled else DiagnosticStatus.OK
+            status.message = "stalled against an obstacle" if state.stalled else "ok"
+            status.values = [KeyValue("bumps", str(state.bumps)),
+                             KeyValue("real_time_factor", f"{factor:.2f}")]
+            array.status.append(status)
+        self.diag_pub.publish(array)
+
+    def spin(self):
+        """Step and publish until shutdown, keeping sim time = speed x wall time."""
+        self.started_wall = time.monotonic()
+        speed, step = self.config.speed, self.config.step
+        behind_warned = False
+        while not rospy.is_shutdown():
+            self._apply_commands()
+            self.world.step(step)
+            self._publish()
+            if speed > 0:
+                lag = self.world.time / speed - (time.monotonic() - self.started_wall)
+                if lag > 0:
+                    time.sleep(lag)
+                elif lag < -0.5 and not behind_warned:
+                    rospy.logwarn("sim2d: cannot keep speed %.1f (%.2f s behind)", speed, -lag)
+                    behind_warned = True

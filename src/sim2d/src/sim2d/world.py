@@ -1,0 +1,246 @@
+"""The simulated world: map, robots with lasers, odometry and cameras, people and objects.
+
+`World.step(dt)` advances everything by dt seconds of simulated time: people follow their
+schedules, held objects follow the hands, robots integrate their commands against the map
+(stall on contact), odometry drifts, and each laser produces a scan whenever its scan period has
+elapsed. Camera frames are computed on request (`camera_frame`).
+"""
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from sim2d.camera import Camera, CameraFrame
+from sim2d.kinematics import DIFFERENTIAL, RobotState, step_robot, wheels_to_twist
+from sim2d.laser import LaserSensor
+from sim2d.occupancy_map import load_map
+from sim2d.odometry import Odometry
+from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
+from sim2d.skeleton import person_keypoints
+from sim2d.world_config import WorldError, load_world_config
+
+CACHE_DIR = Path(os.environ.get("SIM2D_CACHE", Path.home() / ".cache" / "sim2d"))
+TABLE_MARGIN = 0.05     # [m] extra clearance given up so the table covers every reachable pose
+
+
+class CommandError(ValueError):
+    """A velocity command that cannot be executed (NaN, infinite)."""
+
+
+@dataclass
+class Scan:
+    stamp: float            # [s] sim time at which the scan was taken
+    ranges: np.ndarray      # float32 [m]
+    count: int              # scans of this laser so far
+
+
+@dataclass
+class SimObject:
+    name: str
+    label: str
+    pose: tuple             # (x, y, yaw)
+    elevation: float        # [m]
+    size: tuple             # (x, y, z) [m]
+    held_by: str = ""
+
+    def centre(self):
+        return np.array([self.pose[0], self.pose[1], self.elevation + self.size[2] / 2.0])
+
+    def corners(self):
+        """The 8 corners (8, 3) of the object's box in the map frame."""
+        x, y, yaw = self.pose
+        hx, hy = self.size[0] / 2.0, self.size[1] / 2.0
+        c, s = math.cos(yaw), math.sin(yaw)
+        out = []
+        for dx in (-hx, hx):
+            for dy in (-hy, hy):
+                for z in (self.elevation, self.elevation + self.size[2]):
+                    out.append((x + c * dx - s * dy, y + s * dx + c * dy, z))
+        return np.array(out)
+
+
+@dataclass
+class Robot:
+    config: object                       # RobotConfig
+    state: RobotState
+    odometry: Odometry
+    lasers: list                         # [LaserSensor]
+    laser_mounts: list                   # [LaserMount]
+    camera: Camera = None
+    scans: list = field(default_factory=list)   # latest Scan per laser (None before the first)
+    next_scan: list = field(default_factory=list)
+
+    @property
+    def name(self):
+        return self.config.name
+
+
+class World:
+    """Everything in one simulated building, stepped without ROS."""
+
+    def __init__(self, config, cache_dir=CACHE_DIR):
+        self.config = config
+        self.time = 0.0
+        self.grid = load_map(config.map_path)
+        self.geometry = GridGeometry.from_map(self.grid)
+        self.camera_geometry = self._camera_geometry(config.camera_transparent)
+        self.cache_dir = cache_dir
+        self._tables = {}
+        self._held = {}        # person name -> (pose, posture, holding) last applied
+        self.people = list(config.people)
+        self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
+                        for o in config.objects}
+        self.robots = [self._make_robot(rc, i) for i, rc in enumerate(config.robots)]
+        self._update_people(0.0)
+
+    @classmethod
+    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR):
+        return cls(load_world_config(path, laser_dir), cache_dir)
+
+    def _camera_geometry(self, transparent):
+        if not transparent:
+            return self.geometry
+        occupied = self.geometry.occupied.copy()
+        for x0, y0, x1, y1 in transparent:
+            r0, c0 = self.grid.world_to_cell(min(x0, x1), min(y0, y1))
+            r1, c1 = self.grid.world_to_cell(max(x0, x1), max(y0, y1))
+            occupied[max(r0, 0):r1 + 1, max(c0, 0):c1 + 1] = False
+        return GridGeometry(occupied, distance_transform(occupied), self.geometry.resolution,
+                            self.geometry.origin_x, self.geometry.origin_y)
+
+    def _table(self, laser_mount, robot_config):
+        reach = math.hypot(laser_mount.mount[0], laser_mount.mount[1])
+        table_config = RangeTableConfig(max_range=laser_mount.model.range_max)
+        table_config.min_clearance = max(
+            0.0, robot_config.radius - reach - 0.75 * table_config.cell_size - TABLE_MARGIN)
+        key = (table_config.max_range, table_config.min_clearance)
+        if key not in self._tables:
+            self._tables[key] = RangeTable.build(self.geometry, table_config, self.cache_dir)
+        return self._tables[key]
+
+    def _make_robot(self, rc, index):
+        clearance = float(self.geometry.clearance(rc.pose[0], rc.pose[1]))
+        if clearance < rc.radius:
+            raise WorldError(f"{self.config.path}: robot {rc.name!r} at ({rc.pose[0]:.2f}, "
+                             f"{rc.pose[1]:.2f}) is inside or touching an obstacle (clearance "
+                             f"{clearance:.2f} m < radius {rc.radius:.2f} m)")
+        lasers = []
+        for j, mount in enumerate(rc.lasers):
+            table = self._table(mount, rc) if mount.raycast == "table" else None
+            lasers.append(LaserSensor(mount.model, mount.mount, self.geometry, table,
+                                      seed=mount.seed + 1000 * index + j))
+        camera = None
+        if rc.camera is not None:
+            camera = Camera(rc.camera.top, rc.camera.bottom, rc.camera.detection,
+                            self.camera_geometry)
+        return Robot(rc, RobotState(pose=tuple(rc.pose)), Odometry(rc.odometry, rc.pose),
+                     lasers, list(rc.lasers), camera, [None] * len(lasers),
+                     [laser.model.scan_time for laser in lasers])
+
+    def robot(self, name):
+        for robot in self.robots:
+            if robot.name == name:
+                return robot
+        raise KeyError(f"no robot named {name!r}")
+
+    # --- commands -------------------------------------------------------------------------
+    def set_twist(self, name, vx, vy, wz):
+        """Body twist command [m/s, m/s, rad/s]; a NaN or infinite value is refused."""
+        if not all(math.isfinite(v) for v in (vx, vy, wz)):
+            raise CommandError(f"robot {name!r}: non-finite velocity command ({vx}, {vy}, {wz})")
+        robot = self.robot(name)
+        if robot.config.drive == DIFFERENTIAL and abs(vy) > 0.0:
+            raise CommandError(f"robot {name!r} is differential drive: lateral velocity {vy} "
+                               f"cannot be executed")
+        robot.state.command = (float(vx), float(vy), float(wz))
+
+    def set_wheel_speeds(self, name, left, right):
+        """Differential drive: wheel speed command (left, right) [rad/s]."""
+        robot = self.robot(name)
+        if robot.config.drive != DIFFERENTIAL:
+            raise CommandError(f"robot {name!r} is holonomic; it takes twist commands")
+        if not (math.isfinite(left) and math.isfinite(right)):
+            raise CommandError(f"robot {name!r}: non-finite wheel command ({left}, {right})")
+        v, w = wheels_to_twist(left, right, robot.config.wheels)
+        robot.state.command = (v, 0.0, w)
+
+    # --- stepping -------------------------------------------------------------------------
+    def _update_people(self, dt):
+        for person in self.people:
+            person.step(self.time, dt)
+        for person in self.people:
+            key = (person.pose, person.posture, person.holding)
+            if self._held.get(person.name) == key:
+                continue                      # nothing moved: the held object stays put
+            self._held[person.name] = key
+            for obj in self.objects.values():
+                if obj.held_by == person.name:
+                    obj.held_by = ""
+            if person.holding and person.holding in self.objects:
+                _, hold = person_keypoints(person.posture, person.pose, holding=True)
+                if hold is not None:
+                    obj = self.objects[person.holding]
+                    obj.pose = (hold[0], hold[1], person.pose[2])
+                    obj.elevation = hold[2] - obj.size[2] / 2.0
+                    obj.held_by = person.name
+
+    def _obstacle_circles(self, exclude):
+        circles = [(p.pose[0], p.pose[1], p.radius) for p in self.people]
+        circles += [(r.state.pose[0], r.state.pose[1], r.config.radius)
+                    for r in self.robots if r is not exclude]
+        return circles
+
+    def step(self, dt):
+        """Advance the world by dt [s]."""
+        if not dt > 0:
+            raise ValueError(f"step needs dt > 0, got {dt}")
+        self.time += dt
+        if self.people:
+            self._update_people(dt)
+        clearance = self.geometry.clearance_at
+        for robot in self.robots:
+            rc = robot.config
+            step_robot(robot.state, rc.drive, rc.limits, rc.radius,
+                       clearance, dt, rc.wheels)
+            robot.odometry.update(robot.state.pose)
+            for j, laser in enumerate(robot.lasers):
+                if self.time + 1e-9 >= robot.next_scan[j]:
+                    circles = self._obstacle_circles(robot) if (self.people or
+                                                                len(self.robots) > 1) else ()
+                    count = 1 if robot.scans[j] is None else robot.scans[j].count + 1
+                    robot.scans[j] = Scan(self.time, laser.scan(robot.state.pose, circles), count)
+                    robot.next_scan[j] += laser.model.scan_time
+
+    # --- camera ---------------------------------------------------------------------------
+    def camera_frame(self, name):
+        """Detections of robot `name`'s camera at the current time (CameraFrame)."""
+        robot = self.robot(name)
+        camera = robot.camera
+        if camera is None:
+            raise KeyError(f"robot {name!r} has no camera")
+        pose = robot.state.pose
+        width, height = camera.frame_size
+        frame = CameraFrame(width, height)
+        people = list(self.people)
+        objects = list(self.objects.values())
+        targets = [p.pose[:2] for p in people] + [o.pose[:2] for o in objects]
+        seen = camera.in_line_of_sight(pose, targets)
+        for person, visible in zip(people, seen[:len(people)]):
+            if not visible or camera.missed():
+                continue
+            look = self.objects[person.looking_at].centre() if person.looking_at else None
+            keypoints, _ = person_keypoints(person.posture, person.pose,
+                                            holding=bool(person.holding), look_target=look)
+            skeleton, box = camera.detect_person(person.name, keypoints, person.shirt_colour, pose)
+            if skeleton is not None:
+                frame.skeletons.append(skeleton)
+                frame.objects.append(box)
+        for obj, visible in zip(objects, seen[len(people):]):
+            if not visible or camera.missed():
+                continue
+            detection = camera.detect_object(obj.name, obj.label, obj.corners(), obj.centre(), pose)
+            if detection is not None:
+                frame.objects.append(detection)
+        return frame

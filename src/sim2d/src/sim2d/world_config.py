@@ -1,0 +1,255 @@
+"""World description files (config/worlds/*.yaml): parsing and validation with clear errors.
+
+See config/worlds/README.md for the format. Every error names the file and the offending entry.
+"""
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+from sim2d.camera import CameraConfig, DetectionConfig
+from sim2d.kinematics import DIFFERENTIAL, HOLONOMIC, DriveLimits, WheelConfig
+from sim2d.laser import LaserModelError, find_laser_model
+from sim2d.odometry import OdometryConfig
+from sim2d.people import POSTURES, Person, ScheduleEntry
+from sim2d.semantic_graph import load_graph
+
+
+class WorldError(ValueError):
+    """A world file that cannot be used; the message names the file and the problem."""
+
+
+@dataclass
+class LaserMount:
+    model: object               # LaserModel
+    mount: tuple                # (x, y, yaw) in base_link [m, m, rad]
+    mount_height: float = 0.3   # [m] (for the static tf only)
+    frame: str = "base_laser"
+    topic: str = "scan"
+    raycast: str = "march"      # "march" (distance-transform ray marching) or "table" (LUT)
+    seed: int = 0
+
+
+@dataclass
+class CameraRig:
+    top: CameraConfig
+    bottom: CameraConfig
+    detection: DetectionConfig
+    rate: float = 10.0          # [Hz] detection frames per second
+
+
+@dataclass
+class RobotConfig:
+    name: str
+    drive: str                  # "holonomic" or "differential"
+    radius: float               # [m] circular footprint
+    pose: tuple                 # start (x, y, yaw) [m, m, rad]
+    namespace: str = ""         # ROS namespace ("" = global topics)
+    limits: DriveLimits = field(default_factory=DriveLimits)
+    wheels: WheelConfig = None  # differential drive only
+    odometry: OdometryConfig = field(default_factory=OdometryConfig)
+    lasers: list = field(default_factory=list)   # [LaserMount]
+    camera: CameraRig = None
+
+
+@dataclass
+class ObjectConfig:
+    name: str
+    label: str                  # COCO class
+    pose: tuple                 # (x, y, yaw) [m, m, rad]
+    elevation: float            # [m] height of the object's base above the floor
+    size: tuple                 # (length x, width y, height z) [m]
+
+
+@dataclass
+class WorldConfig:
+    path: Path
+    map_path: Path
+    graph_path: Path = None
+    robots: list = field(default_factory=list)
+    people: list = field(default_factory=list)
+    objects: list = field(default_factory=list)
+    camera_transparent: list = field(default_factory=list)   # [[x0, y0, x1, y1]] [m]
+
+
+def _dataclass_from(cls, data, where):
+    if data is None:
+        return cls()
+    if not isinstance(data, dict):
+        raise WorldError(f"{where}: expected a mapping, got {data!r}")
+    unknown = set(data) - set(cls.__dataclass_fields__)
+    if unknown:
+        raise WorldError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+    return cls(**data)
+
+
+def _number(value, where):
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise WorldError(f"{where}: expected a number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise WorldError(f"{where}: expected a finite number, got {value!r}")
+    return number
+
+
+class _Parser:
+    def __init__(self, path, laser_dir):
+        self.path = Path(path)
+        self.laser_dir = Path(laser_dir) if laser_dir else self.path.parent.parent / "lasers"
+        self.graph = None
+
+    def fail(self, message):
+        raise WorldError(f"{self.path}: {message}")
+
+    def pose(self, value, where):
+        if isinstance(value, str):
+            if self.graph is None:
+                self.fail(f"{where}: place name {value!r} needs a 'graph' file")
+            try:
+                return tuple(self.graph.place(value).pose)
+            except KeyError as error:
+                self.fail(f"{where}: {error.args[0]}")
+        if not isinstance(value, (list, tuple)) or len(value) not in (2, 3):
+            self.fail(f"{where}: pose must be [x, y, yaw] or a place name, got {value!r}")
+        pose = [_number(v, f"{self.path}: {where}") for v in value]
+        return tuple(pose + [0.0] * (3 - len(pose)))
+
+    def laser(self, data, where):
+        if "model" not in data:
+            self.fail(f"{where}: missing 'model'")
+        try:
+            model = find_laser_model(data["model"], self.laser_dir)
+        except LaserModelError as error:
+            self.fail(f"{where}: {error}")
+        extra = {k: v for k, v in data.items() if k not in ("model", "mount")}
+        mount = self.pose(data.get("mount", [0.0, 0.0, 0.0]), f"{where}.mount")
+        laser = _dataclass_from(LaserMount, dict(model=model, mount=mount, **extra), where)
+        if laser.raycast not in ("march", "table"):
+            self.fail(f"{where}: raycast must be 'march' or 'table', got {laser.raycast!r}")
+        return laser
+
+    def camera(self, data, where):
+        if data is None:
+            return None
+        top = _dataclass_from(CameraConfig, data.get("top"), f"{where}.top")
+        bottom = _dataclass_from(CameraConfig, data.get("bottom"), f"{where}.bottom")
+        detection = _dataclass_from(DetectionConfig, data.get("detection"), f"{where}.detection")
+        return CameraRig(top, bottom, detection, _number(data.get("rate", 10.0), f"{where}.rate"))
+
+    def robot(self, data, i):
+        where = f"robots[{i}]"
+        missing = [k for k in ("name", "drive", "radius", "pose") if k not in data]
+        if missing:
+            self.fail(f"{where}: missing key(s) {', '.join(missing)}")
+        where = f"robot {data['name']!r}"
+        if data["drive"] not in (HOLONOMIC, DIFFERENTIAL):
+            self.fail(f"{where}: drive must be {HOLONOMIC!r} or {DIFFERENTIAL!r}, "
+                      f"got {data['drive']!r}")
+        wheels = None
+        if data["drive"] == DIFFERENTIAL:
+            wheels = _dataclass_from(WheelConfig, data.get("wheels"), f"{self.path}: {where}.wheels")
+        return RobotConfig(
+            name=str(data["name"]), drive=data["drive"],
+            radius=_number(data["radius"], f"{self.path}: {where}.radius"),
+            pose=self.pose(data["pose"], f"{where}.pose"),
+            namespace=str(data.get("namespace", "")),
+            limits=_dataclass_from(DriveLimits, data.get("limits"), f"{self.path}: {where}.limits"),
+            wheels=wheels,
+            odometry=_dataclass_from(OdometryConfig, data.get("odometry"),
+                                     f"{self.path}: {where}.odometry"),
+            lasers=[self.laser(laser, f"{where}.lasers[{j}]")
+                    for j, laser in enumerate(data.get("lasers", []))],
+            camera=self.camera(data.get("camera"), f"{self.path}: {where}.camera"))
+
+    def schedule_entry(self, data, where):
+        if "time" not in data or "pose" not in data:
+            self.fail(f"{where}: a schedule entry needs 'time' and 'pose'")
+        entry = ScheduleEntry(time=_number(data["time"], f"{self.path}: {where}.time"),
+                              pose=self.pose(data["pose"], f"{where}.pose"),
+                              posture=data.get("posture", "standing"),
+                              activity=data.get("activity", "standing"),
+                              holding=data.get("holding", ""),
+                              looking_at=data.get("looking_at", ""),
+                              via=[self.pose(p, f"{where}.via")[:2] for p in data.get("via", [])])
+        if entry.posture not in POSTURES:
+            self.fail(f"{where}: posture must be one of {POSTURES}, got {entry.posture!r}")
+        return entry
+
+    def shirt_colour(self, value, where):
+        """[r, g, b] for all three joints, or {joint1: [r, g, b], joint2: ..., joint5: ...}."""
+        joints = ([value.get(k) for k in ("joint1", "joint2", "joint5")]
+                  if isinstance(value, dict) else [value] * 3)
+        for rgb in joints:
+            if (not isinstance(rgb, (list, tuple)) or len(rgb) != 3
+                    or not all(isinstance(c, int) and 0 <= c <= 255 for c in rgb)):
+                self.fail(f"{where}: shirt_colour must be [r, g, b] in 0..255 or "
+                          f"{{joint1, joint2, joint5: [r, g, b]}}, got {value!r}")
+        return tuple(tuple(rgb) for rgb in joints)
+
+    def person(self, data, i):
+        missing = [k for k in ("name", "shirt_colour", "pose") if k not in data]
+        if missing:
+            self.fail(f"people[{i}]: missing key(s) {', '.join(missing)}")
+        where = f"person {data['name']!r}"
+        colour = self.shirt_colour(data["shirt_colour"], where)
+        posture = data.get("posture", "standing")
+        if posture not in POSTURES:
+            self.fail(f"{where}: posture must be one of {POSTURES}, got {posture!r}")
+        schedule = sorted((self.schedule_entry(e, f"{where}.schedule[{j}]")
+                           for j, e in enumerate(data.get("schedule", []))),
+                          key=lambda e: e.time)
+        return Person(name=str(data["name"]), shirt_colour=colour,
+                      pose=self.pose(data["pose"], f"{where}.pose"), posture=posture,
+                      activity=data.get("activity", "standing"),
+                      holding=data.get("holding", ""), looking_at=data.get("looking_at", ""),
+                      schedule=schedule)
+
+    def obj(self, data, i):
+        missing = [k for k in ("name", "label", "pose", "size") if k not in data]
+        if missing:
+            self.fail(f"objects[{i}]: missing key(s) {', '.join(missing)}")
+        where = f"object {data['name']!r}"
+        size = tuple(_number(v, f"{self.path}: {where}.size") for v in data["size"])
+        if len(size) != 3 or min(size) <= 0:
+            self.fail(f"{where}: size must be [x, y, z] > 0, got {data['size']!r}")
+        return ObjectConfig(str(data["name"]), str(data["label"]),
+                            self.pose(data["pose"], f"{where}.pose"),
+                            _number(data.get("elevation", 0.0), f"{self.path}: {where}.elevation"),
+                            size)
+
+    def parse(self):
+        try:
+            data = yaml.safe_load(self.path.read_text())
+        except (OSError, yaml.YAMLError) as error:
+            raise WorldError(f"{self.path}: cannot read world file: {error}") from error
+        if not isinstance(data, dict) or "map" not in data:
+            self.fail("expected a mapping with at least 'map'")
+        map_path = (self.path.parent / data["map"]).resolve()
+        graph_path = None
+        if data.get("graph"):
+            graph_path = (self.path.parent / data["graph"]).resolve()
+            try:
+                self.graph = load_graph(graph_path)
+            except ValueError as error:
+                self.fail(str(error))
+        robots = [self.robot(r, i) for i, r in enumerate(data.get("robots", []))]
+        names = [r.name for r in robots]
+        if len(set(names)) != len(names):
+            self.fail(f"robot names must be unique, got {names}")
+        objects = [self.obj(o, i) for i, o in enumerate(data.get("objects", []))]
+        people = [self.person(p, i) for i, p in enumerate(data.get("people", []))]
+        object_names = {o.name for o in objects}
+        for person in people:
+            for entry in [person] + person.schedule:
+                for ref in (entry.holding, entry.looking_at):
+                    if ref and ref not in object_names:
+                        self.fail(f"person {person.name!r} refers to unknown object {ref!r}")
+        return WorldConfig(self.path, map_path, graph_path, robots, people, objects,
+                           [list(map(float, r)) for r in data.get("camera_transparent", [])])
+
+
+def load_world_config(path, laser_dir=None):
+    """Parse a world YAML; laser models come from laser_dir (default: <world dir>/../lasers)."""
+    return _Parser(path, laser_dir).parse()

@@ -1,0 +1,76 @@
+"""Ray casting against independent geometry: a wall at a known distance."""
+import math
+
+import numpy as np
+import pytest
+from conftest import LASER_DIR, room_grid
+
+from sim2d.laser import LaserSensor, circle_ranges, find_laser_model
+from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, ray_march
+
+
+@pytest.fixture(scope="module")
+def geometry():
+    return GridGeometry.from_map(room_grid())
+
+
+@pytest.fixture(scope="module")
+def table(geometry):
+    return RangeTable.build(geometry, RangeTableConfig(cell_size=0.1, angle_bins=1440,
+                                                       min_clearance=0.3, max_range=30.0))
+
+
+def test_beam_perpendicular_to_wall_returns_its_distance(geometry):
+    # wall face at x = 5.0 m; from (1.23, 3.0) along +x the distance is 3.77 m
+    assert ray_march(geometry, 1.23, 3.0, np.array([0.0]), 30.0)[0] == pytest.approx(3.77, abs=1e-9)
+
+
+def test_oblique_beams_hit_the_wall_at_d_over_cos(geometry):
+    angles = np.deg2rad([-40.0, -20.0, 10.0, 35.0])
+    expected = 3.77 / np.cos(angles)          # all hit the face x = 5.0 below y = 8.0
+    np.testing.assert_allclose(ray_march(geometry, 1.23, 4.0, angles, 30.0), expected, atol=1e-9)
+
+
+def test_beam_through_the_gap_reaches_the_outer_wall(geometry):
+    # above y = 8 m the inner wall is open: the beam ends on the east outer wall (x = 9.9 m)
+    assert ray_march(geometry, 1.0, 9.0, np.array([0.0]), 30.0)[0] == pytest.approx(8.9, abs=1e-9)
+
+
+def test_beam_beyond_max_range_returns_inf(geometry):
+    assert np.isinf(ray_march(geometry, 1.23, 3.0, np.array([0.0]), 3.0)[0])
+
+
+def test_table_matches_the_wall_distance_between_sample_points(table):
+    bin_width = 2 * math.pi / 1440
+    angles = np.array([0, 40, -80, 120]) * bin_width       # 0, 10, -20, 30 degrees
+    ranges = table.cast(1.23, 3.01, angles)                # not on a sample point
+    np.testing.assert_allclose(ranges, 3.77 / np.cos(angles), atol=1e-3)  # mm storage
+
+
+def test_table_fan_equals_table_cast(table):
+    bin_width = 2 * math.pi / 1440
+    fan = table.cast_fan(2.37, 4.44, -540 * bin_width, 1081, 1)
+    direct = table.cast(2.37, 4.44, (np.arange(1081) - 540) * bin_width)
+    np.testing.assert_allclose(fan, direct)
+
+
+def test_table_refuses_points_it_does_not_cover(table):
+    assert table.cast(4.9, 3.0, np.array([0.0])) is None     # 0.1 m from the wall
+
+
+def test_utm30lx_scan_of_a_wall_is_within_its_noise(geometry):
+    model = find_laser_model("utm_30lx", LASER_DIR)
+    assert model.num_beams == 1081
+    laser = LaserSensor(model, (0.0, 0.0, 0.0), geometry, seed=5)
+    centre = 540                                   # beam straight ahead
+    assert laser.angles[centre] == pytest.approx(0.0, abs=1e-9)
+    samples = np.array([laser.scan((1.23, 3.0, 0.0))[centre] for _ in range(400)])
+    samples = samples[np.isfinite(samples)]
+    assert abs(samples.mean() - 3.77) < 4 * model.noise_std / math.sqrt(samples.size)
+    assert samples.std() == pytest.approx(model.noise_std, rel=0.2)
+
+
+def test_circle_ranges_hits_the_near_side_of_a_person():
+    r = circle_ranges(0.0, 0.0, np.array([0.0, math.pi / 2]), [(2.0, 0.0, 0.2)])
+    assert r[0] == pytest.approx(1.8)
+    assert np.isinf(r[1])

@@ -1,0 +1,158 @@
+"""World files, commands, odometry, people and the camera model, against hand calculations."""
+import math
+
+import numpy as np
+import pytest
+import yaml
+from conftest import LASER_DIR
+
+from sim2d.camera import CameraConfig, camera_points, project
+from sim2d.occupancy_map import MapError
+from sim2d.world import CommandError, World
+from sim2d.world_config import WorldError, load_world_config
+
+CAMERA = {"rate": 5.0,
+          "top": {"mount_x": 0.09, "mount_height": 1.15, "tilt": 0.0},
+          "bottom": {"mount_x": 0.09, "mount_height": 1.05, "tilt": 0.8},
+          "detection": {"miss_probability": 0.0, "keypoint_noise": 1.0, "seed": 4}}
+
+
+def world_dict(map_path):
+    return {
+        "map": str(map_path),
+        "robots": [{"name": "pepper", "drive": "holonomic", "radius": 0.3,
+                    "pose": [2.0, 3.0, 0.0],
+                    "lasers": [{"model": "pepper", "mount": [0.0, 0.0, 0.0]}],
+                    "camera": CAMERA},
+                   {"name": "penguin", "drive": "differential", "radius": 0.3,
+                    "pose": [2.0, 8.5, 0.0], "namespace": "penguin",
+                    "odometry": {"alpha_rot_rot": 0.0, "alpha_rot_trans": 0.0,
+                                 "alpha_trans_trans": 0.0, "alpha_trans_rot": 0.0},
+                    "lasers": [{"model": "utm_30lx"}]}],
+        "people": [{"name": "Bob", "shirt_colour": [35, 70, 190], "pose": [4.0, 3.0, math.pi],
+                    "posture": "standing", "activity": "read", "holding": "book",
+                    "schedule": [{"time": 1.0, "pose": [3.0, 5.0, 0.0], "posture": "sitting",
+                                  "activity": "eat", "via": [[4.0, 5.0]]}]}],
+        "objects": [
+            {"name": "cup", "label": "cup", "pose": [4.0, 2.4, 0.0], "elevation": 0.8,
+             "size": [0.08, 0.08, 0.1]},
+            {"name": "book", "label": "book", "pose": [4.0, 3.0, 0.0], "elevation": 0.8,
+             "size": [0.2, 0.15, 0.03]},
+            {"name": "tv", "label": "tv", "pose": [7.0, 3.0, math.pi], "elevation": 0.6,
+             "size": [0.1, 1.0, 0.6]},
+            {"name": "chair", "label": "chair", "pose": [0.6, 3.0, 0.0], "elevation": 0.0,
+             "size": [0.5, 0.5, 0.9]}]}
+
+
+def write_world(tmp_path, data):
+    path = tmp_path / "world.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+@pytest.fixture
+def world(tmp_path, room_map):
+    return World(load_world_config(write_world(tmp_path, world_dict(room_map)), LASER_DIR),
+                 cache_dir=None)
+
+
+def test_pinhole_projection_matches_hand_calculation():
+    camera = CameraConfig(fx=583.9, fy=588.5, cx=320.0, cy=240.0, mount_x=0.09,
+                          mount_height=1.15, tilt=0.0)
+    point = np.array([[2.0 + 0.09 + 2.0, 3.0 + 0.5, 1.15]])   # 2 m ahead, 0.5 m to the left
+    u, v, inside = project(camera_points(point, (2.0, 3.0, 0.0), camera), camera)
+    assert u[0] == pytest.approx(320.0 - 583.9 * 0.5 / 2.0)
+    assert v[0] == pytest.approx(240.0)
+    assert inside[0]
+
+
+def test_person_keypoints_fall_inside_the_person_box(world):
+    frame = world.camera_frame("pepper")
+    assert len(frame.skeletons) == 1
+    skeleton = frame.skeletons[0]
+    box = next(o for o in frame.objects if o.label == "person")
+    seen = skeleton.confidence > 0
+    assert seen.sum() >= 14
+    assert np.all(skeleton.x[seen] >= box.x) and np.all(skeleton.x[seen] <= box.x + box.width)
+    assert np.all(skeleton.y[seen] >= box.y) and np.all(skeleton.y[seen] <= box.y + box.height)
+    assert box.depth == pytest.approx(2.0 - 0.09, abs=0.3)
+    # shirt colour read at joints 1, 2 and 5, close to Bob's shirt
+    assert np.abs(skeleton.joint_colours.astype(int) - [35, 70, 190]).max() < 30
+
+
+def test_hands_are_near_the_held_book(world):
+    frame = world.camera_frame("pepper")
+    skeleton = frame.skeletons[0]
+    book = next(o for o in frame.objects if o.label == "book")
+    centre = (book.x + book.width / 2.0, book.y + book.height / 2.0)
+    for wrist in (4, 7):
+        assert math.hypot(skeleton.x[wrist] - centre[0], skeleton.y[wrist] - centre[1]) < 60
+
+
+def test_objects_behind_a_wall_or_the_camera_are_not_detected(world):
+    labels = {o.label for o in world.camera_frame("pepper").objects}
+    assert "cup" in labels
+    assert "tv" not in labels        # behind the wall at x = 5 m
+    assert "chair" not in labels     # behind the robot: outside the field of view
+
+
+def test_person_walks_her_schedule(world):
+    for _ in range(int(10.0 / 0.05)):
+        world.step(0.05)
+    bob = world.people[0]
+    assert bob.pose == pytest.approx((3.0, 5.0, 0.0))
+    assert (bob.posture, bob.activity) == ("sitting", "eat")
+
+
+def test_scan_rate_follows_the_laser_model(world):
+    for _ in range(40):
+        world.step(0.025)                       # 1 s
+    assert world.robot("penguin").scans[0].count == 40   # UTM-30LX: 25 ms per scan
+    assert world.robot("pepper").scans[0].count == 10    # Pepper: 100 ms per scan
+    assert world.robot("penguin").scans[0].ranges.shape == (1081,)
+
+
+def test_noise_free_odometry_equals_the_motion(world):
+    world.set_wheel_speeds("penguin", 2.0, 3.0)
+    for _ in range(100):
+        world.step(0.02)
+    robot = world.robot("penguin")
+    x, y, yaw = robot.state.pose
+    ox, oy, oyaw = robot.odometry.pose            # odom frame = start pose (2.0, 8.5, 0)
+    assert (ox + 2.0, oy + 8.5, oyaw) == pytest.approx((x, y, yaw), abs=1e-9)
+
+
+def test_nan_command_is_refused(world):
+    with pytest.raises(CommandError, match="non-finite"):
+        world.set_twist("pepper", float("nan"), 0.0, 0.0)
+    with pytest.raises(CommandError, match="non-finite"):
+        world.set_wheel_speeds("penguin", 1.0, float("inf"))
+    with pytest.raises(CommandError, match="differential"):
+        world.set_twist("penguin", 0.1, 0.2, 0.0)
+
+
+def test_unknown_laser_model_is_a_clear_error(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["robots"][0]["lasers"][0]["model"] = "lms_100"
+    with pytest.raises(WorldError, match=r"unknown laser model 'lms_100' .*utm_30lx"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_missing_map_image_is_a_clear_error(tmp_path, room_map):
+    (room_map.parent / "room.pgm").unlink()
+    with pytest.raises(MapError, match="map image missing"):
+        World(load_world_config(write_world(tmp_path, world_dict(room_map)), LASER_DIR))
+
+
+def test_robot_inside_a_wall_is_a_clear_error(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["robots"][0]["pose"] = [5.1, 3.0, 0.0]
+    with pytest.raises(WorldError, match="robot 'pepper' at .* inside or touching an obstacle"):
+        World(load_world_config(write_world(tmp_path, data), LASER_DIR))
+
+
+def test_unknown_object_reference_is_a_clear_error(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["people"][0]["holding"] = "sandwich"
+    with pytest.raises(WorldError, match="unknown object 'sandwich'"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
