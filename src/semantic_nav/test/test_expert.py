@@ -88,3 +88,9 @@ def test_noisy_demonstrations_reach_the_goal_without_touching_walls(floor):
             if demo is not None:
                 results.append(demo.reached and demo.min_clearance >= oracle.config.robot_radius)
     assert len(results) >= 9 and np.mean(results) >= 0.99
+
+
+def test_long_corridor_at_the_utm30lx_rate(crossroads):
+    # 26.9 m at <= 0.4 m/s is more than 67 s: 2700 commands at 40 Hz must not run out of time
+    demo = rehearse(crossroads, (2.0, 10.0, 0.0), 1, ExpertConfig(rate=40.0))
+    assert demo.reached and len(demo.poses) > 2700

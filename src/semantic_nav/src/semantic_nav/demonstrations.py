@@ -64,7 +64,7 @@ def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, 
     builder.on_instruction_class(label)
     ranges = robot.lasers[laser_index].scan(robot.state.pose)
     stopped = 0
-    for _ in range(config.max_steps):
+    for _ in range(int(config.max_duration * config.rate)):
         label_cmd, executed, done = driver.command(robot.state.pose)
         builder.on_velocity("cmd_vel", *label_cmd)
         builder.on_scan(np.round(np.asarray(ranges, dtype=np.float64), RANGE_DECIMALS))

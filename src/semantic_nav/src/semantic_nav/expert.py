@@ -32,7 +32,7 @@ class ExpertConfig:
     stop_steps: int = 10             # zero commands recorded after arrival (halting, §2.2.5.2)
     noise_linear: float = 0.02       # std of the executed linear speed noise [m/s]
     noise_angular: float = 0.08      # std of the executed angular speed noise [rad/s]
-    max_steps: int = 2000            # give up after this many commands
+    max_duration: float = 240.0      # give up after this long [s]
 
 
 def expert_route(walk, label, goal_pose):
@@ -169,7 +169,7 @@ def rehearse(oracle, start, label, config=None, rng=None, start_offset=(0.0, 0.0
     driver = ExpertDriver(expert_route(walk, label, goal.pose), goal.pose, config, rng)
     pose = tuple(float(a + b) for a, b in zip(start, start_offset))
     poses, labels, stopped = [], [], 0
-    for _ in range(config.max_steps):
+    for _ in range(int(config.max_duration * config.rate)):
         label_cmd, executed, done = driver.command(pose)
         poses.append(pose)
         labels.append(label_cmd)
