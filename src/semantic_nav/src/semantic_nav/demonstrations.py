@@ -80,3 +80,18 @@ def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, 
     pose = robot.state.pose
     return Demonstration(builder.finish()[0], goal.contains(*pose) and stopped > 0,
                          robot.state.bumps, tuple(pose))
+
+
+def plan_demonstrations(oracle, starts, per_class, rng):
+    """Balance the classes: for each class, up to `per_class` of the starts from which it is
+    applicable, drawn at random. Returns [(start, class)] in class order."""
+    applicable = {label: [] for label in range(1, 11)}
+    for start in starts:
+        for label, goal in oracle.goals(start).items():
+            if goal is not None:
+                applicable[label].append(start)
+    plan = []
+    for label, candidates in applicable.items():
+        chosen = rng.permutation(len(candidates))[:per_class]
+        plan.extend((candidates[i], label) for i in sorted(chosen))
+    return plan
