@@ -1,0 +1,97 @@
+"""Expert demonstrations in the sim2d world, recorded in penguin_base's record format
+(thesis 002 §3.3.1): one (velocity, laser ranges) sample per laser scan, from the start pose to
+the route oracle's goal of one instruction class."""
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from penguin_base.recording import SequenceBuilder
+from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route
+from sim2d.kinematics import RobotState
+from sim2d.odometry import Odometry
+from sim2d.world import World
+from sim2d.world_config import load_world_config
+
+RANGE_DECIMALS = 3   # ranges written to the mm (the UTM-30LX is ±30 mm): ~3x smaller files
+
+
+@dataclass
+class Demonstration:
+    """One driven demonstration and how it ended."""
+
+    sequence: object        # penguin_base RecordSequence (class, samples)
+    reached: bool           # final pose inside the oracle's goal region
+    bumps: int              # steps the simulator blocked against an obstacle
+    final_pose: tuple       # (x, y, yaw)
+
+    @property
+    def ok(self):
+        return self.reached and self.bumps == 0
+
+
+def world_for_floor(template, map_path, laser_dir=None):
+    """A sim2d World of `template` (config/worlds/*.yaml: robot, laser) on another floor."""
+    config = load_world_config(template, laser_dir)
+    config.map_path = Path(map_path).resolve()
+    config.graph_path = None
+    config.people, config.objects = [], []
+    return World(config)
+
+
+def _reset(world, robot, pose, laser_index):
+    robot.state = RobotState(pose=tuple(float(v) for v in pose))
+    robot.odometry = Odometry(robot.config.odometry, list(pose))
+    robot.next_scan[laser_index] = world.time + robot.lasers[laser_index].model.scan_time
+
+
+def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, laser_index=0,
+                start_offset=(0.0, 0.0, 0.0)):
+    """Drive class `label` from `start` in the world, recording every scan; None if the class
+    is not applicable from this start."""
+    walk = oracle.walk(start)
+    goal = oracle.goal(start, label, walk)
+    if goal is None:
+        return None
+    robot = world.robot(robot_name)
+    scan_time = robot.lasers[laser_index].model.scan_time
+    config = dataclasses.replace(config or ExpertConfig(), rate=1.0 / scan_time)
+    driver = ExpertDriver(expert_route(walk, label, goal.pose), goal.pose, config, rng)
+    _reset(world, robot, [a + b for a, b in zip(start, start_offset)], laser_index)
+    builder = SequenceBuilder(velocity_source="cmd_vel")
+    builder.on_instruction_class(label)
+    ranges = robot.lasers[laser_index].scan(robot.state.pose)
+    stopped = 0
+    for _ in range(int(config.max_duration * config.rate)):
+        label_cmd, executed, done = driver.command(robot.state.pose)
+        builder.on_velocity("cmd_vel", *label_cmd)
+        builder.on_scan(np.round(np.asarray(ranges, dtype=np.float64), RANGE_DECIMALS))
+        stopped = stopped + 1 if done else 0
+        if stopped >= config.stop_steps:
+            break
+        world.set_twist(robot_name, executed[0], 0.0, executed[1])
+        world.step(scan_time)
+        scan = robot.scans[laser_index]
+        ranges = scan.ranges if math.isclose(scan.stamp, world.time, abs_tol=1e-6) else \
+            robot.lasers[laser_index].scan(robot.state.pose)
+    builder.on_instruction_class(0)
+    pose = robot.state.pose
+    return Demonstration(builder.finish()[0], goal.contains(*pose) and stopped > 0,
+                         robot.state.bumps, tuple(pose))
+
+
+def plan_demonstrations(oracle, starts, per_class, rng):
+    """Balance the classes: for each class, up to `per_class` of the starts from which it is
+    applicable, drawn at random. Returns [(start, class)] in class order."""
+    applicable = {label: [] for label in range(1, 11)}
+    for start in starts:
+        for label, goal in oracle.goals(start).items():
+            if goal is not None:
+                applicable[label].append(start)
+    plan = []
+    for label, candidates in applicable.items():
+        chosen = rng.permutation(len(candidates))[:per_class]
+        plan.extend((candidates[i], label) for i in sorted(chosen))
+    return plan

@@ -1,0 +1,170 @@
+"""Basic instruction sets (thesis 002 §3.2, Fig. 3.2.1): labelled simple instructions of the ten
+classes of Table 3.1-1, generated from the phrase sets in config/semnav_phrases.yaml."""
+import itertools
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+# Table 3.1-1: class number -> representative basic instruction.
+CLASSES = {
+    1: "go straight to the end", 2: "turn right", 3: "turn left", 4: "go back (turn around)",
+    5: "turn right at the second corner", 6: "turn left at the second corner",
+    7: "turn right at the third corner", 8: "turn left at the third corner",
+    9: "go straight to the end and turn right", 10: "go straight to the end and turn left",
+}
+# Class Turn + (no / kind-A / kind-B suffix): (direction, kind) -> class.
+TURN_CLASSES = {("right", None): 2, ("left", None): 3, ("right", "second"): 5,
+                ("left", "second"): 6, ("right", "third"): 7, ("left", "third"): 8,
+                ("right", "end"): 9, ("left", "end"): 10}
+SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_keep",
+        "suffix_turn_change", "class4", "others")
+CHANGE_KINDS = ("second", "third", "end")
+SPLITS = ("train", "held_out")
+
+
+class PhraseSetError(ValueError):
+    """A phrase-set file that cannot be used; the message names the set."""
+
+
+@dataclass(frozen=True)
+class Phrase:
+    """One phrase chosen from one set; `tag` is the direction, the kind-B kind or the class."""
+
+    set_name: str
+    text: str
+    held_out: bool
+    tag: object = None
+
+
+@dataclass(frozen=True)
+class Sentence:
+    """A generated simple instruction, its class label and the phrases it was built from."""
+
+    text: str
+    label: int
+    phrases: tuple
+
+
+def _phrases(entry, set_name, tag=None):
+    if not isinstance(entry, dict) or set(entry) != set(SPLITS):
+        raise PhraseSetError(f"phrase set {set_name!r} needs exactly the keys train and held_out")
+    return [Phrase(set_name, " ".join(str(text).lower().split()), split == "held_out", tag)
+            for split in SPLITS for text in entry[split] or []]
+
+
+def load_phrase_sets(path):
+    """config/semnav_phrases.yaml -> {set name: [Phrase]} (class_turn expanded to both sides)."""
+    config = yaml.safe_load(Path(path).read_text())
+    missing = [name for name in SETS if name not in (config or {})]
+    if missing:
+        raise PhraseSetError(f"{path}: missing phrase set(s) {', '.join(missing)}")
+    sets = {name: _phrases(config[name], name)
+            for name in ("prefix", "suffix", "class1", "prefix_turn", "suffix_turn_keep",
+                         "class4")}
+    sets["class_turn"] = [Phrase("class_turn", p.text.format(dir=side), p.held_out, side)
+                          for p in _phrases(config["class_turn"], "class_turn")
+                          for side in ("right", "left")]
+    sets["suffix_turn_change"] = [p for kind in CHANGE_KINDS for p in _phrases(
+        config["suffix_turn_change"][kind], "suffix_turn_change", kind)]
+    others = config["others"]
+    sets["others"] = [Phrase("others", " ".join(str(t).lower().split()), split == "held_out",
+                             int(label))
+                      for split in SPLITS for label, texts in (others[split] or {}).items()
+                      for t in texts]
+    _check_disjoint(sets)
+    return sets
+
+
+def _check_disjoint(sets):
+    for name, phrases in sets.items():
+        train = {p.text for p in phrases if not p.held_out}
+        both = train & {p.text for p in phrases if p.held_out}
+        if both:
+            raise PhraseSetError(f"phrase set {name!r}: {sorted(both)} both train and held out")
+
+
+def label_of(phrases):
+    """Fig. 3.2.1: the class a combination of phrases belongs to, from the sets it chose."""
+    by_set = {p.set_name: p for p in phrases}
+    if "others" in by_set:
+        return by_set["others"].tag
+    if "class1" in by_set:
+        return 1
+    if "class4" in by_set:
+        return 4
+    if "class_turn" in by_set:
+        change = by_set.get("suffix_turn_change")
+        return TURN_CLASSES[(by_set["class_turn"].tag, change.tag if change else None)]
+    raise PhraseSetError(f"no core phrase in {[p.text for p in phrases]}")
+
+
+def compose(phrases):
+    """Join the chosen phrases into one labelled sentence."""
+    phrases = tuple(phrases)
+    return Sentence(" ".join(p.text for p in phrases), label_of(phrases), phrases)
+
+
+@dataclass(frozen=True)
+class Slot:
+    """One box of Fig. 3.2.1 in a recipe: a phrase set, optionally only phrases with `tag`."""
+
+    set_name: str
+    tag: object = None
+    optional: bool = False
+
+
+SIDE = {2: "right", 3: "left", 5: "right", 6: "left", 7: "right", 8: "left", 9: "right",
+        10: "left"}
+KIND = {5: "second", 6: "second", 7: "third", 8: "third", 9: "end", 10: "end"}
+
+
+def recipes(label):
+    """Fig. 3.2.1 / §3.2 examples: the sequences of sets that generate class `label`."""
+    prefix, suffix = Slot("prefix", optional=True), Slot("suffix", optional=True)
+    others = [(prefix, Slot("others", label), suffix)]   # empty unless `others` has the class
+    if label in (1, 4):
+        return [(prefix, Slot("class1" if label == 1 else "class4"), suffix)] + others
+    turn = (prefix, Slot("prefix_turn", optional=True), Slot("class_turn", SIDE[label]))
+    if label in (2, 3):
+        return [turn + (Slot("suffix_turn_keep", optional=True), suffix)]
+    return [turn + (Slot("suffix_turn_change", KIND[label]), suffix)] + others
+
+
+def _choices(sets, slot, split):
+    """Phrases a slot may take in a split; None stands for leaving an optional slot out."""
+    pool = [p for p in sets[slot.set_name] if (split == "held_out" or not p.held_out)
+            and (slot.tag is None or p.tag == slot.tag)]
+    return ([None] if slot.optional else []) + pool
+
+
+def enumerate_sentences(sets, label, split="train"):
+    """§3.2: every combination of the sets that generate class `label`, in a fixed order.
+
+    split="train" uses training phrases only; split="held_out" yields only sentences with at
+    least one held-out phrase (never seen in training)."""
+    if label not in CLASSES or split not in SPLITS:
+        raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
+    for recipe in recipes(label):
+        slots = [_choices(sets, slot, split) for slot in recipe]
+        for combination in itertools.product(*slots):
+            phrases = [p for p in combination if p is not None]
+            if split == "held_out" and not any(p.held_out for p in phrases):
+                continue
+            yield compose(phrases)
+
+
+def sample_sentence(sets, label, rng, split="train"):
+    """§3.4: one random sentence of class `label` (uniform over recipes, then over slots)."""
+    if label not in CLASSES or split not in SPLITS:
+        raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
+    options = [[_choices(sets, slot, split) for slot in recipe] for recipe in recipes(label)]
+    options = [pools for pools in options if all(pools)]
+    if not options:
+        raise PhraseSetError(f"no phrases for class {label} in split {split!r}")
+    pools = options[rng.integers(len(options))]
+    for _ in range(1000):   # held-out: redraw until a held-out phrase is used
+        phrases = [c for c in (pool[rng.integers(len(pool))] for pool in pools) if c]
+        if split == "train" or any(p.held_out for p in phrases):
+            return compose(phrases)
+    raise PhraseSetError(f"class {label}: no held-out phrase drawn in 1000 tries")

@@ -1,0 +1,89 @@
+"""Expert demonstrations driven in the sim2d world and recorded in penguin_base's format."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from penguin_base.record_format import format_records, parse_records
+from semantic_nav.demonstrations import demonstrate, world_for_floor
+from semantic_nav.laser_layer import model_from_scan, preprocess_scan, load_laser_config
+from semantic_nav.route_oracle import RouteOracle
+from sim2d.blueprint import render_blueprint
+from sim2d.occupancy_map import save_map
+
+ROOT = Path(__file__).resolve().parents[3]
+WORLD = """map: {map}
+robots:
+  - name: penguin
+    drive: differential
+    radius: 0.3
+    pose: [1.0, 1.0, 0.0]
+    limits: {{max_linear: 0.4, max_angular: 1.0, max_linear_accel: 0.8, max_angular_accel: 2.0}}
+    wheels: {{radius: 0.075, separation: 0.45, encoder_ticks_per_rev: 4096}}
+    lasers:
+      - {{model: urg_04lx, mount: [0.0, 0.0, 0.0], mount_height: 0.45, raycast: march}}
+"""
+
+
+@pytest.fixture(scope="module")
+def l_corridor(tmp_path_factory):
+    """A 1.8 m corridor running east 10 m into an L corner that turns north for 6 m."""
+    folder = tmp_path_factory.mktemp("world")
+    grid = render_blueprint({"size": [10.0, 8.0], "resolution": 0.05, "wall_thickness": 0.2,
+                             "walls": [[0, 2, 8, 2], [8, 2, 8, 8]]})
+    save_map(grid, folder / "l_floor.yaml")
+    (folder / "world.yaml").write_text(WORLD.format(map=folder / "l_floor.yaml"))
+    world = world_for_floor(folder / "world.yaml", folder / "l_floor.yaml",
+                            ROOT / "config" / "lasers")
+    return world, RouteOracle(grid)
+
+
+def test_turn_left_at_the_corner_in_the_simulator(l_corridor):
+    world, oracle = l_corridor
+    demo = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
+                       rng=np.random.default_rng(0))
+    assert demo.ok, demo
+    x, y, yaw = demo.final_pose
+    assert (x, y) == pytest.approx((9.0, 2.9), abs=0.75)      # 1.0 m into the branch
+    assert math.remainder(yaw - math.pi / 2, 2 * math.pi) == pytest.approx(0.0, abs=0.1)
+    sequence = demo.sequence
+    assert sequence.instruction_class == 3
+    # URG-04LX: 683 beams at 10 Hz; ~8 m of path at <= 0.4 m/s is more than 20 s of samples
+    assert all(len(s.ranges) == 683 for s in sequence.samples)
+    assert len(sequence.samples) > 200
+    assert max(s.v for s in sequence.samples) == pytest.approx(0.4, abs=0.01)
+    assert all(s.v == 0.0 and s.omega == 0.0 for s in sequence.samples[-10:])
+    again = parse_records(format_records([sequence]))[0].samples[5]
+    assert (again.v, again.omega) == (sequence.samples[5].v, sequence.samples[5].omega)
+    np.testing.assert_array_equal(again.ranges, sequence.samples[5].ranges)   # NaN == NaN
+
+
+def test_recorded_scans_go_through_the_laser_layer(l_corridor):
+    world, oracle = l_corridor
+    demo = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 4)
+    _, canonical, config = load_laser_config(ROOT / "config" / "semnav_laser.yaml")
+    model = world.robot("penguin").lasers[0].model
+    source = model_from_scan("urg_04lx", model.angle_min, model.angle_increment,
+                             model.num_beams, model.range_min, model.range_max)
+    vector, _ = preprocess_scan(demo.sequence.samples[0].ranges, source, canonical, config)
+    assert vector.shape == (881,) and np.linalg.norm(vector) == pytest.approx(1.0, abs=1e-5)
+
+
+def test_not_applicable_class_is_not_driven(l_corridor):
+    world, oracle = l_corridor
+    assert demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 2) is None
+
+
+def test_plan_balances_classes_over_starts():
+    from semantic_nav.demonstrations import plan_demonstrations
+    from sim2d.occupancy_map import load_map
+    oracle = RouteOracle(load_map(ROOT / "maps" / "office_longhall.yaml"))
+    starts = [(2.0, 8.0, 0.0), (11.0, 14.0, -math.pi / 2), (21.0, 2.0, math.pi / 2)]
+    plan = plan_demonstrations(oracle, starts, 2, np.random.default_rng(0))
+    per_class = {label: [s for s, c in plan if c == label] for label in range(1, 11)}
+    # fixture: class 5 and 8 only from the hall start, 9 from the two side corridors, 6/7 never
+    assert per_class[5] == [starts[0]] and per_class[8] == [starts[0]]
+    assert per_class[6] == [] and per_class[7] == []
+    assert sorted(per_class[9]) == sorted(starts[1:])
+    assert len(per_class[1]) == 2 and len(per_class[4]) == 2

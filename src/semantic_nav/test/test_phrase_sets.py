@@ -1,0 +1,125 @@
+"""Phrase-set generator (thesis 002 §3.2) on the seed's three worked examples and its splits."""
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from semantic_nav.instruction_layer import split_instruction, tokenise
+from semantic_nav.phrase_sets import (CLASSES, Phrase, PhraseSetError, compose,
+                                      enumerate_sentences, load_phrase_sets, sample_sentence)
+from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
+
+CONFIG = Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml"
+
+
+@pytest.fixture(scope="module")
+def sets():
+    return load_phrase_sets(CONFIG)
+
+
+@pytest.fixture(scope="module")
+def train_sentences(sets):
+    return {label: list(enumerate_sentences(sets, label, "train")) for label in CLASSES}
+
+
+def _find(sets, name, text):
+    return next(p for p in sets[name] if p.text == text)
+
+
+def test_worked_example_class_1(sets, train_sentences):
+    # 'Could you' + 'go straight till the end' + 'please' -> Class 1
+    sentence = compose([_find(sets, "prefix", "could you"),
+                        _find(sets, "class1", "go straight till the end"),
+                        _find(sets, "suffix", "please")])
+    assert sentence.label == 1
+    assert sentence.text == "could you go straight till the end please"
+    assert sentence in train_sentences[1]
+
+
+def test_worked_example_class_2(sets, train_sentences):
+    # 'Go straight and' + 'make a right turn' + 'please' -> Class 2
+    sentence = compose([_find(sets, "prefix_turn", "go straight and"),
+                        _find(sets, "class_turn", "make a right turn"),
+                        _find(sets, "suffix", "please")])
+    assert sentence.label == 2
+    assert sentence in train_sentences[2]
+
+
+def test_worked_example_class_5(sets, train_sentences):
+    # 'Please' + 'make a right turn' + 'at the second intersection' -> Class 5
+    sentence = compose([_find(sets, "prefix", "please"),
+                        _find(sets, "class_turn", "make a right turn"),
+                        _find(sets, "suffix_turn_change", "at the second intersection")])
+    assert sentence.label == 5
+    assert sentence in train_sentences[5]
+    left = compose([sentence.phrases[0], _find(sets, "class_turn", "make a left turn"),
+                    sentence.phrases[2]])
+    assert left.label == 6
+
+
+def test_suffix_turn_kinds(sets):
+    turn = _find(sets, "class_turn", "turn left")
+    assert compose([turn, _find(sets, "suffix_turn_keep", "at the corner")]).label == 3
+    assert compose([turn, _find(sets, "suffix_turn_change", "at the third corner")]).label == 8
+    assert compose([turn, _find(sets, "suffix_turn_change", "at the end of this aisle")]
+                   ).label == 10
+
+
+def test_every_class_is_generated_with_its_own_label(train_sentences):
+    for label, sentences in train_sentences.items():
+        assert len(sentences) > 100, label
+        assert {s.label for s in sentences} == {label}
+
+
+def test_enumeration_counts_follow_the_set_sizes(sets, train_sentences):
+    # Class 4 = (prefix + none) x class4 x (suffix + none), training phrases only
+    n = Counter(p.set_name for p in (p for v in sets.values() for p in v) if not p.held_out)
+    assert len(train_sentences[4]) == (n["prefix"] + 1) * n["class4"] * (n["suffix"] + 1)
+    turns_right = sum(1 for p in sets["class_turn"] if not p.held_out and p.tag == "right")
+    assert len(train_sentences[2]) == ((n["prefix"] + 1) * (n["prefix_turn"] + 1) * turns_right
+                                       * (n["suffix_turn_keep"] + 1) * (n["suffix"] + 1))
+
+
+def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
+    for label in CLASSES:
+        train = {s.text for s in train_sentences[label]}
+        held = list(enumerate_sentences(sets, label, "held_out"))
+        assert held and all(any(p.held_out for p in s.phrases) for s in held)
+        assert not train & {s.text for s in held}
+        assert not any(p.held_out for s in train_sentences[label] for p in s.phrases)
+
+
+def test_generated_sentences_are_single_simple_instructions(train_sentences):
+    for sentences in train_sentences.values():
+        for sentence in sentences[::97]:
+            assert split_instruction(sentence.text) == [sentence.text]
+
+
+def test_sampling_is_reproducible_and_labelled(sets):
+    a = [sample_sentence(sets, 7, np.random.default_rng(3)).text for _ in range(1)]
+    b = [sample_sentence(sets, 7, np.random.default_rng(3)).text for _ in range(1)]
+    assert a == b
+    rng = np.random.default_rng(0)
+    held = [sample_sentence(sets, 9, rng, "held_out") for _ in range(20)]
+    assert all(s.label == 9 and any(p.held_out for p in s.phrases) for s in held)
+
+
+def test_bad_requests_are_clear_errors(sets, tmp_path):
+    with pytest.raises(PhraseSetError, match="unknown class 11"):
+        list(enumerate_sentences(sets, 11))
+    broken = tmp_path / "p.yaml"
+    broken.write_text("prefix: {train: [please]}\n")
+    with pytest.raises(PhraseSetError, match="missing phrase set"):
+        load_phrase_sets(broken)
+    with pytest.raises(PhraseSetError, match="no core phrase"):
+        compose([Phrase("prefix", "please", False)])
+
+
+def test_every_phrase_word_has_a_glove_vector(sets):
+    try:
+        vectors = load_compact_cache()
+    except WordVectorsError as error:
+        pytest.skip(str(error))
+    words = {w for phrases in sets.values() for p in phrases for w in tokenise(p.text)}
+    assert sorted(w for w in words if w not in vectors) == []
