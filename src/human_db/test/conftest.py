@@ -1,12 +1,9 @@
 """Shared fixtures: small, valid household members."""
 import pytest
 
-from human_db.model import Human, ScheduleEntry
+from human_factories import make_human
 
-
-def make_human(name="Alice", ip="192.168.1.101", colour=((196, 38, 45),) * 3, **fields):
-    return Human(name=name, ip=ip, gender=fields.pop("gender", "female"),
-                 age=fields.pop("age", 34), shirt_colour=colour, **fields)
+from human_db.model import ScheduleEntry
 
 
 @pytest.fixture

@@ -2,7 +2,7 @@
 import threading
 
 import pytest
-from conftest import make_human
+from human_factories import make_human
 
 from human_db.store import HumanStore
 

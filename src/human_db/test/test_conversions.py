@@ -2,7 +2,7 @@
 from io import BytesIO
 
 import pytest
-from conftest import make_human
+from human_factories import make_human
 
 from human_db.conversions import human_from_msg, human_to_msg
 from human_db.errors import InvalidHuman

@@ -1,6 +1,6 @@
 """Validation of a household member (Table 3-1) on construction."""
 import pytest
-from conftest import make_human
+from human_factories import make_human
 
 from human_db.errors import InvalidColour, InvalidHuman
 

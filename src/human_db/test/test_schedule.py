@@ -1,6 +1,6 @@
 """Schedule entries and the schedule-deviation check perception uses for reminders."""
 import pytest
-from conftest import make_human
+from human_factories import make_human
 
 from human_db.errors import InvalidHuman
 from human_db.model import ScheduleEntry

@@ -3,7 +3,7 @@ import sqlite3
 import threading
 
 import pytest
-from conftest import make_human
+from human_factories import make_human
 
 from human_db.colour import ColourIndex
 from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidColour, InvalidHuman,

@@ -1,22 +1,8 @@
-"""Shared fixtures: a synthetic room map written in map_server format, and the laser models."""
-from pathlib import Path
-
-import numpy as np
+"""Shared fixtures: a synthetic room map written in map_server format."""
 import pytest
+from sim2d_fixtures import room_grid
 
-from sim2d.occupancy_map import FREE, OCCUPIED, OccupancyMap, save_map
-
-REPO = Path(__file__).resolve().parents[3]
-LASER_DIR = REPO / "config" / "lasers"
-RESOLUTION = 0.05
-
-
-def room_grid():
-    """10 m x 10 m free square, 0.1 m outer walls, and a wall x in [5.0, 5.2] for y < 8 m."""
-    cells = np.full((200, 200), FREE, dtype=np.int8)
-    cells[:2, :] = cells[-2:, :] = cells[:, :2] = cells[:, -2:] = OCCUPIED
-    cells[:160, 100:104] = OCCUPIED
-    return OccupancyMap(cells=cells, resolution=RESOLUTION, origin=(0.0, 0.0, 0.0))
+from sim2d.occupancy_map import save_map
 
 
 @pytest.fixture

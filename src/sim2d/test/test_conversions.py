@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import LASER_DIR
+from sim2d_fixtures import LASER_DIR
 from sensor_msgs.msg import JointState
 
 from sim2d.camera import CameraFrame, ObjectDetection, SkeletonDetection

@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import LASER_DIR, room_grid
+from sim2d_fixtures import LASER_DIR, room_grid
 
 from sim2d.laser import LaserSensor, circle_ranges, find_laser_model
 from sim2d.occupancy_map import OCCUPIED, OccupancyMap

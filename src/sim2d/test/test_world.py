@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 import yaml
-from conftest import LASER_DIR
+from sim2d_fixtures import LASER_DIR
 
 from sim2d.camera import CameraConfig, camera_points, project
 from sim2d.occupancy_map import MapError
