@@ -1,4 +1,4 @@
-"""Factories shared by the human_db tests (a uniquely named module: every package has a conftest)."""
+"""Factories shared by the human_db tests (unique module name: every package has a conftest)."""
 from human_db.model import Human
 
 
