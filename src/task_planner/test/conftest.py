@@ -2,11 +2,6 @@
 import pytest
 
 from task_planner.graph import graph_from_edges
-from task_planner.instruction import Instruction
-
-
-def make_instruction(id, node, gamma=3.0, beta=0.94, duration=0, **more):
-    return Instruction(id=id, gamma=gamma, beta=beta, destination=node, duration=duration, **more)
 
 
 @pytest.fixture

@@ -1,5 +1,5 @@
 import pytest
-from conftest import make_instruction
+from planner_factories import make_instruction
 
 from task_planner.metrics import (average_index, completion_time, navigation_time,
                                   order_by_average_index, reward_curve, similarity_cost,

@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from conftest import make_instruction
+from planner_factories import make_instruction
 
 from task_planner.baselines import (FirstComeFirstServe, PlannedOrder, PlannerTooLarge,
                                     PriorityFirst, RandomOrder, ShortestTimeFirst,

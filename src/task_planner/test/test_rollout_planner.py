@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from conftest import make_instruction
+from planner_factories import make_instruction
 from test_planners import random_problem
 
 from task_planner.exact import _greedy_order, exact_optimum
