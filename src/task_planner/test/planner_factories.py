@@ -1,4 +1,4 @@
-"""Factories shared by the task_planner tests (unique name: every package has a conftest)."""
+"""Factories shared by the task_planner tests (uniquely named: every package has a conftest)."""
 from task_planner.instruction import Instruction
 
 
