@@ -6,6 +6,7 @@ import pytest
 from conftest import LASER_DIR, room_grid
 
 from sim2d.laser import LaserSensor, circle_ranges, find_laser_model
+from sim2d.occupancy_map import OCCUPIED, OccupancyMap
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, ray_march
 
 
@@ -15,9 +16,13 @@ def geometry():
 
 
 @pytest.fixture(scope="module")
-def table(geometry):
-    return RangeTable.build(geometry, RangeTableConfig(cell_size=0.1, angle_bins=1440,
-                                                       min_clearance=0.3, max_range=30.0))
+def table():
+    """Table of a small room (6 m x 6 m, wall face at x = 5.0 m): quick to build."""
+    cells = np.zeros((120, 120), dtype=np.int8)
+    cells[:2, :] = cells[-2:, :] = cells[:, :2] = cells[:, 100:] = OCCUPIED
+    small = GridGeometry.from_map(OccupancyMap(cells=cells, resolution=0.05))
+    return RangeTable.build(small, RangeTableConfig(cell_size=0.1, angle_bins=1440,
+                                                    min_clearance=1.0, max_range=30.0))
 
 
 def test_beam_perpendicular_to_wall_returns_its_distance(geometry):
@@ -49,13 +54,13 @@ def test_table_matches_the_wall_distance_between_sample_points(table):
 
 def test_table_fan_equals_table_cast(table):
     bin_width = 2 * math.pi / 1440
-    fan = table.cast_fan(2.37, 4.44, -540 * bin_width, 1081, 1)
-    direct = table.cast(2.37, 4.44, (np.arange(1081) - 540) * bin_width)
+    fan = table.cast_fan(2.37, 3.44, -540 * bin_width, 1081, 1)
+    direct = table.cast(2.37, 3.44, (np.arange(1081) - 540) * bin_width)
     np.testing.assert_allclose(fan, direct)
 
 
 def test_table_refuses_points_it_does_not_cover(table):
-    assert table.cast(4.9, 3.0, np.array([0.0])) is None     # 0.1 m from the wall
+    assert table.cast(4.5, 3.0, np.array([0.0])) is None     # 0.5 m from the wall
 
 
 def test_utm30lx_scan_of_a_wall_is_within_its_noise(geometry):
@@ -74,3 +79,30 @@ def test_circle_ranges_hits_the_near_side_of_a_person():
     r = circle_ranges(0.0, 0.0, np.array([0.0, math.pi / 2]), [(2.0, 0.0, 0.2)])
     assert r[0] == pytest.approx(1.8)
     assert np.isinf(r[1])
+
+
+def test_segments_clear_only_where_no_wall_is_crossed(geometry):
+    from sim2d.raycast import segments_clear
+    # the inner wall spans x in [5.0, 5.2] below y = 8 m
+    clear = segments_clear(geometry, 2.0, 3.0, [(4.5, 3.0), (7.0, 3.0), (7.0, 9.0), (2.0, 7.9)])
+    assert clear.tolist() == [True, False, False, True]  # (7, 9): crosses x = 5 at y = 6.6
+    assert segments_clear(geometry, 2.0, 9.0, [(7.0, 9.0)]).tolist() == [True]   # above it
+
+
+def test_urg04lx_range_proportional_noise_keeps_no_return_as_inf(geometry):
+    model = find_laser_model("urg_04lx", LASER_DIR)
+    assert model.num_beams == 683
+    laser = LaserSensor(model, (0.0, 0.0, 0.0), geometry, seed=2)
+    ranges = laser.scan((1.0, 9.0, 0.0))            # 8.9 m to the east wall: beyond 5.6 m
+    assert not np.isnan(ranges).any()
+    assert np.isinf(ranges[341])                     # centre beam
+
+
+def test_laser_falls_back_to_exact_marching_where_the_table_has_no_entry(table):
+    model = find_laser_model("utm_30lx", LASER_DIR)
+    laser = LaserSensor(model, (0.0, 0.0, 0.0), table.geometry, table, seed=1)
+    near_wall = (4.5, 3.0, 0.0)                     # 0.5 m from the wall: not tabulated
+    assert table.cast(4.5, 3.0, np.array([0.0])) is None
+    assert laser.true_ranges(near_wall)[540] == pytest.approx(0.5, abs=1e-9)
+    tabulated = (1.23, 3.01, 0.0)
+    assert laser.true_ranges(tabulated)[540] == pytest.approx(3.77, abs=1e-3)

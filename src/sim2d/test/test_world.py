@@ -156,3 +156,55 @@ def test_unknown_object_reference_is_a_clear_error(tmp_path, room_map):
     data["people"][0]["holding"] = "sandwich"
     with pytest.raises(WorldError, match="unknown object 'sandwich'"):
         load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_face_is_not_seen_from_behind(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["people"][0]["pose"] = [4.0, 3.0, 0.0]          # Bob turns his back to the robot
+    data["people"][0]["holding"] = ""
+    world = World(load_world_config(write_world(tmp_path, data), LASER_DIR))
+    skeleton = world.camera_frame("pepper").skeletons[0]
+    assert np.all(skeleton.confidence[[0, 14, 15]] == 0)     # nose, eyes
+    assert np.all(skeleton.confidence[[1, 2, 5]] > 0)        # neck, shoulders
+
+
+def test_sitting_person_is_lower_in_the_image_than_standing(world):
+    standing = world.camera_frame("pepper").skeletons[0]
+    world.people[0].posture = "sitting"
+    sitting = world.camera_frame("pepper").skeletons[0]
+    assert sitting.y[0] > standing.y[0] + 50           # nose lower (larger row) when sitting
+
+
+def test_odometry_scale_error_drifts_by_the_configured_factor():
+    from sim2d.odometry import Odometry, OdometryConfig
+    config = OdometryConfig(alpha_rot_rot=0.0, alpha_rot_trans=0.0, alpha_trans_trans=0.0,
+                            alpha_trans_rot=0.0, scale_linear=1.05)
+    odometry = Odometry(config, (1.0, 1.0, 0.0))
+    for k in range(1, 101):                          # 2 m straight along +x in 2 cm steps
+        odometry.update((1.0 + 0.02 * k, 1.0, 0.0))
+    assert odometry.pose == pytest.approx((2.1, 0.0, 0.0))
+
+
+def test_place_robot_starts_an_episode_at_rest(world):
+    world.set_wheel_speeds("penguin", 4.0, 4.0)
+    for _ in range(20):
+        world.step(0.025)
+    world.place_robot("penguin", (2.0, 9.0, math.pi / 2))
+    robot = world.robot("penguin")
+    assert robot.state.pose == (2.0, 9.0, math.pi / 2)
+    assert robot.state.twist == (0.0, 0.0, 0.0) and robot.odometry.pose == (0.0, 0.0, 0.0)
+    world.step(0.025)
+    assert robot.scans[0].count == 1
+    with pytest.raises(WorldError, match="cannot be placed"):
+        world.place_robot("penguin", (5.1, 3.0, 0.0))
+
+
+def test_household_people_agree_with_the_human_database():
+    """config/worlds/household.yaml and config/household.yaml name the same people and shirts."""
+    repo = LASER_DIR.parent.parent
+    humans = yaml.safe_load((repo / "config" / "household.yaml").read_text())["humans"]
+    expected = {h["name"]: tuple(tuple(h["shirt_color"][k]) for k in ("joint1", "joint2", "joint5"))
+                for h in humans}
+    world = load_world_config(repo / "config" / "worlds" / "household.yaml", LASER_DIR)
+    assert {p.name: p.shirt_colour for p in world.people} == expected
+    assert len(world.objects) >= 30

@@ -1,3 +1,3 @@
-"""SQLite human database (thesis 000 Table 3-1) with clothing-colour identification and
-schedules.
+"""The robot's memory of the household (thesis 000 §3.4, Table 3-1): a SQLite store with history
+and schedules, and identification by shirt colour (§3.2.3, Algorithm 3-1).
 """

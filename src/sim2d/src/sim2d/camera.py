@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sim2d.raycast import ray_march
+from sim2d.raycast import segments_clear
 from sim2d.skeleton import L_SHOULDER, NECK, NUM_KEYPOINTS, R_SHOULDER
 
 COLOUR_JOINTS = (NECK, R_SHOULDER, L_SHOULDER)   # shirt colour sampled here (thesis 000 Sec. 3.2.3)
@@ -135,9 +135,13 @@ class Camera:
         ox, oy = x + math.cos(yaw) * self.top.mount_x, y + math.sin(yaw) * self.top.mount_x
         t = np.asarray(targets, dtype=float)
         dist = np.hypot(t[:, 0] - ox, t[:, 1] - oy)
-        angles = np.arctan2(t[:, 1] - oy, t[:, 0] - ox)
-        ranges = ray_march(self.occluders, ox, oy, angles, self.detection.max_range)
-        return (dist <= self.detection.max_range) & (ranges >= dist)
+        bearing = np.arctan2(t[:, 1] - oy, t[:, 0] - ox) - yaw
+        bearing = (bearing + np.pi) % (2 * np.pi) - np.pi
+        # candidates: in range and not behind the camera (the projection decides the rest)
+        candidate = (dist <= self.detection.max_range) & (np.abs(bearing) < np.pi / 2)
+        clear = np.zeros(len(t), dtype=bool)
+        clear[candidate] = segments_clear(self.occluders, ox, oy, t[candidate])
+        return clear
 
     def _confidence(self):
         low, high = self.detection.confidence_range
@@ -149,25 +153,37 @@ class Camera:
         y0, y1 = max(0, int(np.floor(v.min()))), min(h - 1, int(np.ceil(v.max())))
         return x0, y0, x1 - x0, y1 - y0
 
-    def detect_object(self, name, label, corners, centre, robot_pose):
-        """Box of an object whose 3D box corners (8, 3) project into the frame, or None."""
+    def detect_objects(self, objects, robot_pose):
+        """YOLO-like boxes of the objects [(name, label, corners (8, 3), centre (3,))] whose
+        3D box projects into the frame (all objects projected in one call)."""
+        if not objects:
+            return []
+        corners = np.concatenate([o[2] for o in objects])
+        centres = np.array([o[3] for o in objects])
         u, v, visible, _ = project_stacked(corners, robot_pose, self.top, self.bottom)
-        if not visible.any():
-            return None
-        _, _, _, depth = project_stacked(centre[None, :], robot_pose, self.top, self.bottom)
-        d = float(depth[0]) if np.isfinite(depth[0]) else float(
-            camera_points(centre[None, :], robot_pose, self.top)[0, 2])
-        x, y, w, h = self._box(u[visible], v[visible])
-        return ObjectDetection(label, self._confidence(), x, y, w, h,
-                               d + self._depth_noise(d), truth=name)
+        depth = camera_points(centres, robot_pose, self.top)[:, 2]
+        detections = []
+        for i, (name, label, _, _) in enumerate(objects):
+            seen = visible[8 * i:8 * i + 8]
+            if not seen.any():
+                continue
+            x, y, w, h = self._box(u[8 * i:8 * i + 8][seen], v[8 * i:8 * i + 8][seen])
+            d = float(depth[i])
+            detections.append(ObjectDetection(label, self._confidence(), x, y, w, h,
+                                              d + self._depth_noise(d), truth=name))
+        return detections
 
     def _depth_noise(self, depth):
         sigma = self.detection.depth_noise + self.detection.depth_noise_fraction * abs(depth)
         return float(self.rng.normal(0.0, sigma))
 
-    def detect_person(self, name, keypoints, shirt_colour, robot_pose):
-        """OpenPose-like skeleton plus a YOLO 'person' box that contains every keypoint."""
+    def detect_person(self, name, keypoints, shirt_colour, robot_pose, hidden=()):
+        """OpenPose-like skeleton plus a YOLO 'person' box that contains every keypoint.
+
+        `hidden` lists keypoints the body itself hides (the face of a person seen from behind).
+        """
         u, v, visible, depth = project_stacked(keypoints, robot_pose, self.top, self.bottom)
+        visible[list(hidden)] = False
         if visible.sum() < 2:
             return None, None
         det = self.detection

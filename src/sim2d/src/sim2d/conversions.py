@@ -10,6 +10,7 @@ from tamp_msgs.msg import Detection, PerceptionFrame, Skeleton
 from visualization_msgs.msg import Marker
 
 WHEEL_JOINTS = ("left_wheel_joint", "right_wheel_joint")
+MARKER_HEIGHT = {"standing": 1.7, "sitting": 1.2, "lying": 0.3}   # [m] person cylinders
 
 
 def stamp(seconds):
@@ -129,7 +130,7 @@ def people_markers(seconds, people):
     """A cylinder in the shirt colour and a label (name, posture, activity) per person."""
     markers = []
     for i, person in enumerate(people):
-        height = {"standing": 1.7, "sitting": 1.2, "lying": 0.3}[person.posture]
+        height = MARKER_HEIGHT[person.posture]
         r, g, b = (c / 255.0 for c in person.shirt_colour[0])
         x, y, _ = person.pose
         markers.append(_marker(seconds, "people", i, Marker.CYLINDER, x, y, height / 2.0,

@@ -39,7 +39,8 @@ class RobotState:
 
 
 def wrap_angle(angle):
-    return math.atan2(math.sin(angle), math.cos(angle))
+    """Angle in [-pi, pi)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def integrate_body_twist(pose, vx, vy, wz, dt):

@@ -9,6 +9,7 @@ import yaml
 from sim2d.raycast import ray_march
 
 NOISE_POOL = 1 << 18   # standard normals drawn once; each scan reads a slice at a random offset
+OFFSET_BLOCK = 4096    # random pool offsets drawn at once
 
 
 class LaserModelError(ValueError):
@@ -104,12 +105,14 @@ class LaserSensor:
         self.table = table                            # RangeTable or None (ray marching)
         self.rng = np.random.default_rng(seed)
         self.angles = model.beam_angles()
-        # pools: N(0, 1) range noise, and 0 or +inf per beam (+inf = dropout, added to a range)
-        self._normal_pool = self.rng.standard_normal(NOISE_POOL + model.num_beams).astype(
-            np.float32)
-        self._dropout_pool = np.where(
-            self.rng.random(NOISE_POOL + model.num_beams) < model.dropout_probability,
-            np.inf, 0.0).astype(np.float32)
+        # one pool per scan component, read at random offsets: N(0, 1) range noise, and the
+        # same noise pre-scaled by noise_std with +inf where a beam drops out (one add per scan)
+        normal = self.rng.standard_normal(NOISE_POOL + model.num_beams)
+        dropped = self.rng.random(NOISE_POOL + model.num_beams) < model.dropout_probability
+        self._normal_pool = normal.astype(np.float32)
+        self._dropout_pool = np.where(dropped, np.inf, 0.0).astype(np.float32)
+        self._noise_pool = np.where(dropped, np.inf, model.noise_std * normal).astype(np.float32)
+        self._offsets, self._next_offset = [], 0
         steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
         self._fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
 
@@ -137,23 +140,26 @@ class LaserSensor:
             ranges = np.minimum(ranges, circle_ranges(lx, ly, world_angles, circles))
         return ranges
 
-    def _next_random(self):
-        """Noise and dropouts for one scan: slices of the pools at independent random offsets."""
-        n = self.model.num_beams
-        a, b = self.rng.integers(0, NOISE_POOL, size=2)
-        return self._normal_pool[a:a + n], self._dropout_pool[b:b + n]
+    def _pool_slice(self, pool):
+        if self._next_offset == len(self._offsets):     # offsets drawn in bulk: cheaper per scan
+            self._offsets = self.rng.integers(0, NOISE_POOL, OFFSET_BLOCK).tolist()
+            self._next_offset = 0
+        start = self._offsets[self._next_offset]
+        self._next_offset += 1
+        return pool[start:start + self.model.num_beams]
 
     def scan(self, pose, circles=()):
         """One scan [m]: Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117)."""
         m = self.model
-        ranges = self.true_ranges(pose, circles)
-        normal, dropout = self._next_random()
-        ranges = np.asarray(ranges, dtype=np.float32)
+        ranges = np.asarray(self.true_ranges(pose, circles), dtype=np.float32)
         if m.noise_fraction > 0:
-            ranges = ranges + np.maximum(m.noise_std, m.noise_fraction * ranges) * normal
+            within = np.minimum(ranges, np.float32(m.range_max))   # no inf * noise = NaN
+            sigma = np.maximum(np.float32(m.noise_std), np.float32(m.noise_fraction) * within)
+            ranges = ranges + sigma * self._pool_slice(self._normal_pool)
+            ranges += self._pool_slice(self._dropout_pool)
         else:
-            ranges = ranges + np.float32(m.noise_std) * normal
-        ranges += dropout
+            ranges = ranges + self._pool_slice(self._noise_pool)
         ranges[ranges > m.range_max] = np.inf
-        ranges[ranges < m.range_min] = -np.inf
+        if ranges.min() < m.range_min:
+            ranges[ranges < m.range_min] = -np.inf
         return ranges

@@ -24,7 +24,10 @@ class OdometryConfig:
     seed: int = 0
 
 
-def noisy_increment(previous, current, config, rng):
+NOISE_POOL = 1 << 15    # standard-normal triples drawn at once
+
+
+def noisy_increment(previous, current, config, noise):
     """Probabilistic Robotics Table 5.6: (rot1, trans, rot2) of a true move, with sampled noise."""
     dx, dy = current[0] - previous[0], current[1] - previous[1]
     trans = math.hypot(dx, dy)
@@ -34,7 +37,6 @@ def noisy_increment(previous, current, config, rng):
     rot2 = wrap_angle(current[2] - previous[2] - rot1)
     a1, a2 = config.alpha_rot_rot, config.alpha_rot_trans
     a3, a4 = config.alpha_trans_trans, config.alpha_trans_rot
-    noise = rng.standard_normal(3)
     rot1 += noise[0] * (a1 * abs(rot1) + a2 * abs(trans))
     trans += noise[1] * (a3 * abs(trans) + a4 * (abs(rot1) + abs(rot2)))
     rot2 += noise[2] * (a1 * abs(rot2) + a2 * abs(trans))
@@ -48,11 +50,16 @@ class Odometry:
     def __init__(self, config, start_pose):
         self.config = config
         self.rng = np.random.default_rng(config.seed)
+        self._pool, self._next = self.rng.standard_normal((NOISE_POOL, 3)).tolist(), 0
         self.pose = (0.0, 0.0, 0.0)           # odom frame starts at the robot's start pose
         self._last_truth = tuple(start_pose)
 
     def update(self, true_pose):
-        rot1, trans, rot2 = noisy_increment(self._last_truth, true_pose, self.config, self.rng)
+        if self._next == NOISE_POOL:
+            self._pool, self._next = self.rng.standard_normal((NOISE_POOL, 3)).tolist(), 0
+        noise = self._pool[self._next]
+        self._next += 1
+        rot1, trans, rot2 = noisy_increment(self._last_truth, true_pose, self.config, noise)
         self._last_truth = tuple(true_pose)
         x, y, yaw = self.pose
         yaw1 = yaw + rot1

@@ -138,6 +138,29 @@ def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
     return ranges.reshape(angles.shape)
 
 
+def segments_clear(geometry, ox, oy, targets, spacing=0.5):
+    """True for each target (x, y) whose straight segment from (ox, oy) crosses no occupied
+    cell, sampled every `spacing` cells (all segments in one vectorised lookup)."""
+    t = np.asarray(targets, dtype=float).reshape(-1, 2)
+    if t.size == 0:
+        return np.zeros(0, dtype=bool)
+    res = geometry.resolution
+    lengths = np.hypot(t[:, 0] - ox, t[:, 1] - oy)
+    counts = np.maximum(np.ceil(lengths / (spacing * res)).astype(int), 1)
+    owner = np.repeat(np.arange(len(t)), counts)
+    starts = np.cumsum(counts) - counts
+    frac = (np.arange(owner.size) - starts[owner] + 0.5) / counts[owner]
+    xs = ox + frac * (t[owner, 0] - ox)
+    ys = oy + frac * (t[owner, 1] - oy)
+    col = np.floor((xs - geometry.origin_x) / res).astype(np.int64)
+    row = np.floor((ys - geometry.origin_y) / res).astype(np.int64)
+    h, w = geometry.occupied.shape
+    inside = (row >= 0) & (row < h) & (col >= 0) & (col < w)
+    blocked = ~inside
+    blocked[inside] = geometry.occupied[row[inside], col[inside]]
+    return np.bincount(owner, weights=blocked, minlength=len(t)) == 0
+
+
 @dataclass
 class RangeTableConfig:
     """Resolution of the lookup table."""
@@ -147,6 +170,7 @@ class RangeTableConfig:
     min_clearance: float = 0.15   # [m] sample points closer to an obstacle are not tabulated
     max_range: float = 30.0       # [m] longest range stored (at most 32.766 m)
     max_shift: float = 0.3        # [m] largest correction from sample point to query point
+                                  # (grazing hits; the face seldom continues that far)
 
 
 class RangeTable:
@@ -168,14 +192,15 @@ class RangeTable:
         self.index = index      # int32 (rows, cols): table row of each sample point, -1 if none
         self.table = table      # uint16 (n, angle_bins), see the class docstring
         self.bin_width = 2.0 * np.pi / config.angle_bins
+        # 1/cos and 1/sin per bin, bounded so that no shift exceeds max_shift, stored twice over
+        # so that any window of bins is a plain slice
         angles = np.arange(config.angle_bins) * self.bin_width
+        bound = config.max_shift / (config.cell_size * math.sqrt(0.5))
         with np.errstate(divide="ignore"):
-            inv_cos, inv_sin = 1.0 / np.cos(angles), 1.0 / np.sin(angles)
-        limit = 1e6
-        self._inv_cos = np.clip(np.nan_to_num(inv_cos, posinf=limit, neginf=-limit),
-                                -limit, limit).astype(np.float32)
-        self._inv_sin = np.clip(np.nan_to_num(inv_sin, posinf=limit, neginf=-limit),
-                                -limit, limit).astype(np.float32)
+            inv_cos = np.clip(1.0 / np.cos(angles), -bound, bound).astype(np.float32)
+            inv_sin = np.clip(1.0 / np.sin(angles), -bound, bound).astype(np.float32)
+        self._inv_cos = np.concatenate([inv_cos, inv_cos])
+        self._inv_sin = np.concatenate([inv_sin, inv_sin])
 
     @classmethod
     def build(cls, geometry, config=None, cache_dir=None, chunk_rays=2_000_000):
@@ -252,7 +277,8 @@ class RangeTable:
         angles = np.asarray(angles, dtype=float)
         bins = np.rint(angles / self.bin_width).astype(np.int64) % self.config.angle_bins
         raw = self.table[found[0], bins]
-        return self._shifted(raw, found[1], found[2], self._inv_cos[bins], self._inv_sin[bins])
+        return self._shifted(raw, found[1], found[2], self._inv_cos[bins],
+                             self._inv_sin[bins])
 
     def cast_fan(self, x, y, first_angle, count, step_bins):
         """Like cast for `count` beams `step_bins` table bins apart from first_angle [rad]."""
@@ -262,21 +288,17 @@ class RangeTable:
         n = self.config.angle_bins
         k0 = int(round(first_angle / self.bin_width)) % n
         span = (count - 1) * step_bins + 1
-        if k0 + span <= n:
-            window = slice(k0, k0 + span, step_bins)
-            raw = self.table[found[0], window]
-            inv_cos, inv_sin = self._inv_cos[window], self._inv_sin[window]
-        else:
-            bins = (k0 + step_bins * np.arange(count)) % n
-            raw = self.table[found[0], bins]
-            inv_cos, inv_sin = self._inv_cos[bins], self._inv_sin[bins]
-        return self._shifted(raw, found[1], found[2], inv_cos, inv_sin)
+        row = self.table[found[0]]
+        if k0 + span > n:                       # the fan wraps past bin 0
+            row = np.concatenate((row, row[:k0 + span - n]))
+        window = slice(k0, k0 + span, step_bins)
+        return self._shifted(row[window], found[1], found[2], self._inv_cos[window],
+                             self._inv_sin[window])
 
     def _shifted(self, raw, dx, dy, inv_cos, inv_sin):
         """Table ranges moved from the sample point by (dx, dy) along each hit face."""
         ranges = (raw & self.RANGE_MASK).astype(np.float32)
         ranges *= np.float32(1.0 / self.MM)
-        shift = np.where(raw >= self.FACE_BIT, np.float32(dy) * inv_sin, np.float32(dx) * inv_cos)
-        np.clip(shift, -self.config.max_shift, self.config.max_shift, out=shift)
-        ranges -= shift
+        ranges -= np.where(raw >= self.FACE_BIT, np.float32(dy) * inv_sin,
+                           np.float32(dx) * inv_cos)
         return ranges

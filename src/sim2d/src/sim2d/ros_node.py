@@ -21,7 +21,7 @@ from visualization_msgs.msg import MarkerArray
 
 from sim2d import conversions
 from sim2d.kinematics import DIFFERENTIAL, twist_to_wheels
-from sim2d.world import CommandError, World
+from sim2d.world import CACHE_DIR, CommandError, World
 
 
 @dataclass
@@ -30,6 +30,7 @@ class NodeConfig:
 
     world: str = ""                 # world YAML (required)
     laser_dir: str = ""             # laser models; "" = <world dir>/../lasers
+    raycast: str = ""               # "" = as the world says; "march" or "table" for all lasers
     speed: float = 1.0              # [-] sim seconds per wall second; <= 0: as fast as possible
     step: float = 0.005             # [s] integration step
     odom_rate: float = 50.0         # [Hz] /odom, tf, ground truth, joint_states
@@ -72,8 +73,11 @@ class SimNode:
         if not self.config.world:
             rospy.logfatal("sim2d: parameter ~world (path of a world YAML) is required")
             return False
+        rospy.loginfo("sim2d: loading %s (a laser with raycast 'table' builds its range table "
+                      "once per map, cached in %s)", self.config.world, CACHE_DIR)
         try:
-            self.world = World.from_file(self.config.world, self.config.laser_dir or None)
+            self.world = World.from_file(self.config.world, self.config.laser_dir or None,
+                                         raycast=self.config.raycast or None)
         except (ValueError, OSError) as error:
             rospy.logfatal("sim2d: cannot load world: %s", error)
             return False

@@ -5,6 +5,7 @@ schedules, held objects follow the hands, robots integrate their commands agains
 (stall on contact), odometry drifts, and each laser produces a scan whenever its scan period has
 elapsed. Camera frames are computed on request (`camera_frame`).
 """
+import copy
 import math
 import os
 from dataclasses import dataclass, field
@@ -18,10 +19,12 @@ from sim2d.laser import LaserSensor
 from sim2d.occupancy_map import load_map
 from sim2d.odometry import Odometry
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
-from sim2d.skeleton import person_keypoints
+from sim2d.skeleton import L_EAR, L_EYE, NOSE, R_EAR, R_EYE, person_keypoints
 from sim2d.world_config import WorldError, load_world_config
 
 CACHE_DIR = Path(os.environ.get("SIM2D_CACHE", Path.home() / ".cache" / "sim2d"))
+FACE_AWAY = math.radians(100.0)   # [rad] head-to-robot angle beyond which the face is unseen
+FACE_KEYPOINTS = (NOSE, R_EYE, L_EYE)
 TABLE_MARGIN = 0.05     # [m] extra clearance given up so the table covers every reachable pose
 
 
@@ -89,15 +92,23 @@ class World:
         self.cache_dir = cache_dir
         self._tables = {}
         self._held = {}        # person name -> (pose, posture, holding) last applied
-        self.people = list(config.people)
+        self.people = copy.deepcopy(config.people)   # the world's own, moving copies
         self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
                         for o in config.objects}
         self.robots = [self._make_robot(rc, i) for i, rc in enumerate(config.robots)]
         self._update_people(0.0)
 
     @classmethod
-    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR):
-        return cls(load_world_config(path, laser_dir), cache_dir)
+    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None):
+        """Load a world file; raycast ("march" or "table") overrides every laser's choice."""
+        config = load_world_config(path, laser_dir)
+        if raycast:
+            if raycast not in ("march", "table"):
+                raise WorldError(f"raycast override must be 'march' or 'table', got {raycast!r}")
+            for robot in config.robots:
+                for laser in robot.lasers:
+                    laser.raycast = raycast
+        return cls(config, cache_dir)
 
     def _camera_geometry(self, transparent):
         if not transparent:
@@ -144,6 +155,21 @@ class World:
             if robot.name == name:
                 return robot
         raise KeyError(f"no robot named {name!r}")
+
+    def place_robot(self, name, pose):
+        """Teleport a robot (e.g. to start an episode): at rest, odometry restarted at zero.
+
+        Raises WorldError if the pose is inside or against an obstacle.
+        """
+        robot = self.robot(name)
+        clearance = self.geometry.clearance_at(pose[0], pose[1])
+        if clearance < robot.config.radius:
+            raise WorldError(f"robot {name!r} cannot be placed at ({pose[0]:.2f}, {pose[1]:.2f}): "
+                             f"clearance {clearance:.2f} m < radius {robot.config.radius:.2f} m")
+        robot.state = RobotState(pose=tuple(float(v) for v in pose))
+        robot.odometry = Odometry(robot.config.odometry, robot.state.pose)
+        robot.scans = [None] * len(robot.lasers)
+        robot.next_scan = [self.time + laser.model.scan_time for laser in robot.lasers]
 
     # --- commands -------------------------------------------------------------------------
     def set_twist(self, name, vx, vy, wz):
@@ -214,6 +240,15 @@ class World:
                     robot.next_scan[j] += laser.model.scan_time
 
     # --- camera ---------------------------------------------------------------------------
+    @staticmethod
+    def _hidden_face(person, keypoints, robot_pose):
+        """Nose and eyes when the head faces away from the robot (more than FACE_AWAY)."""
+        head = keypoints[[R_EAR, L_EAR]].mean(axis=0)
+        facing = keypoints[NOSE, :2] - head[:2]
+        to_robot = np.array(robot_pose[:2]) - head[:2]
+        cos = float(facing @ to_robot) / (np.linalg.norm(facing) * np.linalg.norm(to_robot) + 1e-12)
+        return FACE_KEYPOINTS if cos < math.cos(FACE_AWAY) else ()
+
     def camera_frame(self, name):
         """Detections of robot `name`'s camera at the current time (CameraFrame)."""
         robot = self.robot(name)
@@ -233,14 +268,13 @@ class World:
             look = self.objects[person.looking_at].centre() if person.looking_at else None
             keypoints, _ = person_keypoints(person.posture, person.pose,
                                             holding=bool(person.holding), look_target=look)
-            skeleton, box = camera.detect_person(person.name, keypoints, person.shirt_colour, pose)
+            skeleton, box = camera.detect_person(person.name, keypoints, person.shirt_colour, pose,
+                                                 hidden=self._hidden_face(person, keypoints, pose))
             if skeleton is not None:
                 frame.skeletons.append(skeleton)
                 frame.objects.append(box)
-        for obj, visible in zip(objects, seen[len(people):]):
-            if not visible or camera.missed():
-                continue
-            detection = camera.detect_object(obj.name, obj.label, obj.corners(), obj.centre(), pose)
-            if detection is not None:
-                frame.objects.append(detection)
+        candidates = [(o.name, o.label, o.corners(), o.centre())
+                      for o, visible in zip(objects, seen[len(people):])
+                      if visible and not camera.missed()]
+        frame.objects.extend(camera.detect_objects(candidates, pose))
         return frame

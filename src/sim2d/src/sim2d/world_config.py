@@ -149,7 +149,8 @@ class _Parser:
                       f"got {data['drive']!r}")
         wheels = None
         if data["drive"] == DIFFERENTIAL:
-            wheels = _dataclass_from(WheelConfig, data.get("wheels"), f"{self.path}: {where}.wheels")
+            wheels = _dataclass_from(WheelConfig, data.get("wheels"),
+                                     f"{self.path}: {where}.wheels")
         return RobotConfig(
             name=str(data["name"]), drive=data["drive"],
             radius=_number(data["radius"], f"{self.path}: {where}.radius"),

@@ -1,0 +1,154 @@
+"""The household as a YAML file (config/household.yaml): import into and export from the store.
+
+Layout: an optional `places` list (then every location and schedule place must be one of them)
+and a `humans` list; each human has name, ip, gender, age, shirt_color {joint1, joint2, joint5:
+[R, G, B]}, optional location, activity, last_seen [s] and schedules [{start, end, place,
+activity}] with times as quoted "HH:MM" or "HH:MM:SS" strings (unquoted 12:30 is a base-60 number
+in YAML 1.1, hence the quotes).
+"""
+import re
+
+import yaml
+
+from human_db.errors import InvalidHuman
+from human_db.model import DAY, Human, ScheduleEntry
+
+HUMAN_KEYS = ("name", "ip", "gender", "age", "shirt_color", "location", "activity", "last_seen",
+              "schedules")
+REQUIRED_KEYS = ("name", "gender", "age", "shirt_color")
+JOINT_KEYS = ("joint1", "joint2", "joint5")
+SCHEDULE_KEYS = ("start", "end", "place", "activity")
+_CLOCK = re.compile(r"^(\d{1,2}):(\d{2})(?::(\d{2}))?$")
+
+
+def parse_clock(text, where):
+    """'HH:MM' or 'HH:MM:SS' (24:00 allowed) -> seconds since midnight; raise InvalidHuman."""
+    match = _CLOCK.match(text) if isinstance(text, str) else None
+    if match is None:
+        raise InvalidHuman(f"{where}: time must be a quoted 'HH:MM' or 'HH:MM:SS' string, "
+                           f"got {text!r}")
+    hours, minutes, seconds = (int(g or 0) for g in match.groups())
+    total = hours * 3600 + minutes * 60 + seconds
+    if minutes > 59 or seconds > 59 or total > DAY:
+        raise InvalidHuman(f"{where}: {text!r} is not a time of day")
+    return float(total)
+
+
+def format_clock(seconds):
+    """Seconds since midnight -> 'HH:MM' (or 'HH:MM:SS' when seconds are not whole minutes)."""
+    whole = round(seconds)
+    hours, rest = divmod(whole, 3600)
+    minutes, secs = divmod(rest, 60)
+    return f"{hours:02d}:{minutes:02d}" + (f":{secs:02d}" if secs else "")
+
+
+def load_household(path):
+    """Read and validate a household file; return (places, [Human]). Errors name file and entry."""
+    try:
+        with open(path, encoding="utf-8") as stream:
+            document = yaml.safe_load(stream)
+    except (OSError, yaml.YAMLError) as error:
+        raise InvalidHuman(f"{path}: cannot read household file: {error}") from error
+    if not isinstance(document, dict) or not isinstance(document.get("humans"), list):
+        raise InvalidHuman(f"{path}: expected a mapping with a 'humans' list")
+    unknown = set(document) - {"places", "humans"}
+    if unknown:
+        raise InvalidHuman(f"{path}: unknown top-level keys {sorted(unknown)}")
+    places = document.get("places") or []
+    if not isinstance(places, list) or not all(isinstance(p, str) for p in places):
+        raise InvalidHuman(f"{path}: 'places' must be a list of place names")
+    humans = [human_from_dict(entry, f"{path}: humans[{i}]", places)
+              for i, entry in enumerate(document["humans"])]
+    return places, humans
+
+
+def human_from_dict(entry, where, places=()):
+    """One `humans` entry of a household file -> Human; raise InvalidHuman naming `where`."""
+    if not isinstance(entry, dict):
+        raise InvalidHuman(f"{where}: expected a mapping, got {entry!r}")
+    where = f"{where} ({entry.get('name', '?')})"
+    _check_keys(entry, HUMAN_KEYS, REQUIRED_KEYS, where)
+    colour = entry["shirt_color"]
+    if not isinstance(colour, dict):
+        raise InvalidHuman(f"{where}: shirt_color must map {JOINT_KEYS} to [R, G, B]")
+    _check_keys(colour, JOINT_KEYS, JOINT_KEYS, f"{where}: shirt_color")
+    schedules = entry.get("schedules") or []
+    if not isinstance(schedules, list):
+        raise InvalidHuman(f"{where}: schedules must be a list")
+    schedules = tuple(_schedule_from_dict(s, f"{where}: schedules[{i}]")
+                      for i, s in enumerate(schedules))
+    try:
+        human = Human(
+            name=entry["name"], ip=str(entry.get("ip") or ""), gender=entry["gender"],
+            age=entry["age"], shirt_colour=tuple(colour[k] for k in JOINT_KEYS),
+            location=entry.get("location") or "", activity=entry.get("activity") or "",
+            last_seen=entry.get("last_seen"), schedules=schedules)
+    except InvalidHuman as error:  # same error class, with the file and entry in front
+        raise type(error)(f"{where}: {error}") from None
+    _check_places(human, places, where)
+    return human
+
+
+def _schedule_from_dict(entry, where):
+    if not isinstance(entry, dict):
+        raise InvalidHuman(f"{where}: expected a mapping, got {entry!r}")
+    _check_keys(entry, SCHEDULE_KEYS, ("start", "end"), where)
+    end = parse_clock(entry["end"], f"{where}: end")
+    start = parse_clock(entry["start"], f"{where}: start") % DAY
+    try:
+        return ScheduleEntry(start=start, end=end, place=entry.get("place") or "",
+                             activity=entry.get("activity") or "")
+    except InvalidHuman as error:
+        raise InvalidHuman(f"{where}: {error}") from None
+
+
+def _check_keys(entry, allowed, required, where):
+    unknown = set(entry) - set(allowed)
+    if unknown:
+        raise InvalidHuman(f"{where}: unknown keys {sorted(unknown)} (allowed: {list(allowed)})")
+    missing = [key for key in required if key not in entry]
+    if missing:
+        raise InvalidHuman(f"{where}: missing keys {missing}")
+
+
+def _check_places(human, places, where):
+    if not places:
+        return
+    named = [human.location] + [entry.place for entry in human.schedules]
+    unknown = sorted({place for place in named if place and place not in places})
+    if unknown:
+        raise InvalidHuman(f"{where}: places {unknown} are not in the household's places "
+                           f"{list(places)}")
+
+
+def human_to_dict(human):
+    """Human -> one `humans` entry of a household file (inverse of human_from_dict)."""
+    entry = {"name": human.name, "ip": human.ip, "gender": human.gender, "age": human.age,
+             "shirt_color": {k: list(c) for k, c in zip(JOINT_KEYS, human.shirt_colour)},
+             "location": human.location, "activity": human.activity,
+             "schedules": [{"start": format_clock(e.start), "end": format_clock(e.end),
+                            "place": e.place, "activity": e.activity} for e in human.schedules]}
+    if human.last_seen is not None:
+        entry["last_seen"] = human.last_seen
+    return entry
+
+
+def dump_household(humans, places=()):
+    """A household file's text for `humans` (and `places` when given)."""
+    document = {"places": list(places)} if places else {}
+    document["humans"] = [human_to_dict(human) for human in humans]
+    return yaml.safe_dump(document, sort_keys=False, default_flow_style=None, allow_unicode=True)
+
+
+def import_household(store, path, replace=False, now=None):
+    """Register every person of a household file in one transaction; return their names."""
+    _, humans = load_household(path)
+    store.register_all(humans, replace=replace, now=now)
+    return [human.name for human in humans]
+
+
+def export_household(store, path, places=()):
+    """Write the store's household to `path` (YAML)."""
+    text = dump_household(store.humans(), places)
+    with open(path, "w", encoding="utf-8") as stream:
+        stream.write(text)

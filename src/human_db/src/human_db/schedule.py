@@ -1,0 +1,54 @@
+"""Schedule checks (thesis 000 §4.2.1: "remind his/her schedule if the current action is not
+identical to the preset schedule"): does what perception observes differ from the schedule?
+"""
+from dataclasses import dataclass
+
+from human_db.model import DAY
+
+
+@dataclass(frozen=True)
+class ScheduleCheck:
+    """The outcome of comparing an observation with the schedule entry in force."""
+
+    entry: object             # the ScheduleEntry in force, or None when none covers the time
+    location_differs: bool    # the entry names a place and the observed location is another one
+    activity_differs: bool    # the entry names an activity and the observed one is another one
+
+    @property
+    def deviates(self):
+        return self.location_differs or self.activity_differs
+
+
+def time_of_day(stamp, utc_offset=0.0):
+    """Seconds since local midnight of a time stamp [s since the epoch]; utc_offset [s]."""
+    return (stamp + utc_offset) % DAY
+
+
+def entry_in_force(schedules, seconds_since_midnight):
+    """The schedule entry covering the given time of day, or None."""
+    for entry in schedules:
+        if entry.covers(seconds_since_midnight):
+            return entry
+    return None
+
+
+def same_label(a, b):
+    """Labels compare case-blind, with '_' and '-' read as spaces ("watch_TV" == "watch tv")."""
+    def norm(label):
+        return " ".join(label.replace("_", " ").replace("-", " ").lower().split())
+    return norm(a) == norm(b)
+
+
+def check_schedule(human, seconds_since_midnight, location=None, activity=None):
+    """Compare an observation (default: the person's stored location and activity) with the
+    schedule entry in force; an unknown ("") observation never counts as a deviation."""
+    location = human.location if location is None else location
+    activity = human.activity if activity is None else activity
+    entry = entry_in_force(human.schedules, seconds_since_midnight)
+    if entry is None:
+        return ScheduleCheck(None, False, False)
+    return ScheduleCheck(
+        entry,
+        location_differs=bool(entry.place and location and not same_label(entry.place, location)),
+        activity_differs=bool(entry.activity and activity
+                              and not same_label(entry.activity, activity)))

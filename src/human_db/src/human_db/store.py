@@ -1,0 +1,405 @@
+"""The household store (thesis 000 §3.4): SQLite in WAL mode with schema migrations, a history of
+observations, and safe concurrent use (one connection per working thread, busy timeout + retry).
+"""
+import math
+import os
+import sqlite3
+import threading
+import time as wallclock
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import numpy as np
+
+from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidHuman, StoreBusy,
+                             UnknownHuman)
+from human_db.colour import shirt_colours
+from human_db.model import Human, ScheduleEntry, check_ip, check_schedules
+from human_db.schema import COLOUR_COLUMNS, MIGRATIONS, OWN_TABLES, SCHEMA_VERSION
+
+SQLITE_HEADER = b"SQLite format 3\x00"
+SQLITE_BUSY, SQLITE_LOCKED = 5, 6
+SYNCHRONOUS_LEVELS = ("OFF", "NORMAL", "FULL", "EXTRA")
+_HUMAN_COLUMNS = ("id", "name", "ip", "gender", "age") + COLOUR_COLUMNS + (
+    "location", "activity", "last_seen")
+
+
+@dataclass(frozen=True)
+class StoreConfig:
+    busy_timeout: float = 5.0     # [s] SQLite waits this long for a lock before reporting busy
+    retry_timeout: float = 30.0   # [s] an operation retries a busy database for this long in all
+    synchronous: str = "FULL"     # SQLite fsync level: FULL also survives power loss
+
+    def __post_init__(self):
+        if self.synchronous not in SYNCHRONOUS_LEVELS:
+            raise ValueError(f"synchronous must be one of {SYNCHRONOUS_LEVELS}, "
+                             f"got {self.synchronous!r}")
+        if self.busy_timeout <= 0 or self.retry_timeout <= 0:
+            raise ValueError("busy_timeout and retry_timeout must be > 0 s")
+
+
+@dataclass(frozen=True)
+class HistoryEntry:
+    """One row of a person's history: where they were and what they did at `time`."""
+
+    time: float       # [s]
+    location: str
+    activity: str
+    source: str       # who recorded it: "perception", "verbal", "register", ...
+
+
+class HumanStore:
+    """Every household member, their schedules and history, in one SQLite file."""
+
+    def __init__(self, path, config=StoreConfig()):
+        self.path = os.path.abspath(path)
+        self.config = config
+        self.busy_retries = 0          # how often an operation found the database locked
+        self._revision = 0             # bumped by every committed write of this process
+        self._lock = threading.Lock()  # guards the pool and the counters
+        self._pool = []                # idle connections; a working thread takes its own
+        self._connections = []         # every connection, to close them all
+        check_database_file(self.path)
+        try:
+            with self._connection() as connection:
+                open_schema(connection, self.path)
+        except BaseException:
+            self.close()
+            raise
+
+    # -- connections and transactions -------------------------------------------------------
+    def _connect(self):
+        os.makedirs(os.path.dirname(self.path), exist_ok=True)
+        connection = sqlite3.connect(self.path, timeout=self.config.busy_timeout,
+                                     isolation_level=None, check_same_thread=False)
+        connection.execute(f"PRAGMA busy_timeout = {int(self.config.busy_timeout * 1000)}")
+        connection.execute("PRAGMA foreign_keys = ON")
+        connection.execute(f"PRAGMA synchronous = {self.config.synchronous}")
+        with self._lock:
+            self._connections.append(connection)
+        return connection
+
+    @contextmanager
+    def _connection(self):
+        with self._lock:
+            connection = self._pool.pop() if self._pool else None
+        if connection is None:
+            connection = self._connect()
+        try:
+            yield connection
+        finally:
+            if connection.in_transaction:
+                connection.execute("ROLLBACK")
+            with self._lock:
+                self._pool.append(connection)
+
+    def _retrying(self, attempt):
+        deadline = wallclock.monotonic() + self.config.retry_timeout
+        pause = 0.001  # [s] first back-off; doubles up to 0.1 s
+        while True:
+            try:
+                return attempt()
+            except sqlite3.OperationalError as error:
+                if not is_busy(error):
+                    raise
+                if wallclock.monotonic() >= deadline:
+                    raise StoreBusy(f"{self.path}: database stayed locked for "
+                                    f"{self.config.retry_timeout:.0f} s ({error})") from error
+                with self._lock:
+                    self.busy_retries += 1
+                wallclock.sleep(pause)
+                pause = min(2 * pause, 0.1)
+
+    def _transaction(self, work, write):
+        def attempt():
+            with self._connection() as connection:
+                connection.execute("BEGIN IMMEDIATE" if write else "BEGIN")
+                result = work(connection)
+                connection.execute("COMMIT")
+                return result
+        result = self._retrying(attempt)
+        if write:
+            with self._lock:
+                self._revision += 1
+        return result
+
+    @property
+    def revision(self):
+        """A number that changes whenever this process commits a write."""
+        with self._lock:
+            return self._revision
+
+    def close(self):
+        with self._lock:
+            for connection in self._connections:
+                connection.close()
+            self._connections.clear()
+            self._pool.clear()
+
+    # -- writes -------------------------------------------------------------------------------
+    def register(self, human, replace=False, now=None):
+        """Initialization (§3.2.3): add a person; a repeated name or phone IP is refused unless
+        `replace`, which keeps the person's history. A given location/activity enters the history
+        at `now` [s] (default: wall-clock time) with source "register"."""
+        self.register_all([human], replace, now)
+
+    def initialize(self, name, query_colours, gender, age, ip="", now=None):
+        """§3.2.3 Initialization phase: register a newly met person (name, gender and age asked
+        by the robot) with the shirt colours at joints 1, 2, 5 of the query observation."""
+        human = Human(name=name, gender=gender, age=age, ip=ip, shirt_colour=query_colours)
+        self.register(human, now=now)
+        return human
+
+    def register_all(self, humans, replace=False, now=None):
+        """Register several people in one transaction: all of them, or none on any error."""
+        now = _check_time(wallclock.time() if now is None else now)
+        names = [human.name.lower() for human in humans]
+        repeated = sorted({name for name in names if names.count(name) > 1})
+        if repeated:
+            raise DuplicateHuman(f"names given more than once: {repeated}")
+
+        def work(connection):
+            for human in humans:
+                _register(connection, human, replace, now)
+        self._transaction(work, write=True)
+
+    def update(self, name, now=None, location="", activity="", source="", shirt_colour=None,
+               schedules=None):
+        """Record an observation and/or replace colours or schedules, in one transaction.
+
+        A non-empty `location` or `activity` (the other one is kept) enters the history at `now`
+        [s] and becomes the current state unless an observation newer than `now` is already there.
+        Returns the updated Human."""
+        now = _check_time(wallclock.time() if now is None else now)
+        observed = bool(location or activity)
+        if not (observed or shirt_colour is not None or schedules is not None):
+            raise InvalidHuman(f"update of {name!r}: nothing to update (no location, activity, "
+                               "shirt colour or schedules)")
+        colours = None if shirt_colour is None else \
+            shirt_colours(shirt_colour, f"update of {name!r}: shirt colour")
+        entries = None if schedules is None else \
+            check_schedules(schedules, f"update of {name!r}: schedules")
+
+        def work(connection):
+            human_id, current_location, current_activity, last_seen = _row_or_raise(
+                connection, "SELECT id, location, activity, last_seen FROM humans WHERE name = ?",
+                name)
+            if colours is not None:
+                assignments = ", ".join(f"{c} = ?" for c in COLOUR_COLUMNS)
+                connection.execute(f"UPDATE humans SET {assignments} WHERE id = ?",
+                                   tuple(int(c) for c in colours.ravel()) + (human_id,))
+            if entries is not None:
+                _replace_schedules(connection, human_id, entries)
+            if observed:
+                new_location = location or current_location
+                new_activity = activity or current_activity
+                connection.execute(
+                    "INSERT INTO history (human_id, time, location, activity, source) "
+                    "VALUES (?, ?, ?, ?, ?)", (human_id, now, new_location, new_activity, source))
+                if last_seen is None or now >= last_seen:
+                    connection.execute(
+                        "UPDATE humans SET location = ?, activity = ?, last_seen = ? "
+                        "WHERE id = ?", (new_location, new_activity, now, human_id))
+            return _load_human(connection, "name = ?", name)
+        return self._transaction(work, write=True)
+
+    # -- reads --------------------------------------------------------------------------------
+    def get(self, name):
+        """The person named `name` (case-insensitive); raises UnknownHuman."""
+        return self._transaction(lambda c: _load_human(c, "name = ?", name), write=False)
+
+    def get_by_ip(self, ip):
+        """The person whose phone has IP `ip`; raises UnknownHuman (or InvalidHuman: not an IP)."""
+        ip = check_ip(ip, "phone IP")
+        if not ip:
+            raise InvalidHuman("phone IP: empty")
+        return self._transaction(lambda c: _load_human(c, "ip = ?", ip), write=False)
+
+    def humans(self):
+        """Every household member, ordered by name."""
+        def work(connection):
+            rows = connection.execute(f"SELECT {', '.join(_HUMAN_COLUMNS)} FROM humans "
+                                      "ORDER BY name").fetchall()
+            schedules = {}
+            for row in connection.execute("SELECT human_id, start_s, end_s, place, activity "
+                                          "FROM schedules"):
+                schedules.setdefault(row[0], []).append(ScheduleEntry(*row[1:]))
+            return [_human_from_row(row, schedules.get(row[0], ())) for row in rows]
+        return self._transaction(work, write=False)
+
+    def count(self):
+        return self._transaction(
+            lambda c: c.execute("SELECT COUNT(*) FROM humans").fetchone()[0], write=False)
+
+    def shirt_colour_table(self):
+        """(names, (M, 3, 3) int array) of every person, ordered by name: the input of
+        identification, read with one query."""
+        rows = self._transaction(lambda c: c.execute(
+            f"SELECT name, {', '.join(COLOUR_COLUMNS)} FROM humans ORDER BY name").fetchall(),
+            write=False)
+        colours = np.array([row[1:] for row in rows], dtype=np.int64).reshape(len(rows), 3, 3)
+        return [row[0] for row in rows], colours
+
+    def history(self, name, since=-math.inf, until=math.inf):
+        """The person's history with since <= time <= until [s], oldest first."""
+        def work(connection):
+            human_id = _row_or_raise(connection, "SELECT id FROM humans WHERE name = ?", name)[0]
+            rows = connection.execute(
+                "SELECT time, location, activity, source FROM history WHERE human_id = ? "
+                "AND time >= ? AND time <= ? ORDER BY time, id", (human_id, since, until))
+            return [HistoryEntry(*row) for row in rows]
+        return self._transaction(work, write=False)
+
+    def where_was(self, name, when):
+        """The last history entry at or before `when` [s] ("where was Bob at 10:00"), or None."""
+        def work(connection):
+            human_id = _row_or_raise(connection, "SELECT id FROM humans WHERE name = ?", name)[0]
+            row = connection.execute(
+                "SELECT time, location, activity, source FROM history WHERE human_id = ? "
+                "AND time <= ? ORDER BY time DESC, id DESC LIMIT 1", (human_id, when)).fetchone()
+            return None if row is None else HistoryEntry(*row)
+        return self._transaction(work, write=False)
+
+
+def is_busy(error):
+    """True when an sqlite3 error means "database is locked/busy" (worth retrying)."""
+    code = getattr(error, "sqlite_errorcode", None)
+    if code is not None:
+        return code & 0xFF in (SQLITE_BUSY, SQLITE_LOCKED)
+    return "locked" in str(error) or "busy" in str(error)
+
+
+def check_database_file(path):
+    """Refuse (DatabaseUnusable, naming the file) anything but a missing, empty or SQLite file."""
+    if not os.path.exists(path):
+        return
+    if not os.path.isfile(path):
+        raise DatabaseUnusable(f"{path}: not a regular file; refusing to use it")
+    with open(path, "rb") as stream:
+        header = stream.read(len(SQLITE_HEADER))
+    if header and header != SQLITE_HEADER:
+        raise DatabaseUnusable(f"{path}: not an SQLite database (corrupted header {header!r}); "
+                               "refusing to start, the file is left untouched")
+
+
+def open_schema(connection, path):
+    """Check integrity, switch to WAL, migrate to SCHEMA_VERSION; raise DatabaseUnusable."""
+    try:
+        problems = [row[0] for row in connection.execute("PRAGMA quick_check")]
+        if problems != ["ok"]:
+            raise DatabaseUnusable(f"{path}: database is corrupted ({'; '.join(problems[:3])}); "
+                                   "refusing to start, the file is left untouched")
+        # One statement, one snapshot: another process may be creating the schema meanwhile.
+        version, names = connection.execute(
+            "SELECT user_version, (SELECT group_concat(name, ',') FROM sqlite_master "
+            "WHERE type = 'table') FROM pragma_user_version").fetchone()
+        tables = set(names.split(",")) if names else set()
+    except sqlite3.DatabaseError as error:
+        raise DatabaseUnusable(f"{path}: unreadable database ({error}); refusing to start, "
+                               "the file is left untouched") from error
+    if version > SCHEMA_VERSION:
+        raise DatabaseUnusable(f"{path}: schema version {version} is newer than this code's "
+                               f"{SCHEMA_VERSION}; refusing to use it")
+    if version == 0 and tables:
+        raise DatabaseUnusable(f"{path}: holds tables {sorted(tables)} but no human_db schema; "
+                               "refusing to use it")
+    if version > 0 and not OWN_TABLES & tables:
+        raise DatabaseUnusable(f"{path}: schema version {version} but none of the human_db "
+                               "tables; refusing to use it")
+    connection.execute("PRAGMA journal_mode = WAL")
+    migrate(connection, version)
+
+
+def migrate(connection, version):
+    """Apply MIGRATIONS[version:] one transaction each, bumping PRAGMA user_version."""
+    for target in range(version + 1, SCHEMA_VERSION + 1):
+        connection.execute("BEGIN IMMEDIATE")
+        try:
+            if connection.execute("PRAGMA user_version").fetchone()[0] >= target:
+                connection.execute("ROLLBACK")   # another process migrated meanwhile
+                continue
+            for statement in MIGRATIONS[target - 1]:
+                connection.execute(statement)
+            connection.execute(f"PRAGMA user_version = {target}")
+            connection.execute("COMMIT")
+        except BaseException:
+            connection.execute("ROLLBACK")
+            raise
+
+
+def _check_time(now):
+    if not isinstance(now, int | float) or not math.isfinite(now) or now < 0:
+        raise InvalidHuman(f"time must be a finite number of seconds >= 0, got {now!r}")
+    return float(now)
+
+
+def _register(connection, human, replace, now):
+    row = connection.execute("SELECT id, name FROM humans WHERE name = ?",
+                             (human.name,)).fetchone()
+    if row is not None and not replace:
+        raise DuplicateHuman(f"{human.name!r} is already registered (as {row[1]!r}); "
+                             "register with replace to overwrite the record")
+    _refuse_shared_ip(connection, human.ip, human.name)
+    values = _human_values(human)
+    if row is None:
+        human_id = connection.execute(
+            f"INSERT INTO humans ({', '.join(_HUMAN_COLUMNS[1:])}) VALUES "
+            f"({', '.join('?' * len(values))})", values).lastrowid
+    else:
+        human_id = row[0]
+        assignments = ", ".join(f"{c} = ?" for c in _HUMAN_COLUMNS[1:])
+        connection.execute(f"UPDATE humans SET {assignments} WHERE id = ?", values + (human_id,))
+    _replace_schedules(connection, human_id, human.schedules)
+    if human.location or human.activity:
+        connection.execute("INSERT INTO history (human_id, time, location, activity, source) "
+                           "VALUES (?, ?, ?, ?, 'register')",
+                           (human_id, now, human.location, human.activity))
+
+
+def _refuse_shared_ip(connection, ip, name):
+    if not ip:
+        return
+    other = connection.execute("SELECT name FROM humans WHERE ip = ? AND name != ?",
+                               (ip, name)).fetchone()
+    if other is not None:
+        raise DuplicateHuman(f"phone IP {ip} already belongs to {other[0]!r}")
+
+
+def _human_values(human):
+    colours = tuple(channel for joint in human.shirt_colour for channel in joint)
+    return (human.name, human.ip, human.gender, human.age) + colours + (
+        human.location, human.activity, human.last_seen)
+
+
+def _replace_schedules(connection, human_id, entries):
+    connection.execute("DELETE FROM schedules WHERE human_id = ?", (human_id,))
+    connection.executemany(
+        "INSERT INTO schedules (human_id, start_s, end_s, place, activity) VALUES (?, ?, ?, ?, ?)",
+        [(human_id, e.start, e.end, e.place, e.activity) for e in entries])
+
+
+def _row_or_raise(connection, query, name):
+    row = connection.execute(query, (name,)).fetchone()
+    if row is None:
+        raise UnknownHuman(f"no household member named {name!r}")
+    return row
+
+
+def _load_human(connection, where, key):
+    row = connection.execute(f"SELECT {', '.join(_HUMAN_COLUMNS)} FROM humans WHERE {where}",
+                             (key,)).fetchone()
+    if row is None:
+        what = "has phone IP" if where.startswith("ip") else "named"
+        raise UnknownHuman(f"no household member {what} {key!r}")
+    entries = [ScheduleEntry(*r) for r in connection.execute(
+        "SELECT start_s, end_s, place, activity FROM schedules WHERE human_id = ?", (row[0],))]
+    return _human_from_row(row, entries)
+
+
+def _human_from_row(row, schedules):
+    values = dict(zip(_HUMAN_COLUMNS, row))
+    colours = [values[c] for c in COLOUR_COLUMNS]
+    return Human(name=values["name"], ip=values["ip"], gender=values["gender"],
+                 age=values["age"], shirt_colour=(colours[0:3], colours[3:6], colours[6:9]),
+                 location=values["location"], activity=values["activity"],
+                 schedules=tuple(schedules), last_seen=values["last_seen"])

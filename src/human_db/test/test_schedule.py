@@ -1,0 +1,87 @@
+"""Schedule entries and the schedule-deviation check perception uses for reminders."""
+import pytest
+from conftest import make_human
+
+from human_db.errors import InvalidHuman
+from human_db.model import ScheduleEntry
+from human_db.schedule import check_schedule, entry_in_force, same_label, time_of_day
+
+H = 3600.0  # [s]
+WORK = ScheduleEntry(9 * H, 12 * H, "office", "work")
+SLEEP = ScheduleEntry(22.5 * H, 6.5 * H, "bedroom", "sleep")   # wraps midnight
+READ = ScheduleEntry(14 * H, 15 * H, "", "read")               # anywhere
+
+
+@pytest.fixture
+def carol():
+    return make_human("Carol", schedules=(WORK, SLEEP, READ))
+
+
+def test_entries_cover_half_open_intervals_and_wrap_midnight():
+    assert WORK.covers(9 * H) and WORK.covers(12 * H - 1) and not WORK.covers(12 * H)
+    assert SLEEP.covers(23 * H) and SLEEP.covers(0.0) and SLEEP.covers(6 * H)
+    assert not SLEEP.covers(6.5 * H) and not SLEEP.covers(22 * H)
+
+
+def test_entry_in_force(carol):
+    assert entry_in_force(carol.schedules, 10 * H) == WORK
+    assert entry_in_force(carol.schedules, 3 * H) == SLEEP
+    assert entry_in_force(carol.schedules, 13 * H) is None
+
+
+def test_following_the_schedule_is_no_deviation(carol):
+    check = check_schedule(carol, 10 * H, location="office", activity="work")
+    assert check.entry == WORK and not check.deviates
+
+
+def test_wrong_place_and_wrong_activity_are_told_apart(carol):
+    wrong_place = check_schedule(carol, 10 * H, location="living_room", activity="work")
+    assert (wrong_place.location_differs, wrong_place.activity_differs) == (True, False)
+    wrong_activity = check_schedule(carol, 2 * H, location="bedroom", activity="watch TV")
+    assert (wrong_activity.location_differs, wrong_activity.activity_differs) == (False, True)
+    assert wrong_activity.deviates and wrong_activity.entry == SLEEP
+
+
+def test_unknown_observations_and_free_time_are_no_deviation(carol):
+    assert not check_schedule(carol, 10 * H, location="", activity="").deviates
+    assert not check_schedule(carol, 14.5 * H, location="alley", activity="read").deviates
+    free = check_schedule(carol, 13 * H, location="alley", activity="eat")
+    assert free.entry is None and not free.deviates
+
+
+def test_defaults_to_the_stored_state():
+    dozing = make_human("Carol", schedules=(WORK,), location="bedroom", activity="sleep")
+    check = check_schedule(dozing, 11 * H)
+    assert check.location_differs and check.activity_differs
+
+
+def test_labels_compare_case_blind_with_underscores_as_spaces():
+    assert same_label("watch TV", "watch_tv") and same_label("Living-Room", "living_room")
+    assert not same_label("read", "eat")
+    assert not check_schedule(make_human(schedules=(ScheduleEntry(0.0, H, "", "watch TV"),)),
+                              60.0, activity="watch_tv").deviates
+
+
+def test_time_of_day_with_utc_offset():
+    assert time_of_day(86400.0 * 3 + 36000.0) == 36000.0
+    assert time_of_day(3600.0, utc_offset=8 * H) == 9 * H
+    assert time_of_day(3600.0, utc_offset=-2 * H) == 23 * H
+
+
+@pytest.mark.parametrize("start, end, place, activity, needle", [
+    (-1.0, 10.0, "office", "", "start must lie"),
+    (86400.0, 10.0, "office", "", "start must lie"),
+    (0.0, 86401.0, "office", "", "end must lie"),
+    (100.0, 100.0, "office", "", "coincide"),
+    (0.0, 86400.0, "", "", "place or an activity"),
+])
+def test_bad_schedule_entries_are_refused(start, end, place, activity, needle):
+    with pytest.raises(InvalidHuman, match=needle):
+        ScheduleEntry(start, end, place, activity)
+
+
+def test_overlapping_entries_are_refused_touching_ones_are_not():
+    with pytest.raises(InvalidHuman, match="overlap"):
+        make_human(schedules=(SLEEP, ScheduleEntry(6 * H, 7 * H, "dining_room", "eat")))
+    ok = make_human(schedules=(SLEEP, ScheduleEntry(6.5 * H, 7 * H, "dining_room", "eat")))
+    assert [e.start for e in ok.schedules] == [6.5 * H, 22.5 * H]   # sorted by start

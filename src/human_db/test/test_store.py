@@ -1,0 +1,248 @@
+"""The SQLite store: round trips, history, bad input, WAL, migrations, refusing bad files."""
+import sqlite3
+import threading
+
+import pytest
+from conftest import make_human
+
+from human_db.colour import ColourIndex
+from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidColour, InvalidHuman,
+                             UnknownHuman)
+from human_db.model import ScheduleEntry
+from human_db.schema import MIGRATIONS, SCHEMA_VERSION
+from human_db.store import HistoryEntry, HumanStore
+
+
+@pytest.fixture
+def store(tmp_path):
+    store = HumanStore(tmp_path / "db" / "humans.sqlite")
+    yield store
+    store.close()
+
+
+def test_register_and_get_round_trip(store, alice, bob):
+    store.register_all([alice, bob], now=10.0)
+    assert store.get("Alice") == alice
+    assert store.get("alice") == alice            # names are case-blind keys
+    assert store.get_by_ip("192.168.1.102") == bob
+    assert [h.name for h in store.humans()] == ["Alice", "Bob"]
+    assert store.count() == 2
+    names, colours = store.shirt_colour_table()
+    assert names == ["Alice", "Bob"]
+    assert colours.shape == (2, 3, 3)
+    assert colours[1, 2].tolist() == [35, 70, 190]
+
+
+def test_initialization_then_recall_on_the_table_5_1_example(store, bob):
+    # Table 5-1 (a) is the query image of the Initialization phase, (b) the test image of Recall.
+    store.register(bob)
+    store.initialize("Query", [(215, 250, 220), (32, 77, 238), (29, 74, 219)], "male", 25)
+    index = ColourIndex(*store.shirt_colour_table())
+    match = index.identify([(253, 255, 199), (172, 190, 168), (87, 100, 142)])
+    assert match.name == "Query"
+    assert match.distance == pytest.approx(189.43967, abs=1e-5)
+    with pytest.raises(DuplicateHuman):
+        store.initialize("Query", [(0, 0, 0)] * 3, "male", 25)
+
+
+def test_file_is_wal_at_the_latest_schema_version(store):
+    connection = sqlite3.connect(store.path)
+    assert connection.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    assert connection.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 2
+    connection.close()
+
+
+def test_unknown_name_and_ip_are_refused(store, alice):
+    store.register(alice)
+    with pytest.raises(UnknownHuman, match="no household member named 'Zoe'"):
+        store.get("Zoe")
+    with pytest.raises(UnknownHuman, match="10.0.0.9"):
+        store.get_by_ip("10.0.0.9")
+    with pytest.raises(InvalidHuman, match="not an IP address"):
+        store.get_by_ip("192.168.1")
+    with pytest.raises(UnknownHuman, match="Zoe"):
+        store.update("Zoe", now=1.0, location="office")
+    with pytest.raises(UnknownHuman, match="Zoe"):
+        store.where_was("Zoe", 1.0)
+
+
+def test_duplicate_registration_is_refused_and_replace_keeps_history(store, alice):
+    store.register(alice)
+    store.update("Alice", now=5.0, location="office", activity="work", source="perception")
+    with pytest.raises(DuplicateHuman, match="already registered"):
+        store.register(alice)
+    with pytest.raises(DuplicateHuman, match="already registered"):
+        store.register(make_human(name="ALICE", ip=""))
+    with pytest.raises(DuplicateHuman, match="192.168.1.101 already belongs to 'Alice'"):
+        store.register(make_human(name="Mallory"))
+    older = make_human(age=35)
+    store.register(older, replace=True)
+    assert store.get("Alice").age == 35
+    assert store.history("Alice") == [HistoryEntry(5.0, "office", "work", "perception")]
+
+
+def test_register_all_is_all_or_nothing(store, alice, bob):
+    store.register(bob)
+    with pytest.raises(DuplicateHuman, match="Bob"):
+        store.register_all([alice, bob])
+    assert [h.name for h in store.humans()] == ["Bob"]
+    with pytest.raises(DuplicateHuman, match="more than once"):
+        store.register_all([alice, make_human(name="alice", ip="")])
+
+
+def test_update_records_history_and_answers_where_was(store, alice):
+    store.register(alice, now=0.0)
+    store.update("Alice", now=100.0, location="office", activity="work", source="perception")
+    store.update("Alice", now=200.0, location="dining_room", source="perception")
+    store.update("Alice", now=300.0, activity="eat", source="verbal")
+    alice_now = store.get("Alice")
+    assert (alice_now.location, alice_now.activity, alice_now.last_seen) == \
+        ("dining_room", "eat", 300.0)
+    assert store.where_was("Alice", 150.0) == HistoryEntry(100.0, "office", "work", "perception")
+    assert store.where_was("Alice", 200.0).location == "dining_room"
+    assert store.where_was("Alice", 200.0).activity == "work"   # activity kept from before
+    assert store.where_was("Alice", 99.0) is None
+    assert [e.time for e in store.history("Alice", since=150.0)] == [200.0, 300.0]
+
+
+def test_a_late_observation_enters_history_but_not_the_current_state(store, alice):
+    store.register(alice)
+    store.update("Alice", now=500.0, location="office", source="perception")
+    store.update("Alice", now=400.0, location="alley", source="perception")
+    assert store.get("Alice").location == "office"
+    assert store.where_was("Alice", 450.0).location == "alley"
+
+
+def test_update_colours_and_schedules(store, alice):
+    store.register(alice)
+    store.update("Alice", shirt_colour=[10, 20, 30] * 3)
+    assert store.get("Alice").shirt_colour == ((10, 20, 30),) * 3
+    entry = ScheduleEntry(0.0, 3600.0, "", "sleep")
+    store.update("Alice", schedules=[entry])
+    assert store.get("Alice").schedules == (entry,)
+    store.update("Alice", schedules=[])
+    assert store.get("Alice").schedules == ()
+    assert store.history("Alice") == []        # neither is an observation
+
+
+@pytest.mark.parametrize("fields, error, needle", [
+    (dict(), InvalidHuman, "nothing to update"),
+    (dict(shirt_colour=[1, 2, 3]), InvalidColour, "9 values"),
+    (dict(shirt_colour=[0] * 8 + [300]), InvalidColour, "outside 0-255"),
+    (dict(schedules=[ScheduleEntry(0.0, 7200.0, "office"), ScheduleEntry(3600.0, 9000.0, "alley")]),
+     InvalidHuman, "overlap"),
+    (dict(location="office", now=-1.0), InvalidHuman, "time must be"),
+    (dict(location="office", now=float("nan")), InvalidHuman, "time must be"),
+])
+def test_bad_updates_are_refused_and_change_nothing(store, alice, fields, error, needle):
+    store.register(alice)
+    with pytest.raises(error, match=needle):
+        store.update("Alice", **fields)
+    assert store.get("Alice") == alice
+
+
+def test_everything_committed_survives_reopening(tmp_path, alice):
+    path = tmp_path / "humans.sqlite"
+    first = HumanStore(path)
+    first.register(alice)
+    first.update("Alice", now=7.0, location="office", source="perception")
+    first.close()
+    second = HumanStore(path)
+    assert second.get("Alice").location == "office"
+    assert second.history("Alice")[-1].time == 7.0
+    second.close()
+
+
+def test_a_version_1_database_is_migrated_keeping_its_people(tmp_path):
+    path = tmp_path / "v1.sqlite"
+    connection = sqlite3.connect(path)
+    for statement in MIGRATIONS[0]:
+        connection.execute(statement)
+    connection.execute(
+        "INSERT INTO humans (name, ip, gender, age, r1, g1, b1, r2, g2, b2, r5, g5, b5, location,"
+        " activity) VALUES ('Carol', '192.168.1.103', 'female', 68, 1, 2, 3, 4, 5, 6, 7, 8, 9, "
+        "'bedroom', 'sleep')")
+    connection.execute("PRAGMA user_version = 1")
+    connection.commit()
+    connection.close()
+    store = HumanStore(path)
+    carol = store.get("Carol")
+    assert (carol.location, carol.last_seen, carol.shirt_colour[2]) == ("bedroom", None, (7, 8, 9))
+    store.update("Carol", now=1.0, activity="read", source="perception")
+    assert store.where_was("Carol", 2.0).activity == "read"
+    version = sqlite3.connect(path).execute("PRAGMA user_version").fetchone()[0]
+    assert version == SCHEMA_VERSION
+    store.close()
+
+
+def _refused_untouched(path, needle):
+    before = path.read_bytes()
+    with pytest.raises(DatabaseUnusable, match=needle) as caught:
+        HumanStore(path)
+    assert str(path) in str(caught.value)
+    assert path.read_bytes() == before
+    return caught.value
+
+
+def test_a_file_that_is_not_sqlite_is_refused_and_left_untouched(tmp_path):
+    path = tmp_path / "humans.sqlite"
+    path.write_bytes(b"this is not a database\n" * 100)
+    _refused_untouched(path, "not an SQLite database")
+
+
+def test_a_database_with_damaged_pages_is_refused_and_left_untouched(tmp_path, alice):
+    path = tmp_path / "humans.sqlite"
+    store = HumanStore(path)
+    store.register(alice)
+    store.close()
+    sqlite3.connect(path).execute("PRAGMA wal_checkpoint(TRUNCATE)").close()
+    data = bytearray(path.read_bytes())
+    page_size = int.from_bytes(data[16:18], "big")
+    data[page_size:] = b"\xde\xad\xbe\xef" * ((len(data) - page_size) // 4)   # keep the header
+    path.write_bytes(bytes(data))
+    _refused_untouched(path, "corrupted|unreadable")
+
+
+def test_a_foreign_or_newer_database_is_refused(tmp_path):
+    foreign = tmp_path / "foreign.sqlite"
+    connection = sqlite3.connect(foreign)
+    connection.execute("CREATE TABLE invoices (id INTEGER)")
+    connection.commit()
+    connection.close()
+    _refused_untouched(foreign, "no human_db schema")
+    newer = tmp_path / "newer.sqlite"
+    connection = sqlite3.connect(newer)
+    connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION + 1}")
+    connection.commit()
+    connection.close()
+    _refused_untouched(newer, "newer than this code")
+
+
+def test_a_directory_is_refused(tmp_path):
+    with pytest.raises(DatabaseUnusable, match="not a regular file"):
+        HumanStore(tmp_path)
+
+
+def test_two_stores_opening_a_new_file_together_both_work(tmp_path, alice, bob):
+    path = tmp_path / "new.sqlite"
+    stores, errors = [], []
+    start = threading.Barrier(2)
+
+    def open_store():
+        start.wait()
+        try:
+            stores.append(HumanStore(path))
+        except Exception as error:  # noqa: BLE001 - any error fails the test
+            errors.append(repr(error))
+
+    threads = [threading.Thread(target=open_store) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert errors == []
+    stores[0].register(alice)
+    stores[1].register(bob)
+    assert [h.name for h in stores[0].humans()] == ["Alice", "Bob"]
+    for store in stores:
+        store.close()
