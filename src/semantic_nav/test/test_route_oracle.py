@@ -32,8 +32,8 @@ def computed(oracles):
     return out
 
 
-def test_fixture_covers_every_office_floor():
-    floors = {p.stem for p in (ROOT / "maps").glob("office_*.yaml") if ".graph" not in p.name}
+def test_fixture_covers_every_floor_in_maps():
+    floors = {p.stem for p in (ROOT / "maps").glob("*.yaml") if ".graph" not in p.name}
     assert floors and floors <= set(EXPECTED)
     assert all(len(starts) >= 3 for starts in EXPECTED.values())
 

@@ -36,7 +36,8 @@ def draw_walk(ax, walk):
 def plot_oracle_goals(grid, start, walk, goals, title, out_path, names):
     """One floor, one start: the start arrow, each class goal (disc + heading), n/a listed."""
     width, height = grid.width * grid.resolution, grid.height * grid.resolution
-    fig, ax = plt.subplots(figsize=(min(13.0, 2.5 + width / 2.6), min(11.0, 1.5 + height / 2.6)))
+    fig, ax = plt.subplots(figsize=(min(13.0, max(8.0, 2.5 + width / 2.6)),
+                                    min(11.0, 1.5 + height / 2.6)))
     draw_map(ax, grid)
     draw_walk(ax, walk)
     _arrow(ax, start, "k", length=1.0, width=0.35)
@@ -66,7 +67,8 @@ def plot_oracle_goals(grid, start, walk, goals, title, out_path, names):
 def plot_floor_structure(grid, structure, starts, title, out_path):
     """Corridor network (tinted), skeleton, junctions, dead ends and sampled starts."""
     width, height = grid.width * grid.resolution, grid.height * grid.resolution
-    fig, ax = plt.subplots(figsize=(min(13.0, 2.5 + width / 2.6), min(11.0, 1.5 + height / 2.6)))
+    fig, ax = plt.subplots(figsize=(min(13.0, max(8.0, 2.5 + width / 2.6)),
+                                    min(11.0, 1.5 + height / 2.6)))
     draw_map(ax, grid)
     x0, y0 = grid.origin[0], grid.origin[1]
     extent = [x0, x0 + width, y0, y0 + height]
