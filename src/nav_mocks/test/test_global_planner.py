@@ -65,3 +65,18 @@ def test_cost_factor_prefers_the_middle_of_a_corridor():
     planner = GlobalPlanner(Costmap(grid, cfg), PlannerConfig(cost_factor=3.0))
     plan = planner.plan((0.3, 0.35), (2.6, 0.35))
     assert np.abs(plan.points[:, 1] - 0.425).max() <= 0.1   # stays near the centre line
+
+
+def test_unknown_space_is_crossed_only_when_not_lethal():
+    grid = grid_from_rows(["..........",
+                           "##????####",
+                           ".........."], resolution=1.0)
+    with pytest.raises(NoPath):
+        GlobalPlanner(Costmap(grid, POINT)).plan((0.5, 0.5), (0.5, 2.5))
+    open_unknown = CostmapConfig(robot_radius=0.0, footprint_padding=0.0, inflation_radius=0.0,
+                                 unknown_is_lethal=False)
+    plan = GlobalPlanner(Costmap(grid, open_unknown), PlannerConfig(cost_factor=0.0)).plan(
+        (0.5, 0.5), (0.5, 2.5))
+    # through the unknown gap at column 2; the walls' corners forbid every diagonal on the way:
+    # 2 right, 2 down, 2 left
+    assert plan.length_m == pytest.approx(6.0)

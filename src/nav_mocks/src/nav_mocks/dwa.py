@@ -158,6 +158,18 @@ def _point_set_distance(points, targets):
     return np.sqrt((diff ** 2).sum(axis=2)).min(axis=1)
 
 
+def _moves_away(clearance, here):
+    """(S,) True where the first change of clearance along a trajectory is an increase.
+
+    A robot already inside the inscribed radius may only translate away from the obstacle: a
+    move along it at the same (cell-quantised) clearance is what leaves a robot wedged against a
+    door jamb, since the true clearance there may be smaller than the estimate's.
+    """
+    changed = clearance != here
+    first = np.argmax(changed, axis=1)
+    return changed.any(axis=1) & (clearance[np.arange(len(clearance)), first] > here)
+
+
 def score_trajectories(trajectories, segment, clearance, costmap_config, config, align=True):
     """dwa_local_planner cost of each trajectory; `align` adds the forward-point terms."""
     end = trajectories[:, -1, :]
@@ -227,7 +239,10 @@ class DwaController:
         braking = min(cfg.acc_lim_x, cfg.acc_lim_y if cfg.holonomic else cfg.acc_lim_x)
         stop = speed ** 2 / (2.0 * braking) + speed * cfg.control_period
         penalty = np.where(hits, LATE_COLLISION_COST * (1.0 + speed / cfg.max_vel_x), 0.0)
-        return np.where(hits & (reach <= stop), np.inf, penalty)
+        inadmissible = hits & (reach <= stop)
+        if here <= self.costmap_config.inscribed_radius:
+            inadmissible |= (speed > 0.0) & ~_moves_away(clearance, here)
+        return np.where(inadmissible, np.inf, penalty)
 
     def best_command(self, pose, velocity, local_costmap):
         """Best (vx, vy, wz) along the plan, or None when every trajectory collides."""

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from nav_mocks.astar import astar
-from nav_mocks.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, cost_penalty
+from nav_mocks.costmap import (INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
+                               cost_penalty)
 
 
 @dataclass
@@ -62,10 +63,11 @@ class GlobalPlanner:
         costs = self.costmap.costs()
         if costs[goal] == LETHAL_OBSTACLE:
             raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) lies in an obstacle")
-        if costs[goal] >= INSCRIBED_INFLATED_OBSTACLE:
+        if INSCRIBED_INFLATED_OBSTACLE <= costs[goal] < NO_INFORMATION:
             raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) is closer than the robot "
                          "radius to an obstacle")
-        blocked = costs >= INSCRIBED_INFLATED_OBSTACLE
+        # unknown cells (255) exist only when unknown space is not lethal: they may be crossed
+        blocked = (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
         if blocked[start]:   # only a robot already too close to an obstacle needs a way out
             footprint = _footprint_cells(grid, start_xy[0], start_xy[1],
                                          self.costmap.config.inscribed_radius)

@@ -11,8 +11,9 @@ def config_from_params(cls, namespace):
     naming the parameter.
     """
     values = {}
+    prefix = namespace if namespace.endswith(("~", "/")) else namespace + "/"
     for field in dataclasses.fields(cls):
-        name = f"{namespace}/{field.name}"
+        name = prefix + field.name
         if not rospy.has_param(name):
             continue
         value = rospy.get_param(name)
