@@ -1,7 +1,7 @@
 import math
 
 import numpy as np
-from helpers import fake_scan, integrate, open_room
+from helpers import synthetic_scan, integrate, open_room
 from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
@@ -27,7 +27,7 @@ def run(core, pose, world=None, seconds=60.0, on_step=None):
     velocity, t, result = ZERO, 0.0, None
     while t < seconds:
         if world is not None:
-            core.observe(fake_scan(world, core.costmap.grid, pose), pose)
+            core.observe(synthetic_scan(world, core.costmap.grid, pose), pose)
         result = core.step(t, pose, velocity)
         if on_step:
             on_step(t, result)
