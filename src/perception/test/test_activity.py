@@ -13,7 +13,8 @@ from perception.keypoints import (
     L_ANKLE, L_EAR, L_ELBOW, L_EYE, L_HIP, L_KNEE, L_SHOULDER, L_WRIST, NECK, NOSE, NUM_KEYPOINTS,
     R_ANKLE, R_EAR, R_ELBOW, R_EYE, R_HIP, R_KNEE, R_SHOULDER, R_WRIST, as_skeleton)
 
-AFFORDANCES = os.path.join(os.path.dirname(__file__), "..", "..", "..", "config", "affordances.yaml")
+AFFORDANCES = os.path.join(os.path.dirname(__file__), "..", "..", "..", "config",
+                           "affordances.yaml")
 
 
 def skeleton(**joints):
@@ -171,7 +172,7 @@ def test_posture_standing_sitting_lying():
     assert posture_from_skeleton(lying, config) == "lying"
     knees_hidden = standing.copy()
     knees_hidden[[R_KNEE, L_KNEE]] = np.nan
-    assert posture_from_skeleton(knees_hidden, config) == "standing"     # ankles: 180 px > 1.1 x 100
+    assert posture_from_skeleton(knees_hidden, config) == "standing"  # ankles: 180 > 1.1 x 100
     sitting_no_knees = sitting.copy()
     sitting_no_knees[[R_KNEE, L_KNEE]] = np.nan
     assert posture_from_skeleton(sitting_no_knees, config) == "sitting"  # ankles: 100 px < 110
@@ -180,7 +181,8 @@ def test_posture_standing_sitting_lying():
 
 def test_threshold_falls_back_to_posture():
     """Six equally likely activities (P = 1/6 each) are below P_th = 0.4 -> posture."""
-    table = AffordanceTable(activities=tuple("abcdef"), hands={"thing": dict.fromkeys("abcdef", 1.0)})
+    table = AffordanceTable(activities=tuple("abcdef"),
+                            hands={"thing": dict.fromkeys("abcdef", 1.0)})
     result = recognise_activity(profile_worker(), [SeenObject("thing", 1.0, 135, 235)], table,
                                 ActivityConfig(probability_threshold=0.4))
     assert result.probabilities["a"] == pytest.approx(1 / 6)
@@ -198,6 +200,7 @@ def test_as_skeleton_rejects_bad_shape_and_masks_zero_confidence():
 
 def test_affordance_table_rejects_unknown_activity(tmp_path):
     path = tmp_path / "bad.yaml"
-    path.write_text("activities: [eat]\nhands: {cup: {drnk: 1.0}}\neyes: {}\nlooking_at_hands: {}\n")
+    path.write_text("activities: [eat]\nhands: {cup: {drnk: 1.0}}\neyes: {}\n"
+                    "looking_at_hands: {}\n")
     with pytest.raises(ValueError, match="drnk"):
         load_affordances(str(path))

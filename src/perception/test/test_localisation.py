@@ -60,7 +60,7 @@ def test_transform_inverts_the_simulator_camera():
 
 
 def test_localise_box_in_front_of_robot():
-    """Robot at origin facing +x, level camera at 1.15 m: a box centred on the image at 2 m -> (2.09, 0)."""
+    """Robot at the origin facing +x, level camera at 1.15 m, centred box at 2 m -> (2.09, 0)."""
     depth = np.full((480, 640), 2.0)
     T = optical_to_map_transform((0.0, 0.0, 0.0), 0.09, 1.15, 0.0)
     p = localise_box(depth, (270, 190, 100, 100), PEPPER, T, DepthWindowConfig())

@@ -13,7 +13,8 @@ from task_planner.reward import load_priorities
 from perception.activity import ActivityConfig, load_affordances
 from perception.localisation import optical_to_map_transform, Intrinsics
 from perception.requests import load_keyword_config
-from perception.self_instructions import Observation, SelfInstructionConfig, SelfInstructionGenerator
+from perception.self_instructions import (
+    Observation, SelfInstructionConfig, SelfInstructionGenerator)
 from perception.sim_activity_set import SCENES, make_camera, scene_frame
 from perception.visual_pipeline import StackedCameras, analyse_frame
 
@@ -72,7 +73,8 @@ def generator():
     graph = load_graph(os.path.join(CONFIG, "..", "maps", "household.graph.yaml"))
     config = SelfInstructionConfig(recommendations={"read": "play_music"}, repeat_after=600.0)
     codes = {a: i + 1 for i, a in enumerate(TABLE.activities)}
-    return SelfInstructionGenerator(config, functions, priority, graph.place_ids(), codes), functions
+    generator = SelfInstructionGenerator(config, functions, priority, graph.place_ids(), codes)
+    return generator, functions
 
 
 def test_reading_person_gets_piano_music(generator):

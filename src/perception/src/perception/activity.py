@@ -72,7 +72,8 @@ def _check_probabilities(where, table, activities):
             if activity not in activities:
                 raise ValueError(f"{where}: '{label}' names unknown activity '{activity}'")
             if not 0.0 <= float(p) <= 1.0:
-                raise ValueError(f"{where}: '{label}' -> '{activity}' probability {p} not in [0, 1]")
+                raise ValueError(f"{where}: '{label}' -> '{activity}' probability {p} "
+                                 "not in [0, 1]")
 
 
 def load_affordances(path):
@@ -151,7 +152,8 @@ def hand_object_eyesight_sets(skeleton, objects, config):
 
 
 def activity_scores(near, seen, looking, table, config):
-    """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E."""
+    """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E.
+    """
     score = dict.fromkeys(table.activities, 0.0)
     for obj in near:                                           # Eq. 3-12
         for a, p in table.hands.get(obj.label, {}).items():

@@ -27,7 +27,8 @@ def as_skeleton(points, confidence=None):
     if confidence is not None:
         conf = np.asarray(confidence, dtype=float)
         if conf.shape != (NUM_KEYPOINTS,):
-            raise ValueError(f"skeleton confidence needs shape ({NUM_KEYPOINTS},), got {conf.shape}")
+            raise ValueError(f"skeleton confidence needs shape ({NUM_KEYPOINTS},), "
+                             f"got {conf.shape}")
         pts[~(conf > 0)] = np.nan
     pts[~np.isfinite(pts).all(axis=1)] = np.nan
     return pts

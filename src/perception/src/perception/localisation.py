@@ -35,7 +35,7 @@ class DepthWindowConfig:
 
 
 def pixel_to_camera(px, py, depth, intrinsics):
-    """Eqs. 3-3, 3-4, 3-5: pixel (px, py) with depth d -> (x_r, y_r, z_r) [m] in the optical frame."""
+    """Eqs. 3-3, 3-4, 3-5: pixel (px, py) at depth d -> (x_r, y_r, z_r) [m], optical frame."""
     x = (px - intrinsics.cx) / intrinsics.fx * depth
     y = (py - intrinsics.cy) / intrinsics.fy * depth
     return np.array([x, y, depth], dtype=float)
@@ -114,7 +114,7 @@ def semantic_place(graph, x, y):
 
 
 def stitched_pixel(u, v, top_height):
-    """Which camera of the stitched pair saw stitched pixel (u, v): ('top'|'bottom', u, v_camera)."""
+    """Camera of the stitched pair that saw pixel (u, v): ('top'|'bottom', u, v_camera)."""
     if v < top_height:
         return "top", u, v
     return "bottom", u, v - top_height

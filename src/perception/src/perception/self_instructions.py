@@ -61,7 +61,7 @@ class SelfInstructionGenerator:
         return instruction
 
     def generate(self, obs, schedule_check=None):
-        """Instructions for one observation; `schedule_check` is human_db's ScheduleCheck or None."""
+        """Instructions for one observation; schedule_check: human_db ScheduleCheck or None."""
         made = []
         function = self.config.recommendations.get(obs.activity)
         if function:

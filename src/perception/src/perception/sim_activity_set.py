@@ -22,7 +22,7 @@ class Scene:
     label: str
     posture: str
     holding: str = ""                 # COCO label of the held object
-    looking: tuple = ()               # (label, forward [m], left [m], elevation [m], size (x, y, z))
+    looking: tuple = ()               # (label, forward, left, elevation [m], size (x, y, z))
     extra: tuple = ()                 # more (label, forward, left, elevation, size) in the scene
 
 
