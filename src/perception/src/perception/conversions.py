@@ -1,9 +1,12 @@
-"""tamp_msgs messages <-> perception's verbal core types."""
+"""tamp_msgs messages <-> perception's core types (verbal: utterances, people; visual:
+PerceptionFrame -> FrameView, PersonResult -> ObservedHuman)."""
+import numpy as np
 import rospy
-from tamp_msgs.msg import Utterance
+from tamp_msgs.msg import ObservedHuman, Utterance
 
 from perception.stt import pcm16_to_float, resample
 from perception.verbal_instructions import Person
+from perception.visual_pipeline import FrameView, ObjectBox, PersonView
 
 
 def person_from_msg(msg):
@@ -26,3 +29,37 @@ def audio_from_msg(msg):
     """tamp_msgs/AudioUtterance -> float32 mono at 16 kHz (raises AudioError on a bad rate)."""
     return resample(pcm16_to_float(msg.samples), msg.sample_rate)
 
+
+def frame_from_msg(msg):
+    """tamp_msgs/PerceptionFrame -> FrameView; ValueError on malformed skeletons."""
+    frame = FrameView(int(msg.image_width), int(msg.image_height))
+    if frame.width == 0 or frame.height == 0:
+        raise ValueError(f"perception frame has an empty image size {frame.width}x{frame.height}")
+    for det in msg.objects:
+        frame.objects.append(ObjectBox(det.label, float(det.confidence), float(det.x),
+                                       float(det.y), float(det.width), float(det.height),
+                                       float(det.depth)))
+    for i, sk in enumerate(msg.skeletons):
+        if not (len(sk.x) == len(sk.y) == len(sk.confidence) == len(sk.depth) == 18):
+            raise ValueError(f"skeleton {i} does not have 18 keypoints")
+        frame.people.append(PersonView(
+            np.column_stack([np.asarray(sk.x, float), np.asarray(sk.y, float)]),
+            np.asarray(sk.confidence, float), np.asarray(sk.depth, float),
+            np.frombuffer(bytes(sk.joint_rgb), dtype=np.uint8).reshape(3, 3)))
+    return frame
+
+
+def observed_to_msg(result, name):
+    """PersonResult (+ identity) -> tamp_msgs/ObservedHuman."""
+    act = result.activity
+    msg = ObservedHuman(name=name, activity=act.activity, posture=act.posture,
+                        location=result.place, near_hands=list(act.near_hands),
+                        in_eyesight=list(act.in_eyesight), looking_at_hands=act.looking_at_hands)
+    if result.shirt is not None:
+        msg.shirt_color = result.shirt.reshape(-1).tolist()
+    if result.position is not None:
+        msg.localised, (msg.x, msg.y) = True, result.position
+    ranked = sorted(act.probabilities.items(), key=lambda kv: -kv[1])
+    msg.activity_labels = [a for a, _ in ranked]
+    msg.activity_probabilities = [float(p) for _, p in ranked]
+    return msg

@@ -23,7 +23,7 @@ from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.requests import keyword_config_from_dict
 from perception.self_instructions import (
     Observation, SelfInstructionConfig, SelfInstructionGenerator)
-from perception.visual_conversions import frame_from_msg, observed_to_msg
+from perception.conversions import frame_from_msg, observed_to_msg
 from perception.visual_pipeline import StackedCameras, analyse_frame
 
 PEPPER_TOP = {"fx": 583.9, "fy": 588.5, "cx": 320.0, "cy": 240.0, "width": 640, "height": 480,
