@@ -12,7 +12,8 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import human_from_msg
 from human_db.schedule import check_schedule, time_of_day
 from sim2d.semantic_graph import load_graph
-from tamp_msgs.msg import HumanArray, ObservedHumanArray, PerceptionFrame
+from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, PerceptionFrame
+from tamp_msgs.msg import TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.srv import IdentifyHuman, UpdateHuman
 from task_planner.conversions import instruction_to_msg
@@ -45,6 +46,7 @@ class VisualParams:
     recommendations: dict = field(default_factory=lambda: {"read": "play_music"})
     repeat_after: float = 600.0           # ~repeat_after [s] between equal self-instructions
     self_instructions: bool = True        # ~self_instructions
+    idle_only: bool = True                # ~idle_only: only while no human instruction is open
     first_id: int = 100000                # ~first_id of self-generated instructions
     utc_offset: float = 0.0               # ~utc_offset [s] for schedule times of day
     slow_latency: float = 0.1             # ~slow_latency [s]: diagnostics WARN above this
@@ -60,7 +62,8 @@ def read_params():
         values[name] = rospy.get_param("~" + name)
     defaults = VisualParams(**values)
     for name in ("top_camera", "bottom_camera", "map_frame", "base_frame", "period",
-                 "recommendations", "repeat_after", "self_instructions", "first_id", "utc_offset",
+                 "recommendations", "repeat_after", "self_instructions", "idle_only", "first_id",
+                 "utc_offset",
                  "slow_latency"):
         values[name] = rospy.get_param("~" + name, getattr(defaults, name))
     return VisualParams(**values)
@@ -83,6 +86,7 @@ class VisualNode:
         self._counts = {"frames": 0, "people": 0, "bad_frames": 0, "identified": 0,
                         "instructions": 0}
         self._timers = []
+        self._busy = False   # a human instruction is pending or active (/task_planner/state)
 
     def setup(self):
         p = self.params
@@ -106,12 +110,19 @@ class VisualNode:
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         rospy.Subscriber("/camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
         rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
+        rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
         self._timers = [rospy.Timer(rospy.Duration(float(p.period)), self._on_work),
                         rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
 
     def _on_frame(self, msg):
         with self._lock:
             self._frame = msg
+
+    def _on_state(self, msg):
+        open_states = (InstructionState.PENDING, InstructionState.ACTIVE)
+        busy = any(s.state in open_states and not s.instruction.type for s in msg.instructions)
+        with self._lock:
+            self._busy = busy
 
     def _on_humans(self, msg):
         table = {h.name: human_from_msg(h) for h in msg.humans}
@@ -184,9 +195,11 @@ class VisualNode:
             rospy.logwarn_throttle(10.0, "visual: /human_db/update failed: %s", error)
         with self._lock:
             self._counts["identified"] += 1
-            human = self._humans.get(name)
+            human, busy = self._humans.get(name), self._busy
         if not self.params.self_instructions or not result.place:
             return
+        if busy and self.params.idle_only:
+            return   # Sec. 4.2.1: the robot observes for itself only when no person needs it
         now = stamp.to_sec() if not stamp.is_zero() else rospy.get_time()
         check = None if human is None else check_schedule(
             human, time_of_day(now, self.params.utc_offset), location=result.place,
