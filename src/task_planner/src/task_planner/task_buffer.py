@@ -169,6 +169,10 @@ class TaskBuffer:
         predecessor = self._records.get(record.instruction.previous_id)
         return record.is_open and (predecessor is None or predecessor.state == DONE)
 
+    def unfinished_ids(self):
+        """Ids of open instructions: their successors are not eligible yet (see `eligible`)."""
+        return {i for i, r in self._records.items() if r.is_open}
+
     def active_id(self):
         return next((r.instruction.id for r in self._records.values() if r.state == ACTIVE), 0)
 
