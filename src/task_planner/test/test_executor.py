@@ -164,3 +164,13 @@ def test_navigate_commands_name_their_instruction(line_graph, tmp_path):
     commands = executor.receive([make_instruction(5, C, function=1)], now=0.0)[1]
     assert commands == [Navigate(B, 5)]
     assert executor.buffer.get(5).state == PENDING
+
+
+def test_successor_arriving_before_its_predecessor_waits_for_it(line_graph, tmp_path):
+    report = make_instruction(2, A, gamma=5.0, beta=0.9, duration=1, function=7, previous_id=1)
+    check = make_instruction(1, B, gamma=1.0, beta=0.9, duration=2, function=3)
+    executor = make_executor(line_graph, PriorityFirst(), tmp_path)
+    trace = run_executor(executor, [(0.0, report), (0.5, check)], NavigationModel(line_graph, 0.5))
+    # nothing to do until 1 arrives at 0.5 s; A->B 2 s, check 2 s (done 4.5), B->A 2 s, report 1 s
+    assert [(t, i) for t, i, _ in trace.executed] == [(2.5, 1), (6.5, 2)]
+    assert done_rewards(executor) == pytest.approx({1: 0.9 ** 4.5, 2: 5 * 0.9 ** 7.5})

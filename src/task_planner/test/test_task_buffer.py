@@ -67,14 +67,18 @@ def test_successor_waits_for_predecessor_and_fails_with_it(journal):
     buffer.submit(make_instruction(1, 0), now=0.0)
     buffer.submit(make_instruction(2, 1, previous_id=1), now=0.0)
     buffer.submit(make_instruction(3, 1, previous_id=2), now=0.0)
-    buffer.submit(make_instruction(4, 1, previous_id=99), now=0.0)  # never in the buffer: free
-    assert [buffer.eligible(buffer.get(i)) for i in (1, 2, 3, 4)] == [True, False, False, True]
+    buffer.submit(make_instruction(4, 1, previous_id=99), now=0.0)  # 99 has not arrived yet
+    assert [buffer.eligible(buffer.get(i)) for i in (1, 2, 3, 4)] == [True, False, False, False]
     with pytest.raises(TaskBufferError, match="predecessor 1 is not done"):
         buffer.start(2, now=1.0)
     buffer.fail(1, now=2.0, reason="move_base aborted")
     assert buffer.get(2).state == FAILED and buffer.get(2).reason == "predecessor 1 failed"
     assert buffer.get(3).state == FAILED and buffer.get(3).reason == "predecessor 2 failed"
     assert buffer.get(4).state == PENDING
+    buffer.submit(make_instruction(99, 2), now=2.5)  # the predecessor arrives after its successor
+    buffer.start(99, now=2.6)
+    buffer.finish(99, now=2.7)
+    assert buffer.eligible(buffer.get(4))
     late = buffer.submit(make_instruction(5, 1, previous_id=1), now=3.0)
     assert late.state == FAILED and late.reason == "predecessor 1 failed"
 

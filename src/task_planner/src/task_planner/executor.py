@@ -210,9 +210,9 @@ class Executor:
             self._problem = Problem(self.graph, instructions, self.config.speed_mps, self.node)
             self._problem_key = instructions
             self.planner.reset(self._problem)
-        blocked = self.buffer.unfinished_ids()  # a successor waits while its predecessor is open
-        available = np.array([k for k, r in enumerate(pending)
-                              if r.instruction.previous_id not in blocked], dtype=int)
+        done = self.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
+        available = np.array([k for k, r in enumerate(pending) if r.instruction.previous_id == 0
+                              or r.instruction.previous_id in done], dtype=int)
         return self._problem, available
 
     def _ask_planner(self, problem, node, now, available):

@@ -11,9 +11,10 @@ puts ACTIVE rows back to PENDING (the function was interrupted, so it never comp
 every DONE row closed, so a restart loses nothing and repeats nothing that finished. Times are
 passed in by the caller (ROS time in the node, simulated time in tests) [s].
 
-Chains (Table 4-1 `previous_id`): a successor is eligible once its predecessor is DONE or when the
-predecessor was never in the buffer (instruction_set's rule). When a predecessor fails or is
-cancelled its open successors fail too, with a reason naming it.
+Chains (Table 4-1 `previous_id`): a successor is eligible once its predecessor is DONE. The buffer
+keeps every instruction it ever journalled, so a predecessor it does not hold has not arrived yet
+(a chain's messages may arrive in any order): the successor waits for it. When a predecessor fails
+or is cancelled its open successors fail too, with a reason naming it. `version` counts changes.
 """
 import sqlite3
 from dataclasses import dataclass, fields
@@ -81,6 +82,7 @@ class TaskBuffer:
             (PENDING, ACTIVE)).rowcount
         self._records = {row.instruction.id: row for row in self._load()}
         self._next_seq = max((r.seq for r in self._records.values()), default=0) + 1
+        self.version = 0  # incremented by every change (for publishing snapshots on change)
 
     def close(self):
         self._db.close()
@@ -130,6 +132,7 @@ class TaskBuffer:
                          _row(record))
         self._records[instruction.id] = record
         self._next_seq += 1
+        self.version += 1
         return record
 
     def _check(self, instruction):
@@ -165,13 +168,12 @@ class TaskBuffer:
         return [r for r in self.records() if r.is_open]
 
     def eligible(self, record):
-        """Table 4-1 `previous_id`: open, and the predecessor is DONE or was never in the buffer."""
-        predecessor = self._records.get(record.instruction.previous_id)
-        return record.is_open and (predecessor is None or predecessor.state == DONE)
+        """Table 4-1 `previous_id`: open, and no predecessor or a DONE one."""
+        previous = record.instruction.previous_id
+        return record.is_open and (previous == 0 or previous in self.done_ids())
 
-    def unfinished_ids(self):
-        """Ids of open instructions: their successors are not eligible yet (see `eligible`)."""
-        return {i for i, r in self._records.items() if r.is_open}
+    def done_ids(self):
+        return {i for i, r in self._records.items() if r.state == DONE}
 
     def active_id(self):
         return next((r.instruction.id for r in self._records.values() if r.state == ACTIVE), 0)
@@ -250,6 +252,7 @@ class TaskBuffer:
             "reason=? WHERE id=?", (record.state, record.started_time, record.completion_time,
                                     record.reward_earned, record.reason, record.instruction.id))
         self._records[record.instruction.id] = record
+        self.version += 1
         return record
 
     def _load(self):
