@@ -5,7 +5,8 @@ import pytest
 from planner_factories import make_instruction
 
 from task_planner.baselines import FirstComeFirstServe, PriorityFirst
-from task_planner.executor import Executor, ExecutorConfig, Navigate, PeopleAtPlaces, Say
+from task_planner.executor import (Executor, ExecutorConfig, Navigate, PeopleAtPlaces, Say,
+                                   nearest_node)
 from task_planner.executor_sim import NavigationModel, run_executor
 from task_planner.exact import ExactReplanner
 from task_planner.problem import Problem, schedule_reward
@@ -174,3 +175,10 @@ def test_successor_arriving_before_its_predecessor_waits_for_it(line_graph, tmp_
     # nothing to do until 1 arrives at 0.5 s; A->B 2 s, check 2 s (done 4.5), B->A 2 s, report 1 s
     assert [(t, i) for t, i, _ in trace.executed] == [(2.5, 1), (6.5, 2)]
     assert done_rewards(executor) == pytest.approx({1: 0.9 ** 4.5, 2: 5 * 0.9 ** 7.5})
+
+
+def test_nearest_node_is_where_a_restarted_robot_stands():
+    from task_planner.graph import graph_from_edges
+    graph = graph_from_edges("PQR", [("P", "Q", 2.0), ("Q", "R", 2.0)],
+                             poses=[(0.0, 0.0, 0.0), (2.0, 0.0, 0.0), (2.0, 2.0, 0.0)])
+    assert [nearest_node(graph, x, y) for x, y in [(0.4, 0.1), (1.6, 0.3), (2.1, 1.2)]] == [0, 1, 2]

@@ -54,6 +54,12 @@ class Say:
     text: str
 
 
+def nearest_node(graph, x, y):
+    """The graph node whose pose is closest to (x, y) [m]: where a restarted robot stands."""
+    poses = np.asarray(graph.poses, dtype=float)  # (V, 3) x, y, yaw [m, m, rad]
+    return int(np.argmin(np.hypot(poses[:, 0] - x, poses[:, 1] - y)))
+
+
 class PeopleAtPlaces:
     """Where each person is now (graph node, or None when out of sight) and was before.
 

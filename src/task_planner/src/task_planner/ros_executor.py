@@ -16,6 +16,7 @@ import rospy
 import yaml
 from actionlib_msgs.msg import GoalStatus
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseWithCovarianceStamped
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from std_msgs.msg import String
 from tamp_msgs.msg import HumanArray, TaskBufferState
@@ -24,7 +25,8 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
 
 from task_planner.conversions import buffer_to_msg, instruction_from_msg
-from task_planner.executor import Execute, Executor, ExecutorConfig, Navigate, PeopleAtPlaces, Say
+from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, PeopleAtPlaces,
+                                   Say, nearest_node)
 from task_planner.graph import load_graph
 from task_planner.instruction import InvalidInstruction
 from task_planner.planner_choice import make_planner
@@ -41,7 +43,7 @@ class NodeParams:
     settings: str = str(ROOT / "config/task_planner.yaml")
     robot_functions: str = str(ROOT / "config/robot_functions.yaml")
     journal: str = ""              # SQLite task buffer journal; "" = $ROS_HOME/task_buffer.sqlite
-    start_node: str = "charging_place"  # place the robot starts on (graph node name)
+    start_node: str = ""           # place the robot starts on; "" = nearest to /amcl_pose
     max_goal_attempts: int = 3     # move_base attempts per goal before the instruction fails
     tick_period: float = 0.05      # executor step [s]
     frame_id: str = "map"          # frame of the move_base goals
@@ -71,7 +73,7 @@ class ExecutorNode:
             buffer, self.graph, make_planner(params.planner, settings), self.people,
             load_robot_functions(params.robot_functions),
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts),
-            start_node=self.graph.index(params.start_node))
+            start_node=self.graph.index(params.start_node) if params.start_node else 0)
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans, self.results = [], None, []
         self.refused, self.nav_goal = 0, None
@@ -86,6 +88,18 @@ class ExecutorNode:
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
             rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
             return False
+        if not self.params.start_node:
+            try:
+                pose = rospy.wait_for_message("/amcl_pose", PoseWithCovarianceStamped,
+                                              timeout).pose.pose.position
+            except rospy.ROSException:
+                rospy.logerr("task_planner: no /amcl_pose after %.0f s to find the start place "
+                             "(or set ~start_node)", timeout)
+                return False
+            self.executor.node = nearest_node(self.graph, pose.x, pose.y)
+        rospy.loginfo("task_planner: starting at %s; %d open instruction(s) in the journal "
+                      "(%d resumed)", self.graph.names[self.executor.node],
+                      len(self.executor.buffer.open_records()), self.executor.buffer.resumed)
         rospy.Subscriber("/task_planner/instructions", InstructionMsg, self._on_instruction,
                          queue_size=1000)
         rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
