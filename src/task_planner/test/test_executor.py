@@ -182,3 +182,11 @@ def test_nearest_node_is_where_a_restarted_robot_stands():
     graph = graph_from_edges("PQR", [("P", "Q", 2.0), ("Q", "R", 2.0)],
                              poses=[(0.0, 0.0, 0.0), (2.0, 0.0, 0.0), (2.0, 2.0, 0.0)])
     assert [nearest_node(graph, x, y) for x, y in [(0.4, 0.1), (1.6, 0.3), (2.1, 1.2)]] == [0, 1, 2]
+
+
+def test_person_never_located_is_served_where_perception_sent_the_robot(line_graph, tmp_path):
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Zoe")
+    executor = make_executor(line_graph, FirstComeFirstServe(), tmp_path, PeopleAtPlaces())
+    trace = run_executor(executor, [(0.0, visit)], NavigationModel(line_graph, 0.5))
+    assert trace.executed == [(2.0, 1, "chat")]
+    assert (2.0, "Hello Zoe, shall we have a chat?") in trace.said

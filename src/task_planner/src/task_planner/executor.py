@@ -13,7 +13,9 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
 - a navigation abort is retried `max_goal_attempts` times, then the instruction the move was for
   fails with the reason and the robot decides again;
 - on arrival the target person must be at the place (`people.is_at`); if not, their last known
-  places are searched (the instruction is served where they are found) before it fails.
+  places are searched (the instruction is served where they are found) before it fails. A person
+  the people source has never located cannot be verified; the instruction is served where
+  perception sent it.
 """
 from dataclasses import dataclass, replace
 
@@ -71,6 +73,10 @@ class PeopleAtPlaces:
         self.now = dict(now or {})        # name -> node the person is at now, None = not seen
         self.before = {name: list(places) for name, places in (before or {}).items()}
         # name -> earlier nodes, most recent first
+
+    def knows(self, name):
+        """True once the person has been seen anywhere (or reported out of sight)."""
+        return name in self.now or bool(self.before.get(name))
 
     def is_at(self, name, node):
         return self.now.get(name) == node
@@ -258,8 +264,9 @@ class Executor:
         except RobotFunctionError as error:
             return self._fail(instruction_id, now, str(error))
         target = instruction.target
-        if target and not self.people.is_at(target, self.node):
+        if target and self.people.knows(target) and not self.people.is_at(target, self.node):
             return self._search_next(instruction, now)
+        # A person nobody has located yet cannot be verified: perception's destination stands.
         self.buffer.start(instruction_id, now)
         self.mode, self.executing = EXECUTING, (instruction_id, now + instruction.duration)
         place = self.graph.names[self.node]
