@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from task_planner.battery import charge_instruction
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
@@ -32,6 +33,16 @@ IDLE, MOVING, EXECUTING = "idle", "moving", "executing"
 class ExecutorConfig:
     speed_mps: float = 0.5        # robot speed along graph edges, for the planners [m/s]
     max_goal_attempts: int = 3    # navigation attempts per goal before its instruction fails
+
+
+@dataclass(frozen=True)
+class Charging:
+    """The low-battery rule: where to charge, with which function code and priority."""
+
+    battery: object        # battery.BatteryModel
+    place: int             # charging place (graph node)
+    function_code: int     # robot function `charge`
+    priority: object       # reward.Priority of self-generated instructions (Table 5-5)
 
 
 @dataclass(frozen=True)
@@ -98,8 +109,10 @@ class PeopleAtPlaces:
 class Executor:
     """Fetch → decode → decide → navigate → verify → execute → write back (Fig. 4-14)."""
 
-    def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0):
+    def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0,
+                 charging=None):
         self.buffer, self.graph, self.planner = buffer, graph, planner
+        self.charging = charging         # Charging, or None for a robot without a battery model
         self.people, self.functions = people, functions
         self.config = config or ExecutorConfig()
         self.node = int(start_node)      # last node reached
@@ -118,6 +131,7 @@ class Executor:
 
     def receive(self, instructions, now):
         """Journal new instructions (one transaction) and re-decide; returns (results, commands)."""
+        self._drain(now)
         results = self.buffer.submit_many(instructions, now)
         for record, error in results:
             self.log.append((now, f"refused: {error}" if error else
@@ -128,29 +142,63 @@ class Executor:
 
     def tick(self, now):
         """Periodic step: finish an execution whose time is up, or decide when idle."""
+        commands = self._check_battery(now)
         if self.mode == EXECUTING and now >= self.executing[1]:
             instruction_id = self.executing[0]
             record = self.buffer.finish(instruction_id, now)
+            if self.charging and record.instruction.function == self.charging.function_code:
+                self.charging.battery.charge(record.instruction.duration)
             self.search.pop(instruction_id, None)
             self.searched.pop(instruction_id, None)
             self.log.append((now, f"done {instruction_id}: reward {record.reward_earned:.3f}"))
             self.mode, self.executing = IDLE, None
         if self.mode == IDLE:
-            return self._decide(now)
-        return []
+            return commands + self._decide(now)
+        return commands
+
+    def _drain(self, now):
+        """Spend the battery energy of the mode the robot was in until `now`."""
+        if self.charging is None:
+            return
+        busy_charging = self.mode == EXECUTING and self.buffer.get(
+            self.executing[0]).instruction.function == self.charging.function_code
+        self.charging.battery.drain("charging" if busy_charging else self.mode, now)
+
+    def _check_battery(self, now):
+        """When the battery is low, give the robot a 'go charge' instruction (once)."""
+        if self.charging is None:
+            return []
+        self._drain(now)
+        charging = self.charging
+        battery = charging.battery
+        open_charge = any(r.instruction.function == charging.function_code
+                          for r in self.buffer.open_records())
+        if not battery.is_low() or open_charge:
+            return []
+        base = battery.config.self_id_base
+        next_id = max((r.instruction.id for r in self.buffer.records()
+                       if r.instruction.id >= base), default=base - 1) + 1
+        instruction = charge_instruction(next_id, now, charging.place,
+                                         self.graph.names[charging.place], charging.priority,
+                                         battery, charging.function_code)
+        self.log.append((now, f"battery low ({100 * battery.fraction:.0f} %): charge"))
+        return self.receive([instruction], now)[1]
 
     def arrived(self, now):
         """The navigation goal was reached."""
         if self.mode != MOVING:
             raise RuntimeError(f"arrival reported while {self.mode}")
+        self._drain(now)
         self.node, self.mode, self.goal = self.goal, IDLE, None
         self.log.append((now, f"at {self.graph.names[self.node]}"))
-        return self._decide(now)
+        commands = self._check_battery(now)
+        return commands + (self._decide(now) if self.mode == IDLE else [])
 
     def aborted(self, now, reason):
         """Navigation gave up on the goal: retry it, then fail the instruction it was for."""
         if self.mode != MOVING:
             raise RuntimeError(f"abort reported while {self.mode}")
+        self._drain(now)
         if self.attempts < self.config.max_goal_attempts:
             self.attempts += 1
             self.log.append((now, f"retry {self.attempts} to {self.graph.names[self.goal]}"))
@@ -164,6 +212,7 @@ class Executor:
 
     def cancel(self, instruction_id, now):
         """Withdraw an instruction; the robot stops its function if it was executing it."""
+        self._drain(now)
         record = self.buffer.cancel(instruction_id, now)
         if self.mode == EXECUTING and self.executing[0] == instruction_id:
             self.mode, self.executing = IDLE, None

@@ -24,12 +24,14 @@ from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
 
+from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.conversions import buffer_to_msg, instruction_from_msg
-from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, PeopleAtPlaces,
-                                   Say, nearest_node)
+from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate,
+                                   PeopleAtPlaces, Say, nearest_node)
 from task_planner.graph import load_graph
 from task_planner.instruction import InvalidInstruction
 from task_planner.planner_choice import make_planner
+from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
 from task_planner.task_buffer import BufferConfig, TaskBuffer, TaskBufferError
 
@@ -47,6 +49,9 @@ class NodeParams:
     max_goal_attempts: int = 3     # move_base attempts per goal before the instruction fails
     tick_period: float = 0.05      # executor step [s]
     frame_id: str = "map"          # frame of the move_base goals
+    battery: bool = True           # low-battery model: the robot sends itself to charge
+    charging_place: str = "charging_place"  # graph node name of the charger
+    priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
 
     @classmethod
     def from_ros(cls):
@@ -69,14 +74,26 @@ class ExecutorNode:
         Path(params.journal).parent.mkdir(parents=True, exist_ok=True)
         buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size))
         self.people = PeopleAtPlaces()
+        self.executor_functions = load_robot_functions(params.robot_functions)
         self.executor = Executor(
             buffer, self.graph, make_planner(params.planner, settings), self.people,
-            load_robot_functions(params.robot_functions),
+            self.executor_functions,
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts),
-            start_node=self.graph.index(params.start_node) if params.start_node else 0)
+            start_node=self.graph.index(params.start_node) if params.start_node else 0,
+            charging=self._charging(params, settings) if params.battery else None)
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans, self.results = [], None, []
         self.refused, self.nav_goal = 0, None
+
+    def _charging(self, params, settings):
+        functions = {f.name: f for f in self.executor_functions.values()}
+        if "charge" not in functions:
+            raise ValueError(f"{params.robot_functions}: no 'charge' function for the battery")
+        config = BatteryConfig(**{name: float(settings[f"battery_{name}"]) for name in (
+            "capacity_wh", "idle_w", "moving_w", "executing_w", "charge_w", "low_fraction")})
+        return Charging(BatteryModel(config, now=rospy.get_time()),
+                        self.graph.index(params.charging_place), functions["charge"].code,
+                        load_priorities(params.priorities)["self_generated"])
 
     def setup(self, timeout):
         """Publishers, subscribers, services and the move_base client; False if it is not up."""
@@ -247,6 +264,9 @@ class ExecutorNode:
                 message += f"; {self.refused} instruction(s) refused"
             values = [KeyValue(k, str(v)) for k, v in counts.items()]
             values.append(KeyValue("total_reward", f"{self.executor.buffer.total_reward():.3f}"))
+            if self.executor.charging:
+                values.append(KeyValue("battery_percent",
+                                       f"{100 * self.executor.charging.battery.fraction:.1f}"))
             self.refused = 0
         status = DiagnosticStatus(level=level, name="task_planner: executor",
                                   message=message, hardware_id="task_planner", values=values)
