@@ -63,7 +63,7 @@ class MoveBaseNode:
                                              self._on_cancel, auto_start=False)
         rospy.Service("~make_plan", GetPlan, self._make_plan)
         rospy.on_shutdown(self._stop)
-        self.server.start()
+        self.server_started = False   # as move_base: serve goals once there is a map and a pose
         rospy.Timer(rospy.Duration(self.period), self._cycle)
         rospy.Timer(rospy.Duration(1.0), self._diagnose)
 
@@ -149,6 +149,10 @@ class MoveBaseNode:
             self._update_map(map_msg)
         self._handle_cancels(cancels)
         pose = self._robot_pose()
+        if not self.server_started and self.core is not None and pose is not None:
+            self.server.start()       # clients wait_for_server until then
+            self.server_started = True
+            rospy.loginfo("move_base mock: map and robot pose available, action server started")
         for handle in goals:
             self._handle_new_goal(handle, pose)
         if self.core is None or pose is None or self.handle is None:
