@@ -1,11 +1,12 @@
 import math
 
 import numpy as np
+import pytest
 from helpers import fake_scan, integrate, open_room
 from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
-from nav_mocks.dwa import DwaConfig
+from nav_mocks.dwa import DwaConfig, LocalCostmap
 from nav_mocks.move_base_core import (ABORTED, ACTIVE, CLEAR, PREEMPTED, REJECTED, ROTATE,
                                       SUCCEEDED, ZERO, MoveBaseConfig, MoveBaseCore)
 
@@ -113,3 +114,25 @@ def test_boxed_in_robot_aborts_after_recovery():
     result, _ = run(core, (0.625, 1.525, 0.0), world=world, seconds=120.0)
     assert result.status == ABORTED and "after recovery" in result.reason
     assert core.run.history == [CLEAR, ROTATE]
+
+
+def test_local_costmap_places_map_walls_where_the_laser_sees_them():
+    # The pose estimate is 0.05 m off (AMCL error): the true robot stands 0.395 m from the door
+    # wall at x = 2 m, the estimate says 0.445 m. The laser hits on that wall are not marked in the
+    # global costmap (they are the map's wall, static_match_distance 0.15 m), but the local
+    # costmap keeps them: placed from the estimate they lie 0.40 m ahead (the reference laser
+    # steps 0.01 m), where the wall really is; the map alone would give 0.05 m more room.
+    grid = two_rooms()
+    truth, estimate = (1.605, 2.0, 0.0), (1.555, 2.0, 0.0)
+    core = make_core(grid)
+    core.observe(fake_scan(grid.occupied_mask(), grid, truth), estimate)
+    assert not core.costmap.marked.any()
+    points = core.scan_points
+    ahead = points[(np.abs(points[:, 1] - 2.0) < 0.03) & (points[:, 0] > 1.5)]
+    assert ahead[:, 0].min() == pytest.approx(1.555 + 0.40, abs=0.002)   # beams 2 deg apart
+    x, y = np.array([estimate[0]]), np.array([estimate[1]])
+    local = LocalCostmap(core.costmap.lethal(), grid, estimate, points, 5.0)
+    map_only = LocalCostmap(core.costmap.lethal(), grid, estimate, np.zeros((0, 2)), 5.0)
+    # cell centres: robot col 31 (x 1.575), hit col 39 (1.975), wall col 40 (2.025)
+    assert float(local.clearance(x, y)[0]) == pytest.approx(0.40)
+    assert float(map_only.clearance(x, y)[0]) == pytest.approx(0.45)

@@ -121,12 +121,10 @@ class MoveBaseCore:
         free, hit = beam_cells(scan, laser_pose, self.costmap.grid, cfg.raytrace_range,
                                cfg.obstacle_range)
         self.costmap.update_from_scan(free, hit)
-        points = hit_points(scan, laser_pose)
-        rows, cols = self.costmap.grid.world_to_cell(points[:, 0], points[:, 1])
-        inside = self.costmap.grid.inside(rows, cols)
-        keep = np.zeros(len(points), dtype=bool)
-        keep[inside] = self.costmap.new_obstacle(rows[inside], cols[inside])
-        self.scan_points = points[keep]   # the map's own walls are in the local costmap already
+        # Every hit goes into the local costmap, map walls included: the hits are where the
+        # walls are relative to the robot, whereas the map's walls are placed through the pose
+        # estimate and are off by the localisation error (a few cm: the whole margin in a door).
+        self.scan_points = hit_points(scan, laser_pose, cfg.obstacle_range)
 
     def step(self, now, pose, velocity):
         """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
