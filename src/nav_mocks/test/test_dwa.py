@@ -5,8 +5,8 @@ import pytest
 from helpers import open_room
 
 from nav_mocks.costmap import CostmapConfig
-from nav_mocks.dwa import (DwaConfig, DwaController, LocalCostmap, clearance_speed_limit,
-                           contact_clearance, local_plan, rollout, sample_velocities,
+from nav_mocks.dwa import (DwaConfig, DwaController, LocalCostmap, contact_clearance,
+                           local_plan, rollout, sample_velocities,
                            velocity_window)
 
 COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.1, inflation_radius=0.5)
@@ -115,30 +115,18 @@ def test_contact_clearance_is_the_radius_plus_the_cell_bound():
     assert contact_clearance(0.3, 0.05, 0.02) == pytest.approx(0.3 + 0.05 * math.sqrt(2) + 0.02)
 
 
-def test_speed_limit_leaves_room_to_stop_before_contact():
-    # 0.1 m of room at 0.5 m/s^2: v = sqrt(2 * 0.5 * 0.1) = 0.3162 m/s, whose stopping distance
-    # v^2 / (2 a) is exactly the 0.1 m of room
-    assert clearance_speed_limit(0.49, 0.39, 0.5, 0.05) == pytest.approx(math.sqrt(0.1))
-    assert clearance_speed_limit(0.35, 0.39, 0.5, 0.05) == 0.05    # inside: creep only
-
-
-def test_a_wall_the_laser_sees_closer_than_the_map_slows_the_robot():
-    # The map is free around (2, 1.5) but the laser sees a wall 0.38 m to the left (as at a door
-    # jamb when the pose estimate is a few cm off): 0.38 - 0.29 m of room -> 0.30 m/s at most,
-    # though the robot already drives at 0.5 m/s along the wall (it must brake).
-    cfg = DwaConfig(max_vel_y=0.3, acc_lim_x=0.5, acc_lim_y=0.5)
-    controller = DwaController(cfg, COSTMAP)
-    controller.set_plan(np.column_stack((np.linspace(2.0, 3.5, 31), np.full(31, 1.5))))
-    wall = np.column_stack((np.linspace(1.0, 4.0, 61), np.full(61, 1.88)))
-    local = LocalCostmap(ROOM.cells > 50, ROOM, (2.0, 1.5, 0.0), wall, 5.0)
-    here = float(local.clearance(np.array([2.0]), np.array([1.5]))[0])
-    assert here == pytest.approx(0.35, abs=0.036)                  # cell-centre distance
-    limit = controller.speed_limit(here, local)
-    assert limit == pytest.approx(math.sqrt(2 * 0.5 * (here - 0.2 - 0.05 * math.sqrt(2) - 0.02)))
-    cmd = controller.best_command((2.0, 1.5, 0.0), (0.5, 0.0, 0.0), local)
-    assert math.hypot(cmd[0], cmd[1]) == pytest.approx(0.45)     # brakes at 0.5 m/s^2
-    cmd = controller.best_command((2.0, 1.5, 0.0), (0.2, 0.0, 0.0), local)
-    assert 0.0 < math.hypot(cmd[0], cmd[1]) <= limit + 1e-9
-    free = LocalCostmap(ROOM.cells > 50, ROOM, (2.0, 1.5, 0.0), np.zeros((0, 2)), 5.0)
-    cmd = controller.best_command((2.0, 1.5, 0.0), (0.5, 0.0, 0.0), free)
-    assert math.hypot(cmd[0], cmd[1]) > limit                      # the map alone: full speed
+def test_keeps_the_contact_clearance_when_the_padding_is_smaller():
+    # radius 0.2 m without padding: inscribed 0.2 m, but on 0.05 m cells contact needs a
+    # cell-centre clearance of 0.2 + 0.0707 (+ 0.02 margin) = 0.29 m. The plan runs 0.25 m from a
+    # wall only the laser sees: the robot must leave the plan and keep 0.29 m (less half a cell
+    # diagonal, 0.035 m, for where in its cell the robot centre lies).
+    costmap = CostmapConfig(robot_radius=0.2, footprint_padding=0.0, inflation_radius=0.5)
+    controller = DwaController(DwaConfig(), costmap)
+    controller.set_plan(np.column_stack((np.linspace(0.5, 3.5, 61), np.full(61, 1.5))))
+    wall = np.column_stack((np.linspace(1.5, 2.5, 41), np.full(41, 1.75)))
+    local = LocalCostmap(ROOM.cells > 50, ROOM, (1.0, 1.5, 0.0), wall, 5.0)
+    assert controller.collision_radius(local) == pytest.approx(0.2 + 0.05 * math.sqrt(2) + 0.02)
+    pose, trace = drive(controller, (0.5, 1.5, 0.0), (3.5, 1.5, 0.0), wall, steps=200)
+    assert controller.at_goal_xy(pose, (3.5, 1.5, 0.0))
+    gaps = np.hypot(trace[:, None, 0] - wall[None, :, 0], trace[:, None, 1] - wall[None, :, 1])
+    assert gaps.min() > 0.29 - 0.05 * math.sqrt(2) / 2

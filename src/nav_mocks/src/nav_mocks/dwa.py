@@ -10,8 +10,8 @@ where `front` is a point forward_point_distance ahead of the end pose (it aligns
 the obstacle cost comes from the clearance to the live laser hits and the map (a rolling-window
 local costmap). Trajectories passing within the inscribed radius of an obstacle are discarded;
 that radius is never taken smaller than the contact clearance (the robot radius plus the
-cell-centre distance bound of the grid plus a margin), and the translation speed is limited so
-that the robot can stop within the clearance it has left (Fox et al.'s admissible velocities).
+cell-centre distance bound of the grid plus a margin: the test a simulator or bumper on the same
+grid applies).
 """
 import math
 from dataclasses import dataclass
@@ -54,7 +54,6 @@ class DwaConfig:
     yaw_goal_tolerance: float = 0.15  # [rad]
     rotate_gain: float = 2.0          # [1/s] in-place rotation rate per rad of yaw error
     contact_margin: float = 0.02      # [m] kept beyond the contact clearance (localisation error)
-    creep_speed: float = 0.05         # [m/s] speed allowed at any clearance (to back out)
 
     @property
     def holonomic(self):
@@ -188,17 +187,6 @@ def contact_clearance(robot_radius, resolution, margin):
     return robot_radius + CELL_CLEARANCE_LOSS * resolution + margin
 
 
-def clearance_speed_limit(here, contact, braking, creep_speed):
-    """[m/s] highest speed from which the robot can stop before losing (here - contact) metres.
-
-    Fox et al. (1997) admissible velocities, v <= sqrt(2 * dist * braking), applied to the
-    distance to the nearest obstacle in any direction (the laser and the map do not say in which
-    direction the robot will have slid when a command arrives late); at least creep_speed.
-    """
-    room = max(here - contact, 0.0)
-    return max(math.sqrt(2.0 * braking * room), creep_speed)
-
-
 def score_trajectories(trajectories, segment, clearance, costmap_config, config, align=True):
     """dwa_local_planner cost of each trajectory; `align` adds the forward-point terms."""
     end = trajectories[:, -1, :]
@@ -283,13 +271,6 @@ class DwaController:
         than the contact clearance (a padding smaller than the cell bound does not count)."""
         return max(self.costmap_config.inscribed_radius, self.contact(local_costmap))
 
-    def speed_limit(self, here, local_costmap):
-        """[m/s] admissible translation speed at clearance `here` [m] (clearance_speed_limit)."""
-        cfg = self.config
-        contact = self.contact(local_costmap)
-        braking = min(cfg.acc_lim_x, cfg.acc_lim_y if cfg.holonomic else cfg.acc_lim_x)
-        return clearance_speed_limit(here, contact, braking, cfg.creep_speed)
-
     def best_command(self, pose, velocity, local_costmap):
         """Best (vx, vy, wz) along the plan, or None when every trajectory collides."""
         cfg = self.config
@@ -306,9 +287,6 @@ class DwaController:
         cost = score_trajectories(trajectories, segment, clearance, self.costmap_config, cfg,
                                   align)
         cost += self._collision_cost(samples, clearance, here, self.collision_radius(local_costmap))
-        # too fast for the clearance; braking as hard as the window allows is always admissible
-        speed = np.hypot(samples[:, 0], samples[:, 1])
-        cost[speed > max(self.speed_limit(here, local_costmap), speed.min())] = np.inf
         still = np.all(np.abs(samples) < 1e-9, axis=1)
         cost[still] = np.inf   # standing still is not a plan; no motion left means "blocked"
         best = int(np.argmin(cost))
