@@ -7,7 +7,7 @@ from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
 from nav_mocks.dwa import DwaConfig, LocalCostmap
-from nav_mocks.move_base_core import (ABORTED, ACTIVE, CLEAR, PREEMPTED, REJECTED, ROTATE,
+from nav_mocks.move_base_core import (ABORTED, ACTIVE, BACK_OUT, CLEAR, PREEMPTED, REJECTED, ROTATE,
                                       SUCCEEDED, ZERO, MoveBaseConfig, MoveBaseCore)
 
 COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.05, inflation_radius=0.5)
@@ -113,7 +113,22 @@ def test_boxed_in_robot_aborts_after_recovery():
     core.start_goal((3.0, 0.6, 0.0), 0.0, (0.625, 1.525, 0.0))
     result, _ = run(core, (0.625, 1.525, 0.0), world=world, seconds=120.0)
     assert result.status == ABORTED and "after recovery" in result.reason
-    assert core.run.history == [CLEAR, ROTATE]
+    assert core.run.history == [CLEAR, BACK_OUT, ROTATE]   # no line out of the ring: skipped
+
+
+def test_back_out_leaves_a_wall_the_robot_is_wedged_against():
+    # 0.25 m from the room's west wall (cell-centre distance), inside the collision radius
+    # (0.2 + 0.0707 + 0.02 = 0.29 m): the back-out line of the 16 that gains most clearance
+    # without coming closer to the wall is straight east, and the recovery drives it at 0.1 m/s.
+    core = make_core()
+    core.start_goal((3.0, 0.6, 0.0), 0.0, (0.27, 2.0, 0.0))
+    assert core._back_out_direction((0.27, 2.0, 0.0)) == pytest.approx((1.0, 0.0))
+    assert core._back_out_direction((0.27, 2.0, math.pi / 2)) == pytest.approx((1.0, 0.0),
+                                                                               abs=1e-12)
+    core.run.recovery_index = 1                      # clear_costmaps has been tried
+    core._recover(core.run, 0.0, (0.27, 2.0, math.pi / 2), "test")
+    cmd = core.step(0.0, (0.27, 2.0, math.pi / 2), ZERO).cmd
+    assert cmd == pytest.approx((0.0, -0.1, 0.0), abs=1e-12)   # east, robot facing north
 
 
 def test_local_costmap_places_map_walls_where_the_laser_sees_them():
