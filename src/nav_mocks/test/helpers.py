@@ -27,7 +27,7 @@ def integrate(pose, cmd, dt):
             y + (vx * math.sin(th) + vy * math.cos(th)) * dt, th + wz * dt)
 
 
-def fake_scan(world_occupied, grid, pose, beams=180, max_range=4.0, step=0.01):
+def synthetic_scan(world_occupied, grid, pose, beams=180, max_range=4.0, step=0.01):
     """Reference laser for tests: march each beam in `step` metres until an occupied cell."""
     from nav_mocks.scan_rays import Scan
     angles = np.linspace(-math.pi, math.pi, beams, endpoint=False)

@@ -2,7 +2,7 @@ import math
 
 import numpy as np
 import pytest
-from helpers import fake_scan, integrate, open_room
+from helpers import integrate, open_room, synthetic_scan
 from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
@@ -28,7 +28,7 @@ def run(core, pose, world=None, seconds=60.0, on_step=None):
     velocity, t, result = ZERO, 0.0, None
     while t < seconds:
         if world is not None:
-            core.observe(fake_scan(world, core.costmap.grid, pose), pose)
+            core.observe(synthetic_scan(world, core.costmap.grid, pose), pose)
         result = core.step(t, pose, velocity)
         if on_step:
             on_step(t, result)
@@ -140,7 +140,7 @@ def test_local_costmap_places_map_walls_where_the_laser_sees_them():
     grid = two_rooms()
     truth, estimate = (1.605, 2.0, 0.0), (1.555, 2.0, 0.0)
     core = make_core(grid)
-    core.observe(fake_scan(grid.occupied_mask(), grid, truth), estimate)
+    core.observe(synthetic_scan(grid.occupied_mask(), grid, truth), estimate)
     assert not core.costmap.marked.any()
     points = core.scan_points
     ahead = points[(np.abs(points[:, 1] - 2.0) < 0.03) & (points[:, 0] > 1.5)]

@@ -1,9 +1,9 @@
 """Fixtures of the verbal perception tests: the workspace's keyword config and graph, the corpus
 household, and Table 5-5 priorities."""
 import pytest
+from sim2d.semantic_graph import load_graph
 from verbal_test_support import CORPUS, GRAPH, KEYWORDS, TABLE_5_5
 
-from perception.places import load_place_ids
 from perception.request_corpus import load_corpus
 from perception.requests import load_keyword_config
 from perception.sentiment import SentimentAnalyzer
@@ -33,7 +33,7 @@ def directory(corpus):
 
 @pytest.fixture
 def place_ids():
-    return load_place_ids(GRAPH)
+    return load_graph(GRAPH).place_ids()
 
 
 @pytest.fixture

@@ -9,12 +9,12 @@ import threading
 from dataclasses import dataclass
 
 import rospy
+from sim2d.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.msg import Utterance
 
 from perception.conversions import utterance_time
-from perception.places import load_place_ids
 from perception.requests import RejectedUtterance, keyword_config_from_dict
 from perception.ros_people import HumanTableDirectory
 from perception.sentiment import SentimentAnalyzer
@@ -67,7 +67,7 @@ class VerbalNode:
         bad configuration (the message names the entry)."""
         keywords = keyword_config_from_dict(self.params.keywords)
         builder = InstructionBuilder(keywords, load_priorities(self.params.priorities_file),
-                                     load_place_ids(self.params.graph), self.directory,
+                                     load_graph(self.params.graph).place_ids(), self.directory,
                                      first_id=self.params.first_id)
         self.pipeline = VerbalPipeline(keywords, SentimentAnalyzer(), builder, self.directory)
         self.directory.setup()

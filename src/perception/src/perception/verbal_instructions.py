@@ -6,6 +6,7 @@ function and target person; the result becomes one instruction, or a chain linke
 positive. People are looked up through a PeopleDirectory (the human database in the ROS layer, a
 dict in tests).
 """
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
 from task_planner.instruction import HUMAN, Instruction
@@ -24,16 +25,16 @@ class Person:
     location: str = ""  # graph place name; "" = not seen yet
 
 
-class PeopleDirectory:
+class PeopleDirectory(ABC):
     """Who is who: the human database seen from verbal perception."""
 
+    @abstractmethod
     def lookup_by_ip(self, ip):
         """Person whose phone has this IP, or None."""
-        raise NotImplementedError
 
+    @abstractmethod
     def lookup_by_name(self, name):
         """Person of this name (case-insensitive), or None."""
-        raise NotImplementedError
 
     def location_of(self, name):
         """Last known place of the named person; "" when unknown."""

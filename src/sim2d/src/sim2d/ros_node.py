@@ -39,6 +39,8 @@ class NodeConfig:
     cmd_timeout: float = 0.5        # [s] stop a robot whose last command is older than this
     publish_map_odom: bool = False  # also publish map -> odom from ground truth (no AMCL)
     diff_drive_cmd_vel: bool = False  # differential robots also obey cmd_vel (no penguin_base)
+    diff_drive_odom: bool = True    # differential robots: publish odom + odom -> base_link; false
+                                    # when penguin_base computes them from the wheel encoders
 
 
 def read_config():
@@ -219,13 +221,14 @@ class SimNode:
         robot, odom, base = io.robot, self.frame(io, "odom"), self.frame(io, "base_link")
         state = robot.state
         pose = robot.odometry.pose
-        io.odom_pub.publish(conversions.odometry_msg(now, odom, base, pose, state.twist))
         io.truth_pub.publish(conversions.odometry_msg(now, "map", base, state.pose, state.twist))
-        transforms = [conversions.transform_msg(now, odom, base, pose[0], pose[1], 0.0,
-                                                yaw=pose[2])]
-        if self.config.publish_map_odom:
-            transforms.append(self._map_to_odom(now, odom, state.pose, pose))
-        self.tf.sendTransform(transforms)
+        if robot.config.drive != DIFFERENTIAL or self.config.diff_drive_odom:
+            io.odom_pub.publish(conversions.odometry_msg(now, odom, base, pose, state.twist))
+            transforms = [conversions.transform_msg(now, odom, base, pose[0], pose[1], 0.0,
+                                                    yaw=pose[2])]
+            if self.config.publish_map_odom:
+                transforms.append(self._map_to_odom(now, odom, state.pose, pose))
+            self.tf.sendTransform(transforms)
         io.stall_pub.publish(Bool(data=state.stalled))
         if robot.config.drive == DIFFERENTIAL:
             wheels = robot.config.wheels

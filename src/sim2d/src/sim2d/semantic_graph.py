@@ -29,6 +29,10 @@ class SemanticGraph:
                 return place
         raise KeyError(f"no place named {name!r} (places: {[p.name for p in self.places]})")
 
+    def place_ids(self):
+        """{place name: node id}."""
+        return {place.name: place.id for place in self.places}
+
 
 def load_graph(path):
     """Read a `<map>.graph.yaml`; GraphError names the file and what is wrong."""
@@ -50,6 +54,8 @@ def load_graph(path):
                             tuple(float(v) for v in node["pose"]),
                             [[float(x), float(y)] for x, y in node["region"]]))
     names = {p.name for p in places}
+    if len(names) != len(places) or len({p.id for p in places}) != len(places):
+        raise GraphError(f"{path}: place names and ids must be unique")
     edges = [tuple(e) for e in data.get("edges", [])]
     for a, b in edges:
         if a not in names or b not in names:

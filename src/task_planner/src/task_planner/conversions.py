@@ -1,5 +1,7 @@
-"""tamp_msgs/Instruction <-> task_planner.instruction.Instruction."""
+"""tamp_msgs/Instruction <-> Instruction; task buffer -> InstructionState, TaskBufferState."""
 from tamp_msgs.msg import Instruction as InstructionMsg
+from tamp_msgs.msg import InstructionState as InstructionStateMsg
+from tamp_msgs.msg import TaskBufferState as TaskBufferStateMsg
 
 from task_planner.instruction import Instruction
 
@@ -16,3 +18,19 @@ def instruction_to_msg(instruction):
 def instruction_from_msg(msg):
     """Raises InvalidInstruction naming the offending field."""
     return Instruction(type=int(msg.type), **{name: getattr(msg, name) for name in _FIELDS})
+
+
+def record_to_msg(record):
+    """task_buffer.Record -> tamp_msgs/InstructionState."""
+    return InstructionStateMsg(instruction=instruction_to_msg(record.instruction),
+                               state=record.state, received_time=record.received_time,
+                               completion_time=record.completion_time,
+                               reward_earned=record.reward_earned)
+
+
+def buffer_to_msg(buffer, stamp):
+    """The whole task buffer as tamp_msgs/TaskBufferState (oldest first)."""
+    msg = TaskBufferStateMsg(instructions=[record_to_msg(r) for r in buffer.records()],
+                             active_id=buffer.active_id(), total_reward=buffer.total_reward())
+    msg.header.stamp = stamp
+    return msg

@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import yaml
+from sim2d.semantic_graph import GraphError as SemanticGraphError
+from sim2d.semantic_graph import load_graph as load_semantic_graph
 
 
 class GraphError(ValueError):
@@ -162,22 +164,17 @@ def _content_hash(graph_path, map_path, robot_radius):
 
 
 def _read_graph_spec(graph_path):
+    """The graph file through sim2d's reader; the planner also needs ids 0..n-1 in file order."""
     try:
-        spec = yaml.safe_load(graph_path.read_text())
-    except (OSError, yaml.YAMLError) as error:
-        raise GraphError(f"{graph_path}: cannot read graph: {error}") from error
-    if not isinstance(spec, dict) or not {"map", "nodes", "edges"} <= spec.keys():
-        raise GraphError(f"{graph_path}: needs 'map', 'nodes' and 'edges'")
-    for position, node in enumerate(spec["nodes"]):
-        if node.get("id") != position or "name" not in node or len(node.get("pose", ())) < 2:
-            raise GraphError(
-                f"{graph_path}: node #{position} needs id {position}, a name and a pose")
-    index = {node["name"]: node["id"] for node in spec["nodes"]}
-    pairs = []
-    for edge in spec["edges"]:
-        unknown = [end for end in edge[:2] if end not in index]
-        if unknown:
-            raise GraphError(f"{graph_path}: edge {edge} names unknown place '{unknown[0]}'")
-        pairs.append((index[edge[0]], index[edge[1]]))
-    spec["edge_pairs"] = pairs
-    return spec
+        semantic = load_semantic_graph(graph_path)
+    except SemanticGraphError as error:
+        raise GraphError(str(error)) from error
+    for position, place in enumerate(semantic.places):
+        if place.id != position:
+            raise GraphError(f"{graph_path}: node #{position} ({place.name}) needs id {position}")
+    if not semantic.map_file:
+        raise GraphError(f"{graph_path}: needs 'map' (the occupancy map the edges are measured on)")
+    index = {place.name: place.id for place in semantic.places}
+    return {"map": semantic.map_file,
+            "nodes": [{"name": place.name, "pose": place.pose} for place in semantic.places],
+            "edge_pairs": [(index[a], index[b]) for a, b in semantic.edges]}

@@ -1,0 +1,91 @@
+"""Image front end of the visual perception: the two camera images (and their depth images) ->
+one camera-level FrameView, as the simulator publishes it (thesis 000 Fig. 3-7): stitching
+(Sec. 3.2.1), object boxes from YOLO, COCO-18 skeletons from mediapipe, depth per box (adaptive
+rectangle, Sec. 3.2.2) and per joint, shirt colour at joints 1, 2, 5 (Sec. 3.2.3).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from perception.detectors import check_image, stitch
+from perception.keypoints import L_SHOULDER, NECK, R_SHOULDER
+from perception.localisation import DepthWindowConfig, box_depth
+from perception.visual_pipeline import FrameView, ObjectBox, PersonView
+
+COLOUR_JOINTS = (NECK, R_SHOULDER, L_SHOULDER)
+
+
+@dataclass
+class FrontEndConfig:
+    colour_patch: int = 5        # [px] side of the square averaged for a joint's shirt colour
+    joint_depth_patch: int = 5   # [px] side of the square whose valid median is a joint's depth
+    depth: DepthWindowConfig = None
+
+    def __post_init__(self):
+        if self.depth is None:
+            self.depth = DepthWindowConfig()
+
+
+def _patch(image, x, y, side):
+    half = side // 2
+    h, w = image.shape[:2]
+    xi, yi = int(round(x)), int(round(y))
+    return image[max(0, yi - half):min(h, yi + half + 1), max(0, xi - half):min(w, xi + half + 1)]
+
+
+def joint_colours(image_bgr, points, confidence, side):
+    """(3, 3) uint8 RGB at joints 1, 2, 5 (patch mean); zeros where a joint is not seen."""
+    colours = np.zeros((3, 3), np.uint8)
+    for i, joint in enumerate(COLOUR_JOINTS):
+        if confidence[joint] > 0 and np.isfinite(points[joint]).all():
+            patch = _patch(image_bgr, *points[joint], side)
+            if patch.size:
+                colours[i] = patch.reshape(-1, 3).mean(axis=0)[::-1].round().astype(np.uint8)
+    return colours
+
+
+def joint_depths(depth, points, confidence, config):
+    """(18,) depth [m] per joint: median of valid pixels in a small patch, NaN if none."""
+    out = np.full(len(points), np.nan)
+    if depth is None:
+        return out
+    for j, (x, y) in enumerate(points):
+        if confidence[j] > 0 and np.isfinite([x, y]).all():
+            patch = _patch(depth, x, y, config.joint_depth_patch)
+            valid = patch[np.isfinite(patch) & (patch >= config.depth.min_depth)
+                          & (patch <= config.depth.max_depth)]
+            if valid.size:
+                out[j] = float(np.median(valid))
+    return out
+
+
+def build_frame(top, bottom, depth_top, depth_bottom, detector, pose, config):
+    """Stitched frame of detections; depth images may be None (then depths are NaN).
+
+    Raises ValueError for an empty image or mismatched sizes (the message says which).
+    """
+    image = stitch(top, bottom) if bottom is not None else check_image(top, "top image")
+    depth = None
+    if depth_top is not None:
+        parts = [np.asarray(depth_top, float)] + (
+            [np.asarray(depth_bottom, float)] if bottom is not None and depth_bottom is not None
+            else [])
+        depth = np.vstack(parts)
+        if depth.shape[1] != image.shape[1]:
+            raise ValueError(f"depth width {depth.shape[1]} differs from image width "
+                             f"{image.shape[1]}")
+        if depth.shape[0] < image.shape[0]:   # no bottom depth: pad the bottom rows as unknown
+            depth = np.vstack([depth, np.full((image.shape[0] - depth.shape[0], depth.shape[1]),
+                                              np.nan)])
+    frame = FrameView(image.shape[1], image.shape[0])
+    for det in detector.detect(image):
+        box = (det.x, det.y, det.width, det.height)
+        d = box_depth(depth, box, config.depth) if depth is not None else None
+        frame.objects.append(ObjectBox(det.label, det.confidence, det.x, det.y, det.width,
+                                       det.height, float("nan") if d is None else d))
+    for points, confidence in pose.skeletons(image):
+        frame.people.append(PersonView(points, confidence,
+                                       joint_depths(depth, points, confidence, config),
+                                       joint_colours(image, points, confidence,
+                                                     config.colour_patch)))
+    return frame

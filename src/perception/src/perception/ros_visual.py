@@ -1,0 +1,241 @@
+"""The visual perception node: camera-level frames (/camera/detections, tamp_msgs/PerceptionFrame,
+from the simulator or the image front end) -> /humans/observed, human_db updates, self-generated
+instructions on /task_planner/instructions, /diagnostics with latency."""
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+
+import rospy
+import tf2_ros
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from human_db.conversions import human_from_msg
+from human_db.schedule import check_schedule, time_of_day
+from sim2d.semantic_graph import load_graph
+from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, PerceptionFrame
+from tamp_msgs.msg import TaskBufferState
+from tamp_msgs.msg import Instruction as InstructionMsg
+from tamp_msgs.srv import IdentifyHuman, UpdateHuman
+from task_planner.conversions import instruction_to_msg
+from task_planner.reward import load_priorities
+
+from perception.activity import ActivityConfig, load_affordances
+from perception.localisation import Intrinsics, optical_to_map_transform
+from perception.requests import keyword_config_from_dict
+from perception.self_instructions import (
+    Observation, SelfInstructionConfig, SelfInstructionGenerator)
+from perception.conversions import frame_from_msg, observed_to_msg
+from perception.visual_pipeline import StackedCameras, analyse_frame
+
+PEPPER_TOP = {"fx": 583.9, "fy": 588.5, "cx": 320.0, "cy": 240.0, "width": 640, "height": 480,
+              "mount_x": 0.09, "mount_height": 1.15, "tilt": 0.1}
+PEPPER_BOTTOM = dict(PEPPER_TOP, mount_height=1.05, tilt=0.8)
+
+
+@dataclass
+class VisualParams:
+    affordances: str                      # ~affordances: config/affordances.yaml
+    graph: str                            # ~graph: maps/<map>.graph.yaml
+    keywords: dict                        # ~keywords: config/keywords.yaml contents (rosparam)
+    priorities_file: str                  # ~priorities_file: config/priorities.yaml
+    top_camera: dict = field(default_factory=lambda: dict(PEPPER_TOP))      # ~top_camera
+    bottom_camera: dict = field(default_factory=lambda: dict(PEPPER_BOTTOM))  # ~bottom_camera
+    map_frame: str = "map"                # ~map_frame
+    base_frame: str = "base_link"         # ~base_frame
+    period: float = 0.2                   # ~period: analysis timer period [s]
+    recommendations: dict = field(default_factory=lambda: {"read": "play_music"})
+    repeat_after: float = 600.0           # ~repeat_after [s] between equal self-instructions
+    self_instructions: bool = True        # ~self_instructions
+    idle_only: bool = True                # ~idle_only: only while no human instruction is open
+    first_id: int = 100000                # ~first_id of self-generated instructions
+    utc_offset: float = 0.0               # ~utc_offset [s] for schedule times of day
+    slow_latency: float = 0.1             # ~slow_latency [s]: diagnostics WARN above this
+
+
+def read_params():
+    """Node parameters; KeyError names a missing required one."""
+    values = {}
+    for name in ("affordances", "graph", "keywords", "priorities_file"):
+        if not rospy.has_param("~" + name):
+            raise KeyError(f"parameter ~{name} is not set "
+                           "(see src/perception/launch/visual.launch)")
+        values[name] = rospy.get_param("~" + name)
+    defaults = VisualParams(**values)
+    for name in ("top_camera", "bottom_camera", "map_frame", "base_frame", "period",
+                 "recommendations", "repeat_after", "self_instructions", "idle_only", "first_id",
+                 "utc_offset",
+                 "slow_latency"):
+        values[name] = rospy.get_param("~" + name, getattr(defaults, name))
+    return VisualParams(**values)
+
+
+def _camera_parts(spec, robot_pose):
+    intr = Intrinsics(float(spec["fx"]), float(spec["fy"]), float(spec["cx"]), float(spec["cy"]),
+                      int(spec["width"]), int(spec["height"]))
+    return intr, optical_to_map_transform(robot_pose, float(spec["mount_x"]),
+                                          float(spec["mount_height"]), float(spec["tilt"]))
+
+
+class VisualNode:
+    def __init__(self, params):
+        self.params = params
+        self._lock = threading.Lock()
+        self._frame = None
+        self._humans = {}
+        self._latencies = []
+        self._counts = {"frames": 0, "people": 0, "bad_frames": 0, "identified": 0,
+                        "instructions": 0}
+        self._timers = []
+        self._busy = False   # a human instruction is pending or active (/task_planner/state)
+
+    def setup(self):
+        p = self.params
+        self.table = load_affordances(p.affordances)
+        self.graph = load_graph(p.graph)
+        keywords = keyword_config_from_dict(p.keywords)
+        functions = {n: (f.code, f.duration_s) for n, f in keywords.functions.items()}
+        priority = load_priorities(p.priorities_file)["self_generated"]
+        codes = {a: i + 1 for i, a in enumerate(self.table.activities)}
+        self.generator = SelfInstructionGenerator(
+            SelfInstructionConfig(dict(p.recommendations), repeat_after=float(p.repeat_after)),
+            functions, priority, self.graph.place_ids(), codes, first_id=int(p.first_id))
+        self.config = ActivityConfig()
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.identify = rospy.ServiceProxy("/human_db/identify", IdentifyHuman)
+        self.update = rospy.ServiceProxy("/human_db/update", UpdateHuman)
+        self.observed = rospy.Publisher("/humans/observed", ObservedHumanArray, queue_size=5)
+        self.instructions = rospy.Publisher("/task_planner/instructions", InstructionMsg,
+                                            queue_size=20)
+        self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        rospy.Subscriber("/camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
+        rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
+        rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        self._timers = [rospy.Timer(rospy.Duration(float(p.period)), self._on_work),
+                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
+
+    def _on_frame(self, msg):
+        with self._lock:
+            self._frame = msg
+
+    def _on_state(self, msg):
+        open_states = (InstructionState.PENDING, InstructionState.ACTIVE)
+        busy = any(s.state in open_states and not s.instruction.type for s in msg.instructions)
+        with self._lock:
+            self._busy = busy
+
+    def _on_humans(self, msg):
+        table = {h.name: human_from_msg(h) for h in msg.humans}
+        with self._lock:
+            self._humans = table
+
+    def _cameras(self):
+        """Stacked cameras placed at the robot's map pose from tf, None when tf has none."""
+        try:
+            t = self.tf_buffer.lookup_transform(self.params.map_frame, self.params.base_frame,
+                                                rospy.Time(0), rospy.Duration(0.05))
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException) as error:
+            rospy.logwarn_throttle(10.0, "visual: no %s -> %s transform, people not localised: %s",
+                                   self.params.map_frame, self.params.base_frame, error)
+            return None
+        q = t.transform.rotation
+        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        pose = (t.transform.translation.x, t.transform.translation.y, yaw)
+        top, bottom = (_camera_parts(self.params.top_camera, pose),
+                       _camera_parts(self.params.bottom_camera, pose))
+        return StackedCameras(int(self.params.top_camera["height"]),
+                              {"top": top[0], "bottom": bottom[0]},
+                              {"top": top[1], "bottom": bottom[1]})
+
+    def _on_work(self, _event):
+        with self._lock:
+            msg, self._frame = self._frame, None
+        if msg is None:
+            return
+        started = time.perf_counter()
+        try:
+            results = analyse_frame(frame_from_msg(msg), self.table, self.config, self._cameras(),
+                                    self.graph)
+        except ValueError as error:
+            with self._lock:
+                self._counts["bad_frames"] += 1
+            rospy.logwarn_throttle(5.0, "visual: frame refused: %s", error)
+            return
+        out = ObservedHumanArray(header=msg.header)
+        for result in results:
+            for problem in result.problems:
+                rospy.logwarn_throttle(10.0, "visual: %s", problem)
+            name = self._identify(result)
+            out.humans.append(observed_to_msg(result, name))
+            if name:
+                self._record(name, result, msg.header.stamp)
+        self.observed.publish(out)
+        with self._lock:
+            self._counts["frames"] += 1
+            self._counts["people"] += len(results)
+            self._latencies = (self._latencies + [time.perf_counter() - started])[-50:]
+
+    def _identify(self, result):
+        if result.shirt is None:
+            return ""
+        try:
+            reply = self.identify(shirt_color=result.shirt.reshape(-1).tolist())
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            rospy.logwarn_throttle(10.0, "visual: /human_db/identify failed: %s", error)
+            return ""
+        return reply.name if reply.found else ""
+
+    def _record(self, name, result, stamp):
+        activity = result.activity.activity
+        try:
+            self.update(name=name, location=result.place, activity=activity, source="perception",
+                        stamp=stamp)
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            rospy.logwarn_throttle(10.0, "visual: /human_db/update failed: %s", error)
+        with self._lock:
+            self._counts["identified"] += 1
+            human, busy = self._humans.get(name), self._busy
+        if not self.params.self_instructions or not result.place:
+            return
+        if busy and self.params.idle_only:
+            return   # Sec. 4.2.1: the robot observes for itself only when no person needs it
+        now = stamp.to_sec() if not stamp.is_zero() else rospy.get_time()
+        check = None if human is None else check_schedule(
+            human, time_of_day(now, self.params.utc_offset), location=result.place,
+            activity=activity)
+        for instruction in self.generator.generate(Observation(name, activity, result.place, now),
+                                                   check):
+            self.instructions.publish(instruction_to_msg(instruction))
+            rospy.loginfo("visual: self-generated #%d: %s", instruction.id, instruction.text)
+            with self._lock:
+                self._counts["instructions"] += 1
+
+    def _on_diagnostics(self, _event):
+        with self._lock:
+            counts, lat = dict(self._counts), list(self._latencies)
+        mean = sum(lat) / len(lat) if lat else 0.0
+        slow = mean > self.params.slow_latency
+        status = DiagnosticStatus(
+            name="perception: visual", hardware_id="camera",
+            level=DiagnosticStatus.WARN if slow or not lat else DiagnosticStatus.OK,
+            message=("no frames analysed yet" if not lat else
+                     f"slow: mean latency {mean * 1000:.1f} ms" if slow else "ok"),
+            values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())]
+            + [KeyValue("mean_latency_ms", f"{mean * 1000:.2f}")])
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self.diagnostics.publish(array)
+
+
+def main():
+    rospy.init_node("visual")
+    try:
+        node = VisualNode(read_params())
+        node.setup()
+    except (KeyError, ValueError, OSError) as error:
+        rospy.logfatal("visual: cannot start: %s", error)
+        return 1
+    rospy.loginfo("visual: analysing /camera/detections")
+    rospy.spin()
+    return 0

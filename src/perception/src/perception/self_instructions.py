@@ -1,0 +1,76 @@
+"""Self-generated instructions (thesis 000 Sec. 4.2.1): while idle the robot observes people and
+gives itself robot-type instructions -- a recommendation for an activity ("play piano music for a
+person who is reading") and a schedule reminder when the observed activity or place differs
+from the person's schedule. Priority: the self-generated level of config/priorities.yaml.
+"""
+from dataclasses import dataclass, field
+
+from task_planner.instruction import ROBOT, Instruction
+
+
+@dataclass
+class SelfInstructionConfig:
+    recommendations: dict = field(default_factory=dict)   # activity -> robot function name
+    remind_function: str = "remind"
+    repeat_after: float = 600.0   # [s] same (person, function) is not generated again before this
+
+
+@dataclass
+class Observation:
+    person: str
+    activity: str
+    place: str        # semantic place ("" when unknown)
+    stamp: float      # [s]
+
+
+class SelfInstructionGenerator:
+    """Turns observations into robot-type Instructions, once per person and function per period.
+
+    Args:
+        functions: {function name: (code, duration_s)} (config/keywords.yaml `functions`).
+        priority: task_planner.reward.Priority of the self-generated level.
+        place_ids: {place name: graph node id}.
+        activity_codes: {activity: Instruction.status code}.
+    """
+
+    def __init__(self, config, functions, priority, place_ids, activity_codes, first_id=1):
+        for name in list(config.recommendations.values()) + [config.remind_function]:
+            if name not in functions:
+                raise ValueError(f"self-instruction function '{name}' is not a robot function "
+                                 f"(known: {sorted(functions)})")
+        self.config, self.functions, self.priority = config, functions, priority
+        self.place_ids, self.activity_codes = place_ids, activity_codes
+        self.next_id = first_id
+        self._last = {}          # (person, function) -> stamp
+
+    def _make(self, function, obs, text):
+        key = (obs.person, function)
+        if key in self._last and obs.stamp - self._last[key] < self.config.repeat_after:
+            return None
+        if obs.place not in self.place_ids:
+            return None
+        self._last[key] = obs.stamp
+        code, duration = self.functions[function]
+        instruction = Instruction(
+            id=self.next_id, gamma=self.priority.gamma, beta=self.priority.beta,
+            destination=self.place_ids[obs.place], type=ROBOT, start_time=obs.stamp,
+            duration=int(duration), source="robot", target=obs.person,
+            status=self.activity_codes.get(obs.activity, 0), function=code,
+            destination_name=obs.place, text=text)
+        self.next_id += 1
+        return instruction
+
+    def generate(self, obs, schedule_check=None):
+        """Instructions for one observation; schedule_check: human_db ScheduleCheck or None."""
+        made = []
+        function = self.config.recommendations.get(obs.activity)
+        if function:
+            made.append(self._make(function, obs,
+                                   f"{function.replace('_', ' ')} for {obs.person} who is "
+                                   f"doing '{obs.activity}' in {obs.place}"))
+        if schedule_check is not None and schedule_check.deviates:
+            entry = schedule_check.entry
+            made.append(self._make(self.config.remind_function, obs,
+                                   f"remind {obs.person}: schedule says '{entry.activity}' in "
+                                   f"{entry.place}, observed '{obs.activity}' in {obs.place}"))
+        return [m for m in made if m is not None]

@@ -1,0 +1,121 @@
+"""One camera frame -> per-person results: activity (Sec. 3.2.4), map position and semantic
+place (Sec. 3.2.2), shirt colours for identification (Sec. 3.2.3).
+
+Input is camera-level: object boxes and COCO-18 skeletons of the stitched frame with depth at
+every joint and shirt colour at joints 1, 2, 5 -- what the simulator publishes and what the image
+front end (YOLO + mediapipe + depth image) produces. Problems with one person (missing joints,
+no valid depth) are reported in that person's `problems` instead of raising.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from perception.activity import SeenObject, recognise_activity
+from perception.keypoints import HIPS, NECK, R_SHOULDER, L_SHOULDER, as_skeleton, present
+from perception.localisation import pixel_to_camera, semantic_place, stitched_pixel, transform_point
+
+DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
+
+
+@dataclass
+class ObjectBox:
+    label: str
+    confidence: float
+    x: float            # box top-left [px]
+    y: float
+    width: float        # [px]
+    height: float
+    depth: float = float("nan")   # [m]
+
+
+@dataclass
+class PersonView:
+    points: np.ndarray        # (18, 2) [px]
+    confidence: np.ndarray    # (18,)
+    depth: np.ndarray         # (18,) [m], NaN when unknown
+    shirt: np.ndarray         # (3, 3) uint8 RGB at joints 1, 2, 5; zeros where unseen
+
+
+@dataclass
+class FrameView:
+    width: int
+    height: int               # stitched height [px]
+    objects: list = field(default_factory=list)   # [ObjectBox]
+    people: list = field(default_factory=list)    # [PersonView]
+
+
+@dataclass
+class StackedCameras:
+    """Intrinsics and map <- optical transforms of the stitched top/bottom cameras."""
+
+    top_height: int            # [px] rows of the top image in the stitched frame
+    intrinsics: dict           # 'top'/'bottom' -> Intrinsics
+    to_map: dict               # 'top'/'bottom' -> 4x4 transform
+
+
+@dataclass
+class PersonResult:
+    activity: object               # ActivityResult
+    position: tuple = None         # (x, y) [m] in the map, None when not localised
+    place: str = ""
+    shirt: np.ndarray = None       # (3, 3) when all three colour joints were seen
+    problems: list = field(default_factory=list)
+
+
+def body_depth(person, min_depth):
+    """Median depth [m] over the detected torso joints with valid depth, or None."""
+    d = np.asarray(person.depth, dtype=float)[list(DEPTH_JOINTS)]
+    seen = np.asarray(person.confidence)[list(DEPTH_JOINTS)] > 0
+    valid = d[seen & np.isfinite(d) & (d >= min_depth)]
+    return float(np.median(valid)) if valid.size else None
+
+
+def objects_for(skeleton, objects):
+    """Candidate objects for one person: everything except the person box around their neck."""
+    keep = []
+    neck = skeleton[NECK]
+    for obj in objects:
+        own = obj.label == "person" and np.isfinite(neck).all() and (
+            obj.x <= neck[0] <= obj.x + obj.width and obj.y <= neck[1] <= obj.y + obj.height)
+        if not own:
+            keep.append(SeenObject(obj.label, float(obj.confidence),
+                                   obj.x + obj.width / 2.0, obj.y + obj.height / 2.0))
+    return keep
+
+
+def locate(skeleton, depth, cameras):
+    """Map (x, y) [m] of the body from the neck (else hips) pixel and the body depth."""
+    anchor = present(skeleton, (NECK,)) or present(skeleton, HIPS)
+    if not anchor or depth is None:
+        return None
+    u, v = skeleton[anchor].mean(axis=0)
+    which, u, v = stitched_pixel(u, v, cameras.top_height)
+    point = pixel_to_camera(u, v, depth, cameras.intrinsics[which])
+    return tuple(transform_point(cameras.to_map[which], point)[:2])
+
+
+def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3):
+    """Activity, map position, semantic place and shirt colours of one person."""
+    skeleton = as_skeleton(person.points, person.confidence)
+    result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects), table,
+                                             config))
+    unknown = [o.label for o in objects if not table.known(o.label) and o.label != "person"]
+    if unknown:
+        result.problems.append(f"unknown object classes ignored: {sorted(set(unknown))}")
+    if len(present(skeleton, range(len(skeleton)))) < len(skeleton):
+        result.problems.append("skeleton has missing joints")
+    if cameras is not None:
+        result.position = locate(skeleton, body_depth(person, min_depth), cameras)
+        if result.position is None:
+            result.problems.append("no valid depth at the torso: not localised")
+        elif graph is not None:
+            result.place = semantic_place(graph, *result.position)
+    shirt = np.asarray(person.shirt, dtype=np.uint8).reshape(3, 3)
+    if shirt.any(axis=1).all():
+        result.shirt = shirt
+    return result
+
+
+def analyse_frame(frame, table, config, cameras=None, graph=None):
+    """Every person of a frame -> [PersonResult] in the frame's order."""
+    return [analyse_person(p, frame.objects, table, config, cameras, graph) for p in frame.people]

@@ -1,0 +1,206 @@
+"""Framewise hierarchical activity recognition (thesis 000 Sec. 3.2.4) on hand-made skeletons."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+from perception.activity import (
+    ActivityConfig, AffordanceTable, SeenObject, activity_probabilities, activity_scores,
+    forearm_length, hand_object_eyesight_sets, load_affordances, posture_from_skeleton,
+    recognise_activity)
+from perception.keypoints import (
+    L_ANKLE, L_EAR, L_ELBOW, L_EYE, L_HIP, L_KNEE, L_SHOULDER, L_WRIST, NECK, NOSE, NUM_KEYPOINTS,
+    R_ANKLE, R_EAR, R_ELBOW, R_EYE, R_HIP, R_KNEE, R_SHOULDER, R_WRIST, as_skeleton)
+
+AFFORDANCES = os.path.join(os.path.dirname(__file__), "..", "..", "..", "config",
+                           "affordances.yaml")
+
+
+def skeleton(**joints):
+    pts = np.full((NUM_KEYPOINTS, 2), np.nan)
+    for index, xy in joints.items():
+        pts[int(index)] = xy
+    return pts
+
+
+def profile_worker():
+    """A person seen from the side, facing +x (right), head level, right forearm 50 px."""
+    return skeleton(**{
+        str(R_EAR): (100, 100), str(R_EYE): (110, 100), str(NOSE): (114, 104),
+        str(NECK): (100, 130), str(R_SHOULDER): (100, 135), str(R_ELBOW): (100, 190),
+        str(R_WRIST): (130, 230), str(R_HIP): (100, 250), str(R_KNEE): (160, 250),
+        str(R_ANKLE): (160, 320)})
+
+
+SEED_TABLE = AffordanceTable(
+    activities=("work", "watch TV", "read"),
+    hands={"mouse": {"work": 1.0}},
+    eyes={"monitor": {"work": 0.5, "watch TV": 0.5}})
+
+
+def test_seed_example_work_075_watch_tv_025():
+    """Eqs. 3-14, 3-15: mouse near the hands, monitor in eyesight, w_h = w_e."""
+    config = ActivityConfig(weight_hands=1.0, weight_eyes=1.0)
+    objects = [SeenObject("mouse", 1.0, 135, 235), SeenObject("monitor", 1.0, 400, 98)]
+    result = recognise_activity(profile_worker(), objects, SEED_TABLE, config)
+    assert result.near_hands == ["mouse"]
+    assert result.in_eyesight == ["monitor"]
+    assert result.looking_at_hands is False
+    assert result.probabilities["work"] == pytest.approx(0.75)
+    assert result.probabilities["watch TV"] == pytest.approx(0.25)
+    assert result.activity == "work"
+
+
+def test_seed_example_with_workspace_table():
+    """The same scene through config/affordances.yaml, where COCO's monitor class is 'tv'."""
+    table = load_affordances(AFFORDANCES)
+    assert len(table.activities) == 12
+    objects = [SeenObject("mouse", 0.8, 135, 235), SeenObject("tv", 0.8, 400, 98)]
+    result = recognise_activity(profile_worker(), objects, table, ActivityConfig())
+    assert result.probabilities == pytest.approx({"work": 0.75, "watch TV": 0.25})
+
+
+def test_confidence_weights_scores_eq_3_12():
+    """P(o) multiplies P_h(a|o): a 0.5-confidence mouse with a 1.0 monitor -> 0.5/(0.5+0.5+0.5)."""
+    config = ActivityConfig()
+    near = [SeenObject("mouse", 0.5, 0, 0)]
+    seen = [SeenObject("monitor", 1.0, 0, 0)]
+    probs = activity_probabilities(activity_scores(near, seen, False, SEED_TABLE, config))
+    assert probs["work"] == pytest.approx(1.0 / 1.5)
+    assert probs["watch TV"] == pytest.approx(0.5 / 1.5)
+
+
+def test_hand_weight_changes_balance():
+    """w_h = 2 w_e: work = (2 + 0.5) / 3 = 0.8333."""
+    config = ActivityConfig(weight_hands=2.0, weight_eyes=1.0)
+    near, seen = [SeenObject("mouse", 1.0, 0, 0)], [SeenObject("monitor", 1.0, 0, 0)]
+    probs = activity_probabilities(activity_scores(near, seen, False, SEED_TABLE, config))
+    assert probs["work"] == pytest.approx(2.5 / 3.0)
+
+
+def test_forearm_length_takes_the_longer_arm():
+    sk = profile_worker()
+    assert forearm_length(sk) == pytest.approx(50.0)
+    sk[L_ELBOW], sk[L_WRIST] = (90, 190), (90, 260)
+    assert forearm_length(sk) == pytest.approx(70.0)
+
+
+def test_algorithm_3_2_range_factor_boundary():
+    """Near the hand means d_hand < alpha_hand x forearm (50 px): 49 px in, 51 px out."""
+    sk = profile_worker()
+    inside = SeenObject("cup", 1.0, 130, 230 + 49)
+    outside = SeenObject("book", 1.0, 130 + 51, 230)
+    near, _, _ = hand_object_eyesight_sets(sk, [inside, outside], ActivityConfig(range_factor=1.0))
+    assert [o.label for o in near] == ["cup"]
+    near, _, _ = hand_object_eyesight_sets(sk, [inside, outside], ActivityConfig(range_factor=1.1))
+    assert [o.label for o in near] == ["cup", "book"]
+
+
+def test_algorithm_3_2_eyesight_angle():
+    """Ear->eye points along +x; an object 15 deg off is inside a 20 deg cone, 25 deg is not."""
+    sk = profile_worker()
+    config = ActivityConfig(eyesight_angle=math.radians(20))
+    at15 = SeenObject("tv", 1.0, 100 + 200 * math.cos(math.radians(15)),
+                      100 + 200 * math.sin(math.radians(15)))
+    at25 = SeenObject("book", 1.0, 100 + 200 * math.cos(math.radians(25)),
+                      100 - 200 * math.sin(math.radians(25)))
+    _, seen, _ = hand_object_eyesight_sets(sk, [at15, at25], config)
+    assert [o.label for o in seen] == ["tv"]
+
+
+def test_algorithm_3_2_looking_at_hands():
+    """Head bowed toward the wrist: ear->eye and ear->wrist within delta_eye sets E_h,e."""
+    sk = profile_worker()
+    config = ActivityConfig(eyesight_angle=math.radians(20))
+    _, _, looking = hand_object_eyesight_sets(sk, [], config)
+    assert looking is False
+    direction = np.array([30.0, 130.0]) / np.hypot(30.0, 130.0)   # ear (100,100) -> wrist (130,230)
+    sk[R_EYE] = np.array([100.0, 100.0]) + 10.0 * direction
+    _, _, looking = hand_object_eyesight_sets(sk, [], config)
+    assert looking is True
+
+
+def test_facing_the_robot_has_no_eyesight_objects():
+    """Fig. 3-12 (a): both ears and eyes visible, nose between the ears -> looking at the robot."""
+    sk = skeleton(**{
+        str(R_EAR): (90, 100), str(L_EAR): (130, 100), str(R_EYE): (103, 98), str(L_EYE): (117, 98),
+        str(NOSE): (110, 106), str(NECK): (110, 130), str(R_WRIST): (95, 220),
+        str(R_ELBOW): (90, 180)})
+    objects = [SeenObject("tv", 1.0, 110, 80)]
+    _, seen, _ = hand_object_eyesight_sets(sk, objects, ActivityConfig(eyesight_angle=math.pi))
+    assert seen == []
+
+
+def test_missing_joints_do_not_raise():
+    """No hands, no ears: empty sets, posture from torso only; all-NaN skeleton -> unknown."""
+    sk = profile_worker()
+    sk[[R_WRIST, R_EAR]] = np.nan
+    near, seen, looking = hand_object_eyesight_sets(sk, [SeenObject("cup", 1.0, 130, 230)],
+                                                    ActivityConfig())
+    assert (near, seen, looking) == ([], [], False)
+    empty = np.full((NUM_KEYPOINTS, 2), np.nan)
+    result = recognise_activity(empty, [SeenObject("cup", 1.0, 0, 0)], SEED_TABLE, ActivityConfig())
+    assert result.activity == "unknown"
+
+
+def test_unknown_object_class_is_ignored():
+    objects = [SeenObject("zeppelin", 0.9, 135, 235)]
+    result = recognise_activity(profile_worker(), objects, SEED_TABLE, ActivityConfig())
+    assert result.near_hands == ["zeppelin"]
+    assert result.probabilities == {}
+    assert result.activity == "sitting"
+
+
+def _front(neck, hips, knees, ankles):
+    return skeleton(**{str(NECK): neck, str(R_HIP): hips[0], str(L_HIP): hips[1],
+                       str(R_KNEE): knees[0], str(L_KNEE): knees[1],
+                       str(R_ANKLE): ankles[0], str(L_ANKLE): ankles[1]})
+
+
+def test_posture_standing_sitting_lying():
+    config = ActivityConfig()
+    standing = _front((200, 100), [(190, 200), (210, 200)], [(190, 290), (210, 290)],
+                      [(190, 380), (210, 380)])
+    assert posture_from_skeleton(standing, config) == "standing"
+    # Seen from the front a sitting person's thighs point at the camera: knees barely below hips.
+    sitting = _front((200, 100), [(190, 200), (210, 200)], [(188, 215), (212, 215)],
+                     [(188, 300), (212, 300)])
+    assert posture_from_skeleton(sitting, config) == "sitting"
+    lying = _front((100, 300), [(200, 295), (200, 305)], [(290, 295), (290, 305)],
+                   [(380, 295), (380, 305)])
+    assert posture_from_skeleton(lying, config) == "lying"
+    knees_hidden = standing.copy()
+    knees_hidden[[R_KNEE, L_KNEE]] = np.nan
+    assert posture_from_skeleton(knees_hidden, config) == "standing"  # ankles: 180 > 1.1 x 100
+    sitting_no_knees = sitting.copy()
+    sitting_no_knees[[R_KNEE, L_KNEE]] = np.nan
+    assert posture_from_skeleton(sitting_no_knees, config) == "sitting"  # ankles: 100 px < 110
+    assert posture_from_skeleton(standing[[0] * 18], config) == "unknown"
+
+
+def test_threshold_falls_back_to_posture():
+    """Six equally likely activities (P = 1/6 each) are below P_th = 0.4 -> posture."""
+    table = AffordanceTable(activities=tuple("abcdef"),
+                            hands={"thing": dict.fromkeys("abcdef", 1.0)})
+    result = recognise_activity(profile_worker(), [SeenObject("thing", 1.0, 135, 235)], table,
+                                ActivityConfig(probability_threshold=0.4))
+    assert result.probabilities["a"] == pytest.approx(1 / 6)
+    assert result.activity == result.posture == "sitting"
+
+
+def test_as_skeleton_rejects_bad_shape_and_masks_zero_confidence():
+    with pytest.raises(ValueError, match="shape"):
+        as_skeleton(np.zeros((17, 2)))
+    conf = np.ones(NUM_KEYPOINTS)
+    conf[L_SHOULDER] = 0
+    sk = as_skeleton(np.ones((NUM_KEYPOINTS, 2)), conf)
+    assert np.isnan(sk[L_SHOULDER]).all() and np.isfinite(sk[NECK]).all()
+
+
+def test_affordance_table_rejects_unknown_activity(tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text("activities: [eat]\nhands: {cup: {drnk: 1.0}}\neyes: {}\n"
+                    "looking_at_hands: {}\n")
+    with pytest.raises(ValueError, match="drnk"):
+        load_affordances(str(path))

@@ -1,0 +1,65 @@
+"""Image front end on darknet's person.jpg split into a top and a bottom camera image."""
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from perception.detectors import DarknetConfig, DarknetDetector, MediapipePose
+from perception.image_frontend import FrontEndConfig, build_frame, joint_depths
+
+MODELS = Path(os.environ.get("TAMP_MODEL_CACHE",
+                             Path.home() / ".cache" / "tamp_ws" / "models")) / "yolov3_tiny"
+PHOTO = "/usr/share/darknet/data/person.jpg"     # 640x424, the woman wears a blue jacket
+
+
+@pytest.fixture(scope="module")
+def backends():
+    yolo = DarknetDetector(DarknetConfig(str(MODELS / "yolov3-tiny.cfg"),
+                                         str(MODELS / "yolov3-tiny.weights"),
+                                         str(MODELS / "coco.names")))
+    pose = MediapipePose()
+    yield yolo, pose
+    pose.close()
+
+
+def test_split_photo_gives_person_with_depth_and_blue_shirt(backends):
+    image = cv2.imread(PHOTO)
+    assert image is not None, "scripts/setup installs Debian's darknet sample photos"
+    top, bottom = image[:212], image[212:]
+    depth_top = np.full(top.shape[:2], 3.0)
+    depth_bottom = np.full(bottom.shape[:2], 3.0)
+    depth_top[:, :100] = 0.0                         # no return on the left edge
+    frame = build_frame(top, bottom, depth_top, depth_bottom, *backends, FrontEndConfig())
+    assert (frame.width, frame.height) == (640, 424)
+    person = next(o for o in frame.objects if o.label == "person")
+    assert person.depth == pytest.approx(3.0)
+    [view] = frame.people
+    assert np.nanmedian(view.depth) == pytest.approx(3.0)
+    r, g, b = view.shirt[0].astype(int)               # neck: blue jacket
+    assert b > r + 40 and b > g
+
+
+def test_missing_depth_gives_nan_not_errors(backends):
+    image = cv2.imread(PHOTO)
+    frame = build_frame(image, None, None, None, *backends, FrontEndConfig())
+    assert all(np.isnan(o.depth) for o in frame.objects)
+    assert np.isnan(frame.people[0].depth).all()
+
+
+def test_empty_and_mismatched_images_are_refused(backends):
+    with pytest.raises(ValueError, match="non-empty"):
+        build_frame(np.zeros((0, 0, 3), np.uint8), None, None, None, *backends, FrontEndConfig())
+    with pytest.raises(ValueError, match="widths"):
+        build_frame(np.zeros((4, 4, 3), np.uint8), np.zeros((4, 5, 3), np.uint8), None, None,
+                    *backends, FrontEndConfig())
+
+
+def test_joint_depth_ignores_zero_and_nan():
+    depth = np.full((20, 20), 2.0)
+    depth[8:13, 8:13] = np.nan
+    depth[10, 12] = 0.0
+    points = np.array([[10.0, 10.0], [3.0, 3.0]])
+    got = joint_depths(depth, points, np.array([1.0, 1.0]), FrontEndConfig())
+    assert np.isnan(got[0]) and got[1] == pytest.approx(2.0)

@@ -1,0 +1,94 @@
+"""An in-process navigation model that runs the Executor without ROS (tests, benchmarks, demo).
+
+Time model as task_planner.problem: the robot drives graph edges at `speed_mps`; a goal on an edge
+listed in `blocked` is aborted `abort_after_s` after it was sent (move_base finding no path); a
+robot function takes its `Execute.duration_s`. Turning back mid-edge costs the time already driven
+on that edge. Instructions arrive at their given times.
+"""
+from dataclasses import dataclass, field
+
+from task_planner.executor import Execute, Navigate, Say
+
+
+@dataclass
+class NavigationModel:
+    graph: object                  # TopologicalGraph
+    speed_mps: float = 0.5         # driving speed [m/s]
+    blocked: set = field(default_factory=set)  # frozenset({a, b}) edges that cannot be driven
+    abort_after_s: float = 2.0     # time move_base takes to give up on a blocked goal [s]
+
+
+@dataclass
+class Trace:
+    """What happened in a run: goals sent, functions executed, sentences spoken."""
+
+    goals: list = field(default_factory=list)       # (time [s], node)
+    executed: list = field(default_factory=list)    # (time [s], instruction id, function name)
+    said: list = field(default_factory=list)        # (time [s], text)
+
+
+class _Drive:
+    """The goal being driven to: from `origin` to `goal`, arriving (or aborting) at `eta`."""
+
+    def __init__(self, origin, goal, eta, edge_s, aborts):
+        self.origin, self.goal, self.eta, self.edge_s, self.aborts = (origin, goal, eta, edge_s,
+                                                                      aborts)
+
+
+def run_executor(executor, arrivals, navigation, until_s=float("inf"), start_s=0.0):
+    """Run `executor` from `start_s` on `arrivals` [(time [s], Instruction)] until `until_s`.
+
+    Returns the Trace; results are in executor.buffer.
+    """
+    arrivals = sorted(arrivals, key=lambda item: item[0])
+    trace, state = Trace(), {"drive": None, "execution_end": None}
+
+    def carry_out(commands, clock):
+        for command in commands:
+            if isinstance(command, Navigate):
+                state["drive"] = _start_drive(navigation, state["drive"], executor.node,
+                                              command.node, clock)
+                trace.goals.append((clock, command.node))
+            elif isinstance(command, Execute):
+                state["execution_end"] = clock + command.duration_s
+                trace.executed.append((clock, command.instruction_id, command.function))
+            elif isinstance(command, Say):
+                trace.said.append((clock, command.text))
+
+    clock = start_s
+    carry_out(executor.tick(clock), clock)
+    while True:
+        drive, end = state["drive"], state["execution_end"]
+        times = [t for t in (arrivals[0][0] if arrivals else None,
+                             drive.eta if drive else None, end) if t is not None]
+        if not times or min(times) > until_s:
+            return trace
+        clock = max(clock, min(times))
+        if arrivals and arrivals[0][0] <= clock:
+            batch = []
+            while arrivals and arrivals[0][0] <= clock:
+                batch.append(arrivals.pop(0)[1])
+            carry_out(executor.receive(batch, clock)[1], clock)
+        elif drive is not None and drive.eta <= clock:
+            state["drive"] = None
+            commands = (executor.aborted(clock, "no path to the goal") if drive.aborts
+                        else executor.arrived(clock))
+            carry_out(commands, clock)
+        else:
+            state["execution_end"] = None
+            carry_out(executor.tick(clock), clock)
+
+
+def _start_drive(navigation, current, node, goal, clock):
+    """A new drive toward `goal`: a turn back mid-edge, a retry, or leaving node `node`."""
+    if current is not None and goal == current.origin:  # turn back: retrace what was driven
+        driven_s = current.edge_s - (current.eta - clock)
+        return _Drive(current.goal, goal, clock + driven_s, current.edge_s, False)
+    origin = node if current is None else current.origin
+    length_m = navigation.graph.adjacency[origin, goal]
+    if length_m <= 0:
+        raise RuntimeError(f"navigation goal {goal} is not a neighbour of node {origin}")
+    edge_s = length_m / navigation.speed_mps
+    if frozenset((origin, goal)) in navigation.blocked:
+        return _Drive(origin, goal, clock + navigation.abort_after_s, edge_s, True)
+    return _Drive(origin, goal, clock + edge_s, edge_s, False)

@@ -1,0 +1,60 @@
+"""Robot functions of thesis 000 Table 4-1 (`function`): what the robot says and does on arrival."""
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+
+class RobotFunctionError(ValueError):
+    """The robot function file is malformed, or an instruction names an unknown function code."""
+
+
+@dataclass(frozen=True)
+class RobotFunction:
+    """One row of config/robot_functions.yaml."""
+
+    code: int          # tamp_msgs/Instruction.function
+    name: str
+    duration_s: float  # execution time for self-generated instructions [s]
+    say: str           # spoken on start; {target}, {source}, {place} are filled in
+
+    def speech(self, instruction, place):
+        """The sentence the robot speaks when it starts this function for `instruction`."""
+        return self.say.format(target=instruction.target or "everyone",
+                               source=instruction.source or "the household", place=place)
+
+
+def load_robot_functions(path):
+    """Read config/robot_functions.yaml into {code: RobotFunction}; errors name the bad entry."""
+    try:
+        document = yaml.safe_load(Path(path).read_text())
+    except (OSError, yaml.YAMLError) as error:
+        raise RobotFunctionError(f"{path}: cannot read robot functions: {error}") from error
+    table = document.get("functions") if isinstance(document, dict) else None
+    if not isinstance(table, dict) or not table:
+        raise RobotFunctionError(f"{path}: expected a non-empty mapping under 'functions'")
+    functions = {}
+    for name, row in table.items():
+        try:
+            function = RobotFunction(int(row["code"]), str(name), float(row["duration_s"]),
+                                     str(row["say"]))
+        except (TypeError, KeyError, ValueError) as error:
+            raise RobotFunctionError(f"{path}: function '{name}' needs code, duration_s and "
+                                     f"say") from error
+        if function.code in functions:
+            raise RobotFunctionError(f"{path}: function '{name}' reuses code {function.code} "
+                                     f"of '{functions[function.code].name}'")
+        if function.duration_s < 0:
+            raise RobotFunctionError(f"{path}: function '{name}': duration_s must be >= 0")
+        functions[function.code] = function
+    return functions
+
+
+def function_for(functions, instruction):
+    """The RobotFunction an instruction asks for; RobotFunctionError names an unknown code."""
+    try:
+        return functions[instruction.function]
+    except KeyError:
+        known = ", ".join(f"{f.code}={f.name}" for f in functions.values())
+        raise RobotFunctionError(f"instruction {instruction.id}: unknown robot function code "
+                                 f"{instruction.function} (known: {known})") from None

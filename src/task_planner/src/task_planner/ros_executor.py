@@ -1,0 +1,284 @@
+"""The task_planner node: the TAMP executor (task_planner.executor) behind ROS.
+
+Callbacks only cache under a lock (instructions, the human table, move_base results); a timer
+feeds them to the executor and carries out its commands: `Navigate` -> move_base goal at the
+node's pose, `Execute` -> timed by the executor itself, `Say` -> /robot/say. The submit service
+journals before it answers, so its acknowledgement is durable.
+"""
+import math
+import os
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+import actionlib
+import rospy
+import yaml
+from actionlib_msgs.msg import GoalStatus
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
+from std_msgs.msg import String
+from tamp_msgs.msg import HumanArray, TaskBufferState
+from tamp_msgs.msg import Instruction as InstructionMsg
+from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
+                           GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
+
+from task_planner.battery import BatteryConfig, BatteryModel
+from task_planner.conversions import buffer_to_msg, instruction_from_msg
+from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate,
+                                   PeopleAtPlaces, Say, nearest_node)
+from task_planner.graph import load_graph
+from task_planner.instruction import InvalidInstruction
+from task_planner.planner_choice import make_planner
+from task_planner.reward import load_priorities
+from task_planner.robot_functions import load_robot_functions
+from task_planner.task_buffer import BufferConfig, TaskBuffer, TaskBufferError
+
+ROOT = Path(__file__).resolve().parents[4]
+
+
+@dataclass(frozen=True)
+class NodeParams:
+    planner: str = "seed"          # seed | rollout | exact | fcfs | pf | sf
+    graph: str = str(ROOT / "maps/household.graph.yaml")
+    settings: str = str(ROOT / "config/task_planner.yaml")
+    robot_functions: str = str(ROOT / "config/robot_functions.yaml")
+    journal: str = ""              # SQLite task buffer journal; "" = $ROS_HOME/task_buffer.sqlite
+    start_node: str = ""           # place the robot starts on; "" = nearest to /amcl_pose
+    max_goal_attempts: int = 3     # move_base attempts per goal before the instruction fails
+    tick_period: float = 0.05      # executor step [s]
+    frame_id: str = "map"          # frame of the move_base goals
+    battery: bool = True           # low-battery model: the robot sends itself to charge
+    charging_place: str = "charging_place"  # graph node name of the charger
+    priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
+
+    @classmethod
+    def from_ros(cls):
+        """Read every field from the private parameter of the same name (default if unset)."""
+        values = {}
+        for name in cls.__dataclass_fields__:
+            default = getattr(cls, name)
+            values[name] = type(default)(rospy.get_param(f"~{name}", default))
+        if not values["journal"]:
+            values["journal"] = str(Path(os.environ.get("ROS_HOME", Path.home() / ".ros"))
+                                    / "task_buffer.sqlite")
+        return cls(**values)
+
+
+class ExecutorNode:
+    def __init__(self, params):
+        self.params = params
+        settings = yaml.safe_load(Path(params.settings).read_text())
+        self.graph = load_graph(params.graph, float(settings["robot_radius_m"]))
+        Path(params.journal).parent.mkdir(parents=True, exist_ok=True)
+        buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size))
+        self.people = PeopleAtPlaces()
+        self.executor_functions = load_robot_functions(params.robot_functions)
+        self.executor = Executor(
+            buffer, self.graph, make_planner(params.planner, settings), self.people,
+            self.executor_functions,
+            ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts),
+            start_node=self.graph.index(params.start_node) if params.start_node else 0,
+            charging=self._charging(params, settings) if params.battery else None)
+        self.lock = threading.Lock()  # guards the caches below and the executor
+        self.inbox, self.humans, self.results = [], None, []
+        self.refused, self.nav_goal = 0, None
+
+    def _charging(self, params, settings):
+        functions = {f.name: f for f in self.executor_functions.values()}
+        if "charge" not in functions:
+            raise ValueError(f"{params.robot_functions}: no 'charge' function for the battery")
+        config = BatteryConfig(**{name: float(settings[f"battery_{name}"]) for name in (
+            "capacity_wh", "idle_w", "moving_w", "executing_w", "charge_w", "low_fraction")})
+        return Charging(BatteryModel(config, now=rospy.get_time()),
+                        self.graph.index(params.charging_place), functions["charge"].code,
+                        load_priorities(params.priorities)["self_generated"])
+
+    def setup(self, timeout):
+        """Publishers, subscribers, services and the move_base client; False if it is not up."""
+        self.say_pub = rospy.Publisher("/robot/say", String, queue_size=10)
+        self.state_pub = rospy.Publisher("/task_planner/state", TaskBufferState, queue_size=1,
+                                         latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
+        if not self.move_base.wait_for_server(rospy.Duration(timeout)):
+            rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
+            return False
+        if not self.params.start_node:
+            try:
+                pose = rospy.wait_for_message("/amcl_pose", PoseWithCovarianceStamped,
+                                              timeout).pose.pose.position
+            except rospy.ROSException:
+                rospy.logerr("task_planner: no /amcl_pose after %.0f s to find the start place "
+                             "(or set ~start_node)", timeout)
+                return False
+            self.executor.node = nearest_node(self.graph, pose.x, pose.y)
+        rospy.loginfo("task_planner: starting at %s; %d open instruction(s) in the journal "
+                      "(%d resumed)", self.graph.names[self.executor.node],
+                      len(self.executor.buffer.open_records()), self.executor.buffer.resumed)
+        rospy.Subscriber("/task_planner/instructions", InstructionMsg, self._on_instruction,
+                         queue_size=1000)
+        rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
+        rospy.Service("/task_planner/submit", SubmitInstruction, self._submit)
+        rospy.Service("/task_planner/cancel", CancelInstruction, self._cancel)
+        rospy.Service("/task_planner/get_buffer", GetTaskBuffer, self._get_buffer)
+        rospy.Timer(rospy.Duration(self.params.tick_period), self._tick)
+        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        with self.lock:
+            self._publish_state()
+        return True
+
+    # ---- callbacks: cache only ----
+
+    def _on_instruction(self, msg):
+        with self.lock:
+            self.inbox.append(msg)
+
+    def _on_humans(self, msg):
+        with self.lock:
+            self.humans = msg
+
+    def _on_goal_done(self, goal_node, state, result):
+        del result
+        with self.lock:
+            self.results.append((goal_node, state, self.move_base.get_goal_status_text()))
+
+    # ---- services: journal before answering ----
+
+    def _submit(self, request):
+        with self.lock:
+            try:
+                instruction = instruction_from_msg(request.instruction)
+            except InvalidInstruction as error:
+                return SubmitInstructionResponse(False, request.instruction.id, str(error))
+            results, commands = self.executor.receive([instruction], rospy.get_time())
+            self._carry_out(commands)
+            self._publish_state()
+        record, error = results[0]
+        return SubmitInstructionResponse(record is not None, instruction.id, error)
+
+    def _cancel(self, request):
+        with self.lock:
+            try:
+                _, commands = self.executor.cancel(request.id, rospy.get_time())
+            except TaskBufferError as error:
+                return CancelInstructionResponse(False, str(error))
+            self._carry_out(commands)
+            self._publish_state()
+        return CancelInstructionResponse(True, "")
+
+    def _get_buffer(self, _request):
+        with self.lock:
+            return GetTaskBufferResponse(buffer_to_msg(self.executor.buffer, rospy.Time.now()))
+
+    # ---- the executor step ----
+
+    def _tick(self, _event):
+        with self.lock:
+            now = rospy.get_time()
+            self._update_people()
+            version = self.executor.buffer.version
+            commands = self._receive(now) + self._navigation_results(now)
+            commands += self.executor.tick(now)
+            self._carry_out(commands)
+            if self.executor.buffer.version != version:
+                self._publish_state()
+
+    def _receive(self, now):
+        inbox, self.inbox = self.inbox, []
+        instructions = []
+        for msg in inbox:
+            try:
+                instructions.append(instruction_from_msg(msg))
+            except InvalidInstruction as error:
+                self.refused += 1
+                rospy.logwarn("task_planner: refused instruction: %s", error)
+        if not instructions:
+            return []
+        results, commands = self.executor.receive(instructions, now)
+        for _, error in results:
+            if error:
+                self.refused += 1
+                rospy.logwarn("task_planner: refused instruction: %s", error)
+        return commands
+
+    def _navigation_results(self, now):
+        results, self.results = self.results, []
+        commands = []
+        for goal_node, state, text in results:
+            if goal_node != self.nav_goal or self.executor.mode != "moving":
+                continue  # a goal we replaced (preempted) or no longer follow
+            self.nav_goal = None
+            if state == GoalStatus.SUCCEEDED:
+                commands += self.executor.arrived(now)
+            elif state in (GoalStatus.ABORTED, GoalStatus.REJECTED):
+                commands += self.executor.aborted(now, text or GoalStatus.to_string(state))
+        return commands
+
+    def _update_people(self):
+        if self.humans is None:
+            return
+        for human in self.humans.humans:
+            node = self.graph.names.index(human.location) \
+                if human.location in self.graph.names else None
+            self.people.seen(human.name, node)
+        self.humans = None
+
+    def _carry_out(self, commands):
+        for command in commands:
+            if isinstance(command, Navigate):
+                self._send_goal(command.node)
+            elif isinstance(command, Say):
+                self.say_pub.publish(String(command.text))
+                rospy.loginfo("task_planner says: %s", command.text)
+            elif isinstance(command, Execute):
+                rospy.loginfo("task_planner: %s for instruction %d (%.0f s)", command.function,
+                              command.instruction_id, command.duration_s)
+
+    def _send_goal(self, node):
+        x, y, yaw = self.graph.poses[node]
+        goal = MoveBaseGoal()
+        goal.target_pose.header.frame_id = self.params.frame_id
+        goal.target_pose.header.stamp = rospy.Time.now()
+        goal.target_pose.pose.position.x, goal.target_pose.pose.position.y = x, y
+        goal.target_pose.pose.orientation.z = math.sin(yaw / 2.0)
+        goal.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
+        self.nav_goal = node
+        self.move_base.send_goal(goal, done_cb=lambda state, result, n=node:
+                                 self._on_goal_done(n, state, result))
+        rospy.loginfo("task_planner: move_base goal %s", self.graph.names[node])
+
+    def _publish_state(self):
+        self.state_pub.publish(buffer_to_msg(self.executor.buffer, rospy.Time.now()))
+
+    def _diagnose(self, _event):
+        with self.lock:
+            records = self.executor.buffer.records()
+            counts = {name: sum(r.state == k for r in records)
+                      for k, name in enumerate(("pending", "active", "done", "failed",
+                                                "cancelled"))}
+            level = DiagnosticStatus.WARN if self.refused else DiagnosticStatus.OK
+            message = f"{self.executor.mode} at {self.graph.names[self.executor.node]}"
+            if self.refused:
+                message += f"; {self.refused} instruction(s) refused"
+            values = [KeyValue(k, str(v)) for k, v in counts.items()]
+            values.append(KeyValue("total_reward", f"{self.executor.buffer.total_reward():.3f}"))
+            if self.executor.charging:
+                values.append(KeyValue("battery_percent",
+                                       f"{100 * self.executor.charging.battery.fraction:.1f}"))
+            self.refused = 0
+        status = DiagnosticStatus(level=level, name="task_planner: executor",
+                                  message=message, hardware_id="task_planner", values=values)
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self.diag_pub.publish(array)
+
+
+def main():
+    rospy.init_node("task_planner")
+    node = ExecutorNode(NodeParams.from_ros())
+    if not node.setup(timeout=60.0):
+        return 1
+    rospy.spin()
+    return 0

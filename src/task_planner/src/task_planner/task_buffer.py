@@ -1,0 +1,291 @@
+"""The task buffer of thesis 000 Fig. 4-14, journalled in SQLite (stdlib sqlite3, WAL mode).
+
+Perceptions become instructions that are written into the task buffer; the task planner fetches
+them; the result is written back. Every instruction is committed to the journal before `submit`
+returns, so an acknowledgement is never lost. Life cycle (tamp_msgs/InstructionState):
+
+    PENDING -> ACTIVE -> DONE | FAILED | CANCELLED     (PENDING -> FAILED | CANCELLED too)
+
+ACTIVE means the robot function is being executed at the destination. Opening an existing journal
+puts ACTIVE rows back to PENDING (the function was interrupted, so it never completed) and keeps
+every DONE row closed, so a restart loses nothing and repeats nothing that finished. Times are
+passed in by the caller (ROS time in the node, simulated time in tests) [s].
+
+Chains (Table 4-1 `previous_id`): a successor is eligible once its predecessor is DONE. The buffer
+keeps every instruction it ever journalled, so a predecessor it does not hold has not arrived yet
+(a chain's messages may arrive in any order): the successor waits for it. When a predecessor fails
+or is cancelled its open successors fail too, with a reason naming it. `version` counts changes.
+"""
+import sqlite3
+from dataclasses import dataclass, fields
+
+from task_planner.instruction import Instruction, InvalidInstruction
+from task_planner.reward import decayed_reward
+
+PENDING, ACTIVE, DONE, FAILED, CANCELLED = range(5)  # = tamp_msgs/InstructionState constants
+STATE_NAMES = ("pending", "active", "done", "failed", "cancelled")
+OPEN_STATES = (PENDING, ACTIVE)
+
+_INSTRUCTION_FIELDS = tuple(f.name for f in fields(Instruction))
+_COLUMNS = ("id INTEGER PRIMARY KEY, previous_id INTEGER, gamma REAL, beta REAL, "
+            "destination INTEGER, type INTEGER, start_time REAL, duration INTEGER, source TEXT, "
+            "target TEXT, status INTEGER, function INTEGER, destination_name TEXT, text TEXT, "
+            "state INTEGER NOT NULL, received_time REAL NOT NULL, started_time REAL NOT NULL, "
+            "completion_time REAL NOT NULL, reward_earned REAL NOT NULL, reason TEXT NOT NULL, "
+            "seq INTEGER NOT NULL")
+
+
+class TaskBufferError(ValueError):
+    """A request to the task buffer that breaks its rules; the message names the instruction."""
+
+
+@dataclass(frozen=True)
+class BufferConfig:
+    """Journal settings."""
+
+    synchronous: str = "FULL"  # SQLite PRAGMA synchronous: FULL survives power loss in WAL mode
+    node_count: int = 0        # graph size for destination checks; 0 = do not check
+
+
+@dataclass(frozen=True)
+class Record:
+    """One instruction and its life-cycle state (tamp_msgs/InstructionState)."""
+
+    instruction: Instruction
+    state: int
+    received_time: float    # when the buffer journalled it [s]
+    started_time: float     # when it became ACTIVE last [s]; 0 if never
+    completion_time: float  # when it reached DONE/FAILED/CANCELLED [s]; 0 while open
+    reward_earned: float    # Eq. 4-2 reward when DONE, else 0
+    reason: str             # why it failed or was cancelled; empty otherwise
+    seq: int                # arrival order in the buffer (oldest first)
+
+    @property
+    def is_open(self):
+        return self.state in OPEN_STATES
+
+
+class TaskBuffer:
+    """Instructions journalled in SQLite; `path` may be ':memory:' for a buffer without a file."""
+
+    def __init__(self, path, config=None):
+        self.config = config or BufferConfig()
+        if self.config.synchronous not in ("OFF", "NORMAL", "FULL", "EXTRA"):
+            raise TaskBufferError(f"synchronous must be OFF, NORMAL, FULL or EXTRA, "
+                                  f"got {self.config.synchronous!r}")
+        self._db = sqlite3.connect(str(path), isolation_level=None, check_same_thread=False)
+        self._db.execute("PRAGMA journal_mode=WAL")
+        self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
+        self._db.execute(f"CREATE TABLE IF NOT EXISTS instructions ({_COLUMNS})")
+        self.resumed = self._db.execute(
+            "UPDATE instructions SET state=?, started_time=0 WHERE state=?",
+            (PENDING, ACTIVE)).rowcount
+        self._records = {row.instruction.id: row for row in self._load()}
+        self._next_seq = max((r.seq for r in self._records.values()), default=0) + 1
+        self.version = 0  # incremented by every change (for publishing snapshots on change)
+
+    def close(self):
+        self._db.close()
+
+    # ---- submit (perception -> task buffer) ----
+
+    def submit(self, instruction, now):
+        """Journal `instruction` (committed on return); returns its Record.
+
+        Re-submitting an identical instruction returns the stored record unchanged. Raises
+        TaskBufferError for an id reused with other content, an unknown destination, or a
+        `previous_id` chain that would form a cycle.
+        """
+        with self._db:
+            self._db.execute("BEGIN")
+            return self._insert(instruction, now)
+
+    def submit_many(self, instructions, now):
+        """Journal a burst in one transaction (one disk sync); bad ones are refused, not fatal.
+
+        Returns [(Record, "")] or [(None, reason)] per instruction, in order.
+        """
+        results = []
+        with self._db:
+            self._db.execute("BEGIN")
+            for instruction in instructions:
+                try:
+                    results.append((self._insert(instruction, now), ""))
+                except TaskBufferError as error:
+                    results.append((None, str(error)))
+        return results
+
+    def _insert(self, instruction, now):
+        known = self._records.get(instruction.id)
+        if known is not None:
+            if known.instruction == instruction:
+                return known
+            raise TaskBufferError(f"instruction {instruction.id}: id already used by a different "
+                                  f"instruction ({STATE_NAMES[known.state]})")
+        self._check(instruction)
+        record = Record(instruction, PENDING, float(now), 0.0, 0.0, 0.0, "", self._next_seq)
+        predecessor = self._records.get(instruction.previous_id)
+        if predecessor is not None and predecessor.state in (FAILED, CANCELLED):
+            record = _close(record, FAILED, now, f"predecessor {predecessor.instruction.id} "
+                                                  f"{STATE_NAMES[predecessor.state]}")
+        self._db.execute("INSERT INTO instructions VALUES (" + ",".join("?" * 21) + ")",
+                         _row(record))
+        self._records[instruction.id] = record
+        self._next_seq += 1
+        self.version += 1
+        return record
+
+    def _check(self, instruction):
+        nodes = self.config.node_count
+        if nodes and not 0 <= instruction.destination < nodes:
+            raise TaskBufferError(f"instruction {instruction.id}: destination node "
+                                  f"{instruction.destination} is not in the graph "
+                                  f"(nodes 0..{nodes - 1})")
+        chain, current = [instruction.id], instruction.previous_id
+        while current in self._records:
+            if current in chain:  # only reachable through a corrupt journal
+                raise TaskBufferError(f"instruction {instruction.id}: previous_id cycle via "
+                                      f"{current}")
+            chain.append(current)
+            current = self._records[current].instruction.previous_id
+        if current == instruction.id:
+            raise TaskBufferError(f"instruction {instruction.id}: previous_id chain "
+                                  f"{' -> '.join(map(str, chain))} returns to itself")
+
+    # ---- fetch (task buffer -> planner) ----
+
+    def get(self, instruction_id):
+        try:
+            return self._records[instruction_id]
+        except KeyError:
+            raise TaskBufferError(f"instruction {instruction_id}: not in the task buffer") from None
+
+    def records(self):
+        """Every record, oldest first."""
+        return sorted(self._records.values(), key=lambda r: r.seq)
+
+    def open_records(self):
+        return [r for r in self.records() if r.is_open]
+
+    def eligible(self, record):
+        """Table 4-1 `previous_id`: open, and no predecessor or a DONE one."""
+        previous = record.instruction.previous_id
+        return record.is_open and (previous == 0 or previous in self.done_ids())
+
+    def done_ids(self):
+        return {i for i, r in self._records.items() if r.state == DONE}
+
+    def active_id(self):
+        return next((r.instruction.id for r in self._records.values() if r.state == ACTIVE), 0)
+
+    def total_reward(self):
+        return sum(r.reward_earned for r in self._records.values())
+
+    # ---- write back (executor -> task buffer) ----
+
+    def start(self, instruction_id, now):
+        """PENDING -> ACTIVE: the robot function begins. Only one instruction is active."""
+        record = self._expect(instruction_id, (PENDING,), "start")
+        if not self.eligible(record):
+            raise TaskBufferError(f"instruction {instruction_id}: predecessor "
+                                  f"{record.instruction.previous_id} is not done")
+        active = self.active_id()
+        if active:
+            raise TaskBufferError(f"instruction {instruction_id}: instruction {active} is active")
+        return self._store(_replace(record, state=ACTIVE, started_time=float(now)))
+
+    def finish(self, instruction_id, now):
+        """ACTIVE -> DONE with the Eq. 4-2 reward gamma * beta ** (now - start_time)."""
+        record = self._expect(instruction_id, (ACTIVE,), "finish")
+        ins = record.instruction
+        reward = float(decayed_reward(ins.gamma, ins.beta, max(0.0, now - ins.start_time)))
+        return self._store(_replace(_close(record, DONE, now, ""), reward_earned=reward))
+
+    def fail(self, instruction_id, now, reason):
+        """PENDING/ACTIVE -> FAILED with `reason`; open successors fail too."""
+        if not reason:
+            raise TaskBufferError(f"instruction {instruction_id}: a failure needs a reason")
+        record = self._expect(instruction_id, OPEN_STATES, "fail")
+        return self._close_chain(record, FAILED, now, reason)
+
+    def cancel(self, instruction_id, now, reason="cancelled by request"):
+        """PENDING/ACTIVE -> CANCELLED; open successors fail naming it."""
+        record = self._expect(instruction_id, OPEN_STATES, "cancel")
+        return self._close_chain(record, CANCELLED, now, reason)
+
+    def requeue(self, instruction_id):
+        """ACTIVE -> PENDING: the function was interrupted before it completed."""
+        record = self._expect(instruction_id, (ACTIVE,), "requeue")
+        return self._store(_replace(record, state=PENDING, started_time=0.0))
+
+    def _close_chain(self, record, state, now, reason):
+        with self._db:  # one transaction: the instruction and its successors close together
+            self._db.execute("BEGIN")
+            closed = self._store(_close(record, state, now, reason))
+            for successor, parent in self._open_successors(record.instruction.id):
+                self._store(_close(successor, FAILED, now, f"predecessor {parent} "
+                                                           f"{STATE_NAMES[self.get(parent).state]}"))
+        return closed
+
+    def _open_successors(self, instruction_id):
+        """[(open successor, its predecessor id)], breadth first down the chains."""
+        found, frontier = [], [instruction_id]
+        while frontier:
+            parent = frontier.pop(0)
+            for r in self.records():
+                if r.instruction.previous_id == parent and r.is_open:
+                    found.append((r, parent))
+                    frontier.append(r.instruction.id)
+        return found
+
+    def _expect(self, instruction_id, states, action):
+        record = self.get(instruction_id)
+        if record.state not in states:
+            raise TaskBufferError(f"instruction {instruction_id}: cannot {action} an instruction "
+                                  f"that is {STATE_NAMES[record.state]}")
+        return record
+
+    def _store(self, record):
+        """Write a state change (autocommit, or part of the caller's open transaction)."""
+        self._db.execute(
+            "UPDATE instructions SET state=?, started_time=?, completion_time=?, reward_earned=?, "
+            "reason=? WHERE id=?", (record.state, record.started_time, record.completion_time,
+                                    record.reward_earned, record.reason, record.instruction.id))
+        self._records[record.instruction.id] = record
+        self.version += 1
+        return record
+
+    def _load(self):
+        for row in self._db.execute("SELECT * FROM instructions ORDER BY seq"):
+            values = dict(zip(_INSTRUCTION_FIELDS, _instruction_values(row)))
+            try:
+                instruction = Instruction(**values)
+            except InvalidInstruction as error:
+                raise TaskBufferError(f"journal row {row[0]} is corrupt: {error}") from error
+            yield Record(instruction, *row[14:21])
+
+
+def _instruction_values(row):
+    """Journal column order -> Instruction field order."""
+    by_column = dict(zip(("id", "previous_id", "gamma", "beta", "destination", "type",
+                          "start_time", "duration", "source", "target", "status", "function",
+                          "destination_name", "text"), row[:14]))
+    return [by_column[name] for name in _INSTRUCTION_FIELDS]
+
+
+def _row(record):
+    i = record.instruction
+    return (i.id, i.previous_id, i.gamma, i.beta, i.destination, i.type, i.start_time, i.duration,
+            i.source, i.target, i.status, i.function, i.destination_name, i.text, record.state,
+            record.received_time, record.started_time, record.completion_time,
+            record.reward_earned, record.reason, record.seq)
+
+
+def _replace(record, **changes):
+    values = {f.name: getattr(record, f.name) for f in fields(Record)}
+    values.update(changes)
+    return Record(**values)
+
+
+def _close(record, state, now, reason):
+    return _replace(record, state=state, completion_time=float(now), reason=reason)

@@ -1,0 +1,43 @@
+"""Robot functions (Table 4-1 `function`): the config agrees with verbal perception's codes."""
+from pathlib import Path
+
+import pytest
+import yaml
+from planner_factories import make_instruction
+
+from task_planner.robot_functions import (RobotFunctionError, function_for,
+                                          load_robot_functions)
+
+CONFIG = Path(__file__).resolve().parents[3] / "config"
+
+
+def test_codes_and_durations_match_the_verbal_keywords():
+    functions = load_robot_functions(CONFIG / "robot_functions.yaml")
+    keywords = yaml.safe_load((CONFIG / "keywords.yaml").read_text())["functions"]
+    for name, row in keywords.items():
+        function = functions[row["code"]]
+        assert (function.name, function.duration_s) == (name, row["duration_s"])
+    assert functions[8].name == "charge"
+
+
+def test_speech_fills_in_the_instruction():
+    functions = load_robot_functions(CONFIG / "robot_functions.yaml")
+    report = make_instruction(3, 0, function=7, source="Bob", target="Alice")
+    assert function_for(functions, report).speech(report, "office") == \
+        "Alice, here is my report on Bob."
+    with pytest.raises(RobotFunctionError, match="instruction 3: unknown robot function code 9"):
+        function_for(functions, make_instruction(3, 0, function=9))
+
+
+@pytest.mark.parametrize("text, message", [
+    ("functions: {}", "non-empty mapping"),
+    ("functions: {chat: {code: 1, say: hi}}", "'chat' needs code, duration_s and say"),
+    ("functions: {a: {code: 1, duration_s: 1, say: x}, b: {code: 1, duration_s: 1, say: y}}",
+     "'b' reuses code 1 of 'a'"),
+    ("functions: {a: {code: 1, duration_s: -1, say: x}}", "duration_s must be >= 0"),
+])
+def test_bad_files_are_named(tmp_path, text, message):
+    path = tmp_path / "functions.yaml"
+    path.write_text(text)
+    with pytest.raises(RobotFunctionError, match=message):
+        load_robot_functions(path)

@@ -1,0 +1,168 @@
+"""Task buffer: journal before acknowledgement, life cycle, chains, restart, bad input."""
+import math
+import multiprocessing
+import os
+import signal
+
+import pytest
+from planner_factories import make_instruction
+
+from task_planner.task_buffer import (ACTIVE, CANCELLED, DONE, FAILED, PENDING, BufferConfig,
+                                      TaskBuffer, TaskBufferError)
+
+
+@pytest.fixture
+def journal(tmp_path):
+    return tmp_path / "buffer.sqlite"
+
+
+def test_submit_then_life_cycle_with_eq_4_2_reward(journal):
+    buffer = TaskBuffer(journal)
+    buffer.submit(make_instruction(1, 2, gamma=3.0, beta=0.94, start_time=10.0), now=11.0)
+    assert buffer.get(1).state == PENDING and buffer.get(1).received_time == 11.0
+    buffer.start(1, now=20.0)
+    assert buffer.active_id() == 1
+    done = buffer.finish(1, now=30.0)
+    # Eq. 4-2: 3 * 0.94 ** (30 - 10) = 0.8703...
+    assert done.state == DONE and done.completion_time == 30.0
+    assert done.reward_earned == pytest.approx(3.0 * 0.94 ** 20)
+    assert done.reward_earned == pytest.approx(0.87032, abs=1e-5)
+    assert buffer.total_reward() == pytest.approx(done.reward_earned)
+
+
+def test_submitted_instruction_is_in_the_journal_before_submit_returns(journal):
+    buffer = TaskBuffer(journal)
+    buffer.submit(make_instruction(7, 1, text="play some music"), now=1.0)
+    other = TaskBuffer(journal)  # a second connection sees the committed row
+    assert other.get(7).instruction.text == "play some music"
+
+
+def test_bad_requests_are_named(journal):
+    buffer = TaskBuffer(journal, BufferConfig(node_count=4))
+    buffer.submit(make_instruction(1, 2), now=0.0)
+    with pytest.raises(TaskBufferError, match="instruction 1: id already used"):
+        buffer.submit(make_instruction(1, 3), now=0.0)
+    assert buffer.submit(make_instruction(1, 2), now=5.0).received_time == 0.0  # idempotent
+    with pytest.raises(TaskBufferError, match="destination node 9 is not in the graph"):
+        buffer.submit(make_instruction(2, 9), now=0.0)
+    with pytest.raises(TaskBufferError, match="cannot finish an instruction that is pending"):
+        buffer.finish(1, now=1.0)
+    with pytest.raises(TaskBufferError, match="instruction 5: not in the task buffer"):
+        buffer.start(5, now=1.0)
+    with pytest.raises(TaskBufferError, match="needs a reason"):
+        buffer.fail(1, now=1.0, reason="")
+    with pytest.raises(TaskBufferError, match="synchronous"):
+        TaskBuffer(journal, BufferConfig(synchronous="SOMETIMES"))
+
+
+def test_chain_cycle_through_forward_reference_is_refused(journal):
+    buffer = TaskBuffer(journal)
+    buffer.submit(make_instruction(2, 0, previous_id=1), now=0.0)
+    with pytest.raises(TaskBufferError, match="returns to itself"):
+        buffer.submit(make_instruction(1, 0, previous_id=2), now=0.0)
+
+
+def test_successor_waits_for_predecessor_and_fails_with_it(journal):
+    buffer = TaskBuffer(journal)
+    buffer.submit(make_instruction(1, 0), now=0.0)
+    buffer.submit(make_instruction(2, 1, previous_id=1), now=0.0)
+    buffer.submit(make_instruction(3, 1, previous_id=2), now=0.0)
+    buffer.submit(make_instruction(4, 1, previous_id=99), now=0.0)  # 99 has not arrived yet
+    assert [buffer.eligible(buffer.get(i)) for i in (1, 2, 3, 4)] == [True, False, False, False]
+    with pytest.raises(TaskBufferError, match="predecessor 1 is not done"):
+        buffer.start(2, now=1.0)
+    buffer.fail(1, now=2.0, reason="move_base aborted")
+    assert buffer.get(2).state == FAILED and buffer.get(2).reason == "predecessor 1 failed"
+    assert buffer.get(3).state == FAILED and buffer.get(3).reason == "predecessor 2 failed"
+    assert buffer.get(4).state == PENDING
+    buffer.submit(make_instruction(99, 2), now=2.5)  # the predecessor arrives after its successor
+    buffer.start(99, now=2.6)
+    buffer.finish(99, now=2.7)
+    assert buffer.eligible(buffer.get(4))
+    late = buffer.submit(make_instruction(5, 1, previous_id=1), now=3.0)
+    assert late.state == FAILED and late.reason == "predecessor 1 failed"
+
+
+def test_cancel_and_single_active(journal):
+    buffer = TaskBuffer(journal)
+    for k in (1, 2):
+        buffer.submit(make_instruction(k, 0), now=0.0)
+    buffer.start(1, now=1.0)
+    with pytest.raises(TaskBufferError, match="instruction 1 is active"):
+        buffer.start(2, now=1.0)
+    cancelled = buffer.cancel(1, now=2.0)
+    assert cancelled.state == CANCELLED and cancelled.reward_earned == 0.0
+    buffer.start(2, now=3.0)
+    assert buffer.active_id() == 2
+
+
+def test_restart_resumes_active_as_pending_and_keeps_done_closed(journal):
+    buffer = TaskBuffer(journal)
+    for k in (1, 2, 3):
+        buffer.submit(make_instruction(k, k, start_time=0.0), now=float(k))
+    buffer.start(1, now=4.0)
+    buffer.finish(1, now=5.0)
+    buffer.start(2, now=6.0)
+    buffer.close()
+    again = TaskBuffer(journal)
+    assert again.resumed == 1
+    assert [(r.instruction.id, r.state) for r in again.records()] == \
+        [(1, DONE), (2, PENDING), (3, PENDING)]
+    assert again.get(1).reward_earned == pytest.approx(3.0 * 0.94 ** 5)
+    again.submit(make_instruction(4, 0), now=7.0)
+    assert [r.seq for r in again.records()] == [1, 2, 3, 4]
+
+
+def _submit_then_die(path, count, ready):
+    buffer = TaskBuffer(path)
+    for k in range(1, count + 1):
+        buffer.submit(make_instruction(k, k % 3, start_time=float(k)), now=float(k))
+    buffer.start(1, now=float(count))
+    buffer.finish(1, now=float(count) + 1)
+    buffer.start(2, now=float(count) + 2)
+    ready.set()
+    signal.pause()  # killed here, mid-function, without closing the database
+
+
+def test_crash_loses_nothing_acknowledged_and_repeats_nothing_done(journal):
+    ready = multiprocessing.get_context("fork").Event()
+    process = multiprocessing.get_context("fork").Process(
+        target=_submit_then_die, args=(journal, 50, ready))
+    process.start()
+    assert ready.wait(30)
+    os.kill(process.pid, signal.SIGKILL)
+    process.join()
+    assert process.exitcode == -signal.SIGKILL
+    buffer = TaskBuffer(journal)
+    states = {r.instruction.id: r.state for r in buffer.records()}
+    assert len(states) == 50
+    assert states[1] == DONE and states[2] == PENDING and buffer.resumed == 1
+    assert sum(s == PENDING for s in states.values()) == 49
+    assert buffer.get(1).reward_earned == pytest.approx(3.0 * 0.94 ** 50)
+    assert not math.isclose(buffer.get(2).reward_earned, 3.0 * 0.94 ** 51)
+
+
+def test_flood_of_1000_is_journalled_completely(journal):
+    buffer = TaskBuffer(journal, BufferConfig(synchronous="FULL", node_count=8))
+    # 1,000 in one second, journalled by a 20 Hz executor tick: 20 bursts of 50
+    for burst in range(20):
+        ids = range(burst * 50 + 1, burst * 50 + 51)
+        results = buffer.submit_many(
+            [make_instruction(k, k % 8, start_time=k / 1000) for k in ids], now=burst / 20)
+        assert all(record is not None for record, _ in results)
+    buffer.close()
+    again = TaskBuffer(journal)
+    ids = [r.instruction.id for r in again.records()]
+    assert ids == list(range(1, 1001))
+    assert all(r.state == PENDING and r.instruction.destination == r.instruction.id % 8
+               for r in again.records())
+    assert ACTIVE not in {r.state for r in again.records()}
+
+
+def test_burst_in_one_transaction_refuses_only_the_bad_ones(journal):
+    buffer = TaskBuffer(journal, BufferConfig(node_count=4))
+    burst = [make_instruction(1, 0), make_instruction(2, 7), make_instruction(3, 3)]
+    results = buffer.submit_many(burst, now=2.0)
+    assert [r.instruction.id if r else None for r, _ in results] == [1, None, 3]
+    assert "destination node 7 is not in the graph" in results[1][1]
+    assert [r.instruction.id for r in TaskBuffer(journal).records()] == [1, 3]
