@@ -5,10 +5,11 @@ import pytest
 from helpers import open_room
 
 from nav_mocks.costmap import CostmapConfig
-from nav_mocks.dwa import (DwaConfig, DwaController, LocalCostmap, local_plan, rollout,
-                           sample_velocities, velocity_window)
+from nav_mocks.dwa import (DwaConfig, DwaController, LocalCostmap, contact_clearance,
+                           local_plan, rollout, sample_velocities,
+                           velocity_window)
 
-COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.0, inflation_radius=0.5)
+COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.1, inflation_radius=0.5)
 ROOM = open_room(80, 60, resolution=0.05)          # 4 m x 3 m
 
 
@@ -75,9 +76,9 @@ def test_follows_a_straight_plan_to_the_goal():
 def test_avoids_an_obstacle_seen_only_by_the_laser():
     controller = DwaController(DwaConfig(), COSTMAP)
     controller.set_plan(np.column_stack((np.linspace(0.5, 3.5, 61), np.full(61, 1.5))))
-    # a 0.3 m box beside the plan at x = 2, not on the map: its near face is 0.1 m from the
-    # plan, closer than the robot radius (0.2 m), so the robot must swerve to pass it
-    box = np.array([(2.0 + dx, 1.75 + dy) for dx in np.linspace(-0.15, 0.15, 7)
+    # a 0.3 m box beside the plan at x = 2, not on the map: its near face is 0.2 m from the
+    # plan, closer than the padded robot radius (0.3 m), so the robot must swerve to pass it
+    box = np.array([(2.0 + dx, 1.85 + dy) for dx in np.linspace(-0.15, 0.15, 7)
                     for dy in np.linspace(-0.15, 0.15, 7)])
     pose, trace = drive(controller, (0.5, 1.5, 0.0), (3.5, 1.5, 0.0), box, steps=200)
     assert controller.at_goal_xy(pose, (3.5, 1.5, 0.0))
@@ -106,3 +107,26 @@ def test_rotates_in_place_to_the_goal_yaw():
     cmd, done = controller.rotate_to((1.0, 1.0, 0.0), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0))
     assert not done and cmd == (0.0, 0.0, pytest.approx(0.4))   # acceleration-limited
     assert controller.rotate_to((1.0, 1.0, 0.95), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0))[1]
+
+
+def test_contact_clearance_is_the_radius_plus_the_cell_bound():
+    # a simulator or bumper on the same 0.05 m grid sees contact when the cell-centre distance
+    # minus sqrt(2) cells falls below the radius: 0.3 + 0.0707 m, plus the 0.02 m margin
+    assert contact_clearance(0.3, 0.05, 0.02) == pytest.approx(0.3 + 0.05 * math.sqrt(2) + 0.02)
+
+
+def test_keeps_the_contact_clearance_when_the_padding_is_smaller():
+    # radius 0.2 m without padding: inscribed 0.2 m, but on 0.05 m cells contact needs a
+    # cell-centre clearance of 0.2 + 0.0707 (+ 0.02 margin) = 0.29 m. The plan runs 0.25 m from a
+    # wall only the laser sees: the robot must leave the plan and keep 0.29 m (less half a cell
+    # diagonal, 0.035 m, for where in its cell the robot centre lies).
+    costmap = CostmapConfig(robot_radius=0.2, footprint_padding=0.0, inflation_radius=0.5)
+    controller = DwaController(DwaConfig(), costmap)
+    controller.set_plan(np.column_stack((np.linspace(0.5, 3.5, 61), np.full(61, 1.5))))
+    wall = np.column_stack((np.linspace(1.5, 2.5, 41), np.full(41, 1.75)))
+    local = LocalCostmap(ROOM.cells > 50, ROOM, (1.0, 1.5, 0.0), wall, 5.0)
+    assert controller.collision_radius(local) == pytest.approx(0.2 + 0.05 * math.sqrt(2) + 0.02)
+    pose, trace = drive(controller, (0.5, 1.5, 0.0), (3.5, 1.5, 0.0), wall, steps=200)
+    assert controller.at_goal_xy(pose, (3.5, 1.5, 0.0))
+    gaps = np.hypot(trace[:, None, 0] - wall[None, :, 0], trace[:, None, 1] - wall[None, :, 1])
+    assert gaps.min() > 0.29 - 0.05 * math.sqrt(2) / 2

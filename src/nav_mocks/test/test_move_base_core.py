@@ -1,12 +1,13 @@
 import math
 
 import numpy as np
-from helpers import synthetic_scan, integrate, open_room
+import pytest
+from helpers import integrate, open_room, synthetic_scan
 from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
-from nav_mocks.dwa import DwaConfig
-from nav_mocks.move_base_core import (ABORTED, ACTIVE, CLEAR, PREEMPTED, REJECTED, ROTATE,
+from nav_mocks.dwa import DwaConfig, LocalCostmap
+from nav_mocks.move_base_core import (ABORTED, ACTIVE, BACK_OUT, CLEAR, PREEMPTED, REJECTED, ROTATE,
                                       SUCCEEDED, ZERO, MoveBaseConfig, MoveBaseCore)
 
 COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.05, inflation_radius=0.5)
@@ -112,4 +113,41 @@ def test_boxed_in_robot_aborts_after_recovery():
     core.start_goal((3.0, 0.6, 0.0), 0.0, (0.625, 1.525, 0.0))
     result, _ = run(core, (0.625, 1.525, 0.0), world=world, seconds=120.0)
     assert result.status == ABORTED and "after recovery" in result.reason
-    assert core.run.history == [CLEAR, ROTATE]
+    assert core.run.history == [CLEAR, BACK_OUT, ROTATE]   # no line out of the ring: skipped
+
+
+def test_back_out_leaves_a_wall_the_robot_is_wedged_against():
+    # 0.25 m from the room's west wall (cell-centre distance), inside the collision radius
+    # (0.2 + 0.0707 + 0.02 = 0.29 m): the back-out line of the 16 that gains most clearance
+    # without coming closer to the wall is straight east, and the recovery drives it at 0.1 m/s.
+    core = make_core()
+    core.start_goal((3.0, 0.6, 0.0), 0.0, (0.27, 2.0, 0.0))
+    assert core._back_out_direction((0.27, 2.0, 0.0)) == pytest.approx((1.0, 0.0))
+    assert core._back_out_direction((0.27, 2.0, math.pi / 2)) == pytest.approx((1.0, 0.0),
+                                                                               abs=1e-12)
+    core.run.recovery_index = 1                      # clear_costmaps has been tried
+    core._recover(core.run, 0.0, (0.27, 2.0, math.pi / 2), "test")
+    cmd = core.step(0.0, (0.27, 2.0, math.pi / 2), ZERO).cmd
+    assert cmd == pytest.approx((0.0, -0.1, 0.0), abs=1e-12)   # east, robot facing north
+
+
+def test_local_costmap_places_map_walls_where_the_laser_sees_them():
+    # The pose estimate is 0.05 m off (AMCL error): the true robot stands 0.395 m from the door
+    # wall at x = 2 m, the estimate says 0.445 m. The laser hits on that wall are not marked in the
+    # global costmap (they are the map's wall, static_match_distance 0.15 m), but the local
+    # costmap keeps them: placed from the estimate they lie 0.40 m ahead (the reference laser
+    # steps 0.01 m), where the wall really is; the map alone would give 0.05 m more room.
+    grid = two_rooms()
+    truth, estimate = (1.605, 2.0, 0.0), (1.555, 2.0, 0.0)
+    core = make_core(grid)
+    core.observe(synthetic_scan(grid.occupied_mask(), grid, truth), estimate)
+    assert not core.costmap.marked.any()
+    points = core.scan_points
+    ahead = points[(np.abs(points[:, 1] - 2.0) < 0.03) & (points[:, 0] > 1.5)]
+    assert ahead[:, 0].min() == pytest.approx(1.555 + 0.40, abs=0.002)   # beams 2 deg apart
+    x, y = np.array([estimate[0]]), np.array([estimate[1]])
+    local = LocalCostmap(core.costmap.lethal(), grid, estimate, points, 5.0)
+    map_only = LocalCostmap(core.costmap.lethal(), grid, estimate, np.zeros((0, 2)), 5.0)
+    # cell centres: robot col 31 (x 1.575), hit col 39 (1.975), wall col 40 (2.025)
+    assert float(local.clearance(x, y)[0]) == pytest.approx(0.40)
+    assert float(map_only.clearance(x, y)[0]) == pytest.approx(0.45)

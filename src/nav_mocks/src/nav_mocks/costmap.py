@@ -26,7 +26,7 @@ class CostmapConfig:
     unknown_is_lethal: bool = True      # [-] track_unknown_space=false: unknown is an obstacle
     obstacle_range: float = 2.5         # [m] scan hits farther than this are not marked
     raytrace_range: float = 3.0         # [m] cells along a beam up to this range are cleared
-    static_match_distance: float = 0.1  # [m] hits this close to a map obstacle are that obstacle
+    static_match_distance: float = 0.15  # [m] hits this close to a map obstacle are that obstacle
 
     @property
     def inscribed_radius(self):

@@ -8,7 +8,10 @@ and scores the trajectory as dwa_local_planner does:
          + occdist_scale * max costmap cost along the trajectory,
 where `front` is a point forward_point_distance ahead of the end pose (it aligns the heading) and
 the obstacle cost comes from the clearance to the live laser hits and the map (a rolling-window
-local costmap). Trajectories passing within the inscribed radius of an obstacle are discarded.
+local costmap). Trajectories passing within the inscribed radius of an obstacle are discarded;
+that radius is never taken smaller than the contact clearance (the robot radius plus the
+cell-centre distance bound of the grid plus a margin: the test a simulator or bumper on the same
+grid applies).
 """
 import math
 from dataclasses import dataclass
@@ -20,6 +23,8 @@ from nav_mocks.pose2d import wrap_angle
 
 ALIGNMENT_OFF_FACTOR = 2.0  # [-] alignment terms off within this many forward-point distances
 LATE_COLLISION_COST = 1e3   # [-] ranks trajectories that would collide after a stop behind all
+CELL_CLEARANCE_LOSS = math.sqrt(2.0)  # [cells] a point to its cell centre plus an obstacle cell's
+                                      # centre to its edge: half a cell diagonal each
 
 
 @dataclass
@@ -48,6 +53,7 @@ class DwaConfig:
     xy_goal_tolerance: float = 0.1    # [m]
     yaw_goal_tolerance: float = 0.15  # [rad]
     rotate_gain: float = 2.0          # [1/s] in-place rotation rate per rad of yaw error
+    contact_margin: float = 0.02      # [m] kept beyond the contact clearance (localisation error)
 
     @property
     def holonomic(self):
@@ -170,6 +176,17 @@ def _moves_away(clearance, here):
     return changed.any(axis=1) & (clearance[np.arange(len(clearance)), first] > here)
 
 
+def contact_clearance(robot_radius, resolution, margin):
+    """[m] cell-centre clearance below which the robot may touch an obstacle.
+
+    Clearance on the grid is the distance between cell centres; the robot centre may lie half a
+    cell diagonal from its cell's centre and the obstacle's edge half a diagonal from the obstacle
+    cell's centre, so a cell-centre distance d guarantees only d - sqrt(2) * resolution of free
+    space (the bound a simulator's or a bumper's collision test on the same grid uses).
+    """
+    return robot_radius + CELL_CLEARANCE_LOSS * resolution + margin
+
+
 def score_trajectories(trajectories, segment, clearance, costmap_config, config, align=True):
     """dwa_local_planner cost of each trajectory; `align` adds the forward-point terms."""
     end = trajectories[:, -1, :]
@@ -218,7 +235,7 @@ class DwaController:
         step = cfg.acc_lim_theta * cfg.control_period
         return (0.0, 0.0, float(np.clip(wanted, w0 - step, w0 + step))), False
 
-    def _collision_cost(self, samples, clearance, here):
+    def _collision_cost(self, samples, clearance, here, radius):
         """0 for collision-free trajectories; inf for inadmissible ones; a ranking penalty for
         those that would reach an obstacle only after the robot could have stopped.
 
@@ -230,7 +247,7 @@ class DwaController:
         Among those, slower ones rank first.
         """
         cfg = self.config
-        bad = (clearance <= self.costmap_config.inscribed_radius) & (clearance < here)
+        bad = (clearance <= radius) & (clearance < here)
         hits = bad.any(axis=1)
         speed = np.hypot(samples[:, 0], samples[:, 1])
         steps = clearance.shape[1]
@@ -240,9 +257,19 @@ class DwaController:
         stop = speed ** 2 / (2.0 * braking) + speed * cfg.control_period
         penalty = np.where(hits, LATE_COLLISION_COST * (1.0 + speed / cfg.max_vel_x), 0.0)
         inadmissible = hits & (reach <= stop)
-        if here <= self.costmap_config.inscribed_radius:
+        if here <= radius:
             inadmissible |= (speed > 0.0) & ~_moves_away(clearance, here)
         return np.where(inadmissible, np.inf, penalty)
+
+    def contact(self, local_costmap):
+        """[m] contact clearance (contact_clearance) on the local costmap's grid."""
+        return contact_clearance(self.costmap_config.robot_radius,
+                                 local_costmap.grid.resolution, self.config.contact_margin)
+
+    def collision_radius(self, local_costmap):
+        """[m] cell-centre clearance a trajectory must keep: the padded radius, and never less
+        than the contact clearance (a padding smaller than the cell bound does not count)."""
+        return max(self.costmap_config.inscribed_radius, self.contact(local_costmap))
 
     def best_command(self, pose, velocity, local_costmap):
         """Best (vx, vy, wz) along the plan, or None when every trajectory collides."""
@@ -259,7 +286,7 @@ class DwaController:
         align = to_goal > ALIGNMENT_OFF_FACTOR * cfg.forward_point_distance
         cost = score_trajectories(trajectories, segment, clearance, self.costmap_config, cfg,
                                   align)
-        cost += self._collision_cost(samples, clearance, here)
+        cost += self._collision_cost(samples, clearance, here, self.collision_radius(local_costmap))
         still = np.all(np.abs(samples) < 1e-9, axis=1)
         cost[still] = np.inf   # standing still is not a plan; no motion left means "blocked"
         best = int(np.argmin(cost))

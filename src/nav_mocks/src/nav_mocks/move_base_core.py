@@ -4,7 +4,10 @@ One `step()` per control cycle. Goal states use actionlib_msgs/GoalStatus number
 sequence is move_base's conservative one: when the robot is blocked (no admissible trajectory for
 controller_patience) or makes no progress (less than oscillation_distance in oscillation_timeout),
 or the planner finds no path, it first clears the costmap's laser marks and replans, then rotates
-in place once; if it is still stuck the goal is ABORTED with the reason.
+in place once; if it is still stuck the goal is ABORTED with the reason. A robot wedged in a door
+(no admissible trajectory, or none that makes progress) is first backed out: it translates
+straight, slowly, in the direction that gains the most clearance without coming closer to any
+obstacle it is already within the collision radius of, then replans from there.
 """
 import math
 from dataclasses import dataclass, field
@@ -20,7 +23,9 @@ from nav_mocks.scan_rays import beam_cells, hit_points
 # actionlib_msgs/GoalStatus values
 PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
 ZERO = (0.0, 0.0, 0.0)
-CLEAR, ROTATE = "clear_costmaps", "rotate_recovery"
+CLEAR, BACK_OUT, ROTATE = "clear_costmaps", "back_out", "rotate_recovery"
+BACK_OUT_DIRECTIONS = 16   # [-] headings tried by the back-out recovery (base frame)
+BACK_OUT_STEP = 0.025      # [m] spacing of the clearance checks along a back-out line
 
 
 @dataclass
@@ -29,13 +34,15 @@ class MoveBaseConfig:
     controller_patience: float = 3.0     # [s] blocked this long -> recovery
     oscillation_timeout: float = 10.0    # [s] no progress this long -> recovery
     oscillation_distance: float = 0.3    # [m] progress that resets the oscillation timer
-    recovery_behaviors: tuple = (CLEAR, ROTATE)  # tried in order
+    recovery_behaviors: tuple = (CLEAR, BACK_OUT, ROTATE)  # tried in order
     rotation_angle: float = 2.0 * math.pi  # [rad] turned by the rotate recovery
+    back_out_distance: float = 0.3       # [m] driven by the back-out recovery
+    back_out_speed: float = 0.1          # [m/s]
 
     def validate(self):
         if self.planner_frequency <= 0 or self.controller_patience <= 0:
             raise ValueError("move_base: planner_frequency and controller_patience must be > 0")
-        unknown = set(self.recovery_behaviors) - {CLEAR, ROTATE}
+        unknown = set(self.recovery_behaviors) - {CLEAR, BACK_OUT, ROTATE}
         if unknown:
             raise ValueError(f"move_base: unknown recovery behaviour(s) {sorted(unknown)}")
 
@@ -60,6 +67,7 @@ class _GoalRun:
     progress_time: float = 0.0
     recovery_index: int = 0
     rotating: bool = False
+    backing: object = None          # back-out: (unit direction in the map frame, start pose)
     rotated: float = 0.0
     last_yaw: float = 0.0
     xy_reached: bool = False
@@ -121,12 +129,10 @@ class MoveBaseCore:
         free, hit = beam_cells(scan, laser_pose, self.costmap.grid, cfg.raytrace_range,
                                cfg.obstacle_range)
         self.costmap.update_from_scan(free, hit)
-        points = hit_points(scan, laser_pose)
-        rows, cols = self.costmap.grid.world_to_cell(points[:, 0], points[:, 1])
-        inside = self.costmap.grid.inside(rows, cols)
-        keep = np.zeros(len(points), dtype=bool)
-        keep[inside] = self.costmap.new_obstacle(rows[inside], cols[inside])
-        self.scan_points = points[keep]   # the map's own walls are in the local costmap already
+        # Every hit goes into the local costmap, map walls included: the hits are where the
+        # walls are relative to the robot, whereas the map's walls are placed through the pose
+        # estimate and are off by the localisation error (a few cm: the whole margin in a door).
+        self.scan_points = hit_points(scan, laser_pose, cfg.obstacle_range)
 
     def step(self, now, pose, velocity):
         """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
@@ -137,9 +143,10 @@ class MoveBaseCore:
             return StepResult(ZERO, run.status if run else PENDING, run.reason if run else "")
         new_plan = None
         due = now - run.last_plan_time >= 1.0 / self.config.planner_frequency
-        if not run.rotating and (run.plan is None or due):
+        if not run.rotating and run.backing is None and (run.plan is None or due):
             new_plan = self._replan(run, now, pose)
-        if run.status != ACTIVE or (run.plan is None and not run.rotating):
+        if run.status != ACTIVE or (run.plan is None and not run.rotating
+                                    and run.backing is None):
             return StepResult(ZERO, run.status, run.reason, new_plan)
         cmd = self._control(run, now, pose, velocity)
         return StepResult(cmd, run.status, run.reason, new_plan)
@@ -166,6 +173,8 @@ class MoveBaseCore:
     def _control(self, run, now, pose, velocity):
         if run.rotating:
             return self._rotate_recovery(run, pose, velocity)
+        if run.backing is not None:
+            return self._back_out(run, now, pose)
         if run.xy_reached or self.controller.at_goal_xy(pose, run.goal):
             run.xy_reached = True  # latch_xy_goal_tolerance: finish by turning in place
             cmd, done = self.controller.rotate_to(pose, run.goal, velocity)
@@ -173,8 +182,7 @@ class MoveBaseCore:
                 run.status = SUCCEEDED
             return cmd
         self._track_progress(run, now, pose)
-        local = LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose, self.scan_points,
-                             self.controller.config.local_window)
+        local = self._local_costmap(pose)
         cmd = self.controller.best_command(pose, velocity, local)
         if cmd is not None:
             run.blocked_since = None
@@ -205,6 +213,12 @@ class MoveBaseCore:
         if behaviour == CLEAR:
             self.costmap.clear_obstacles()
             run.last_plan_time = -math.inf   # replan on the next cycle
+        elif behaviour == BACK_OUT:
+            direction = self._back_out_direction(pose)
+            if direction is None:            # nowhere to go: try the next behaviour at once
+                self._recover(run, now, pose, why)
+                return
+            run.backing = (direction, pose)
         else:
             run.rotating, run.rotated, run.last_yaw = True, 0.0, pose[2]
 
@@ -218,3 +232,51 @@ class MoveBaseCore:
         cfg = self.controller.config
         w = min(cfg.max_vel_theta, abs(velocity[2]) + cfg.acc_lim_theta * cfg.control_period)
         return (0.0, 0.0, float(np.copysign(w, 1.0)))
+
+    def _local_costmap(self, pose):
+        return LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose, self.scan_points,
+                            self.controller.config.local_window)
+
+    def _back_out_direction(self, pose):
+        """Map-frame unit vector of the straight line of back_out_distance whose end has the most
+        clearance, among lines that never come closer than the robot is now to an obstacle
+        within the collision radius (nor below it elsewhere); None when there is no such line.
+        A differential-drive base may only reverse."""
+        local = self._local_costmap(pose)
+        limit = self.controller.collision_radius(local)
+        here = float(local.clearance(np.array([pose[0]]), np.array([pose[1]]))[0])
+        floor = min(here, limit)
+        if self.controller.config.holonomic:
+            angles = pose[2] + np.linspace(0.0, 2.0 * math.pi, BACK_OUT_DIRECTIONS, endpoint=False)
+        else:
+            angles = np.array([pose[2] + math.pi])
+        steps = np.arange(1, int(math.ceil(self.config.back_out_distance / BACK_OUT_STEP)) + 1)
+        along = steps[None, :] * BACK_OUT_STEP
+        xs = pose[0] + np.cos(angles)[:, None] * along
+        ys = pose[1] + np.sin(angles)[:, None] * along
+        clearance = local.clearance(xs, ys)
+        ok = (clearance >= floor).all(axis=1)
+        if not ok.any():
+            return None
+        best = int(np.argmax(np.where(ok, clearance[:, -1], -np.inf)))
+        return np.array([math.cos(angles[best]), math.sin(angles[best])])
+
+    def _back_out(self, run, now, pose):
+        """One cycle of the back-out recovery: translate along the chosen line until it is
+        driven or the next step would come closer to an obstacle; then replan."""
+        direction, start = run.backing
+        cfg = self.config
+        step = cfg.back_out_speed * self.controller.config.control_period
+        ahead = np.array(pose[:2]) + direction * step
+        local = self._local_costmap(pose)
+        here = float(local.clearance(np.array([pose[0]]), np.array([pose[1]]))[0])
+        nxt = float(local.clearance(np.array([ahead[0]]), np.array([ahead[1]]))[0])
+        floor = min(here, self.controller.collision_radius(local))
+        if distance(pose, start) >= cfg.back_out_distance or nxt < floor:
+            run.backing = None
+            run.last_plan_time = -math.inf
+            run.progress_pose, run.progress_time = pose, now   # backing out is not progress
+            return ZERO
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        vx, vy = direction * cfg.back_out_speed
+        return (float(c * vx + s * vy), float(-s * vx + c * vy), 0.0)
