@@ -2,15 +2,12 @@
 import math
 
 import numpy as np
-from geometry_msgs.msg import PoseStamped, Quaternion, Transform, TransformStamped
+from geometry_msgs.msg import PoseStamped, Transform, TransformStamped
 from nav_msgs.msg import MapMetaData, OccupancyGrid, Path
+from sim2d.conversions import yaw_quaternion as yaw_to_quaternion
 from sim2d.occupancy_map import OccupancyMap
 
 from nav_mocks.scan_rays import Scan
-
-
-def yaw_to_quaternion(yaw):
-    return Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2.0), w=math.cos(yaw / 2.0))
 
 
 def quaternion_to_yaw(q):

@@ -1,10 +1,7 @@
 """Planar rigid transforms (x, y, yaw): composition, inverse, angle wrapping. ROS-free."""
 import math
 
-
-def wrap_angle(angle):
-    """Angle [rad] wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+from sim2d.kinematics import wrap_angle  # the workspace's one definition; re-exported here
 
 
 def compose(a, b):
