@@ -8,6 +8,7 @@ from sim2d_fixtures import LASER_DIR
 
 from sim2d.camera import CameraConfig, camera_points, project
 from sim2d.occupancy_map import MapError
+from sim2d.laser import box_ranges
 from sim2d.world import CommandError, World
 from sim2d.world_config import WorldError, load_world_config
 
@@ -208,3 +209,61 @@ def test_household_people_agree_with_the_human_database():
     world = load_world_config(repo / "config" / "worlds" / "household.yaml", LASER_DIR)
     assert {p.name: p.shirt_colour for p in world.people} == expected
     assert len(world.objects) >= 30
+
+
+DOOR = {"name": "east", "box": [5.0, 8.0, 5.2, 9.9]}   # closes the room's wall gap (y 8-10 m)
+
+
+@pytest.fixture
+def door_world(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["doors"] = [DOOR]
+    data["people"], data["robots"][0]["camera"] = [], None
+    data["robots"][0]["pose"] = [4.0, 9.0, 0.0]
+    data["robots"][0]["lasers"][0]["seed"] = 7
+    return World(load_world_config(write_world(tmp_path, data), LASER_DIR), cache_dir=None)
+
+
+def test_box_ranges_match_hand_calculation():
+    ranges = box_ranges(0.0, 0.0, np.array([0.0, math.pi / 4, math.pi, math.pi / 2]),
+                        [(1.0, -1.0, 2.0, 1.0), (-0.5, 3.0, 0.5, 4.0)])
+    assert ranges == pytest.approx([1.0, math.sqrt(2.0), math.inf, 3.0])
+    assert box_ranges(1.5, 0.0, np.array([0.3]), [(1.0, -1.0, 2.0, 1.0)])[0] == 0.0
+
+
+def test_closed_door_is_seen_by_the_laser_and_open_again_is_not(door_world):
+    laser, pose = door_world.robot("pepper").lasers[0], (4.0, 9.0, 0.0)
+    ahead = len(laser.angles) // 2   # beam 22 of 45 points along +x
+    assert laser.true_ranges(pose, (), door_world.closed_boxes)[ahead] == math.inf  # gap, > 1.5 m
+    door_world.set_door("east", True)
+    assert door_world.closed_boxes == [(5.0, 8.0, 5.2, 9.9)]
+    assert laser.true_ranges(pose, (), door_world.closed_boxes)[ahead] == pytest.approx(1.0)
+    door_world.step(0.1)   # the scan the world publishes carries the door too (noise 0.02 m)
+    assert door_world.robot("pepper").scans[0].ranges[ahead] == pytest.approx(1.0, abs=0.1)
+    door_world.set_door("east", False)
+    assert laser.true_ranges(pose, (), door_world.closed_boxes)[ahead] == math.inf
+
+
+def drive_east(world, seconds):
+    for _ in range(int(seconds / 0.05)):
+        world.set_twist("pepper", 0.5, 0.0, 0.0)
+        world.step(0.05)
+    return world.robot("pepper").state.pose[0]
+
+
+def test_closed_door_stops_the_robot_and_an_open_one_lets_it_through(door_world, tmp_path,
+                                                                    room_map):
+    door_world.set_door("east", True)
+    stopped_x = drive_east(door_world, 6.0)
+    assert 4.5 < stopped_x < 5.0 - 0.3 + 0.05     # radius 0.3 m before the door leaf
+    door_world.set_door("east", False)
+    assert drive_east(door_world, 4.0) > 5.2 + 0.3
+
+
+def test_unknown_door_and_bad_door_box_are_clear_errors(door_world, tmp_path, room_map):
+    with pytest.raises(KeyError, match="no door named 'west' .doors: east."):
+        door_world.set_door("west", True)
+    data = world_dict(room_map)
+    data["doors"] = [{"name": "east", "box": [5.2, 8.0, 5.0, 9.9]}]
+    with pytest.raises(WorldError, match=r"doors\[0\]: box needs x1 > x0"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)

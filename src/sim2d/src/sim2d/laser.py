@@ -95,6 +95,29 @@ def circle_ranges(ox, oy, angles, circles):
     return np.where(hit, t, np.inf).min(axis=0)
 
 
+def box_ranges(ox, oy, angles, boxes):
+    """Ranges [m] along each ray to the nearest axis-aligned box [(x0, y0, x1, y1)] (slab
+    method, exact), inf if none is hit; 0 for a ray starting inside a box."""
+    if len(boxes) == 0:
+        return np.full(np.shape(angles), np.inf)
+    b = np.asarray(boxes, dtype=float)
+    cos, sin = np.cos(angles)[None, :], np.sin(angles)[None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tx0, tx1 = (b[:, 0:1] - ox) / cos, (b[:, 2:3] - ox) / cos
+        ty0, ty1 = (b[:, 1:2] - oy) / sin, (b[:, 3:4] - oy) / sin
+    # a ray parallel to an axis: inside the slab for all t, or never
+    inside_x = (b[:, 0:1] <= ox) & (ox <= b[:, 2:3])
+    inside_y = (b[:, 1:2] <= oy) & (oy <= b[:, 3:4])
+    parallel_x, parallel_y = np.abs(cos) < 1e-12, np.abs(sin) < 1e-12
+    enter_x = np.where(parallel_x, np.where(inside_x, -np.inf, np.inf), np.minimum(tx0, tx1))
+    leave_x = np.where(parallel_x, np.where(inside_x, np.inf, -np.inf), np.maximum(tx0, tx1))
+    enter_y = np.where(parallel_y, np.where(inside_y, -np.inf, np.inf), np.minimum(ty0, ty1))
+    leave_y = np.where(parallel_y, np.where(inside_y, np.inf, -np.inf), np.maximum(ty0, ty1))
+    enter, leave = np.maximum(enter_x, enter_y), np.minimum(leave_x, leave_y)
+    hit = (enter <= leave) & (leave > 0)
+    return np.where(hit, np.maximum(enter, 0.0), np.inf).min(axis=0)
+
+
 class LaserSensor:
     """A laser of a given model mounted on a robot; `scan(pose)` returns noisy ranges."""
 
@@ -122,14 +145,15 @@ class LaserSensor:
         c, s = math.cos(yaw), math.sin(yaw)
         return x + c * mx - s * my, y + s * mx + c * my, yaw + myaw
 
-    def true_ranges(self, pose, circles=()):
-        """Noise-free ranges [m] from the map (and circular obstacles such as people)."""
+    def true_ranges(self, pose, circles=(), boxes=()):
+        """Noise-free ranges [m] from the map, circular obstacles such as people and boxes such
+        as closed doors (exact casts overlaid on the static map's table or ray march)."""
         lx, ly, lyaw = self.pose_in_map(pose)
         ranges = None
         if self._fan_step:
             ranges = self.table.cast_fan(lx, ly, lyaw + self.model.angle_min,
                                          self.model.num_beams, self._fan_step)
-            if ranges is not None and not len(circles):
+            if ranges is not None and not len(circles) and not len(boxes):
                 return ranges
         world_angles = self.angles + lyaw
         if ranges is None and self.table is not None:
@@ -138,6 +162,8 @@ class LaserSensor:
             ranges = ray_march(self.geometry, lx, ly, world_angles, self.model.range_max)
         if len(circles):
             ranges = np.minimum(ranges, circle_ranges(lx, ly, world_angles, circles))
+        if len(boxes):
+            ranges = np.minimum(ranges, box_ranges(lx, ly, world_angles, boxes))
         return ranges
 
     def _pool_slice(self, pool):
@@ -148,10 +174,10 @@ class LaserSensor:
         self._next_offset += 1
         return pool[start:start + self.model.num_beams]
 
-    def scan(self, pose, circles=()):
+    def scan(self, pose, circles=(), boxes=()):
         """One scan [m]: Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117)."""
         m = self.model
-        ranges = np.asarray(self.true_ranges(pose, circles), dtype=np.float32)
+        ranges = np.asarray(self.true_ranges(pose, circles, boxes), dtype=np.float32)
         if m.noise_fraction > 0:
             within = np.minimum(ranges, np.float32(m.range_max))   # no inf * noise = NaN
             sigma = np.maximum(np.float32(m.noise_std), np.float32(m.noise_fraction) * within)

@@ -17,6 +17,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, LaserScan
 from std_msgs.msg import Bool
 from tamp_msgs.msg import PerceptionFrame
+from tamp_msgs.srv import SetDoor, SetDoorResponse
 from visualization_msgs.msg import MarkerArray
 
 from sim2d import conversions
@@ -67,6 +68,7 @@ class SimNode:
         self.lock = threading.Lock()
         self.world = None
         self.io = []
+        self.door_changes = []   # [(name, closed)] requested, applied by the loop
         self.last = {}
         self.started_wall = None
 
@@ -98,6 +100,7 @@ class SimNode:
             statics += self._static_transforms(io)
             self.io.append(io)
         self.static_tf.sendTransform(statics)
+        rospy.Service("~set_door", SetDoor, self._on_set_door)
         return True
 
     def frame(self, io, name):
@@ -161,9 +164,22 @@ class SimNode:
         with self.lock:
             io.command, io.command_time = ("wheels",) + command, self.world.time
 
+    def _on_set_door(self, request):
+        if request.name not in self.world.doors:
+            known = ", ".join(sorted(self.world.doors)) or "none"
+            return SetDoorResponse(False, f"no door named {request.name!r} (doors: {known})")
+        with self.lock:
+            self.door_changes.append((request.name, bool(request.closed)))
+        state = "closed" if request.closed else "open"
+        rospy.loginfo("sim2d: door %s %s", request.name, state)
+        return SetDoorResponse(True, f"door {request.name} {state}")
+
     # --- loop ----------------------------------------------------------------------------
     def _apply_commands(self):
         with self.lock:
+            for name, closed in self.door_changes:
+                self.world.set_door(name, closed)
+            self.door_changes = []
             for io in self.io:
                 name = io.robot.name
                 fresh = self.world.time - io.command_time <= self.config.cmd_timeout
@@ -256,7 +272,9 @@ class SimNode:
             status.level = DiagnosticStatus.WARN if state.stalled else DiagnosticStatus.OK
             status.message = "stalled against an obstacle" if state.stalled else "ok"
             status.values = [KeyValue("bumps", str(state.bumps)),
-                             KeyValue("real_time_factor", f"{factor:.2f}")]
+                             KeyValue("real_time_factor", f"{factor:.2f}"),
+                             KeyValue("closed_doors", ",".join(
+                                 n for n, closed in self.world.doors.items() if closed))]
             array.status.append(status)
         self.diag_pub.publish(array)
 

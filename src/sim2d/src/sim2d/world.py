@@ -89,6 +89,10 @@ class World:
         self.grid = load_map(config.map_path)
         self.geometry = GridGeometry.from_map(self.grid)
         self.camera_geometry = self._camera_geometry(config.camera_transparent)
+        self.doors = {d.name: d.closed for d in config.doors}   # name -> closed
+        self._door_boxes = {d.name: tuple(d.box) for d in config.doors}
+        self.closed_boxes, self.collision_geometry = [], self.geometry
+        self._apply_doors()
         self.cache_dir = cache_dir
         self._tables = {}
         self._held = {}        # person name -> (pose, posture, holding) last applied
@@ -132,7 +136,7 @@ class World:
         return self._tables[key]
 
     def _make_robot(self, rc, index):
-        clearance = float(self.geometry.clearance(rc.pose[0], rc.pose[1]))
+        clearance = float(self.collision_geometry.clearance(rc.pose[0], rc.pose[1]))
         if clearance < rc.radius:
             raise WorldError(f"{self.config.path}: robot {rc.name!r} at ({rc.pose[0]:.2f}, "
                              f"{rc.pose[1]:.2f}) is inside or touching an obstacle (clearance "
@@ -150,6 +154,34 @@ class World:
                      lasers, list(rc.lasers), camera, [None] * len(lasers),
                      [laser.model.scan_time for laser in lasers])
 
+    def set_door(self, name, closed):
+        """Open or close door `name`: a closed door blocks robots and lasers (not the camera).
+
+        The map (and the lasers' range table) stay static: the laser casts the closed doors
+        exactly on top of it, and collisions use a copy of the grid with the door cells occupied.
+        Raises KeyError naming the known doors for an unknown name.
+        """
+        if name not in self.doors:
+            known = ", ".join(sorted(self.doors)) or "none"
+            raise KeyError(f"no door named {name!r} (doors: {known})")
+        if self.doors[name] != bool(closed):
+            self.doors[name] = bool(closed)
+            self._apply_doors()
+
+    def _apply_doors(self):
+        self.closed_boxes = [self._door_boxes[n] for n, closed in self.doors.items() if closed]
+        if not self.closed_boxes:
+            self.collision_geometry = self.geometry
+            return
+        occupied = self.geometry.occupied.copy()
+        for x0, y0, x1, y1 in self.closed_boxes:
+            r0, c0 = self.grid.world_to_cell(x0, y0)
+            r1, c1 = self.grid.world_to_cell(x1, y1)
+            occupied[max(r0, 0):r1 + 1, max(c0, 0):c1 + 1] = True
+        self.collision_geometry = GridGeometry(occupied, distance_transform(occupied),
+                                               self.geometry.resolution, self.geometry.origin_x,
+                                               self.geometry.origin_y)
+
     def robot(self, name):
         for robot in self.robots:
             if robot.name == name:
@@ -162,7 +194,7 @@ class World:
         Raises WorldError if the pose is inside or against an obstacle.
         """
         robot = self.robot(name)
-        clearance = self.geometry.clearance_at(pose[0], pose[1])
+        clearance = self.collision_geometry.clearance_at(pose[0], pose[1])
         if clearance < robot.config.radius:
             raise WorldError(f"robot {name!r} cannot be placed at ({pose[0]:.2f}, {pose[1]:.2f}): "
                              f"clearance {clearance:.2f} m < radius {robot.config.radius:.2f} m")
@@ -225,7 +257,7 @@ class World:
         self.time += dt
         if self.people:
             self._update_people(dt)
-        clearance = self.geometry.clearance_at
+        clearance = self.collision_geometry.clearance_at
         for robot in self.robots:
             rc = robot.config
             step_robot(robot.state, rc.drive, rc.limits, rc.radius,
@@ -236,7 +268,8 @@ class World:
                     circles = self._obstacle_circles(robot) if (self.people or
                                                                 len(self.robots) > 1) else ()
                     count = 1 if robot.scans[j] is None else robot.scans[j].count + 1
-                    robot.scans[j] = Scan(self.time, laser.scan(robot.state.pose, circles), count)
+                    robot.scans[j] = Scan(self.time, laser.scan(robot.state.pose, circles,
+                                                                self.closed_boxes), count)
                     robot.next_scan[j] += laser.model.scan_time
 
     # --- camera ---------------------------------------------------------------------------

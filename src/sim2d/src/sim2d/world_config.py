@@ -71,6 +71,16 @@ class WorldConfig:
     people: list = field(default_factory=list)
     objects: list = field(default_factory=list)
     camera_transparent: list = field(default_factory=list)   # [[x0, y0, x1, y1]] [m]
+    doors: list = field(default_factory=list)   # [DoorConfig]
+
+
+@dataclass
+class DoorConfig:
+    """A door that can be closed at run time: a rectangle that becomes an obstacle."""
+
+    name: str
+    box: tuple                  # (x0, y0, x1, y1) map-frame rectangle of the closed leaf [m]
+    closed: bool = False        # state at start
 
 
 def _dataclass_from(cls, data, where):
@@ -248,7 +258,31 @@ class _Parser:
                     if ref and ref not in object_names:
                         self.fail(f"person {person.name!r} refers to unknown object {ref!r}")
         return WorldConfig(self.path, map_path, graph_path, robots, people, objects,
-                           [list(map(float, r)) for r in data.get("camera_transparent", [])])
+                           [list(map(float, r)) for r in data.get("camera_transparent", [])],
+                           self.doors(data.get("doors", [])))
+
+    def doors(self, entries):
+        doors = [self.door(d, i) for i, d in enumerate(entries)]
+        names = [d.name for d in doors]
+        if len(set(names)) != len(names):
+            self.fail(f"door names must be unique, got {names}")
+        return doors
+
+    def door(self, data, index):
+        where = f"doors[{index}]"
+        if not isinstance(data, dict) or "name" not in data or "box" not in data:
+            self.fail(f"{where}: expected a mapping with 'name' and 'box', got {data!r}")
+        box = data["box"]
+        if not isinstance(box, (list, tuple)) or len(box) != 4:
+            self.fail(f"{where}: box must be [x0, y0, x1, y1], got {box!r}")
+        x0, y0, x1, y1 = (_number(v, f"{self.path}: {where}.box") for v in box)
+        if not (x1 > x0 and y1 > y0):
+            self.fail(f"{where}: box needs x1 > x0 and y1 > y0, got {box!r}")
+        door = _dataclass_from(DoorConfig, dict(data, box=(x0, y0, x1, y1)),
+                               f"{self.path}: {where}")
+        if not isinstance(door.closed, bool):
+            self.fail(f"{where}: closed must be true or false, got {door.closed!r}")
+        return door
 
 
 def load_world_config(path, laser_dir=None):
