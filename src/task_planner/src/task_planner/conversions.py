@@ -25,7 +25,7 @@ def record_to_msg(record):
     return InstructionStateMsg(instruction=instruction_to_msg(record.instruction),
                                state=record.state, received_time=record.received_time,
                                completion_time=record.completion_time,
-                               reward_earned=record.reward_earned)
+                               reward_earned=record.reward_earned, reason=record.reason)
 
 
 def buffer_to_msg(buffer, stamp):
