@@ -17,6 +17,8 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   the people source has never located cannot be verified; the instruction is served where
   perception sent it.
 """
+import time
+from collections import deque
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -33,6 +35,7 @@ IDLE, MOVING, EXECUTING = "idle", "moving", "executing"
 class ExecutorConfig:
     speed_mps: float = 0.5        # robot speed along graph edges, for the planners [m/s]
     max_goal_attempts: int = 3    # navigation attempts per goal before its instruction fails
+    latency_window: int = 1000    # decisions whose wall time is kept (decision_s)
 
 
 @dataclass(frozen=True)
@@ -65,6 +68,14 @@ class Execute:
 @dataclass(frozen=True)
 class Say:
     text: str
+
+
+def latency_ms(samples_s):
+    """(median, 95th percentile, max) [ms] of wall times [s]; zeros when there are none."""
+    if not len(samples_s):
+        return 0.0, 0.0, 0.0
+    ms = 1000.0 * np.asarray(samples_s, dtype=float)
+    return float(np.median(ms)), float(np.percentile(ms, 95)), float(ms.max())
 
 
 def nearest_node(graph, x, y):
@@ -126,6 +137,8 @@ class Executor:
         self.log = []                    # (time [s], event text): why each move was made
         self._problem_key, self._problem = None, None
         self._target = None              # (problem, index) a target planner is driving to
+        # wall time [s] of the latest decisions (fetch + decode + decide, no journal writes)
+        self.decision_s = deque(maxlen=self.config.latency_window)
 
     # ---- events ----
 
@@ -226,10 +239,10 @@ class Executor:
             return self._decide(now)
         if self.mode != MOVING:
             return []  # a robot function is not interrupted by new instructions
-        problem, available = self._fetch_and_decode()
-        if not len(available):
+        decision = self._timed_decision(now)
+        if decision is None:
             return []
-        index, step = self._ask_planner(problem, self.node, now, available)
+        problem, index, step = decision
         if step == self.goal:
             return []
         # Any other decision goes through the node just left: turn back to it mid-edge.
@@ -242,10 +255,10 @@ class Executor:
         """Fetch, decode, decide at the robot's node; returns the commands of the decision."""
         commands = []
         while True:
-            problem, available = self._fetch_and_decode()
-            if not len(available):
+            decision = self._timed_decision(now)
+            if decision is None:
                 return commands
-            index, step = self._ask_planner(problem, self.node, now, available)
+            problem, index, step = decision
             instruction_id = int(problem.ids[index])
             if step is None:
                 commands += self._serve(instruction_id, now)
@@ -256,6 +269,18 @@ class Executor:
             self.log.append((now, f"move {self.graph.names[self.node]} -> "
                                   f"{self.graph.names[step]} for {instruction_id}"))
             return commands + [Navigate(step, instruction_id)]
+
+    def _timed_decision(self, now):
+        """Fetch, decode and decide at the robot's node, timed: (problem, index, next node), or
+        None when nothing is eligible."""
+        started = time.perf_counter()
+        problem, available = self._fetch_and_decode()
+        decision = None
+        if len(available):
+            index, step = self._ask_planner(problem, self.node, now, available)
+            decision = problem, index, step
+        self.decision_s.append(time.perf_counter() - started)
+        return decision
 
     def _fetch_and_decode(self):
         """Fig. 4-14 fetch + decode: the open instructions as a Problem, and the eligible indices.

@@ -8,6 +8,8 @@ journals before it answers, so its acknowledgement is durable.
 import math
 import os
 import threading
+import time
+from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,7 +29,7 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.conversions import buffer_to_msg, instruction_from_msg
 from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate,
-                                   PeopleAtPlaces, Say, nearest_node)
+                                   PeopleAtPlaces, Say, latency_ms, nearest_node)
 from task_planner.graph import load_graph
 from task_planner.instruction import InvalidInstruction
 from task_planner.planner_choice import make_planner
@@ -52,6 +54,7 @@ class NodeParams:
     battery: bool = True           # low-battery model: the robot sends itself to charge
     charging_place: str = "charging_place"  # graph node name of the charger
     priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
+    latency_warn_ms: float = 10.0  # diagnostics WARN when the median decision takes longer [ms]
 
     @classmethod
     def from_ros(cls):
@@ -84,6 +87,7 @@ class ExecutorNode:
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans, self.results = [], None, []
         self.refused, self.nav_goal = 0, None
+        self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
 
     def _charging(self, params, settings):
         functions = {f.name: f for f in self.executor_functions.values()}
@@ -178,9 +182,14 @@ class ExecutorNode:
         with self.lock:
             now = rospy.get_time()
             self._update_people()
-            version = self.executor.buffer.version
+            version, decisions = self.executor.buffer.version, len(self.executor.decision_s)
+            started = time.perf_counter()
             commands = self._receive(now) + self._navigation_results(now)
             commands += self.executor.tick(now)
+            busy = (self.executor.buffer.version != version or commands
+                    or len(self.executor.decision_s) != decisions)
+            if busy:  # journal + decide + write back, without the ROS publishing below
+                self.step_s.append(time.perf_counter() - started)
             self._carry_out(commands)
             if self.executor.buffer.version != version:
                 self._publish_state()
@@ -258,11 +267,21 @@ class ExecutorNode:
             counts = {name: sum(r.state == k for r in records)
                       for k, name in enumerate(("pending", "active", "done", "failed",
                                                 "cancelled"))}
-            level = DiagnosticStatus.WARN if self.refused else DiagnosticStatus.OK
+            decision = latency_ms(self.executor.decision_s)
+            step = latency_ms(self.step_s)
+            slow = decision[0] > self.params.latency_warn_ms
+            level = DiagnosticStatus.WARN if self.refused or slow else DiagnosticStatus.OK
             message = f"{self.executor.mode} at {self.graph.names[self.executor.node]}"
             if self.refused:
                 message += f"; {self.refused} instruction(s) refused"
+            if slow:
+                message += f"; median decision {decision[0]:.1f} ms"
             values = [KeyValue(k, str(v)) for k, v in counts.items()]
+            # over the last 1,000 decisions / busy steps: median, 95th percentile, max [ms]
+            for name, figures in (("decision", decision), ("step", step)):
+                values += [KeyValue(f"{name}_ms_{stat}", f"{value:.3f}")
+                           for stat, value in zip(("median", "p95", "max"), figures)]
+            values.append(KeyValue("decisions_timed", str(len(self.executor.decision_s))))
             values.append(KeyValue("total_reward", f"{self.executor.buffer.total_reward():.3f}"))
             if self.executor.charging:
                 values.append(KeyValue("battery_percent",

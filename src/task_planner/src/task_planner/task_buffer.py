@@ -80,7 +80,9 @@ class TaskBuffer:
         self.resumed = self._db.execute(
             "UPDATE instructions SET state=?, started_time=0 WHERE state=?",
             (PENDING, ACTIVE)).rowcount
-        self._records = {row.instruction.id: row for row in self._load()}
+        self._records = {row.instruction.id: row for row in self._load()}  # in seq order
+        self._open = {i: r for i, r in self._records.items() if r.is_open}   # in seq order
+        self._done = {i for i, r in self._records.items() if r.state == DONE}
         self._next_seq = max((r.seq for r in self._records.values()), default=0) + 1
         self.version = 0  # incremented by every change (for publishing snapshots on change)
 
@@ -130,7 +132,7 @@ class TaskBuffer:
                                                   f"{STATE_NAMES[predecessor.state]}")
         self._db.execute("INSERT INTO instructions VALUES (" + ",".join("?" * 21) + ")",
                          _row(record))
-        self._records[instruction.id] = record
+        self._index(record)
         self._next_seq += 1
         self.version += 1
         return record
@@ -161,11 +163,12 @@ class TaskBuffer:
             raise TaskBufferError(f"instruction {instruction_id}: not in the task buffer") from None
 
     def records(self):
-        """Every record, oldest first."""
-        return sorted(self._records.values(), key=lambda r: r.seq)
+        """Every record, oldest first (the dict keeps arrival order: seq only grows)."""
+        return list(self._records.values())
 
     def open_records(self):
-        return [r for r in self.records() if r.is_open]
+        """The PENDING and ACTIVE records, oldest first."""
+        return list(self._open.values())
 
     def eligible(self, record):
         """Table 4-1 `previous_id`: open, and no predecessor or a DONE one."""
@@ -173,10 +176,11 @@ class TaskBuffer:
         return record.is_open and (previous == 0 or previous in self.done_ids())
 
     def done_ids(self):
-        return {i for i, r in self._records.items() if r.state == DONE}
+        """Ids of the DONE instructions (a live view kept by the buffer: do not modify)."""
+        return self._done
 
     def active_id(self):
-        return next((r.instruction.id for r in self._records.values() if r.state == ACTIVE), 0)
+        return next((r.instruction.id for r in self._open.values() if r.state == ACTIVE), 0)
 
     def total_reward(self):
         return sum(r.reward_earned for r in self._records.values())
@@ -192,7 +196,8 @@ class TaskBuffer:
         active = self.active_id()
         if active:
             raise TaskBufferError(f"instruction {instruction_id}: instruction {active} is active")
-        return self._store(_replace(record, state=ACTIVE, started_time=float(now)))
+        return self._store(_replace(record, state=ACTIVE, started_time=float(now)),
+                           durable=False)
 
     def finish(self, instruction_id, now):
         """ACTIVE -> DONE with the Eq. 4-2 reward gamma * beta ** (now - start_time)."""
@@ -216,7 +221,7 @@ class TaskBuffer:
     def requeue(self, instruction_id):
         """ACTIVE -> PENDING: the function was interrupted before it completed."""
         record = self._expect(instruction_id, (ACTIVE,), "requeue")
-        return self._store(_replace(record, state=PENDING, started_time=0.0))
+        return self._store(_replace(record, state=PENDING, started_time=0.0), durable=False)
 
     def _close_chain(self, record, state, now, reason):
         with self._db:  # one transaction: the instruction and its successors close together
@@ -232,8 +237,8 @@ class TaskBuffer:
         found, frontier = [], [instruction_id]
         while frontier:
             parent = frontier.pop(0)
-            for r in self.records():
-                if r.instruction.previous_id == parent and r.is_open:
+            for r in self.open_records():
+                if r.instruction.previous_id == parent:
                     found.append((r, parent))
                     frontier.append(r.instruction.id)
         return found
@@ -245,15 +250,41 @@ class TaskBuffer:
                                   f"that is {STATE_NAMES[record.state]}")
         return record
 
-    def _store(self, record):
-        """Write a state change (autocommit, or part of the caller's open transaction)."""
-        self._db.execute(
-            "UPDATE instructions SET state=?, started_time=?, completion_time=?, reward_earned=?, "
-            "reason=? WHERE id=?", (record.state, record.started_time, record.completion_time,
-                                    record.reward_earned, record.reason, record.instruction.id))
-        self._records[record.instruction.id] = record
+    def _store(self, record, durable=True):
+        """Write a state change (autocommit, or part of the caller's open transaction).
+
+        `durable=False` commits without a disk sync: for ACTIVE <-> PENDING, which re-opening the
+        journal undoes anyway (ACTIVE rows go back to PENDING), so losing such a write to a power
+        cut leaves the journal exactly as a restart would read it. The next durable commit syncs
+        the write-ahead log, these rows included. DONE, FAILED, CANCELLED and new instructions
+        are always synced before the call returns.
+        """
+        lazy = not durable and not self._db.in_transaction and self.config.synchronous != "OFF"
+        if lazy:
+            self._db.execute("PRAGMA synchronous=OFF")
+        try:
+            self._db.execute(
+                "UPDATE instructions SET state=?, started_time=?, completion_time=?, "
+                "reward_earned=?, reason=? WHERE id=?",
+                (record.state, record.started_time, record.completion_time,
+                 record.reward_earned, record.reason, record.instruction.id))
+        finally:
+            if lazy:
+                self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
+        self._index(record)
         self.version += 1
         return record
+
+    def _index(self, record):
+        """Keep the in-memory views (all, open, done ids) in step with the journal."""
+        instruction_id = record.instruction.id
+        self._records[instruction_id] = record
+        if record.is_open:
+            self._open[instruction_id] = record
+        else:
+            self._open.pop(instruction_id, None)
+        if record.state == DONE:
+            self._done.add(instruction_id)
 
     def _load(self):
         for row in self._db.execute("SELECT * FROM instructions ORDER BY seq"):
