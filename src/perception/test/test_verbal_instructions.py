@@ -2,6 +2,7 @@
 import pytest
 from verbal_test_support import TABLE_5_5
 
+from perception.id_counter import IdCounter
 from perception.requests import RejectedUtterance
 from perception.verbal_instructions import (DictPeopleDirectory, InstructionBuilder, Person,
                                             priority_level)
@@ -98,6 +99,20 @@ def test_ids_are_unique_and_consecutive(pipeline):
     ids = [i.id for text in ("check Bob status", "Chat with me", "Play a song")
            for i in pipeline.process(text, ALEX, 0.0)[1].instructions]
     assert ids == [1, 2, 3, 4]
+
+
+def test_restarted_node_does_not_reuse_ids(keywords, analyser, directory, place_ids, tmp_path):
+    """A node started again with the same ~first_id goes on after its last id (issue 12)."""
+    from perception.verbal_instructions import VerbalPipeline
+
+    def start_node():
+        ids = IdCounter(first_id=1, path=tmp_path / "perception_verbal_last_id")
+        builder = InstructionBuilder(keywords, TABLE_5_5, place_ids, directory, ids=ids)
+        return VerbalPipeline(keywords, analyser, builder, directory)
+
+    before = [i.id for i in start_node().process("check Bob status", ALEX, 0.0)[1].instructions]
+    after = [i.id for i in start_node().process("Chat with me", ALEX, 1.0)[1].instructions]
+    assert (before, after) == ([1, 2], [3])
 
 
 @pytest.mark.parametrize("text, reason", [

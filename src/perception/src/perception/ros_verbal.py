@@ -5,8 +5,10 @@ sentence is read for sentiment, physical terms, the requested robot function and
 the result becomes one instruction or a chain (§4.2.1) with Table 5-5 priorities.
 """
 import collections
+import os
 import threading
 from dataclasses import dataclass
+from pathlib import Path
 
 import rospy
 from sim2d.semantic_graph import load_graph
@@ -15,6 +17,7 @@ from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.msg import Utterance
 
 from perception.conversions import utterance_time
+from perception.id_counter import IdCounter
 from perception.requests import RejectedUtterance, keyword_config_from_dict
 from perception.ros_people import HumanTableDirectory
 from perception.sentiment import SentimentAnalyzer
@@ -29,6 +32,8 @@ class VerbalParams:
     priorities_file: str                  # ~priorities_file: config/priorities.yaml (Table 5-5)
     graph: str                            # ~graph: maps/<map>.graph.yaml
     first_id: int = 1                     # ~first_id: id of the first instruction published
+    id_file: str = ""                     # ~id_file: last id handed out, so a restart goes on
+                                          # after it; "" = $ROS_HOME/perception_verbal_last_id
     humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
     period: float = 0.05                  # ~period: work timer period [s]
     max_queue: int = 20                   # ~max_queue: utterances kept while busy
@@ -45,6 +50,8 @@ def read_params():
         required[name] = rospy.get_param("~" + name)
     return VerbalParams(
         **required, first_id=int(rospy.get_param("~first_id", VerbalParams.first_id)),
+        id_file=rospy.get_param("~id_file", "") or str(
+            Path(os.environ.get("ROS_HOME", Path.home() / ".ros")) / "perception_verbal_last_id"),
         humans_topic=rospy.get_param("~humans_topic", VerbalParams.humans_topic),
         period=float(rospy.get_param("~period", VerbalParams.period)),
         max_queue=int(rospy.get_param("~max_queue", VerbalParams.max_queue)),
@@ -68,7 +75,7 @@ class VerbalNode:
         keywords = keyword_config_from_dict(self.params.keywords)
         builder = InstructionBuilder(keywords, load_priorities(self.params.priorities_file),
                                      load_graph(self.params.graph).place_ids(), self.directory,
-                                     first_id=self.params.first_id)
+                                     ids=IdCounter(self.params.first_id, self.params.id_file))
         self.pipeline = VerbalPipeline(keywords, SentimentAnalyzer(), builder, self.directory)
         self.directory.setup()
         self._publisher = rospy.Publisher("/task_planner/instructions", InstructionMsg,

@@ -2,9 +2,11 @@
 from the simulator or the image front end) -> /humans/observed, human_db updates, self-generated
 instructions on /task_planner/instructions, /diagnostics with latency."""
 import math
+import os
 import threading
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import rospy
 import tf2_ros
@@ -20,6 +22,7 @@ from task_planner.conversions import instruction_to_msg
 from task_planner.reward import load_priorities
 
 from perception.activity import ActivityConfig, load_affordances
+from perception.id_counter import IdCounter
 from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.requests import keyword_config_from_dict
 from perception.self_instructions import (
@@ -48,6 +51,8 @@ class VisualParams:
     self_instructions: bool = True        # ~self_instructions
     idle_only: bool = True                # ~idle_only: only while no human instruction is open
     first_id: int = 100000                # ~first_id of self-generated instructions
+    id_file: str = ""                     # ~id_file: last id handed out (a restart goes on
+                                          # after it); "" = $ROS_HOME/perception_visual_last_id
     utc_offset: float = 0.0               # ~utc_offset [s] for schedule times of day
     slow_latency: float = 0.1             # ~slow_latency [s]: diagnostics WARN above this
 
@@ -63,7 +68,7 @@ def read_params():
     defaults = VisualParams(**values)
     for name in ("top_camera", "bottom_camera", "map_frame", "base_frame", "period",
                  "recommendations", "repeat_after", "self_instructions", "idle_only", "first_id",
-                 "utc_offset",
+                 "id_file", "utc_offset",
                  "slow_latency"):
         values[name] = rospy.get_param("~" + name, getattr(defaults, name))
     return VisualParams(**values)
@@ -98,7 +103,10 @@ class VisualNode:
         codes = {a: i + 1 for i, a in enumerate(self.table.activities)}
         self.generator = SelfInstructionGenerator(
             SelfInstructionConfig(dict(p.recommendations), repeat_after=float(p.repeat_after)),
-            functions, priority, self.graph.place_ids(), codes, first_id=int(p.first_id))
+            functions, priority, self.graph.place_ids(), codes,
+            ids=IdCounter(int(p.first_id), p.id_file or str(
+                Path(os.environ.get("ROS_HOME", Path.home() / ".ros"))
+                / "perception_visual_last_id")))
         self.config = ActivityConfig()
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)

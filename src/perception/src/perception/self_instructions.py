@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 from task_planner.instruction import ROBOT, Instruction
 
+from perception.id_counter import IdCounter
+
 
 @dataclass
 class SelfInstructionConfig:
@@ -33,14 +35,15 @@ class SelfInstructionGenerator:
         activity_codes: {activity: Instruction.status code}.
     """
 
-    def __init__(self, config, functions, priority, place_ids, activity_codes, first_id=1):
+    def __init__(self, config, functions, priority, place_ids, activity_codes, first_id=1,
+                 ids=None):
         for name in list(config.recommendations.values()) + [config.remind_function]:
             if name not in functions:
                 raise ValueError(f"self-instruction function '{name}' is not a robot function "
                                  f"(known: {sorted(functions)})")
         self.config, self.functions, self.priority = config, functions, priority
         self.place_ids, self.activity_codes = place_ids, activity_codes
-        self.next_id = first_id
+        self.ids = ids if ids is not None else IdCounter(first_id)  # id_counter.IdCounter
         self._last = {}          # (person, function) -> stamp
 
     def _make(self, function, obs, text):
@@ -52,12 +55,11 @@ class SelfInstructionGenerator:
         self._last[key] = obs.stamp
         code, duration = self.functions[function]
         instruction = Instruction(
-            id=self.next_id, gamma=self.priority.gamma, beta=self.priority.beta,
+            id=self.ids.take(), gamma=self.priority.gamma, beta=self.priority.beta,
             destination=self.place_ids[obs.place], type=ROBOT, start_time=obs.stamp,
             duration=int(duration), source="robot", target=obs.person,
             status=self.activity_codes.get(obs.activity, 0), function=code,
             destination_name=obs.place, text=text)
-        self.next_id += 1
         return instruction
 
     def generate(self, obs, schedule_check=None):

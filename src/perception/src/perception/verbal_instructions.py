@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 from task_planner.instruction import HUMAN, Instruction
 
+from perception.id_counter import IdCounter
 from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, check_text,
                                  extract_function, find_physical_terms, find_target)
 from perception.sentiment import mood_text
@@ -114,11 +115,12 @@ def interpret(text, keywords, analyser, directory):
 class InstructionBuilder:
     """Table 4-1 instructions from Interpretations; owns the id counter of its node."""
 
-    def __init__(self, keywords, priorities, place_ids, directory, first_id=1):
+    def __init__(self, keywords, priorities, place_ids, directory, first_id=1, ids=None):
         """Args:
             priorities: {level: task_planner.reward.Priority} (config/priorities.yaml, read by
                 load_priorities) holding every level of Table 5-5 that speech can produce.
             place_ids: {graph place name: node id}.
+            ids: id_counter.IdCounter (persisted by the node); None: in memory from first_id.
         """
         missing = set(PRIORITY_LEVELS) - set(priorities)
         if missing:
@@ -130,7 +132,7 @@ class InstructionBuilder:
         self.priorities = priorities
         self.place_ids = place_ids
         self.directory = directory
-        self._next_id = first_id
+        self.ids = ids if ids is not None else IdCounter(first_id)
 
     def build(self, interpretation, ip, start_time):
         """§4.2.1: the instruction (or chain) for one interpreted utterance from phone `ip`."""
@@ -172,12 +174,11 @@ class InstructionBuilder:
         priority = self.priorities[interpretation.level]
         place = self._place_of(person, notes)
         instruction = Instruction(
-            id=self._next_id, previous_id=previous_id, gamma=priority.gamma, beta=priority.beta,
+            id=self.ids.take(), previous_id=previous_id, gamma=priority.gamma, beta=priority.beta,
             type=HUMAN, start_time=start_time, duration=function.duration_s, source=source,
             target=person, status=self.keywords.status_codes[interpretation.level],
             function=function.code, destination=self.place_ids[place], destination_name=place,
             text=interpretation.text)
-        self._next_id += 1
         return instruction
 
 
