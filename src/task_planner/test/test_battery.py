@@ -5,10 +5,10 @@ from test_executor import FUNCTIONS, NavigationModel, make_executor, run_executo
 
 from task_planner.baselines import PriorityFirst
 from task_planner.battery import BatteryConfig, BatteryModel
-from task_planner.executor import Charging
+from task_planner.executor import Charging, Executor, ExecutorConfig, PeopleAtPlaces
 from task_planner.instruction import ROBOT
 from task_planner.reward import Priority
-from task_planner.task_buffer import DONE
+from task_planner.task_buffer import DONE, BufferConfig, TaskBuffer
 
 
 def test_drain_and_charge_in_watt_hours():
@@ -46,3 +46,25 @@ def test_low_battery_sends_the_robot_to_charge(line_graph, tmp_path):
     assert (24.0, "I am charging my battery at the A.") in trace.said
     assert battery.level_wh == pytest.approx(0.06)  # drained to 0 by 12 s, then 6 s at 36 W
     assert FUNCTIONS[8].name == "charge"
+
+
+def test_battery_level_survives_an_executor_restart(line_graph, tmp_path):
+    """The level is journalled with the instructions; a restarted executor resumes it."""
+    config = BatteryConfig(capacity_wh=10.0, idle_w=0.0, moving_w=3600.0, executing_w=0.0,
+                           charge_w=36.0, low_fraction=0.05)
+    priority = Priority("self_generated", 1.0, 0.9)
+
+    def start(battery):
+        buffer = TaskBuffer(tmp_path / "buffer.sqlite", BufferConfig(node_count=line_graph.size))
+        return Executor(buffer, line_graph, PriorityFirst(), PeopleAtPlaces(), FUNCTIONS,
+                        ExecutorConfig(speed_mps=0.5), start_node=0,
+                        charging=Charging(battery, 0, 8, priority))
+
+    first = start(BatteryModel(config))
+    # A->B is 2 s at 3,600 W = 2 Wh; the robot is killed at B (no close, no final save)
+    run_executor(first, [(0.0, make_instruction(1, 1, gamma=3.0, beta=0.94, duration=0,
+                                                function=1))],
+                 NavigationModel(line_graph, 0.5))
+    assert first.charging.battery.level_wh == pytest.approx(8.0)
+    restarted = start(BatteryModel(config))   # a fresh model would say full (10 Wh)
+    assert restarted.charging.battery.level_wh == pytest.approx(8.0)

@@ -29,6 +29,7 @@ from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
 
 IDLE, MOVING, EXECUTING = "idle", "moving", "executing"
+BATTERY_KEY = "battery_level_wh"   # robot_state entry of the journal
 
 
 @dataclass(frozen=True)
@@ -36,6 +37,7 @@ class ExecutorConfig:
     speed_mps: float = 0.5        # robot speed along graph edges, for the planners [m/s]
     max_goal_attempts: int = 3    # navigation attempts per goal before its instruction fails
     latency_window: int = 1000    # decisions whose wall time is kept (decision_s)
+    battery_save_wh: float = 0.5  # journal the battery level when it moved this much [Wh]
 
 
 @dataclass(frozen=True)
@@ -139,6 +141,12 @@ class Executor:
         self._target = None              # (problem, index) a target planner is driving to
         # wall time [s] of the latest decisions (fetch + decode + decide, no journal writes)
         self.decision_s = deque(maxlen=self.config.latency_window)
+        self._saved_wh = None            # battery level last journalled [Wh]
+        if charging is not None:         # a restarted executor resumes the journalled level
+            battery = charging.battery
+            battery.level_wh = min(battery.config.capacity_wh,
+                                   buffer.robot_value(BATTERY_KEY, battery.level_wh))
+            self._save_battery(force=True)
 
     # ---- events ----
 
@@ -161,6 +169,7 @@ class Executor:
             record = self.buffer.finish(instruction_id, now)
             if self.charging and record.instruction.function == self.charging.function_code:
                 self.charging.battery.charge(record.instruction.duration)
+                self._save_battery(force=True)
             self.search.pop(instruction_id, None)
             self.searched.pop(instruction_id, None)
             self.log.append((now, f"done {instruction_id}: reward {record.reward_earned:.3f}"))
@@ -176,6 +185,15 @@ class Executor:
         busy_charging = self.mode == EXECUTING and self.buffer.get(
             self.executing[0]).instruction.function == self.charging.function_code
         self.charging.battery.drain("charging" if busy_charging else self.mode, now)
+        self._save_battery()
+
+    def _save_battery(self, force=False):
+        """Journal the battery level when it changed by battery_save_wh (or when forced)."""
+        level = self.charging.battery.level_wh
+        if force or self._saved_wh is None or \
+                abs(level - self._saved_wh) >= self.config.battery_save_wh:
+            self.buffer.store_robot_value(BATTERY_KEY, level)
+            self._saved_wh = level
 
     def _check_battery(self, now):
         """When the battery is low, give the robot a 'go charge' instruction (once)."""

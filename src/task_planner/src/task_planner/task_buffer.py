@@ -77,6 +77,9 @@ class TaskBuffer:
         self._db.execute("PRAGMA journal_mode=WAL")
         self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
         self._db.execute(f"CREATE TABLE IF NOT EXISTS instructions ({_COLUMNS})")
+        # robot state that must survive a restart besides the instructions (e.g. battery level)
+        self._db.execute("CREATE TABLE IF NOT EXISTS robot_state "
+                         "(name TEXT PRIMARY KEY, value REAL NOT NULL)")
         self.resumed = self._db.execute(
             "UPDATE instructions SET state=?, started_time=0 WHERE state=?",
             (PENDING, ACTIVE)).rowcount
@@ -185,6 +188,18 @@ class TaskBuffer:
     def total_reward(self):
         return sum(r.reward_earned for r in self._records.values())
 
+    # ---- robot state (executor) ----
+
+    def robot_value(self, name, default=None):
+        """A robot-state value stored with `store_robot_value`, or `default`."""
+        row = self._db.execute("SELECT value FROM robot_state WHERE name=?", (name,)).fetchone()
+        return default if row is None else row[0]
+
+    def store_robot_value(self, name, value):
+        """Keep `value` under `name` across restarts (written without a disk sync of its own:
+        the next durable commit carries it; a power cut may lose the latest value)."""
+        self._lazy_write("INSERT OR REPLACE INTO robot_state VALUES (?, ?)", (name, float(value)))
+
     # ---- write back (executor -> task buffer) ----
 
     def start(self, instruction_id, now):
@@ -259,21 +274,25 @@ class TaskBuffer:
         the write-ahead log, these rows included. DONE, FAILED, CANCELLED and new instructions
         are always synced before the call returns.
         """
-        lazy = not durable and not self._db.in_transaction and self.config.synchronous != "OFF"
-        if lazy:
-            self._db.execute("PRAGMA synchronous=OFF")
-        try:
-            self._db.execute(
-                "UPDATE instructions SET state=?, started_time=?, completion_time=?, "
-                "reward_earned=?, reason=? WHERE id=?",
-                (record.state, record.started_time, record.completion_time,
-                 record.reward_earned, record.reason, record.instruction.id))
-        finally:
-            if lazy:
-                self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
+        write = self._db.execute if durable else self._lazy_write
+        write("UPDATE instructions SET state=?, started_time=?, completion_time=?, "
+              "reward_earned=?, reason=? WHERE id=?",
+              (record.state, record.started_time, record.completion_time, record.reward_earned,
+               record.reason, record.instruction.id))
         self._index(record)
         self.version += 1
         return record
+
+    def _lazy_write(self, sql, values):
+        """Execute and commit `sql` without a disk sync (inside a caller's transaction: as is)."""
+        lazy = not self._db.in_transaction and self.config.synchronous != "OFF"
+        if lazy:
+            self._db.execute("PRAGMA synchronous=OFF")
+        try:
+            self._db.execute(sql, values)
+        finally:
+            if lazy:
+                self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
 
     def _index(self, record):
         """Keep the in-memory views (all, open, done ids) in step with the journal."""
