@@ -6,8 +6,8 @@ import pytest
 from planner_factories import make_instruction
 
 from task_planner.baselines import FirstComeFirstServe, PriorityFirst
-from task_planner.executor import (Executor, ExecutorConfig, Navigate, PeopleAtPlaces, Say,
-                                   nearest_node)
+from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, PeopleAtPlaces,
+                                   Say, Verify, nearest_node)
 from task_planner.executor_sim import NavigationModel, run_executor
 from task_planner.exact import ExactReplanner
 from task_planner.problem import Problem, schedule_reward
@@ -185,12 +185,42 @@ def test_nearest_node_is_where_a_restarted_robot_stands():
     assert [nearest_node(graph, x, y) for x, y in [(0.4, 0.1), (1.6, 0.3), (2.1, 1.2)]] == [0, 1, 2]
 
 
-def test_person_never_located_is_served_where_perception_sent_the_robot(line_graph, tmp_path):
+def test_person_never_located_is_not_served_unchecked(line_graph, tmp_path):
+    """Issue 12: the target must be verified; nobody has seen Zoe, so there is nowhere to search."""
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Zoe")
     executor = make_executor(line_graph, FirstComeFirstServe(), tmp_path, PeopleAtPlaces())
     trace = run_executor(executor, [(0.0, visit)], NavigationModel(line_graph, 0.5))
-    assert trace.executed == [(2.0, 1, "chat")]
-    assert (2.0, "Hello Zoe, shall we have a chat?") in trace.said
+    record = executor.buffer.get(1)
+    assert record.state == FAILED and record.reason == "Zoe not found (searched B)"
+    assert record.completion_time == pytest.approx(2.0)   # A->B 2 s
+    assert trace.executed == []
+
+
+def look_executor(line_graph, tmp_path, people):
+    buffer = TaskBuffer(tmp_path / "look.sqlite", BufferConfig(node_count=line_graph.size))
+    return Executor(buffer, line_graph, FirstComeFirstServe(), people, FUNCTIONS,
+                    ExecutorConfig(speed_mps=0.5, verify_wait_s=3.0), start_node=B)
+
+
+def test_person_seen_while_the_robot_looks_is_served(line_graph, tmp_path):
+    people = PeopleAtPlaces(now={"Bob": C})
+    executor = look_executor(line_graph, tmp_path, people)
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
+    _, commands = executor.receive([visit], 0.0)
+    assert commands == [Verify(1, "Bob", 3.0)] and executor.mode == "verifying"
+    assert executor.tick(1.0) == [] and executor.buffer.get(1).state == PENDING
+    people.seen("Bob", B)                  # perception places Bob here at 1.5 s
+    commands = executor.tick(1.5)
+    assert commands[0] == Execute(1, "check_status", 4.0) and executor.mode == "executing"
+
+
+def test_person_not_seen_while_looking_is_searched_after_the_wait(line_graph, tmp_path):
+    executor = look_executor(line_graph, tmp_path, PeopleAtPlaces(now={"Bob": C}))
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
+    executor.receive([visit], 0.0)
+    assert executor.tick(2.9) == []
+    assert executor.tick(3.0) == [Navigate(C, 1)]   # on to his last known place
+    assert executor.search[1] == [C] and executor.searched[1] == [B]
 
 
 def dynamic_household_arrivals(graph, count=12, seed=3):

@@ -12,10 +12,11 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   and may turn the robot back mid-edge (§4 "dynamic");
 - a navigation abort is retried `max_goal_attempts` times, then the instruction the move was for
   fails with the reason and the robot decides again;
-- on arrival the target person must be at the place (`people.is_at`); if not, their last known
-  places are searched (the instruction is served where they are found) before it fails. A person
-  the people source has never located cannot be verified; the instruction is served where
-  perception sent it.
+- on arrival the target person must be at the place (`people.is_at`): if not, the robot looks
+  for them there for `verify_wait_s` (perception updates the people meanwhile), then searches
+  their last known places in turn (the instruction is served where they are found) and fails
+  when none is left. A person nobody has located is not at the place either: once the wait is
+  over there is nowhere else to look, and the instruction fails ("<name> not found").
 """
 import time
 from collections import deque
@@ -28,7 +29,7 @@ from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
 
-IDLE, MOVING, EXECUTING = "idle", "moving", "executing"
+IDLE, MOVING, EXECUTING, VERIFYING = "idle", "moving", "executing", "verifying"
 BATTERY_KEY = "battery_level_wh"   # robot_state entry of the journal
 
 
@@ -38,6 +39,7 @@ class ExecutorConfig:
     max_goal_attempts: int = 3    # navigation attempts per goal before its instruction fails
     latency_window: int = 1000    # decisions whose wall time is kept (decision_s)
     battery_save_wh: float = 0.5  # journal the battery level when it moved this much [Wh]
+    verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
 
 
 @dataclass(frozen=True)
@@ -65,6 +67,15 @@ class Execute:
     instruction_id: int
     function: str
     duration_s: float
+
+
+@dataclass(frozen=True)
+class Verify:
+    """Look for person `target` at the robot's place until `until_s` [s], then decide again."""
+
+    instruction_id: int
+    target: str
+    until_s: float
 
 
 @dataclass(frozen=True)
@@ -134,6 +145,7 @@ class Executor:
         self.goal_for = 0                # instruction id the current move is for
         self.attempts = 0                # navigation attempts on the current goal
         self.executing = None            # (instruction id, end time [s]) while EXECUTING
+        self.verifying = None            # (instruction id, give-up time [s]) while VERIFYING
         self.search = {}                 # instruction id -> places still to search, next first
         self.searched = {}               # instruction id -> places already searched
         self.log = []                    # (time [s], event text): why each move was made
@@ -174,6 +186,8 @@ class Executor:
             self.searched.pop(instruction_id, None)
             self.log.append((now, f"done {instruction_id}: reward {record.reward_earned:.3f}"))
             self.mode, self.executing = IDLE, None
+        if self.mode == VERIFYING:
+            commands += self._verify(now)
         if self.mode == IDLE:
             return commands + self._decide(now)
         return commands
@@ -184,7 +198,8 @@ class Executor:
             return
         busy_charging = self.mode == EXECUTING and self.buffer.get(
             self.executing[0]).instruction.function == self.charging.function_code
-        self.charging.battery.drain("charging" if busy_charging else self.mode, now)
+        mode = IDLE if self.mode == VERIFYING else self.mode   # looking around: standing still
+        self.charging.battery.drain("charging" if busy_charging else mode, now)
         self._save_battery()
 
     def _save_battery(self, force=False):
@@ -247,6 +262,8 @@ class Executor:
         record = self.buffer.cancel(instruction_id, now)
         if self.mode == EXECUTING and self.executing[0] == instruction_id:
             self.mode, self.executing = IDLE, None
+        if self.mode == VERIFYING and self.verifying[0] == instruction_id:
+            self.mode, self.verifying = IDLE, None
         self.log.append((now, f"cancelled {instruction_id}"))
         return record, self._redecide(now)
 
@@ -256,7 +273,7 @@ class Executor:
         if self.mode == IDLE:
             return self._decide(now)
         if self.mode != MOVING:
-            return []  # a robot function is not interrupted by new instructions
+            return []  # a robot function (or the look for its person) is not interrupted
         decision = self._timed_decision(now)
         if decision is None:
             return []
@@ -280,7 +297,7 @@ class Executor:
             instruction_id = int(problem.ids[index])
             if step is None:
                 commands += self._serve(instruction_id, now)
-                if self.mode == EXECUTING:
+                if self.mode in (EXECUTING, VERIFYING):
                     return commands
                 continue  # failed, or the person is searched elsewhere: decide again
             self.mode, self.goal, self.goal_for, self.attempts = MOVING, step, instruction_id, 1
@@ -356,9 +373,31 @@ class Executor:
         except RobotFunctionError as error:
             return self._fail(instruction_id, now, str(error))
         target = instruction.target
-        if target and self.people.knows(target) and not self.people.is_at(target, self.node):
+        if target and not self.people.is_at(target, self.node):
+            if self.config.verify_wait_s > 0:
+                until = now + self.config.verify_wait_s
+                self.mode, self.verifying = VERIFYING, (instruction_id, until)
+                self.log.append((now, f"look for {target} at {self.graph.names[self.node]}"))
+                return [Verify(instruction_id, target, until)]
             return self._search_next(instruction, now)
-        # A person nobody has located yet cannot be verified: perception's destination stands.
+        return self._execute(instruction, function, now)
+
+    def _verify(self, now):
+        """While looking for the target person: execute once they are here, else search on."""
+        instruction_id, until = self.verifying
+        record = self.buffer.get(instruction_id)
+        if self.people.is_at(record.instruction.target, self.node):
+            self.mode, self.verifying = IDLE, None
+            return self._execute(record.instruction,
+                                 function_for(self.functions, record.instruction), now)
+        if now < until:
+            return []
+        self.mode, self.verifying = IDLE, None
+        return self._search_next(record.instruction, now)
+
+    def _execute(self, instruction, function, now):
+        """Start the robot function of `instruction` here (PENDING -> ACTIVE)."""
+        instruction_id = instruction.id
         self.buffer.start(instruction_id, now)
         self.mode, self.executing = EXECUTING, (instruction_id, now + instruction.duration)
         place = self.graph.names[self.node]

@@ -7,7 +7,7 @@ on that edge. Instructions arrive at their given times.
 """
 from dataclasses import dataclass, field
 
-from task_planner.executor import Execute, Navigate, Say
+from task_planner.executor import Execute, Navigate, Say, Verify
 
 
 @dataclass
@@ -52,6 +52,8 @@ def run_executor(executor, arrivals, navigation, until_s=float("inf"), start_s=0
             elif isinstance(command, Execute):
                 state["execution_end"] = clock + command.duration_s
                 trace.executed.append((clock, command.instruction_id, command.function))
+            elif isinstance(command, Verify):   # wake up when the look-around is over
+                state["execution_end"] = command.until_s
             elif isinstance(command, Say):
                 trace.said.append((clock, command.text))
 

@@ -29,7 +29,7 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.conversions import buffer_to_msg, instruction_from_msg
 from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate,
-                                   PeopleAtPlaces, Say, latency_ms, nearest_node)
+                                   PeopleAtPlaces, Say, Verify, latency_ms, nearest_node)
 from task_planner.graph import load_graph
 from task_planner.instruction import InvalidInstruction
 from task_planner.planner_choice import make_planner
@@ -55,6 +55,7 @@ class NodeParams:
     charging_place: str = "charging_place"  # graph node name of the charger
     priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
     latency_warn_ms: float = 10.0  # diagnostics WARN when the median decision takes longer [ms]
+    verify_wait: float = 2.0       # look for an absent target person this long on arrival [s]
 
     @classmethod
     def from_ros(cls):
@@ -81,7 +82,8 @@ class ExecutorNode:
         self.executor = Executor(
             buffer, self.graph, make_planner(params.planner, settings), self.people,
             self.executor_functions,
-            ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts),
+            ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
+                           verify_wait_s=params.verify_wait),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None)
         self.lock = threading.Lock()  # guards the caches below and the executor
@@ -241,6 +243,9 @@ class ExecutorNode:
             elif isinstance(command, Say):
                 self.say_pub.publish(String(command.text))
                 rospy.loginfo("task_planner says: %s", command.text)
+            elif isinstance(command, Verify):
+                rospy.loginfo("task_planner: looking for %s for instruction %d until %.1f s",
+                              command.target, command.instruction_id, command.until_s)
             elif isinstance(command, Execute):
                 rospy.loginfo("task_planner: %s for instruction %d (%.0f s)", command.function,
                               command.instruction_id, command.duration_s)
