@@ -151,8 +151,10 @@ class Executor:
         self.log = []                    # (time [s], event text): why each move was made
         self._problem_key, self._problem = None, None
         self._target = None              # (problem, index) a target planner is driving to
-        # wall time [s] of the latest decisions (fetch + decode + decide, no journal writes)
+        # wall and thread CPU time [s] of the latest decisions (fetch + decode + decide, no
+        # journal writes); CPU time leaves out waiting for a core on a loaded machine
         self.decision_s = deque(maxlen=self.config.latency_window)
+        self.decision_cpu_s = deque(maxlen=self.config.latency_window)
         self._saved_wh = None            # battery level last journalled [Wh]
         if charging is not None:         # a restarted executor resumes the journalled level
             battery = charging.battery
@@ -308,13 +310,14 @@ class Executor:
     def _timed_decision(self, now):
         """Fetch, decode and decide at the robot's node, timed: (problem, index, next node), or
         None when nothing is eligible."""
-        started = time.perf_counter()
+        started, started_cpu = time.perf_counter(), time.thread_time()
         problem, available = self._fetch_and_decode()
         decision = None
         if len(available):
             index, step = self._ask_planner(problem, self.node, now, available)
             decision = problem, index, step
         self.decision_s.append(time.perf_counter() - started)
+        self.decision_cpu_s.append(time.thread_time() - started_cpu)
         return decision
 
     def _fetch_and_decode(self):

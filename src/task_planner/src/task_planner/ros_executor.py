@@ -283,7 +283,8 @@ class ExecutorNode:
                 message += f"; median decision {decision[0]:.1f} ms"
             values = [KeyValue(k, str(v)) for k, v in counts.items()]
             # over the last 1,000 decisions / busy steps: median, 95th percentile, max [ms]
-            for name, figures in (("decision", decision), ("step", step)):
+            cpu = latency_ms(self.executor.decision_cpu_s)
+            for name, figures in (("decision", decision), ("decision_cpu", cpu), ("step", step)):
                 values += [KeyValue(f"{name}_ms_{stat}", f"{value:.3f}")
                            for stat, value in zip(("median", "p95", "max"), figures)]
             values.append(KeyValue("decisions_timed", str(len(self.executor.decision_s))))
