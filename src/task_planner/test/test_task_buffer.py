@@ -166,3 +166,32 @@ def test_burst_in_one_transaction_refuses_only_the_bad_ones(journal):
     assert [r.instruction.id if r else None for r, _ in results] == [1, None, 3]
     assert "destination node 7 is not in the graph" in results[1][1]
     assert [r.instruction.id for r in TaskBuffer(journal).records()] == [1, 3]
+
+
+def test_open_and_done_indexes_follow_every_change(journal):
+    buffer = TaskBuffer(journal)
+    for k in (1, 2, 3, 4):
+        buffer.submit(make_instruction(k, k % 3, start_time=0.0), now=float(k))
+    buffer.submit(make_instruction(5, 0, previous_id=4), now=5.0)
+    buffer.start(2, now=6.0)
+    buffer.finish(2, now=7.0)
+    buffer.cancel(4, now=8.0)              # its successor 5 fails with it
+    assert [r.instruction.id for r in buffer.open_records()] == [1, 3]
+    assert buffer.done_ids() == {2}
+    buffer.start(3, now=9.0)
+    assert [(r.instruction.id, r.state) for r in buffer.open_records()] == \
+        [(1, PENDING), (3, ACTIVE)]
+    buffer.close()
+    again = TaskBuffer(journal)                 # the indexes rebuilt from the journal agree
+    assert [(r.instruction.id, r.state) for r in again.open_records()] == \
+        [(1, PENDING), (3, PENDING)]
+    assert again.done_ids() == {2} and again.get(5).state == FAILED
+
+
+def test_robot_state_values_survive_reopening(journal):
+    buffer = TaskBuffer(journal)
+    assert buffer.robot_value("battery_level_wh", 795.0) == 795.0
+    buffer.store_robot_value("battery_level_wh", 612.5)
+    buffer.store_robot_value("battery_level_wh", 600.25)
+    buffer.close()
+    assert TaskBuffer(journal).robot_value("battery_level_wh") == 600.25
