@@ -8,6 +8,7 @@ journals before it answers, so its acknowledgement is durable.
 import math
 import os
 import threading
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,6 +22,7 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from std_msgs.msg import String
 from tamp_msgs.msg import HumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
+from visualization_msgs.msg import MarkerArray
 from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
 
@@ -30,10 +32,12 @@ from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, 
                                    PeopleAtPlaces, Say, nearest_node)
 from task_planner.graph import load_graph
 from task_planner.instruction import InvalidInstruction
+from task_planner.plan_view import plan_view
 from task_planner.planner_choice import make_planner
+from task_planner.ros_markers import plan_markers
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
-from task_planner.task_buffer import BufferConfig, TaskBuffer, TaskBufferError
+from task_planner.task_buffer import PENDING, BufferConfig, TaskBuffer, TaskBufferError
 
 ROOT = Path(__file__).resolve().parents[4]
 
@@ -52,6 +56,8 @@ class NodeParams:
     battery: bool = True           # low-battery model: the robot sends itself to charge
     charging_place: str = "charging_place"  # graph node name of the charger
     priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
+    marker_period: float = 0.5     # least time between two /task_planner/markers updates [s]
+    plan_view_max: int = 40        # markers show the plan only up to this many open instructions
 
     @classmethod
     def from_ros(cls):
@@ -84,6 +90,9 @@ class ExecutorNode:
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans, self.results = [], None, []
         self.refused, self.nav_goal = 0, None
+        self.settings = settings
+        self.view_planner = make_planner(params.planner, settings)  # plays the plan forward
+        self._view_key, self._view_time = None, -float("inf")
 
     def _charging(self, params, settings):
         functions = {f.name: f for f in self.executor_functions.values()}
@@ -101,6 +110,8 @@ class ExecutorNode:
         self.state_pub = rospy.Publisher("/task_planner/state", TaskBufferState, queue_size=1,
                                          latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.marker_pub = rospy.Publisher("/task_planner/markers", MarkerArray, queue_size=1,
+                                          latch=True)
         self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
             rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
@@ -184,6 +195,7 @@ class ExecutorNode:
             self._carry_out(commands)
             if self.executor.buffer.version != version:
                 self._publish_state()
+            self._publish_view()
 
     def _receive(self, now):
         inbox, self.inbox = self.inbox, []
@@ -248,6 +260,22 @@ class ExecutorNode:
         self.move_base.send_goal(goal, done_cb=lambda state, result, n=node:
                                  self._on_goal_done(n, state, result))
         rospy.loginfo("task_planner: move_base goal %s", self.graph.names[node])
+
+    def _publish_view(self):
+        """Markers of the ripple, next node and plan, when something they show has changed."""
+        executor = self.executor
+        key = (executor.buffer.version, executor.node, executor.goal, executor.mode)
+        wall = time.monotonic()
+        if key == self._view_key or wall - self._view_time < self.params.marker_period:
+            return
+        self._view_key, self._view_time = key, wall
+        pending = tuple(r.instruction for r in executor.buffer.open_records()
+                        if r.state == PENDING)
+        view = plan_view(self.graph, pending, self.view_planner, float(self.settings["speed_mps"]),
+                         float(self.settings["step_s"]), executor.node,
+                         -1 if executor.goal is None else executor.goal,
+                         plan_max=self.params.plan_view_max)
+        self.marker_pub.publish(plan_markers(view, self.graph, self.params.frame_id))
 
     def _publish_state(self):
         self.state_pub.publish(buffer_to_msg(self.executor.buffer, rospy.Time.now()))
