@@ -37,12 +37,12 @@ def test_the_demo_scenario(tmp_path):
                                 "Carol": ("living_room", "read"),
                                 "David": ("bedroom", "read")}
     # moves: Carol to (0.5, 5.8) at 45 s, Bob to (1.4, 4.95) at 60 s, Alice to (5.95, 10.9) at
-    # 90 s
+    # 150 s
     assert [(m.time_s, m.person, m.place) for m in scenario.moves] == [
-        (45.0, "Carol", "dining_room"), (60.0, "Bob", "dining_room"), (90.0, "Alice", "bedroom")]
+        (45.0, "Carol", "dining_room"), (60.0, "Bob", "dining_room"), (150.0, "Alice", "bedroom")]
     kinds = [kind for _, kind, _ in timeline(scenario)]
-    # 10, 14, 25 requests; 45, 60 moves; 70 request; 90 move; 100, 140 requests
-    assert kinds == ["request"] * 3 + ["move"] * 2 + ["request", "move"] + ["request"] * 2
+    # 10, 14, 25 requests; 45, 60 moves; 70, 100, 140 requests; 150 move
+    assert kinds == ["request"] * 3 + ["move"] * 2 + ["request"] * 3 + ["move"]
 
 
 def test_requests_are_sorted_and_the_timeout_read(tmp_path):
