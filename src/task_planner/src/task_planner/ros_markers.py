@@ -37,16 +37,20 @@ def _marker(frame_id, stamp, namespace, marker_id, kind):
 
 
 def plan_markers(view, graph, frame_id="map", stamp=None, style=MarkerStyle()):
-    """MarkerArray: a sphere per node sized/coloured by its expected reward with the value as
-    text, an arrow robot node -> next node, the planned route as a line and numbered stops."""
+    """MarkerArray: a sphere per node sized/coloured by its expected reward (smallest/blue at
+    the lowest value on the graph, largest/red at the highest) with the value as text, an arrow
+    robot node -> next node, the planned route as a line and numbered stops."""
     stamp = stamp or rospy.Time.now()
     array = MarkerArray()
     # first: clear the previous plan's markers (the number of stops changes)
-    array.markers.append(_marker(frame_id, stamp, NAMESPACE_STOPS, 0, Marker.DELETEALL))
-    peak = float(max(view.values.max(), 1e-9)) if len(view.values) else 1.0
+    clear = _marker(frame_id, stamp, NAMESPACE_STOPS, 0, Marker.TEXT_VIEW_FACING)
+    clear.action = Marker.DELETEALL
+    array.markers.append(clear)
+    low = float(view.values.min()) if len(view.values) else 0.0
+    spread = float(view.values.max()) - low if len(view.values) else 0.0
     for node, value in enumerate(view.values):
         x, y, _ = graph.poses[node]
-        share = float(value) / peak
+        share = (float(value) - low) / spread if spread > 1e-9 else 0.0  # lowest 0, highest 1
         sphere = _marker(frame_id, stamp, NAMESPACE_RIPPLE, node, Marker.SPHERE)
         sphere.pose.position = _point(x, y, style.height)
         diameter = style.min_diameter + share * (style.max_diameter - style.min_diameter)

@@ -171,7 +171,7 @@ def plot_rewards(path, run, figures, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7.0, 4.2))
+    fig, ax = plt.subplots(figsize=(7.0, 5.0))
     for figure, style in zip(figures, ("--", "-.", ":", (0, (5, 1)))):
         times, rewards = figure.curve
         ax.step([0.0, *times], [0.0, *rewards], linestyle=style, where="post",
@@ -182,7 +182,7 @@ def plot_rewards(path, run, figures, title):
     ax.set_xlabel("time since the scenario start [s, simulated]")
     ax.set_ylabel("accumulated reward (Eq. 4-2)")
     ax.set_title(title)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
