@@ -82,9 +82,11 @@ def test_markdown_lists_every_instruction(tmp_path, line_graph):
     record = dict(scenario="t", command="scripts/run_scenario t", date="d", speed=5.0,
                   planner="rollout", start_place="A", t0=0.0, sim_s=6.0, wall_s=2.0,
                   finished=True, events=[dict(time=0.0, what="Bob sends: \"hi\"")],
+                  requests=[dict(time=0.0, person="Bob", text="hi", spoken=True)],
                   trajectory=[[0.0, 0.0, 0.0]])
     text = report_markdown(record, entries, figures, run_curve(entries, 0.0), [],
                            dict(rewards="r.png", trajectory="t.png"))
+    assert "phone requests sent: 1 (1 spoken through the STT node)" in text
     assert "served 3, failed 0" in text
     assert "| 1 | Bob | hi | " in text
     assert "| this run (simulator) | 1.840 | 2, 1, 3 |" in text

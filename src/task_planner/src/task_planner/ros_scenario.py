@@ -189,6 +189,8 @@ class ScenarioNode:
             planner=rospy.get_param("/task_planner/planner", "seed"),
             start_place=start_place, t0=self.t0, sim_s=rospy.get_time() - self.t0,
             wall_s=wall_s, finished=finished, events=self.events, trajectory=self.trajectory,
+            requests=[dict(time=r.time_s, person=r.person, text=r.text, spoken=r.spoken)
+                      for r in self.scenario.requests],
             said=[[t - self.t0, text] for t, text in self.said])
         self.record_path.parent.mkdir(parents=True, exist_ok=True)
         self.record_path.write_text(json.dumps(record, indent=1))

@@ -215,7 +215,9 @@ def report_markdown(record, entries, figures, run, order_problems, files):
              + ("." if record["finished"] else "; **the run timed out before every request was "
                                                 "closed**."), "",
              "## Counts", "",
-             f"- requests from people (human instructions): {stats['requests']}; served "
+             f"- phone requests sent: {len(record['requests'])} "
+             f"({sum(r['spoken'] for r in record['requests'])} spoken through the STT node)",
+             f"- instructions from people (type human): {stats['requests']}; served "
              f"{stats['served']}, failed {stats['failed']}",
              f"- all instructions in the task buffer: {stats['instructions']} ("
              + ", ".join(f"{k} {v}" for k, v in stats["states"].items() if v) + ")",
