@@ -39,3 +39,11 @@ def test_plan_view_of_the_seed_planner(line_graph):
     # A: 2 + 8 * 0.98^6 (D is 6 steps away), the field's peak
     assert view.values[0] == pytest.approx(2 + 8 * 0.98 ** 6)
     assert int(np.argmax(view.values)) == 0
+
+
+def test_plan_left_out_beyond_plan_max(line_graph):
+    instructions = (make_instruction(1, 1, 2.0, 0.5), make_instruction(2, 3, 8.0, 0.9))
+    view = plan_view(line_graph, instructions, FirstComeFirstServe(), 1.0, 1.0, robot_node=0,
+                     next_node=-1, plan_max=1)
+    assert (view.route, view.stops) == ((), ())
+    assert view.values[1] == pytest.approx(2.0 + 8 * 0.9 ** 5)
