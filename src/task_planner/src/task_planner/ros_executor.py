@@ -23,6 +23,7 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from std_msgs.msg import String
 from tamp_msgs.msg import HumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
+from visualization_msgs.msg import MarkerArray
 from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
 
@@ -32,10 +33,12 @@ from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, 
                                    PeopleAtPlaces, Say, Verify, latency_ms, nearest_node)
 from task_planner.graph import load_graph
 from task_planner.instruction import InvalidInstruction
+from task_planner.plan_view import plan_view
 from task_planner.planner_choice import make_planner
+from task_planner.ros_markers import plan_markers
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
-from task_planner.task_buffer import BufferConfig, TaskBuffer, TaskBufferError
+from task_planner.task_buffer import PENDING, BufferConfig, TaskBuffer, TaskBufferError
 
 ROOT = Path(__file__).resolve().parents[4]
 
@@ -56,6 +59,8 @@ class NodeParams:
     priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
     latency_warn_ms: float = 10.0  # diagnostics WARN when the median decision takes longer [ms]
     verify_wait: float = 2.0       # look for an absent target person this long on arrival [s]
+    marker_period: float = 0.5     # least time between two /task_planner/markers updates [s]
+    plan_view_max: int = 40        # markers show the plan only up to this many open instructions
 
     @classmethod
     def from_ros(cls):
@@ -90,6 +95,9 @@ class ExecutorNode:
         self.inbox, self.humans, self.results = [], None, []
         self.refused, self.nav_goal = 0, None
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
+        self.settings = settings
+        self.view_planner = make_planner(params.planner, settings)  # plays the plan forward
+        self._view_key, self._view_time = None, -float("inf")
 
     def _charging(self, params, settings):
         functions = {f.name: f for f in self.executor_functions.values()}
@@ -107,6 +115,8 @@ class ExecutorNode:
         self.state_pub = rospy.Publisher("/task_planner/state", TaskBufferState, queue_size=1,
                                          latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.marker_pub = rospy.Publisher("/task_planner/markers", MarkerArray, queue_size=1,
+                                          latch=True)
         self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
             rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
@@ -195,6 +205,7 @@ class ExecutorNode:
             self._carry_out(commands)
             if self.executor.buffer.version != version:
                 self._publish_state()
+            self._publish_view()
 
     def _receive(self, now):
         inbox, self.inbox = self.inbox, []
@@ -262,6 +273,22 @@ class ExecutorNode:
         self.move_base.send_goal(goal, done_cb=lambda state, result, n=node:
                                  self._on_goal_done(n, state, result))
         rospy.loginfo("task_planner: move_base goal %s", self.graph.names[node])
+
+    def _publish_view(self):
+        """Markers of the ripple, next node and plan, when something they show has changed."""
+        executor = self.executor
+        key = (executor.buffer.version, executor.node, executor.goal, executor.mode)
+        wall = time.monotonic()
+        if key == self._view_key or wall - self._view_time < self.params.marker_period:
+            return
+        self._view_key, self._view_time = key, wall
+        pending = tuple(r.instruction for r in executor.buffer.open_records()
+                        if r.state == PENDING)
+        view = plan_view(self.graph, pending, self.view_planner, float(self.settings["speed_mps"]),
+                         float(self.settings["step_s"]), executor.node,
+                         -1 if executor.goal is None else executor.goal,
+                         plan_max=self.params.plan_view_max)
+        self.marker_pub.publish(plan_markers(view, self.graph, self.params.frame_id))
 
     def _publish_state(self):
         self.state_pub.publish(buffer_to_msg(self.executor.buffer, rospy.Time.now()))

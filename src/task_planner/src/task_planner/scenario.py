@@ -1,0 +1,123 @@
+"""A scripted household scenario (ROS-free): timed phone requests and the people's moves.
+
+A scenario file (config/scenarios/*.yaml) names the sim2d world whose people's timed moves are the
+schedule deviations of the run (config/household.yaml holds their daily schedules; the world moves
+them at other times), the household (phone IPs), and the requests: at `time` seconds of simulated
+time, `person` says `text` into their phone; `spoken: true` sends it as synthesised audio through
+the speech-to-text node instead of as text. `ros_scenario.py` plays it; `scenario_report.py`
+writes what happened.
+"""
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+from matplotlib.path import Path as Polygon
+
+
+class ScenarioError(ValueError):
+    """A scenario file that cannot be played; the message names the file and the entry."""
+
+
+@dataclass(frozen=True)
+class Request:
+    time_s: float        # when the person speaks [s of simulated time]
+    person: str          # household member (config/household.yaml)
+    ip: str              # their phone IP
+    text: str            # what they say
+    spoken: bool = False  # True: synthesised audio through the STT node
+
+
+@dataclass(frozen=True)
+class Move:
+    time_s: float        # when the person starts walking [s of simulated time]
+    person: str
+    place: str           # graph place of the destination pose
+    activity: str
+
+
+@dataclass(frozen=True)
+class Scenario:
+    name: str
+    world: Path          # sim2d world file
+    requests: tuple      # Request, in time order
+    moves: tuple         # Move, in time order (schedule deviations, from the world)
+    initial: dict        # person -> (place, activity) at t = 0, from the world
+    timeout_s: float     # give up this long after the last request [s of simulated time]
+    planner: str         # task planner of the executor (planner_choice.PLANNER_NAMES)
+
+
+def place_of(graph_spec, x, y):
+    """Name of the graph place whose region contains (x, y) [m]; "" when none does."""
+    for node in graph_spec["nodes"]:
+        if Polygon(node["region"]).contains_point((x, y)):
+            return node["name"]
+    return ""
+
+
+def _people_places(world, graph_spec, where):
+    initial, moves = {}, []
+    for person in world.get("people", []):
+        name = person["name"]
+        place = place_of(graph_spec, *person["pose"][:2])
+        if not place:
+            raise ScenarioError(f"{where}: {name} starts at {person['pose'][:2]}, in no place")
+        initial[name] = (place, person.get("activity", ""))
+        for entry in person.get("schedule", []):
+            place = place_of(graph_spec, *entry["pose"][:2])
+            if not place:
+                raise ScenarioError(f"{where}: {name}'s move at {entry['time']} s ends in no "
+                                    f"place ({entry['pose'][:2]})")
+            moves.append(Move(float(entry["time"]), name, place, entry.get("activity", "")))
+    return initial, tuple(sorted(moves, key=lambda m: (m.time_s, m.person)))
+
+
+def load_scenario(path):
+    """Read and check a scenario file; paths in it are relative to the file."""
+    path = Path(path)
+    try:
+        spec = yaml.safe_load(path.read_text())
+    except (OSError, yaml.YAMLError) as error:
+        raise ScenarioError(f"{path}: cannot read: {error}") from error
+    for key in ("world", "household", "graph", "requests"):
+        if key not in (spec or {}):
+            raise ScenarioError(f"{path}: missing '{key}'")
+    base = path.parent
+    world_path = (base / spec["world"]).resolve()
+    world = yaml.safe_load(world_path.read_text())
+    graph_spec = yaml.safe_load((base / spec["graph"]).read_text())
+    household = yaml.safe_load((base / spec["household"]).read_text())
+    ips = {h["name"]: str(h["ip"]) for h in household["humans"]}
+    requests = []
+    for k, entry in enumerate(spec["requests"]):
+        where = f"{path}: request {k + 1}"
+        person, text, time_s = entry.get("person"), str(entry.get("text", "")).strip(), \
+            entry.get("time")
+        if person not in ips:
+            raise ScenarioError(f"{where}: unknown person {person!r} (household: "
+                                f"{', '.join(sorted(ips))})")
+        if not text:
+            raise ScenarioError(f"{where}: empty text")
+        if not isinstance(time_s, (int, float)) or time_s < 0:
+            raise ScenarioError(f"{where}: time must be a number of seconds >= 0, got {time_s!r}")
+        requests.append(Request(float(time_s), person, ips[person], text,
+                                bool(entry.get("spoken", False))))
+    if not requests:
+        raise ScenarioError(f"{path}: no requests")
+    initial, moves = _people_places(world, graph_spec, world_path)
+    unknown = sorted(set(initial) - set(ips))
+    if unknown:
+        raise ScenarioError(f"{world_path}: people not in the household: {', '.join(unknown)}")
+    timeout_s = float(spec.get("timeout_s", 600.0))
+    if timeout_s <= 0:
+        raise ScenarioError(f"{path}: timeout_s must be > 0, got {timeout_s}")
+    return Scenario(name=str(spec.get("name", path.stem)), world=world_path,
+                    requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
+                    initial=initial, timeout_s=timeout_s,
+                    planner=str(spec.get("planner", "seed")))
+
+
+def timeline(scenario):
+    """Every scripted event in time order: (time [s], kind 'request' | 'move', the event)."""
+    events = [(r.time_s, "request", r) for r in scenario.requests]
+    events += [(m.time_s, "move", m) for m in scenario.moves]
+    return sorted(events, key=lambda e: (e[0], e[1] == "request"))

@@ -1,0 +1,75 @@
+"""Scenario files: requests, the people's initial places and moves from the world, bad input."""
+from pathlib import Path
+
+import pytest
+
+from task_planner.scenario import ScenarioError, load_scenario, place_of, timeline
+
+ROOT = Path(__file__).resolve().parents[3]
+GRAPH_SPEC = {"nodes": [{"name": "west", "region": [[0, 0], [2, 0], [2, 2], [0, 2]]},
+                        {"name": "east", "region": [[2, 0], [4, 0], [4, 2], [2, 2]]}]}
+
+
+def write_scenario(tmp_path, requests, extra=""):
+    path = tmp_path / "scenario.yaml"
+    path.write_text(f"world: {ROOT}/config/worlds/household_day.yaml\n"
+                    f"household: {ROOT}/config/household.yaml\n"
+                    f"graph: {ROOT}/maps/household.graph.yaml\n{extra}requests:\n{requests}")
+    return path
+
+
+def test_place_of_regions():
+    assert place_of(GRAPH_SPEC, 1.0, 1.0) == "west"
+    assert place_of(GRAPH_SPEC, 3.0, 0.5) == "east"
+    assert place_of(GRAPH_SPEC, 5.0, 1.0) == ""
+
+
+def test_the_demo_scenario(tmp_path):
+    scenario = load_scenario(ROOT / "config/scenarios/household_day.yaml")
+    assert scenario.name == "household_day" and scenario.planner == "rollout"
+    assert [(r.time_s, r.person, r.spoken) for r in scenario.requests] == [
+        (10.0, "Bob", False), (14.0, "David", True), (25.0, "Alice", False),
+        (70.0, "Carol", False), (100.0, "Bob", False), (140.0, "David", False)]
+    assert scenario.requests[0].ip == "192.168.1.102"  # Bob's phone, config/household.yaml
+    # world poses: Alice (0.85, 10.3) office, Bob (1.2, 1.35) and Carol (2.6, 2.9) living room,
+    # David (5.0, 7.6) bedroom
+    assert scenario.initial == {"Alice": ("office", "work"), "Bob": ("living_room", "watch TV"),
+                                "Carol": ("living_room", "read"),
+                                "David": ("bedroom", "read")}
+    # moves: Carol to (0.5, 5.8) at 45 s, Bob to (1.4, 4.95) at 60 s, Alice to (5.95, 10.9) at
+    # 150 s
+    assert [(m.time_s, m.person, m.place) for m in scenario.moves] == [
+        (45.0, "Carol", "dining_room"), (60.0, "Bob", "dining_room"), (150.0, "Alice", "bedroom")]
+    kinds = [kind for _, kind, _ in timeline(scenario)]
+    # 10, 14, 25 requests; 45, 60 moves; 70, 100, 140 requests; 150 move
+    assert kinds == ["request"] * 3 + ["move"] * 2 + ["request"] * 3 + ["move"]
+
+
+def test_requests_are_sorted_and_the_timeout_read(tmp_path):
+    path = write_scenario(tmp_path, '  - {time: 9, person: Bob, text: "b"}\n'
+                                    '  - {time: 3, person: Alice, text: "a", spoken: true}\n',
+                          "timeout_s: 50\nplanner: seed\n")
+    scenario = load_scenario(path)
+    assert [(r.person, r.ip, r.spoken) for r in scenario.requests] == [
+        ("Alice", "192.168.1.101", True), ("Bob", "192.168.1.102", False)]
+    assert (scenario.timeout_s, scenario.planner) == (50.0, "seed")
+
+
+@pytest.mark.parametrize("requests, message", [
+    ('  - {time: 1, person: Zed, text: "hi"}\n', "unknown person 'Zed'"),
+    ('  - {time: -1, person: Bob, text: "hi"}\n', "time must be a number"),
+    ('  - {time: 1, person: Bob, text: "  "}\n', "empty text"),
+    ("  []\n", "no requests"),
+])
+def test_bad_scenarios_are_named(tmp_path, requests, message):
+    with pytest.raises(ScenarioError, match=message):
+        load_scenario(write_scenario(tmp_path, requests))
+
+
+def test_missing_key_and_file(tmp_path):
+    path = tmp_path / "s.yaml"
+    path.write_text("world: x.yaml\n")
+    with pytest.raises(ScenarioError, match="missing 'household'"):
+        load_scenario(path)
+    with pytest.raises(ScenarioError, match="cannot read"):
+        load_scenario(tmp_path / "none.yaml")
