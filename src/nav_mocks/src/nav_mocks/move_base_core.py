@@ -118,9 +118,11 @@ class MoveBaseCore:
     def active(self):
         return self.run is not None and self.run.status == ACTIVE
 
-    def make_plan(self, start, goal):
-        """make_plan service: a Plan between two map points, or NoPath (does not touch a run)."""
-        return self.planner.plan(start[:2], goal[:2])
+    def make_plan(self, start, goal, tolerance=0.0):
+        """make_plan service: a Plan between two map points, or NoPath (does not touch a run).
+
+        tolerance [m]: nav_msgs/GetPlan's, see GlobalPlanner.plan."""
+        return self.planner.plan(start[:2], goal[:2], tolerance)
 
     # control cycle -----------------------------------------------------------------------------
     def observe(self, scan, laser_pose):
