@@ -6,7 +6,7 @@ from helpers import open_room
 
 from nav_mocks.costmap import CostmapConfig
 from nav_mocks.dwa import (DwaConfig, DwaController, LocalCostmap, contact_clearance,
-                           local_plan, rollout, sample_velocities,
+                           fuse_scans, local_plan, rollout, sample_velocities,
                            velocity_window)
 
 COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.1, inflation_radius=0.5)
@@ -130,3 +130,28 @@ def test_keeps_the_contact_clearance_when_the_padding_is_smaller():
     assert controller.at_goal_xy(pose, (3.5, 1.5, 0.0))
     gaps = np.hypot(trace[:, None, 0] - wall[None, :, 0], trace[:, None, 1] - wall[None, :, 1])
     assert gaps.min() > 0.29 - 0.05 * math.sqrt(2) / 2
+
+
+def test_fused_scans_ignore_a_hit_that_noise_moved_one_cell_closer():
+    # the robot at cell (20, 20)'s centre; one obstacle 10 cells east (0.5 m) in scans A, one
+    # cell closer (0.45 m, as 2 cm range noise can make it) in scan B; the room's walls are 1 m away
+    robot = (1.025, 1.025)
+    a, b = np.array([[1.525, 1.025]]), np.array([[1.475, 1.025]])
+
+    def clearance(scans):
+        local = LocalCostmap(ROOM.cells > 50, ROOM, robot + (0.0,), scans, 5.0)
+        return float(local.clearance(np.array([robot[0]]), np.array([robot[1]]))[0])
+
+    assert clearance(b) == pytest.approx(0.45)              # one scan: its own hits
+    assert clearance([a, b, a]) == pytest.approx(0.5)       # B is outvoted
+    assert clearance([b, b, a]) == pytest.approx(0.45)      # seen twice: it counts
+    assert clearance([a, b]) == pytest.approx(0.45)         # no majority: the cautious one
+    assert clearance([]) == pytest.approx(1.0)              # no scan yet: the map walls
+
+
+def test_fuse_scans_is_the_lower_median():
+    fields = np.array([[[3.0]], [[1.0]], [[2.0]], [[5.0]]])
+    assert fuse_scans(fields[:1])[0, 0] == 3.0
+    assert fuse_scans(fields[:2])[0, 0] == 1.0
+    assert fuse_scans(fields[:3])[0, 0] == 2.0
+    assert fuse_scans(fields)[0, 0] == 2.0                  # of 1, 2, 3, 5: the lower median
