@@ -155,3 +155,24 @@ def test_fuse_scans_is_the_lower_median():
     assert fuse_scans(fields[:2])[0, 0] == 1.0
     assert fuse_scans(fields[:3])[0, 0] == 2.0
     assert fuse_scans(fields)[0, 0] == 2.0                  # of 1, 2, 3, 5: the lower median
+
+
+@pytest.mark.parametrize("padding, passes", [(0.09, True), (0.10, False)])
+def test_a_corridor_whose_centre_cells_are_exactly_at_the_padded_radius(padding, passes):
+    # laser walls 8 cells (0.40 m) either side of the centre row y = 1.025: the centre cells
+    # have clearance 0.40 m, their neighbours 0.35 m. Radius 0.3 m: the contact clearance is
+    # 0.3 + 0.0707 + 0.02 = 0.391 m. With padding 0.09 (inscribed 0.39) that is the limit and
+    # the centre row is admissible; with padding 0.10 the limit is 0.40 and `clearance <= 0.40`
+    # closes the corridor: the robot never moves.
+    costmap = CostmapConfig(robot_radius=0.3, footprint_padding=padding, inflation_radius=0.75)
+    controller = DwaController(DwaConfig(max_vel_y=0.3), costmap)
+    xs = np.arange(0.525, 3.6, 0.05)
+    walls = np.vstack([np.column_stack((xs, np.full(len(xs), y))) for y in (0.625, 1.425)])
+    controller.set_plan(np.column_stack((np.linspace(0.525, 3.025, 51), np.full(51, 1.025))))
+    pose, trace = drive(controller, (0.525, 1.025, 0.0), (3.025, 1.025, 0.0), walls, steps=200)
+    assert controller.at_goal_xy(pose, (3.025, 1.025, 0.0)) == passes
+    if passes:
+        local = LocalCostmap(ROOM.cells > 50, ROOM, pose, walls, 5.0)
+        assert local.clearance(trace[:, 0], trace[:, 1]).min() == pytest.approx(0.40)
+    else:
+        assert np.hypot(*(trace[-1, :2] - trace[0, :2])) < 0.01
