@@ -6,7 +6,7 @@ from helpers import open_room
 
 from nav_mocks.costmap import CostmapConfig
 from nav_mocks.dwa import (DwaConfig, DwaController, LocalCostmap, contact_clearance,
-                           local_plan, rollout, sample_velocities,
+                           fuse_scans, local_plan, rollout, sample_velocities,
                            velocity_window)
 
 COSTMAP = CostmapConfig(robot_radius=0.2, footprint_padding=0.1, inflation_radius=0.5)
@@ -130,3 +130,49 @@ def test_keeps_the_contact_clearance_when_the_padding_is_smaller():
     assert controller.at_goal_xy(pose, (3.5, 1.5, 0.0))
     gaps = np.hypot(trace[:, None, 0] - wall[None, :, 0], trace[:, None, 1] - wall[None, :, 1])
     assert gaps.min() > 0.29 - 0.05 * math.sqrt(2) / 2
+
+
+def test_fused_scans_ignore_a_hit_that_noise_moved_one_cell_closer():
+    # the robot at cell (20, 20)'s centre; one obstacle 10 cells east (0.5 m) in scans A, one
+    # cell closer (0.45 m, as 2 cm range noise can make it) in scan B; the room's walls are 1 m away
+    robot = (1.025, 1.025)
+    a, b = np.array([[1.525, 1.025]]), np.array([[1.475, 1.025]])
+
+    def clearance(scans):
+        local = LocalCostmap(ROOM.cells > 50, ROOM, robot + (0.0,), scans, 5.0)
+        return float(local.clearance(np.array([robot[0]]), np.array([robot[1]]))[0])
+
+    assert clearance(b) == pytest.approx(0.45)              # one scan: its own hits
+    assert clearance([a, b, a]) == pytest.approx(0.5)       # B is outvoted
+    assert clearance([b, b, a]) == pytest.approx(0.45)      # seen twice: it counts
+    assert clearance([a, b]) == pytest.approx(0.45)         # no majority: the cautious one
+    assert clearance([]) == pytest.approx(1.0)              # no scan yet: the map walls
+
+
+def test_fuse_scans_is_the_lower_median():
+    fields = np.array([[[3.0]], [[1.0]], [[2.0]], [[5.0]]])
+    assert fuse_scans(fields[:1])[0, 0] == 3.0
+    assert fuse_scans(fields[:2])[0, 0] == 1.0
+    assert fuse_scans(fields[:3])[0, 0] == 2.0
+    assert fuse_scans(fields)[0, 0] == 2.0                  # of 1, 2, 3, 5: the lower median
+
+
+@pytest.mark.parametrize("padding, passes", [(0.09, True), (0.10, False)])
+def test_a_corridor_whose_centre_cells_are_exactly_at_the_padded_radius(padding, passes):
+    # laser walls 8 cells (0.40 m) either side of the centre row y = 1.025: the centre cells
+    # have clearance 0.40 m, their neighbours 0.35 m. Radius 0.3 m: the contact clearance is
+    # 0.3 + 0.0707 + 0.02 = 0.391 m. With padding 0.09 (inscribed 0.39) that is the limit and
+    # the centre row is admissible; with padding 0.10 the limit is 0.40 and `clearance <= 0.40`
+    # closes the corridor: the robot never moves.
+    costmap = CostmapConfig(robot_radius=0.3, footprint_padding=padding, inflation_radius=0.75)
+    controller = DwaController(DwaConfig(max_vel_y=0.3), costmap)
+    xs = np.arange(0.525, 3.6, 0.05)
+    walls = np.vstack([np.column_stack((xs, np.full(len(xs), y))) for y in (0.625, 1.425)])
+    controller.set_plan(np.column_stack((np.linspace(0.525, 3.025, 51), np.full(51, 1.025))))
+    pose, trace = drive(controller, (0.525, 1.025, 0.0), (3.025, 1.025, 0.0), walls, steps=200)
+    assert controller.at_goal_xy(pose, (3.025, 1.025, 0.0)) == passes
+    if passes:
+        local = LocalCostmap(ROOM.cells > 50, ROOM, pose, walls, 5.0)
+        assert local.clearance(trace[:, 0], trace[:, 1]).min() == pytest.approx(0.40)
+    else:
+        assert np.hypot(*(trace[-1, :2] - trace[0, :2])) < 0.01

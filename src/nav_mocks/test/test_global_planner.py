@@ -80,3 +80,42 @@ def test_unknown_space_is_crossed_only_when_not_lethal():
     # through the unknown gap at column 2; the walls' corners forbid every diagonal on the way:
     # 2 right, 2 down, 2 left
     assert plan.length_m == pytest.approx(6.0)
+
+
+def test_tolerance_moves_a_blocked_goal_to_the_nearest_free_cell():
+    grid = grid_from_rows(["......",
+                           "......",
+                           "...###",
+                           "...###"], resolution=1.0)
+    planner = GlobalPlanner(Costmap(grid, POINT), PlannerConfig(cost_factor=0.0))
+    goal = (4.4, 2.4)                     # in cell (2, 4) of the wall block
+    with pytest.raises(NoPath, match="in an obstacle"):
+        planner.plan((0.5, 0.5), goal)                     # GetPlan's default tolerance 0
+    with pytest.raises(NoPath, match="in an obstacle"):
+        planner.plan((0.5, 0.5), goal, tolerance=0.5)      # no free cell centre within 0.5 m
+    plan = planner.plan((0.5, 0.5), goal, tolerance=1.0)
+    # free centres within 1 m in x and y: (3.5, 1.5) at 1.27 m, (4.5, 1.5) at 0.91 m: the latter
+    assert tuple(plan.points[-1]) == (4.5, 1.5)
+    # cell (0,0) -> (1,4): one diagonal then 3 straight; the first and last points are the
+    # start (0.5, 0.5) and the cell centre (4.5, 1.5) themselves
+    assert plan.length_m == pytest.approx(math.sqrt(2) + 3)
+
+
+def test_tolerance_replaces_an_unreachable_goal_by_a_reachable_cell():
+    grid = grid_from_rows([".......",
+                           "...###.",
+                           "...#.#.",
+                           "...###."], resolution=1.0)
+    planner = GlobalPlanner(Costmap(grid, POINT), PlannerConfig(cost_factor=0.0))
+    with pytest.raises(NoPath, match="no path"):
+        planner.plan((0.5, 0.5), (4.5, 2.5), tolerance=0.0)
+    # the goal cell (2, 4) is free but enclosed; every other cell centre within 1 m of it in x
+    # and y is a wall: nothing to move the goal to
+    with pytest.raises(NoPath, match="no path"):
+        planner.plan((0.5, 0.5), (4.5, 2.5), tolerance=1.0)
+    plan = planner.plan((0.5, 0.5), (4.4, 2.5), tolerance=2.0)
+    # reachable free centres within 2 m in x and y: column x = 2.5 (rows 0-3) and row y = 0.5
+    # (x 2.5-5.5); the nearest is (2.5, 2.5) at 1.9 m ((4.5, 0.5) is 2.002 m away);
+    # path cell (0, 0) -> (2, 2): two diagonals
+    assert tuple(plan.points[-1]) == (2.5, 2.5)
+    assert plan.length_m == pytest.approx(2 * math.sqrt(2))

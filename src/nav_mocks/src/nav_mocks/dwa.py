@@ -50,6 +50,8 @@ class DwaConfig:
     forward_point_distance: float = 0.325  # [m] heading-alignment point ahead of the robot
     local_goal_distance: float = 2.0  # [m] how far along the plan the local goal lies
     local_window: float = 5.0         # [m] side of the rolling local costmap
+    fused_scans: int = 1              # [-] latest scans whose median clearance the local
+                                      # costmap uses (1: the last scan only)
     xy_goal_tolerance: float = 0.1    # [m]
     yaw_goal_tolerance: float = 0.15  # [rad]
     rotate_gain: float = 2.0          # [1/s] in-place rotation rate per rad of yaw error
@@ -62,6 +64,8 @@ class DwaConfig:
     def validate(self):
         if self.max_vel_x <= 0 or self.max_vel_theta <= 0 or self.min_vel_x > self.max_vel_x:
             raise ValueError("dwa: need max_vel_x > 0, max_vel_theta > 0, min_vel_x <= max_vel_x")
+        if self.fused_scans < 1:
+            raise ValueError(f"dwa: fused_scans must be >= 1, got {self.fused_scans}")
         if min(self.control_period, self.sim_time, self.sim_granularity) <= 0:
             raise ValueError("dwa: control_period, sim_time and sim_granularity must be > 0")
 
@@ -110,10 +114,17 @@ def rollout(pose, velocities, config):
 
 
 class LocalCostmap:
-    """Rolling window around the robot: map obstacles plus laser hits -> clearance [m]."""
+    """Rolling window around the robot: map obstacles plus laser hits -> clearance [m].
+
+    The laser hits may be one scan's or the last few scans' (a list, oldest first): each scan
+    with the map gives a distance field, and the clearance of a cell is the lower median of
+    those fields (fuse_scans). A single noisy beam, or a hit that range noise moved into the
+    next cell, then no longer sets the clearance; an obstacle seen in most of the scans does.
+    """
 
     def __init__(self, lethal, grid, center, points, side):
-        """lethal: (H, W) bool global lethal mask on `grid`; points: (M, 2) laser hits [m]."""
+        """lethal: (H, W) bool global lethal mask on `grid`; points: (M, 2) laser hits [m], or a
+        list of such arrays, one per scan."""
         res = grid.resolution
         half = int(math.ceil(0.5 * side / res))
         row0, col0 = grid.world_to_cell(center[0], center[1])
@@ -125,13 +136,18 @@ class LocalCostmap:
         if r_hi > r_lo and c_hi > c_lo:
             window[r_lo - self.row0:r_hi - self.row0, c_lo - self.col0:c_hi - self.col0] = \
                 lethal[r_lo:r_hi, c_lo:c_hi]
-        if len(points):
-            rows, cols = grid.world_to_cell(points[:, 0], points[:, 1])
-            rows, cols = rows - self.row0, cols - self.col0
-            keep = (rows >= 0) & (rows < size) & (cols >= 0) & (cols < size)
-            window[rows[keep], cols[keep]] = True
+        scans = list(points) if isinstance(points, (list, tuple)) else [points]
+        fields = []
+        for scan_points in scans or [np.zeros((0, 2))]:
+            marked = window.copy()
+            if len(scan_points):
+                rows, cols = grid.world_to_cell(scan_points[:, 0], scan_points[:, 1])
+                rows, cols = rows - self.row0, cols - self.col0
+                keep = (rows >= 0) & (rows < size) & (cols >= 0) & (cols < size)
+                marked[rows[keep], cols[keep]] = True
+            fields.append(obstacle_distance(marked) * res)          # [m]
         self.grid = grid
-        self.distance = obstacle_distance(window) * res        # [m]
+        self.distance = fuse_scans(np.stack(fields))
 
     def clearance(self, x, y):
         """Distance [m] from map points to the nearest obstacle cell centre in the window."""
@@ -142,6 +158,16 @@ class LocalCostmap:
         out = np.full(np.shape(rows), np.inf)
         out[inside] = self.distance[rows[inside], cols[inside]]
         return out
+
+
+def fuse_scans(fields):
+    """(K, H, W) distance fields, one per scan -> (H, W): the lower median over the scans.
+
+    With three scans the middle value: an obstacle counts where at least two of them see it
+    that close. With two, the smaller (no majority: keep the cautious one); with one, itself.
+    """
+    rank = (len(fields) - 1) // 2
+    return np.partition(fields, rank, axis=0)[rank]
 
 
 def local_plan(plan, pose, start_index, length):

@@ -4,10 +4,13 @@ ROS-free. Cells at or above the inscribed cost are blocked; cheaper inflated cel
 proportion to their cost (navfn's cost factor), so plans keep away from walls where there is room.
 When the robot stands in an inscribed cell, its footprint is cleared first (costmap_2d's
 clearRobotCell, widened to the whole inscribed disk) so that it can still leave; otherwise the
-plan keeps to cells the local controller will accept.
+plan keeps to cells the local controller will accept. A goal tolerance (nav_msgs/GetPlan's
+`tolerance`) lets a blocked or unreachable goal be replaced by the nearest reachable free cell
+within that many metres in x and y, as navfn does.
 """
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from nav_mocks.astar import astar
@@ -55,17 +58,21 @@ class GlobalPlanner:
             raise NoPath(f"{what} ({x:.2f}, {y:.2f}) lies outside the map")
         return int(row), int(col)
 
-    def plan(self, start_xy, goal_xy):
-        """A Plan from start to goal, or NoPath naming the reason."""
+    def plan(self, start_xy, goal_xy, tolerance=0.0):
+        """A Plan from start to goal, or NoPath naming the reason.
+
+        tolerance [m] (nav_msgs/GetPlan): when the goal cell is blocked (an obstacle, closer than
+        the robot radius to one) or cannot be reached, plan instead to the nearest free cell
+        reachable from the start whose centre lies within `tolerance` of the goal in x and in y
+        (navfn's square window); the plan then ends at that cell's centre. 0 plans to the goal
+        exactly.
+        """
+        if not (tolerance >= 0.0 and np.isfinite(tolerance)):
+            raise NoPath(f"tolerance {tolerance} must be a finite number >= 0")
         grid = self.costmap.grid
         start = self.cell_of(*start_xy, "start")
         goal = self.cell_of(*goal_xy, "goal")
         costs = self.costmap.costs()
-        if costs[goal] == LETHAL_OBSTACLE:
-            raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) lies in an obstacle")
-        if INSCRIBED_INFLATED_OBSTACLE <= costs[goal] < NO_INFORMATION:
-            raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) is closer than the robot "
-                         "radius to an obstacle")
         # unknown cells (255) exist only when unknown space is not lethal: they may be crossed
         blocked = (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
         if blocked[start]:   # only a robot already too close to an obstacle needs a way out
@@ -73,6 +80,18 @@ class GlobalPlanner:
                                          self.costmap.config.inscribed_radius)
             blocked[footprint & (costs != LETHAL_OBSTACLE)] = False
             blocked[start] = False
+        goal_end = goal_xy[:2]
+        if tolerance > 0.0 and (blocked[goal] or not _reachable(blocked, start)[goal]):
+            goal = _nearest_reachable(grid, blocked, start, goal_xy, tolerance)
+            if goal is not None:
+                goal_end = tuple(float(v) for v in grid.cell_to_world(*goal))
+            else:
+                goal = self.cell_of(*goal_xy, "goal")   # nothing within tolerance: say why
+        if costs[goal] == LETHAL_OBSTACLE:
+            raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) lies in an obstacle")
+        if INSCRIBED_INFLATED_OBSTACLE <= costs[goal] < NO_INFORMATION:
+            raise NoPath(f"goal ({goal_xy[0]:.2f}, {goal_xy[1]:.2f}) is closer than the robot "
+                         "radius to an obstacle")
         found = astar(blocked, start, goal, grid.resolution,
                       cell_penalty=cost_penalty(costs, self.config.cost_factor))
         if found is None:
@@ -82,5 +101,27 @@ class GlobalPlanner:
         xs, ys = grid.cell_to_world(rows, cols)
         points = np.column_stack((xs, ys))
         points[0] = start_xy[:2]
-        points[-1] = goal_xy[:2]
+        points[-1] = goal_end
         return Plan(points=points, length_m=polyline_length(points))
+
+
+def _reachable(blocked, start):
+    """Boolean mask of the cells A* can reach from `start` over free cells.
+
+    A* forbids cutting corners, so a diagonal step is allowed only where both orthogonal steps
+    are: its reachable set is exactly the 4-connected component of the start."""
+    _, labels = cv2.connectedComponents((~blocked).astype(np.uint8), connectivity=4)
+    return (labels == labels[start]) & ~blocked
+
+
+def _nearest_reachable(grid, blocked, start, goal_xy, tolerance):
+    """(row, col) of the reachable free cell nearest goal_xy with its centre within `tolerance`
+    [m] of it in x and y; None when there is none."""
+    rows, cols = np.nonzero(_reachable(blocked, start))
+    xs, ys = grid.cell_to_world(rows, cols)
+    dx, dy = np.abs(xs - goal_xy[0]), np.abs(ys - goal_xy[1])
+    inside = (dx <= tolerance + 1e-9) & (dy <= tolerance + 1e-9)
+    if not inside.any():
+        return None
+    best = int(np.argmin(np.where(inside, dx ** 2 + dy ** 2, np.inf)))
+    return int(rows[best]), int(cols[best])

@@ -10,6 +10,7 @@ straight, slowly, in the direction that gains the most clearance without coming 
 obstacle it is already within the collision radius of, then replans from there.
 """
 import math
+from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -83,6 +84,7 @@ class MoveBaseCore:
         self.controller = DwaController(dwa_config, costmap.config)
         self.run = None
         self.scan_points = np.zeros((0, 2))   # last laser hits, map frame [m]
+        self.scan_history = deque(maxlen=self.controller.config.fused_scans)  # of scan_points
 
     # goal life cycle ---------------------------------------------------------------------------
     def check_goal(self, goal):
@@ -118,9 +120,11 @@ class MoveBaseCore:
     def active(self):
         return self.run is not None and self.run.status == ACTIVE
 
-    def make_plan(self, start, goal):
-        """make_plan service: a Plan between two map points, or NoPath (does not touch a run)."""
-        return self.planner.plan(start[:2], goal[:2])
+    def make_plan(self, start, goal, tolerance=0.0):
+        """make_plan service: a Plan between two map points, or NoPath (does not touch a run).
+
+        tolerance [m]: nav_msgs/GetPlan's, see GlobalPlanner.plan."""
+        return self.planner.plan(start[:2], goal[:2], tolerance)
 
     # control cycle -----------------------------------------------------------------------------
     def observe(self, scan, laser_pose):
@@ -133,6 +137,7 @@ class MoveBaseCore:
         # walls are relative to the robot, whereas the map's walls are placed through the pose
         # estimate and are off by the localisation error (a few cm: the whole margin in a door).
         self.scan_points = hit_points(scan, laser_pose, cfg.obstacle_range)
+        self.scan_history.append(self.scan_points)
 
     def step(self, now, pose, velocity):
         """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
@@ -234,7 +239,8 @@ class MoveBaseCore:
         return (0.0, 0.0, float(np.copysign(w, 1.0)))
 
     def _local_costmap(self, pose):
-        return LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose, self.scan_points,
+        return LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose,
+                            list(self.scan_history),
                             self.controller.config.local_window)
 
     def _back_out_direction(self, pose):

@@ -232,7 +232,8 @@ class MoveBaseNode:
 
     # make_plan service and diagnostics ------------------------------------------------------------
     def _make_plan(self, request):
-        """nav_msgs/GetPlan: an empty path when no plan exists (as move_base replies)."""
+        """nav_msgs/GetPlan: an empty path when no plan exists (as move_base replies); a
+        blocked or unreachable goal is moved to the nearest free cell within `tolerance`."""
         response = GetPlanResponse()
         response.plan.header.frame_id = self.global_frame
         response.plan.header.stamp = rospy.Time.now()
@@ -242,7 +243,7 @@ class MoveBaseNode:
         try:
             start = self._goal_in_global(request.start)
             goal = self._goal_in_global(request.goal)
-            plan = self.core.make_plan(start, goal)
+            plan = self.core.make_plan(start, goal, float(request.tolerance))
         except (ValueError, NoPath) as error:
             rospy.logwarn("move_base mock: make_plan: %s", error)
             return response
