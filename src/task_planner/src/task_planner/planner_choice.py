@@ -20,7 +20,8 @@ def make_planner(name, settings):
         return RolloutPlanner(RolloutConfig(
             candidates=int(settings.get("rollout_candidates", 6)),
             horizon=int(settings.get("rollout_horizon", 10)),
-            tail_weight=float(settings.get("rollout_tail_weight", 0.5))))
+            tail_weight=float(settings.get("rollout_tail_weight", 0.5)),
+            priority_first_at_node=bool(settings.get("rollout_priority_first_at_node", True))))
     if name == "exact":
         return ExactReplanner(int(settings.get("exact_max_instructions", 40)))
     baselines = {"fcfs": FirstComeFirstServe, "pf": PriorityFirst, "sf": ShortestTimeFirst}

@@ -21,6 +21,7 @@ class RolloutConfig:
     candidates: int = 6       # first instructions examined per decision
     horizon: int = 10         # instructions simulated per rollout (first one included)
     tail_weight: float = 0.5  # weight of the optimistic value of instructions beyond the horizon
+    priority_first_at_node: bool = True  # at a node, serve the highest γ waiting there first
 
 
 class RolloutPlanner:
@@ -37,8 +38,20 @@ class RolloutPlanner:
     def decide(self, node, clock, available):
         target = self.best_first(node, clock, available)
         if self.problem.node[target] == node:
-            return "serve", target
+            return "serve", self._first_at_node(node, target, available)
         return "move", int(self.problem.graph.next_hop[node, self.problem.node[target]])
+
+    def _first_at_node(self, node, target, available):
+        """The seed's rule at a node (§4.2.4: highest γ first), kept when `priority_first_at_node`:
+        nobody waiting here is passed over for a lower-priority request at the same place, even
+        when serving the shorter one first would earn more reward. Ties keep the rollout's choice.
+        """
+        p = self.problem
+        if not self.config.priority_first_at_node:
+            return target
+        here = available[p.node[available] == node]
+        best = here[p.gamma[here] > p.gamma[target]]
+        return int(best[np.argmax(p.gamma[best])]) if len(best) else target
 
     def best_first(self, node, clock, available):
         """The available instruction whose rollout earns the most."""
