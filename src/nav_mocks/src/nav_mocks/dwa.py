@@ -8,9 +8,9 @@ and scores the trajectory as dwa_local_planner does:
          + occdist_scale * max costmap cost along the trajectory,
 where `front` is a point forward_point_distance ahead of the end pose (it aligns the heading) and
 the obstacle cost comes from the clearance of the trajectory's poses. That clearance is, by
-default (clearance_model "continuous"), clearance.ContactClearance: the exact distance of each
-pose into the region where the grid contact test passes, plus the distance to laser hits of
-obstacles not on the map; trajectories that come within contact_margin of contact are discarded.
+default (clearance_model "continuous"), clearance.ContactClearance: the Euclidean distance of
+each pose into the region where the grid contact test passes (a lower bound within 7 mm on
+0.05 m cells), plus the distance to laser hits of obstacles not on the map; trajectories that come within contact_margin of contact are discarded.
 With clearance_model "cells" it is LocalCostmap: a cell lookup of a rolling-window distance
 transform of the map and the live laser hits, and the discarded trajectories are those passing
 within the inscribed radius, never taken smaller than the contact clearance.
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nav_mocks.costmap import (CostmapConfig, contact_clearance, inflation_cost,  # noqa: F401
+from nav_mocks.costmap import (CostmapConfig, contact_clearance, inflation_cost,
                                obstacle_distance)
 from nav_mocks.pose2d import wrap_angle
 
