@@ -10,7 +10,8 @@ where `front` is a point forward_point_distance ahead of the end pose (it aligns
 the obstacle cost comes from the clearance of the trajectory's poses. That clearance is, by
 default (clearance_model "continuous"), clearance.ContactClearance: the Euclidean distance of
 each pose into the region where the grid contact test passes (a lower bound within 7 mm on
-0.05 m cells), plus the distance to laser hits of obstacles not on the map; trajectories that come within contact_margin of contact are discarded.
+0.05 m cells), plus the distance to laser hits of obstacles not on the map; trajectories that
+come within contact_margin of contact are discarded.
 With clearance_model "cells" it is LocalCostmap: a cell lookup of a rolling-window distance
 transform of the map and the live laser hits, and the discarded trajectories are those passing
 within the inscribed radius, never taken smaller than the contact clearance.
