@@ -119,3 +119,21 @@ def test_tolerance_replaces_an_unreachable_goal_by_a_reachable_cell():
     # path cell (0, 0) -> (2, 2): two diagonals
     assert tuple(plan.points[-1]) == (2.5, 2.5)
     assert plan.length_m == pytest.approx(2 * math.sqrt(2))
+
+
+def test_blocked_cells_open_the_footprint_of_a_robot_too_close_to_a_wall():
+    # 1 m cells, a wall in column 0; radius 1.5, no padding: column 1 (1.0 from the wall cell
+    # centres) is blocked, column 2 (2.0) is free. A robot at (1.6, 2.5) stands in column 1; its
+    # footprint opens the column-1 cells of rows 1..3 (centres hypot(0.1, 1) = 1.005 <= 1.5
+    # away), not rows 0 and 4 (2.0 away); the wall column stays lethal, so blocked
+    grid = grid_from_rows(["#....."] * 5, resolution=1.0)
+    config = CostmapConfig(robot_radius=1.5, footprint_padding=0.0, inflation_radius=1.5)
+    planner = GlobalPlanner(Costmap(grid, config))
+    far = planner.blocked_cells((4.5, 2.5))
+    assert far[:, 0].all() and far[:, 1].all() and not far[:, 2:].any()
+    near = planner.blocked_cells((1.6, 2.5))
+    expected = far.copy()
+    xs, ys = np.meshgrid(np.arange(6) + 0.5, np.arange(5) + 0.5)
+    expected[(np.hypot(xs - 1.6, ys - 2.5) <= 1.5) & (np.arange(6)[None, :] > 0)] = False
+    assert np.array_equal(near, expected)
+    assert not near[1:4, 1].any() and near[0, 1] and near[4, 1] and near[:, 0].all()

@@ -151,3 +151,27 @@ def test_local_costmap_places_map_walls_where_the_laser_sees_them():
     # cell centres: robot col 31 (x 1.575), hit col 39 (1.975), wall col 40 (2.025)
     assert float(local.clearance(x, y)[0]) == pytest.approx(0.40)
     assert float(map_only.clearance(x, y)[0]) == pytest.approx(0.45)
+
+
+def test_continuous_clearance_keeps_only_hits_off_the_map():
+    # robot at (1.0, 1.4) facing east; a 0.2 m box not on the map with its west face at x = 1.5
+    # (cells 30..33, y rows 26..29: x in [1.50, 1.70], y in [1.30, 1.50]); the room wall at x = 0.05
+    grid = two_rooms()
+    world = grid.occupied_mask().copy()
+    world[26:30, 30:34] = True
+    core = make_core(grid)
+    pose = (1.0, 1.4, 0.0)
+    core.observe(synthetic_scan(world, grid, pose, beams=360), pose)
+    hits = core._unmapped_hits()
+    assert len(hits) > 0
+    rows, cols = grid.world_to_cell(hits[:, 0], hits[:, 1])
+    assert world[rows, cols].all() and not grid.occupied_mask()[rows, cols].any()
+    local = core._local_costmap(pose)
+    # the beam straight ahead marches in 0.01 m steps and stops at 1.50 m: 0.50 m from the robot
+    assert local.hit_distance(np.array([1.0]), np.array([1.4]))[0] == pytest.approx(0.50, abs=0.011)
+    # the map's walls enter only through the contact region: west wall column 0 (centre
+    # x = 0.025); a column k passes when 0.05 k >= 0.2 + 0.0707, i.e. k >= 6, so the region
+    # starts at x = 0.30 and the depth at x = 1.0 is 0.70 (the door wall column 40 gives 0.75,
+    # the south wall 1.1); the table is a lower bound within sqrt(2) fine cells (0.0071 m)
+    depth = local.depth(np.array([1.0]), np.array([1.4]))[0]
+    assert 0.70 - 0.0071 <= depth <= 0.70 + 1e-9

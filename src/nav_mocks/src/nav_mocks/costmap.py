@@ -4,6 +4,7 @@ ROS-free. Cell costs follow costmap_2d (cost_values.h): 0 free, 253 inscribed (t
 there means a collision), 254 lethal (an obstacle), 255 no information; between the inscribed
 radius and the inflation radius the cost decays exponentially (InflationLayer::computeCost).
 """
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -13,6 +14,8 @@ FREE_SPACE = 0
 INSCRIBED_INFLATED_OBSTACLE = 253
 LETHAL_OBSTACLE = 254
 NO_INFORMATION = 255
+CELL_CLEARANCE_LOSS = math.sqrt(2.0)  # [cells] a point to its cell centre plus an obstacle cell's
+                                      # centre to its edge: half a cell diagonal each
 
 
 @dataclass
@@ -67,6 +70,40 @@ def obstacle_distance(lethal):
     return cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE).astype(float)
 
 
+def contact_clearance(robot_radius, resolution, margin):
+    """[m] cell-centre clearance below which the robot may touch an obstacle.
+
+    Clearance on the grid is the distance between cell centres; the robot centre may lie half a
+    cell diagonal from its cell's centre and the obstacle's edge half a diagonal from the obstacle
+    cell's centre, so a cell-centre distance d guarantees only d - sqrt(2) * resolution of free
+    space (the bound a simulator's or a bumper's collision test on the same grid uses).
+    """
+    return robot_radius + CELL_CLEARANCE_LOSS * resolution + margin
+
+
+def admissible_cells(obstacle_distance_m, robot_radius, resolution):
+    """Boolean mask of the region A: cells the grid contact test accepts for the robot centre.
+
+    obstacle_distance_m: (H, W) distance [m] from each cell centre to the nearest obstacle cell
+    centre. A cell passes when that distance less the cell bound is at least the robot radius
+    (sim2d.kinematics.step_robot refuses a step when it is below)."""
+    return obstacle_distance_m >= contact_clearance(robot_radius, resolution, 0.0) - 1e-9
+
+
+def signed_depth_field(inside, subdivision):
+    """Signed distance [fine cells] of the cells of a grid `subdivision` times finer than
+    `inside` to the boundary of the union of the `inside` squares, as a lower bound for any
+    point of the fine cell: inside, the distance between the fine cell's centre and the nearest
+    outside fine cell's centre less sqrt(2) (the point may lie half a fine diagonal from its
+    centre, the outside square's edge half a diagonal from that centre); outside, minus the
+    distance to the nearest inside fine cell's centre. The union of the coarse squares is exactly
+    the union of their fine cells, so the bound is off by at most sqrt(2) fine cells."""
+    fine = np.repeat(np.repeat(inside, subdivision, axis=0), subdivision, axis=1)
+    to_outside = obstacle_distance(~fine)
+    to_inside = obstacle_distance(fine)
+    return np.where(fine, to_outside - CELL_CLEARANCE_LOSS, -to_inside).astype(np.float32)
+
+
 def inflate(lethal, resolution, config):
     """The inflation layer over a lethal mask: uint8 costs (H, W) with costmap_2d values."""
     return inflation_cost(obstacle_distance(lethal) * resolution, config)
@@ -85,6 +122,7 @@ class Costmap:
         self.marked = np.zeros(grid.cells.shape, dtype=bool)   # obstacle layer
         self._costs = None
         self._static_distance = None
+        self._contact_region = None
 
     @property
     def resolution(self):
@@ -99,12 +137,27 @@ class Costmap:
         self.unknown = grid.cells < 0
         self._costs = None
         self._static_distance = None
+        self._contact_region = None
 
     def static_distance(self):
         """Distance [m] from each cell centre to the nearest obstacle of the static map."""
         if self._static_distance is None:
             self._static_distance = obstacle_distance(self.static_lethal) * self.resolution
         return self._static_distance
+
+    def contact_depth(self, subdivision):
+        """signed_depth_field [fine cells] of the cells where the robot centre passes the grid
+        contact test against the static map (admissible_cells; unknown counts as an obstacle
+        when it is lethal), `subdivision` times finer than the map. Cached until the static
+        layer changes."""
+        if self._contact_region is None or self._contact_region[0] != subdivision:
+            obstacles = self.static_lethal
+            if self.config.unknown_is_lethal:
+                obstacles = obstacles | self.unknown
+            distance = obstacle_distance(obstacles) * self.resolution
+            admissible = admissible_cells(distance, self.config.robot_radius, self.resolution)
+            self._contact_region = (subdivision, signed_depth_field(admissible, subdivision))
+        return self._contact_region[1]
 
     def new_obstacle(self, rows, cols):
         """Boolean mask over hit cells: True where a hit is not a wall of the static map.

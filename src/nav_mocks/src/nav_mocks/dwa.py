@@ -7,24 +7,27 @@ and scores the trajectory as dwa_local_planner does:
          + path_distance_bias * d(front, path) + goal_distance_bias * d(front, local goal)
          + occdist_scale * max costmap cost along the trajectory,
 where `front` is a point forward_point_distance ahead of the end pose (it aligns the heading) and
-the obstacle cost comes from the clearance to the live laser hits and the map (a rolling-window
-local costmap). Trajectories passing within the inscribed radius of an obstacle are discarded;
-that radius is never taken smaller than the contact clearance (the robot radius plus the
-cell-centre distance bound of the grid plus a margin: the test a simulator or bumper on the same
-grid applies).
+the obstacle cost comes from the clearance of the trajectory's poses. That clearance is, by
+default (clearance_model "continuous"), clearance.ContactClearance: the Euclidean distance of
+each pose into the region where the grid contact test passes (a lower bound within 7 mm on
+0.05 m cells), plus the distance to laser hits of obstacles not on the map; trajectories that
+come within contact_margin of contact are discarded.
+With clearance_model "cells" it is LocalCostmap: a cell lookup of a rolling-window distance
+transform of the map and the live laser hits, and the discarded trajectories are those passing
+within the inscribed radius, never taken smaller than the contact clearance.
 """
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from nav_mocks.costmap import CostmapConfig, inflation_cost, obstacle_distance
+from nav_mocks.costmap import (CostmapConfig, contact_clearance, inflation_cost,
+                               obstacle_distance)
 from nav_mocks.pose2d import wrap_angle
 
 ALIGNMENT_OFF_FACTOR = 2.0  # [-] alignment terms off within this many forward-point distances
+CLEARANCE_MODELS = ("continuous", "cells")
 LATE_COLLISION_COST = 1e3   # [-] ranks trajectories that would collide after a stop behind all
-CELL_CLEARANCE_LOSS = math.sqrt(2.0)  # [cells] a point to its cell centre plus an obstacle cell's
-                                      # centre to its edge: half a cell diagonal each
 
 
 @dataclass
@@ -56,6 +59,11 @@ class DwaConfig:
     yaw_goal_tolerance: float = 0.15  # [rad]
     rotate_gain: float = 2.0          # [1/s] in-place rotation rate per rad of yaw error
     contact_margin: float = 0.02      # [m] kept beyond the contact clearance (localisation error)
+    clearance_model: str = "continuous"  # [-] "continuous": distance into the contact region
+                                         # and to unmapped laser hits (clearance.py); "cells":
+                                         # cell lookup of a local distance transform
+    clearance_subdivision: int = 10   # [-] continuous model: the contact region's depth is
+                                      # tabulated on cells this many times finer than the map
 
     @property
     def holonomic(self):
@@ -64,6 +72,12 @@ class DwaConfig:
     def validate(self):
         if self.max_vel_x <= 0 or self.max_vel_theta <= 0 or self.min_vel_x > self.max_vel_x:
             raise ValueError("dwa: need max_vel_x > 0, max_vel_theta > 0, min_vel_x <= max_vel_x")
+        if self.clearance_model not in CLEARANCE_MODELS:
+            raise ValueError(f"dwa: clearance_model must be one of {CLEARANCE_MODELS}, "
+                             f"got {self.clearance_model!r}")
+        if self.clearance_subdivision < 1:
+            raise ValueError(f"dwa: clearance_subdivision must be >= 1, "
+                             f"got {self.clearance_subdivision}")
         if self.fused_scans < 1:
             raise ValueError(f"dwa: fused_scans must be >= 1, got {self.fused_scans}")
         if min(self.control_period, self.sim_time, self.sim_granularity) <= 0:
@@ -149,6 +163,12 @@ class LocalCostmap:
         self.grid = grid
         self.distance = fuse_scans(np.stack(fields))
 
+    def collision_radius(self, costmap_config, margin):
+        """[m] cell-centre clearance a trajectory must keep: the padded radius, and never less
+        than the contact clearance (a padding smaller than the cell bound does not count)."""
+        return max(costmap_config.inscribed_radius,
+                   contact_clearance(costmap_config.robot_radius, self.grid.resolution, margin))
+
     def clearance(self, x, y):
         """Distance [m] from map points to the nearest obstacle cell centre in the window."""
         rows, cols = self.grid.world_to_cell(x, y)
@@ -200,17 +220,6 @@ def _moves_away(clearance, here):
     changed = clearance != here
     first = np.argmax(changed, axis=1)
     return changed.any(axis=1) & (clearance[np.arange(len(clearance)), first] > here)
-
-
-def contact_clearance(robot_radius, resolution, margin):
-    """[m] cell-centre clearance below which the robot may touch an obstacle.
-
-    Clearance on the grid is the distance between cell centres; the robot centre may lie half a
-    cell diagonal from its cell's centre and the obstacle's edge half a diagonal from the obstacle
-    cell's centre, so a cell-centre distance d guarantees only d - sqrt(2) * resolution of free
-    space (the bound a simulator's or a bumper's collision test on the same grid uses).
-    """
-    return robot_radius + CELL_CLEARANCE_LOSS * resolution + margin
 
 
 def score_trajectories(trajectories, segment, clearance, costmap_config, config, align=True):
@@ -287,15 +296,11 @@ class DwaController:
             inadmissible |= (speed > 0.0) & ~_moves_away(clearance, here)
         return np.where(inadmissible, np.inf, penalty)
 
-    def contact(self, local_costmap):
-        """[m] contact clearance (contact_clearance) on the local costmap's grid."""
-        return contact_clearance(self.costmap_config.robot_radius,
-                                 local_costmap.grid.resolution, self.config.contact_margin)
-
     def collision_radius(self, local_costmap):
-        """[m] cell-centre clearance a trajectory must keep: the padded radius, and never less
-        than the contact clearance (a padding smaller than the cell bound does not count)."""
-        return max(self.costmap_config.inscribed_radius, self.contact(local_costmap))
+        """[m] clearance a trajectory must keep on this local map (LocalCostmap: the padded
+        radius and at least the contact clearance; ContactClearance: contact_margin from
+        contact)."""
+        return local_costmap.collision_radius(self.costmap_config, self.config.contact_margin)
 
     def best_command(self, pose, velocity, local_costmap):
         """Best (vx, vy, wz) along the plan, or None when every trajectory collides."""

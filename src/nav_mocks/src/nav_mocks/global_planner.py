@@ -73,13 +73,7 @@ class GlobalPlanner:
         start = self.cell_of(*start_xy, "start")
         goal = self.cell_of(*goal_xy, "goal")
         costs = self.costmap.costs()
-        # unknown cells (255) exist only when unknown space is not lethal: they may be crossed
-        blocked = (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
-        if blocked[start]:   # only a robot already too close to an obstacle needs a way out
-            footprint = _footprint_cells(grid, start_xy[0], start_xy[1],
-                                         self.costmap.config.inscribed_radius)
-            blocked[footprint & (costs != LETHAL_OBSTACLE)] = False
-            blocked[start] = False
+        blocked = self.blocked_cells(start_xy)
         goal_end = goal_xy[:2]
         if tolerance > 0.0 and (blocked[goal] or not _reachable(blocked, start)[goal]):
             goal = _nearest_reachable(grid, blocked, start, goal_xy, tolerance)
@@ -103,6 +97,21 @@ class GlobalPlanner:
         points[0] = start_xy[:2]
         points[-1] = goal_end
         return Plan(points=points, length_m=polyline_length(points))
+
+    def blocked_cells(self, start_xy):
+        """Boolean mask of the cells a plan from start_xy may not cross: cost >= inscribed, except
+        unknown cells (255 exists only when unknown space is not lethal) and, when the start
+        cell is blocked, the non-lethal cells of the robot's padded footprint (the way out)."""
+        grid = self.costmap.grid
+        start = self.cell_of(*start_xy, "start")
+        costs = self.costmap.costs()
+        blocked = (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
+        if blocked[start]:   # only a robot already too close to an obstacle needs a way out
+            footprint = _footprint_cells(grid, start_xy[0], start_xy[1],
+                                         self.costmap.config.inscribed_radius)
+            blocked[footprint & (costs != LETHAL_OBSTACLE)] = False
+            blocked[start] = False
+        return blocked
 
 
 def _reachable(blocked, start):

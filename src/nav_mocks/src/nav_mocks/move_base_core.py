@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nav_mocks.clearance import ContactClearance
 from nav_mocks.costmap import LETHAL_OBSTACLE
 from nav_mocks.dwa import DwaController, LocalCostmap
 from nav_mocks.global_planner import GlobalPlanner, NoPath
@@ -239,9 +240,29 @@ class MoveBaseCore:
         return (0.0, 0.0, float(np.copysign(w, 1.0)))
 
     def _local_costmap(self, pose):
-        return LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose,
-                            list(self.scan_history),
-                            self.controller.config.local_window)
+        """The controller's clearance model around `pose` (DwaConfig.clearance_model)."""
+        if self.controller.config.clearance_model == "cells":
+            return LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose,
+                                list(self.scan_history),
+                                self.controller.config.local_window)
+        subdivision = self.controller.config.clearance_subdivision
+        return ContactClearance(self.costmap.contact_depth(subdivision), subdivision,
+                                self.costmap.grid, self.costmap.config.robot_radius,
+                                self._unmapped_hits())
+
+    def _unmapped_hits(self):
+        """(M, 2) hits of the kept scans that are not a wall of the static map (inside the grid
+        and farther than static_match_distance from a map obstacle; off the grid: kept)."""
+        points = [p for p in self.scan_history if len(p)]
+        if not points:
+            return np.zeros((0, 2))
+        points = np.concatenate(points)
+        grid = self.costmap.grid
+        rows, cols = grid.world_to_cell(points[:, 0], points[:, 1])
+        inside = grid.inside(rows, cols)
+        keep = ~inside
+        keep[inside] = self.costmap.new_obstacle(rows[inside], cols[inside])
+        return points[keep]
 
     def _back_out_direction(self, pose):
         """Map-frame unit vector of the straight line of back_out_distance whose end has the most

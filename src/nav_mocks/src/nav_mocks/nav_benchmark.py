@@ -27,6 +27,7 @@ from nav_mocks.pose2d import between, compose
 from nav_mocks.scan_rays import Scan
 
 ROOT = Path(__file__).resolve().parents[4]
+MAX_GOAL_DRAWS = 10000   # [-] random cells tried for the next goal before the run gives up
 
 
 @dataclass
@@ -130,22 +131,24 @@ class NavigationBenchmark:
         self.scan_pose = None      # true pose at which the latest unused scan was taken
 
     def _draw_goal(self, pose):
-        """A random free cell the global planner reaches from `pose`; its A* optimum [m]."""
+        """A random free cell the global planner reaches from `pose`; its A* optimum [m] (plain
+        A* over the planner's free cells, with the planner's way out of a blocked start)."""
         grid = self.world.grid
         start = tuple(int(v) for v in grid.world_to_cell(pose[0], pose[1]))
-        while True:
+        blocked = self.core.planner.blocked_cells(pose[:2])
+        for _ in range(MAX_GOAL_DRAWS):
             row, col = self.candidates[self.rng.integers(len(self.candidates))]
             x, y = (float(v) for v in grid.cell_to_world(row, col))
             try:
                 self.core.make_plan(pose, (x, y))
             except NoPath:
                 continue
-            blocked = self.blocked.copy()
-            blocked[start] = False
             best = astar(blocked, start, (int(row), int(col)), grid.resolution)
             if best is not None:
                 yaw = float(self.rng.uniform(-math.pi, math.pi))
                 return (x, y, yaw), best.length_m
+        raise RuntimeError(f"benchmark: no reachable goal in {MAX_GOAL_DRAWS} draws from "
+                           f"({pose[0]:.2f}, {pose[1]:.2f})")
 
     def _sim_step(self):
         """One simulator step; remembers the pose of a new scan. Returns the distance moved."""
