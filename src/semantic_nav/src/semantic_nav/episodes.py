@@ -43,7 +43,7 @@ class EpisodeConfig:
 
     control_period: float = 0.1      # policy step period (seed: 10 Hz control) [s]
     min_time_limit: float = 30.0     # time limit never below this [s]
-    time_per_metre: float = 5.0      # allowance per metre of the expert's route (2x at 0.4 m/s) [s/m]
+    time_per_metre: float = 5.0      # per metre of the expert route (2x at 0.4 m/s) [s/m]
     time_per_part: float = 15.0      # allowance per simple instruction: turning, halting 5 s [s]
 
 
