@@ -11,7 +11,7 @@ test:
 	bash scripts/test
 
 train:
-	bash scripts/train_semnav_default
+	bash -c 'source scripts/env.sh && python3 scripts/train_semnav_default'
 
 lint: setup
 	bash scripts/lint
