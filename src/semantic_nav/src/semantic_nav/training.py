@@ -29,6 +29,7 @@ class TrainingConfig:
     class_batches: int = 4       # extra Z_w-only batches of phrase-set sentences per epoch [1]
     class_batch_size: int = 256  # sentences per Z_w batch [1]
     class_warmup_batches: int = 200  # Z_w-only batches before the first epoch (new model) [1]
+    stop_weight: float = 1.0     # loss weight of zero-label steps (standing at the goal) [1]
 
 
 @dataclass
@@ -164,7 +165,9 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
         commands = np.zeros((len(chunk), steps, 2), np.float32)
         weights = np.zeros((len(chunk), steps), np.float32)
         for row, (s, c, _, _) in enumerate(chunk):
-            scans[row, :len(s)], commands[row, :len(c)], weights[row, :len(s)] = s, c, 1.0
+            scans[row, :len(s)], commands[row, :len(c)] = s, c
+            standing = np.all(c == 0.0, axis=1)
+            weights[row, :len(s)] = np.where(standing, config.stop_weight, 1.0)
         words = pad_words([item[2] for item in chunk], word_vectors.dim)
         labels = np.array([item[3] - 1 for item in chunk])
         batches.append(({"words": words, "scans": scans},
