@@ -6,6 +6,8 @@ the (v, ω) it gets back and reports the feedback and the outcome.
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from semantic_nav.instruction_layer import InstructionError, split_instruction
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
@@ -47,7 +49,9 @@ class FollowSession:
     def feedback(self, command=None):
         index = min(self.index, len(self.classes) - 1)
         predicted = command.predicted_class if command is not None else self.classes[index]
-        confidence = getattr(command, "confidence", math.nan)
+        z_w = getattr(self.follower, "z_w", None)     # DirectionFollower: softmax per part
+        confidence = float(np.max(z_w[index])) if z_w is not None and index < len(z_w) \
+            else math.nan
         text = self.parts[index] if index < len(self.parts) else ""
         return Feedback(index, text, int(predicted), float(confidence))
 
