@@ -22,26 +22,22 @@ class TrainingConfig:
     """How records become training sequences and how long training runs."""
 
     control_rate: float = 10.0   # network steps per second (§2.2.5.2: 50 steps ≈ 5 s) [Hz]
-    record_rate: float = 40.0    # laser rate of the records (UTM-30LX) [Hz]
+    record_rate: float = 40.0    # laser rate of the demonstration records (UTM-30LX) [Hz]
     hold_steps: int = 60         # zero-label steps appended at the goal (> the 50 of halting) [1]
-    batch_size: int = 16         # sequences per batch [1]
-    epochs: int = 80             # [1]
+    batch_size: int = 8          # sequences per batch [1]
+    epochs: int = 120            # [1]
     class_batches: int = 4       # extra Z_w-only batches of phrase-set sentences per epoch [1]
     class_batch_size: int = 256  # sentences per Z_w batch [1]
-
-    @property
-    def stride(self):
-        return max(1, int(round(self.record_rate / self.control_rate)))
 
 
 @dataclass
 class ValidationThresholds:
     """§4.1.2: tolerable error per step and accumulated (the seed does not give its values)."""
 
-    step_linear: float = 0.05    # |d_i| below this is a correct v [m/s]
-    step_angular: float = 0.15   # |e_i| below this is a correct ω [rad/s]
-    distance: float = 0.25       # |D_i| above this ends the sequence [m]
-    angle: float = 0.26          # |E_i| above this ends the sequence [rad] (15°)
+    step_linear: float = 0.1     # |d_i| below this is a correct v [m/s]
+    step_angular: float = 0.25   # |e_i| below this is a correct ω [rad/s]
+    distance: float = 1.0        # |D_i| above this ends the sequence [m]
+    angle: float = 0.6           # |E_i| above this ends the sequence [rad] (34°)
 
 
 @dataclass
@@ -52,6 +48,7 @@ class Episode:
     scans: np.ndarray       # (N, beams) float32, canonical normalised scans at the record rate
     commands: np.ndarray    # (N, 2) float32 clean expert (v, ω) at the record rate
     source: str = ""        # file the sequence came from
+    rate: float = 40.0      # record rate [Hz] (demonstrations: laser rate; DAgger: control rate)
 
 
 def iter_record_arrays(path):
@@ -80,8 +77,9 @@ def preprocess_matrix(ranges, laser, canonical, preprocess):
     return np.stack([preprocess_scan(row, laser, canonical, preprocess)[0] for row in ranges])
 
 
-def load_episodes(paths, laser, canonical, preprocess, cache_dir=None):
-    """Episodes of record files; preprocessed scans cached as .npz keyed by file size/mtime."""
+def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0):
+    """Episodes of record files (recorded at `rate` [Hz]); preprocessed scans cached as .npz
+    keyed by file size/mtime."""
     episodes = []
     for path in map(Path, paths):
         stat = path.stat()
@@ -89,14 +87,16 @@ def load_episodes(paths, laser, canonical, preprocess, cache_dir=None):
                            f"{canonical.start}:{canonical.steps}".encode()).hexdigest()[:16]
         cache = Path(cache_dir) / f"{path.stem}-{key}.npz" if cache_dir else None
         if cache and cache.is_file():
-            data = np.load(cache)
-            bounds = np.cumsum(np.concatenate([[0], data["lengths"]]))
+            with np.load(cache) as data:   # each data[key] reads the whole array: once only
+                labels, lengths = data["labels"], data["lengths"]
+                scans, commands = data["scans"], data["commands"]
+            bounds = np.cumsum(np.concatenate([[0], lengths]))
             episodes.extend(
-                Episode(int(label), data["scans"][a:b], data["commands"][a:b], str(path))
-                for label, a, b in zip(data["labels"], bounds[:-1], bounds[1:]))
+                Episode(int(label), scans[a:b], commands[a:b], str(path), rate)
+                for label, a, b in zip(labels, bounds[:-1], bounds[1:]))
             continue
         loaded = [Episode(label, preprocess_matrix(ranges, laser, canonical, preprocess),
-                          commands.astype(np.float32), str(path))
+                          commands.astype(np.float32), str(path), rate)
                   for label, commands, ranges in iter_record_arrays(path)]
         if cache and loaded:
             cache.parent.mkdir(parents=True, exist_ok=True)
@@ -108,15 +108,21 @@ def load_episodes(paths, laser, canonical, preprocess, cache_dir=None):
     return episodes
 
 
+def episode_stride(episode, config):
+    """Records per control step: 4 for 40 Hz demonstrations, 1 for 10 Hz DAgger records."""
+    return max(1, int(round(episode.rate / config.control_rate)))
+
+
 def control_rate_sequence(episode, phase, config):
-    """Subsample an episode to the control rate from `phase`, then append `hold_steps` of the
-    robot standing at the goal: the trailing zero-label scans repeated with zero labels."""
-    scans = episode.scans[phase::config.stride]
-    commands = episode.commands[phase::config.stride]
-    stopped = np.flatnonzero(np.any(episode.commands != 0.0, axis=1))
-    tail = episode.scans[stopped[-1] + 1:] if stopped.size else episode.scans[-1:]
-    if len(tail) == 0:
-        tail = episode.scans[-1:]
+    """Subsample an episode to the control rate from `phase`; if it ends standing at the goal
+    (zero labels), append `hold_steps` of the robot standing there: the trailing zero-label
+    scans repeated with zero labels."""
+    stride = episode_stride(episode, config)
+    scans, commands = episode.scans[phase::stride], episode.commands[phase::stride]
+    moving = np.flatnonzero(np.any(episode.commands != 0.0, axis=1))
+    if moving.size and moving[-1] == len(episode.commands) - 1:
+        return scans, commands            # ended elsewhere (e.g. a DAgger episode that hit a wall)
+    tail = episode.scans[moving[-1] + 1:] if moving.size else episode.scans
     hold = tail[np.arange(config.hold_steps) % len(tail)]
     return (np.concatenate([scans, hold]),
             np.concatenate([commands, np.zeros((config.hold_steps, 2), np.float32)]))
@@ -142,7 +148,8 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
     phases / sentences: fixed per episode (validation); random per epoch when None."""
     items = []
     for index, episode in enumerate(episodes):
-        phase = int(rng.integers(config.stride)) if phases is None else phases[index]
+        stride = episode_stride(episode, config)
+        phase = int(rng.integers(stride)) if phases is None else min(phases[index], stride - 1)
         scans, commands = control_rate_sequence(episode, phase, config)
         words = (sentence_vectors(episode.label, sets, word_vectors, rng)
                  if sentences is None else sentences[index])
