@@ -32,7 +32,7 @@ class EvaluationConfig:
 
     candidates: int = 240            # at most this many corridor starts sampled per floor [-]
     batch: int = 40                  # starts sampled per floor and round [-]
-    min_starts: int = 8              # stop sampling once every class has this many starts [-]
+    min_starts: int = 6              # stop sampling once every class has this many starts [-]
     held_out_fraction: float = 0.2   # §4.2.1: 20 of 100 sentences are new phrasings [-]
     start_offset: float = 0.2        # start displaced up to ± this in x and y [m]
     start_yaw_offset: float = 8.0    # and up to ± this in heading [deg]
