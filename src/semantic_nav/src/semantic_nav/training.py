@@ -25,9 +25,10 @@ class TrainingConfig:
     record_rate: float = 40.0    # laser rate of the demonstration records (UTM-30LX) [Hz]
     hold_steps: int = 60         # zero-label steps appended at the goal (> the 50 of halting) [1]
     batch_size: int = 8          # sequences per batch [1]
-    epochs: int = 120            # [1]
+    epochs: int = 160            # [1]
     class_batches: int = 4       # extra Z_w-only batches of phrase-set sentences per epoch [1]
     class_batch_size: int = 256  # sentences per Z_w batch [1]
+    class_warmup_batches: int = 200  # Z_w-only batches before the first epoch (new model) [1]
 
 
 @dataclass
