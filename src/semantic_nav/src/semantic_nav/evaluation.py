@@ -32,7 +32,7 @@ class EvaluationConfig:
 
     candidates: int = 240            # at most this many corridor starts sampled per floor [-]
     batch: int = 40                  # starts sampled per floor and round [-]
-    min_starts: int = 8              # stop sampling once every class has this many starts [-]
+    min_starts: int = 6              # stop sampling once every class has this many starts [-]
     held_out_fraction: float = 0.2   # §4.2.1: 20 of 100 sentences are new phrasings [-]
     start_offset: float = 0.2        # start displaced up to ± this in x and y [m]
     start_yaw_offset: float = 8.0    # and up to ± this in heading [deg]
@@ -75,9 +75,10 @@ class EpisodeOutcome:
     step_seconds: float = 0.0                   # wall time per control step [s]
 
 
-def world_for(template, map_path, raycast="table"):
-    """A sim2d World of `template`'s robot and laser on `map_path`, lasers cast with `raycast`."""
-    config = load_world_config(template)
+def world_for(template, map_path, raycast="table", laser_dir=None):
+    """A sim2d World of `template`'s robot and laser on `map_path`, lasers cast with `raycast`
+    (laser models from `laser_dir`, default: the template's config/lasers)."""
+    config = load_world_config(template, laser_dir)
     config.map_path = Path(map_path).resolve()
     config.graph_path = None
     config.people, config.objects = [], []
@@ -161,9 +162,9 @@ def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASSES):
 _WORKER = {}
 
 
-def _init_worker(template, policy_spec, raycast, episode_config):
+def _init_worker(template, policy_spec, raycast, episode_config, laser_dir):
     _WORKER.update(template=template, policy_spec=policy_spec, raycast=raycast,
-                   episode_config=episode_config, worlds={}, policy=None)
+                   episode_config=episode_config, laser_dir=laser_dir, worlds={}, policy=None)
     try:                                   # one core per worker: no thread oversubscription
         import torch
         torch.set_num_threads(1)
@@ -180,7 +181,7 @@ def _make_policy(spec):
 
 def _world(floor):
     if floor not in _WORKER["worlds"]:
-        world = world_for(_WORKER["template"], floor, _WORKER["raycast"])
+        world = world_for(_WORKER["template"], floor, _WORKER["raycast"], _WORKER["laser_dir"])
         _WORKER["worlds"][floor] = (world, RouteOracle(world.grid))
     return _WORKER["worlds"][floor]
 
@@ -206,9 +207,9 @@ def run_spec(spec):
 
 
 def evaluate(specs, template, policy_spec, workers=1, raycast="table", episode_config=None,
-             progress=None):
+             progress=None, laser_dir=None):
     """Run every spec -> [EpisodeOutcome] in spec order; `progress(n)` after each episode."""
-    args = (str(template), policy_spec, raycast, episode_config or EpisodeConfig())
+    args = (str(template), policy_spec, raycast, episode_config or EpisodeConfig(), laser_dir)
     if workers <= 1:
         _init_worker(*args)
         outcomes = []
