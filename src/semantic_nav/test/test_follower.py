@@ -103,3 +103,26 @@ def test_step_before_start_is_an_error(words):
 def test_missing_model_names_make_train(tmp_path):
     with pytest.raises(ModelMissingError, match="make train"):
         DirectionFollower.from_files(tmp_path / "none.keras")
+
+
+class StopHeadPolicy(ScriptedPolicy):
+    """A network with a stop head: creeps at 0.04 m/s while saying "standing at the goal"."""
+
+    def __init__(self, moving_steps):
+        super().__init__([(0.3, 0.0)] * moving_steps)
+        self.moving_steps, self.stop_probability = moving_steps, None
+
+    def step(self, z_w, scan):
+        command = super().step(z_w, scan)
+        self.stop_probability = 0.1 if self.steps <= self.moving_steps else 0.9
+        return command if self.steps <= self.moving_steps else (0.04, 0.01)
+
+
+def test_stop_head_output_halts_the_instruction(words):
+    """Beyond the seed: the raw (0.04, 0.01) would never halt; the stop head makes it (0, 0)."""
+    follower = DirectionFollower(StopHeadPolicy(3), words)
+    follower.start("go straight to the end")
+    commands = [follower.step(np.full(683, 2.0), urg()) for _ in range(53)]
+    assert [(c.v, c.w) for c in commands[:3]] == [(0.3, 0.0)] * 3
+    assert all((c.v, c.w) == (0.0, 0.0) for c in commands[3:])
+    assert not commands[-2].done and commands[-1].done      # the 50th stop output halts

@@ -4,7 +4,8 @@ import pytest
 
 keras = pytest.importorskip("keras")
 
-from semantic_nav.network import (NetworkConfig, StepPolicy, build_network,  # noqa: E402
+from semantic_nav.network import (NetworkConfig, StepPolicy, add_stop_head,  # noqa: E402
+                                  build_network, has_stop_head,
                                   load_network, relu, softmax)
 from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
 
@@ -63,3 +64,40 @@ def test_reset_clears_the_memory():
     policy.reset()
     assert policy.step(z_w, scan) == first
     assert second != first
+
+
+def test_stop_head_single_step_matches_sequence_model():
+    """Beyond the seed: the stop output of StepPolicy reproduces the Keras model to 1e-5."""
+    keras.utils.set_random_seed(5)
+    config = NetworkConfig(word_units=8, scan_units=16, fused_units=12, stop_head=True)
+    model = build_network(config)
+    for layer in model.layers:
+        layer.set_weights([w * 3.0 for w in layer.get_weights()])
+    rng = np.random.default_rng(2)
+    words = rng.normal(size=(1, 5, config.word_dim)).astype(np.float32)
+    scans = rng.random((1, 60, config.beams)).astype(np.float32)
+    out = model.predict_on_batch({"words": words, "scans": scans})
+    policy = StepPolicy.from_keras(model)
+    assert policy.config.stop_head
+    z_w = policy.classify(words[0])
+    stops = []
+    for scan in scans[0]:
+        policy.step(z_w, scan)
+        stops.append(policy.stop_probability)
+    np.testing.assert_allclose(stops, np.asarray(out["stop"])[0, :, 0], atol=1e-5)
+    assert _compare(model, config, rng) < 1e-5
+
+
+def test_add_stop_head_keeps_the_velocity_outputs():
+    keras.utils.set_random_seed(6)
+    config = NetworkConfig(word_units=4, scan_units=8, fused_units=6)
+    plain = build_network(config)
+    extended = add_stop_head(plain, config)
+    assert has_stop_head(extended) and not has_stop_head(plain)
+    rng = np.random.default_rng(3)
+    inputs = {"words": rng.normal(size=(2, 4, config.word_dim)).astype(np.float32),
+              "scans": rng.random((2, 7, config.beams)).astype(np.float32)}
+    a, b = plain.predict_on_batch(inputs), extended.predict_on_batch(inputs)
+    np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(b["velocity"]), atol=1e-6)
+    assert np.asarray(b["stop"]).shape == (2, 7, 1)
+    assert StepPolicy.from_keras(plain).stop_probability is None

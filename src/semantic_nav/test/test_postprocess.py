@@ -1,7 +1,7 @@
 """Post-processing layer (§2.2.5): Eq. 2.2-12 on its boundary values and the halting counter."""
 import pytest
 
-from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed
+from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 
 
 @pytest.mark.parametrize("v, expected", [
@@ -36,3 +36,13 @@ def test_halting_counter_needs_consecutive_zeros():
     assert [counter.update(*c) for c in [(0, 0), (0, 0), (0.02, 0), (0, 0), (0, 0), (0, -0.02),
                                          (0, 0), (0, 0), (0, 0)]] == \
         [False, False, False, False, False, False, False, False, True]
+
+
+@pytest.mark.parametrize("p, expected", [
+    (None, (0.04, 0.01)),       # no stop head: unchanged (the seed's path)
+    (0.5, (0.04, 0.01)),        # at the threshold: still moving
+    (0.500001, (0.0, 0.0)),     # above it: stop
+    (0.99, (0.0, 0.0)),
+])
+def test_stop_head_boundary(p, expected):
+    assert apply_stop(0.04, 0.01, p) == expected

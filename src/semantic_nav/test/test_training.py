@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from semantic_nav.training import (Episode, Monitor, TrainingConfig, ValidationThresholds,
-                                   accumulated_errors, control_rate_sequence, step_errors,
-                                   validate_sequence)
+                                   accumulated_errors, control_rate_sequence, make_batches,
+                                   step_errors, validate_sequence)
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
 
@@ -64,3 +64,36 @@ def test_control_rate_sequence_subsamples_and_holds_at_the_goal():
     moving = Episode(1, scans, np.full((12, 2), 0.2, np.float32), rate=10.0)
     s, c = control_rate_sequence(moving, 0, config)     # ends moving: no hold appended
     assert len(s) == 12
+
+
+def test_standing_tail_is_topped_up_not_doubled():
+    """Records that already end standing for long enough (expert stop_duration) get no hold."""
+    scans = np.arange(40, dtype=np.float32)[:, None] * np.ones((1, 3), np.float32)
+    commands = np.zeros((40, 2), np.float32)
+    commands[:8] = [0.3, 0.0]                   # moving up to index 7, then 32 standing samples
+    episode = Episode(1, scans, commands, rate=40.0)
+    s, c = control_rate_sequence(episode, 0, TrainingConfig(hold_steps=5))
+    assert s[:, 0].tolist() == [0, 4, 8, 12, 16, 20, 24, 28, 32, 36]   # 8 standing steps >= 5
+    s, c = control_rate_sequence(episode, 0, TrainingConfig(hold_steps=10))
+    assert s[10:, 0].tolist() == [8, 9]        # 2 steps short of 10: first standing scans added
+    assert np.all(c[2:] == 0.0) and len(c) == 12
+
+
+def test_stop_targets_mark_the_standing_steps():
+    scans = np.ones((12, 3), np.float32)
+    commands = np.zeros((12, 2), np.float32)
+    commands[:6] = [0.0, 0.5]                   # turning on the spot (v = 0, ω ≠ 0) is not a stop
+    episode = Episode(4, scans, commands, rate=10.0)
+    config = TrainingConfig(hold_steps=2, stop_targets=True, batch_size=2)
+
+    class Words:
+        dim = 2
+    sentences = [np.ones((3, 2), np.float32)]
+    (batch,) = make_batches([episode], None, Words(), np.random.default_rng(0), config,
+                            phases=[0], sentences=sentences)
+    inputs, targets, weights = batch
+    assert targets["stop"][0, :, 0].tolist() == [0] * 6 + [1] * 6
+    assert weights["stop"].tolist() == [[1.0] * 12]
+    assert "stop" not in make_batches([episode], None, Words(), np.random.default_rng(0),
+                                      TrainingConfig(hold_steps=2), phases=[0],
+                                      sentences=sentences)[0][1]

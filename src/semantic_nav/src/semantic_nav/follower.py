@@ -15,7 +15,7 @@ import numpy as np
 
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
-from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed
+from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 
 ROOT = Path(__file__).resolve().parents[4]
 DEFAULT_MODEL = ROOT / "models" / "semantic_nav" / "default.keras"
@@ -127,7 +127,9 @@ class DirectionFollower:
         if self.done:
             return self._command(0.0, 0.0)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
-        raw_v, raw_w = self.policy.step(self.z_w[self.index], scan)
+        raw_v, raw_w = apply_stop(*self.policy.step(self.z_w[self.index], scan),
+                                  getattr(self.policy, "stop_probability", None),
+                                  self.config.postprocess)
         v = adjust_speed(raw_v, self.config.postprocess)
         w = adjust_speed(raw_w, self.config.postprocess)
         if self.halting.update(v, w):

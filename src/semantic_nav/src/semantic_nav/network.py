@@ -9,6 +9,12 @@ Array layouts: words (batch, n_words, word_dim), padded with all-zero vectors (m
 scans (batch, T, beams) at the control rate; velocity (batch, T, 2) = (v [m/s], ω [rad/s]);
 instruction_class (batch, 10) = Z_w, class c (1..10) at index c - 1.
 
+Beyond the seed (optional, `NetworkConfig.stop_head`): a sigmoid output `stop` (batch, T, 1) on
+LSTM_fused, trained with binary cross-entropy on "the expert stands still here" (zero labels). A
+linear (v, ω) regression is never within the 1e-3 of Eq. 2.2-12 near the goal (its error is a few
+cm/s), so the halting counter never starts; the stop output turns "stop now" into a
+classification the post-processing can act on (postprocess.apply_stop).
+
 `StepPolicy` re-implements the trained network in numpy for control: classify a simple
 instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
 """
@@ -34,6 +40,8 @@ class NetworkConfig:
     fused_units: int = 64     # LSTM_fused state size
     class_loss_weight: float = 0.2   # weight of the Z_w cross-entropy next to the (v, ω) MSE
     learning_rate: float = 2e-3      # Adam
+    stop_head: bool = False          # beyond the seed: sigmoid "standing at the goal" output
+    stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
 
 
 @keras.saving.register_keras_serializable(package="semantic_nav")
@@ -103,18 +111,45 @@ def build_network(config=None):
     fused = ConcatOverTime(name="concat")([z_w, z_s])
     h_f = SequenceLSTM(config.fused_units, name="lstm_fused")(fused)
     velocity = keras.layers.Dense(2, name="velocity")(h_f)
-    model = keras.Model({"words": words, "scans": scans},
-                        {"velocity": velocity, "instruction_class": z_w}, name="semnav")
+    outputs = {"velocity": velocity, "instruction_class": z_w}
+    if config.stop_head:
+        outputs["stop"] = keras.layers.Dense(1, activation="sigmoid", name="stop")(h_f)
+    model = keras.Model({"words": words, "scans": scans}, outputs, name="semnav")
     compile_network(model, config)
     return model
 
 
+def has_stop_head(model):
+    return any(layer.name == "stop" for layer in model.layers)
+
+
+def add_stop_head(model, config):
+    """A model of build_network without the stop output -> the same layers (shared weights) plus
+    a new `stop` output, compiled (fine-tuning a behaviour-cloning model with a stop head)."""
+    if has_stop_head(model):
+        compile_network(model, config)
+        return model
+    inputs = {"words": model.get_layer("word_mask").input,
+              "scans": model.get_layer("fc_scan").input}
+    stop = keras.layers.Dense(1, activation="sigmoid", name="stop")(
+        model.get_layer("lstm_fused").output)
+    extended = keras.Model(inputs, {"velocity": model.get_layer("velocity").output,
+                                    "instruction_class": model.get_layer("instruction_class").output,
+                                    "stop": stop}, name="semnav")
+    compile_network(extended, config)
+    return extended
+
+
 def compile_network(model, config):
-    """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam."""
-    model.compile(optimizer=keras.optimizers.Adam(config.learning_rate),
-                  loss={"velocity": "mse",
-                        "instruction_class": "sparse_categorical_crossentropy"},
-                  loss_weights={"velocity": 1.0, "instruction_class": config.class_loss_weight})
+    """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ binary cross-entropy on the stop
+    output when the model has one)."""
+    loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
+    weights = {"velocity": 1.0, "instruction_class": config.class_loss_weight}
+    if has_stop_head(model):
+        loss["stop"] = "binary_crossentropy"
+        weights["stop"] = config.stop_loss_weight
+    model.compile(optimizer=keras.optimizers.Adam(config.learning_rate), loss=loss,
+                  loss_weights=weights)
 
 
 def build_classifier(model):
@@ -178,7 +213,9 @@ class StepPolicy:
             kernel, recurrent, bias = model.get_layer(layer).get_weights()
             weights.update({f"{layer}/kernel": kernel, f"{layer}/recurrent": recurrent,
                             f"{layer}/bias": bias})
-        for layer in ("instruction_class", "fc_scan", "velocity"):
+        heads = ("instruction_class", "fc_scan", "velocity") + (
+            ("stop",) if has_stop_head(model) else ())
+        for layer in heads:
             kernel, bias = model.get_layer(layer).get_weights()
             weights.update({f"{layer}/kernel": kernel, f"{layer}/bias": bias})
         if config is None:
@@ -187,13 +224,15 @@ class StepPolicy:
                 beams=weights["fc_scan/kernel"].shape[0],
                 word_units=weights["lstm_w/recurrent"].shape[0],
                 scan_units=weights["fc_scan/kernel"].shape[1],
-                fused_units=weights["lstm_fused/recurrent"].shape[0])
+                fused_units=weights["lstm_fused/recurrent"].shape[0],
+                stop_head="stop/kernel" in weights)
         return cls(weights, config)
 
     def reset(self):
         """Clear the LSTM_fused memory (§2.2.5.2: a new simple instruction starts)."""
         units = self.config.fused_units
         self.h, self.c = np.zeros(units), np.zeros(units)
+        self.stop_probability = None
 
     def classify(self, word_vectors):
         """LSTM_w over the word vectors (n, word_dim) of one simple instruction -> Z_w (10,)."""
@@ -204,11 +243,14 @@ class StepPolicy:
         return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
 
     def step(self, z_w, scan):
-        """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept."""
+        """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
+        With a stop head, `stop_probability` holds its output for this step (else None)."""
         w = self.w
         z_s = relu(np.asarray(scan, dtype=np.float64) @ w["fc_scan/kernel"] + w["fc_scan/bias"])
         x = np.concatenate([z_w, z_s])
         self.h, self.c = lstm_step(x, self.h, self.c, w["lstm_fused/kernel"],
                                    w["lstm_fused/recurrent"], w["lstm_fused/bias"])
         out = self.h @ w["velocity/kernel"] + w["velocity/bias"]
+        if "stop/kernel" in w:
+            self.stop_probability = float(sigmoid(self.h @ w["stop/kernel"] + w["stop/bias"])[0])
         return float(out[0]), float(out[1])

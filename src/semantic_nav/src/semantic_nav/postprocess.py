@@ -11,6 +11,17 @@ class PostprocessConfig:
     v_min: float = 1e-3     # |output| at or below this means "stop" [m/s] or [rad/s]
     v_move: float = 2e-2    # slowest speed the robot can really move with [m/s] or [rad/s]
     halt_steps: int = 50    # zero outputs in a row that end a simple instruction (≈ 5 s)
+    stop_threshold: float = 0.5   # beyond the seed: stop-head output above this -> (0, 0) [1]
+
+
+def apply_stop(v, w, stop_probability, config=None):
+    """Beyond the seed: a network with a stop head (network.NetworkConfig.stop_head) that says
+    "standing at the goal" (probability > stop_threshold) outputs (0, 0), which the halting
+    counter then counts; without a stop head (None) the raw output passes unchanged."""
+    config = config or PostprocessConfig()
+    if stop_probability is not None and stop_probability > config.stop_threshold:
+        return 0.0, 0.0
+    return v, w
 
 
 def adjust_speed(v, config=None):

@@ -30,6 +30,7 @@ class TrainingConfig:
     class_batch_size: int = 256  # sentences per Z_w batch [1]
     class_warmup_batches: int = 200  # Z_w-only batches before the first epoch (new model) [1]
     stop_weight: float = 1.0     # loss weight of zero-label steps (standing at the goal) [1]
+    stop_targets: bool = False   # add the "stop" target (network with a stop head) [bool]
 
 
 @dataclass
@@ -117,17 +118,23 @@ def episode_stride(episode, config):
 
 def control_rate_sequence(episode, phase, config):
     """Subsample an episode to the control rate from `phase`; if it ends standing at the goal
-    (zero labels), append `hold_steps` of the robot standing there: the trailing zero-label
-    scans repeated with zero labels."""
+    (zero labels), make sure it stands there for `hold_steps` control steps: records with a
+    shorter standing tail (e.g. made before the expert recorded 6 s of standing, expert.py
+    `stop_duration`) get the trailing zero-label scans repeated with zero labels."""
     stride = episode_stride(episode, config)
     scans, commands = episode.scans[phase::stride], episode.commands[phase::stride]
     moving = np.flatnonzero(np.any(episode.commands != 0.0, axis=1))
     if moving.size and moving[-1] == len(episode.commands) - 1:
         return scans, commands            # ended elsewhere (e.g. a DAgger episode that hit a wall)
-    tail = episode.scans[moving[-1] + 1:] if moving.size else episode.scans
-    hold = tail[np.arange(config.hold_steps) % len(tail)]
+    last = moving[-1] if moving.size else -1
+    standing = int(np.count_nonzero(np.arange(phase, len(episode.commands), stride) > last))
+    missing = config.hold_steps - standing
+    if missing <= 0:
+        return scans, commands
+    tail = episode.scans[last + 1:]
+    hold = tail[np.arange(missing) % len(tail)]
     return (np.concatenate([scans, hold]),
-            np.concatenate([commands, np.zeros((config.hold_steps, 2), np.float32)]))
+            np.concatenate([commands, np.zeros((missing, 2), np.float32)]))
 
 
 def pad_words(vector_list, dim):
@@ -164,16 +171,21 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
         scans = np.zeros((len(chunk), steps, chunk[0][0].shape[1]), np.float32)
         commands = np.zeros((len(chunk), steps, 2), np.float32)
         weights = np.zeros((len(chunk), steps), np.float32)
+        stop = np.zeros((len(chunk), steps, 1), np.float32)
         for row, (s, c, _, _) in enumerate(chunk):
             scans[row, :len(s)], commands[row, :len(c)] = s, c
             standing = np.all(c == 0.0, axis=1)
             weights[row, :len(s)] = np.where(standing, config.stop_weight, 1.0)
+            stop[row, :len(s), 0] = standing
         words = pad_words([item[2] for item in chunk], word_vectors.dim)
         labels = np.array([item[3] - 1 for item in chunk])
-        batches.append(({"words": words, "scans": scans},
-                        {"velocity": commands, "instruction_class": labels},
-                        {"velocity": weights, "instruction_class": np.ones(len(chunk),
-                                                                           np.float32)}))
+        targets = {"velocity": commands, "instruction_class": labels}
+        sample_weights = {"velocity": weights,
+                          "instruction_class": np.ones(len(chunk), np.float32)}
+        if config.stop_targets:      # beyond the seed: 1 where the expert stands still
+            targets["stop"] = stop
+            sample_weights["stop"] = (weights > 0).astype(np.float32)
+        batches.append(({"words": words, "scans": scans}, targets, sample_weights))
     return batches
 
 
