@@ -133,9 +133,8 @@ def add_stop_head(model, config):
               "scans": model.get_layer("fc_scan").input}
     stop = keras.layers.Dense(1, activation="sigmoid", name="stop")(
         model.get_layer("lstm_fused").output)
-    extended = keras.Model(inputs, {"velocity": model.get_layer("velocity").output,
-                                    "instruction_class": model.get_layer("instruction_class").output,
-                                    "stop": stop}, name="semnav")
+    outputs = {name: model.get_layer(name).output for name in ("velocity", "instruction_class")}
+    extended = keras.Model(inputs, {**outputs, "stop": stop}, name="semnav")
     compile_network(extended, config)
     return extended
 
