@@ -1,5 +1,5 @@
 # Thin targets over scripts/. `make demo` and `make test` are the README's two commands.
-.PHONY: setup demo test lint clean
+.PHONY: setup demo test lint clean train
 
 setup:
 	bash scripts/setup
@@ -9,6 +9,9 @@ demo:
 
 test:
 	bash scripts/test
+
+train:
+	bash -c 'source scripts/env.sh && python3 scripts/train_semnav_default'
 
 lint: setup
 	bash scripts/lint

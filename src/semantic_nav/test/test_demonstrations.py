@@ -53,7 +53,9 @@ def test_turn_left_at_the_corner_in_the_simulator(l_corridor):
     assert all(len(s.ranges) == 683 for s in sequence.samples)
     assert len(sequence.samples) > 200
     assert max(s.v for s in sequence.samples) == pytest.approx(0.4, abs=0.01)
-    assert all(s.v == 0.0 and s.omega == 0.0 for s in sequence.samples[-10:])
+    # §2.2.5.2: ends standing for 6 s = 60 samples of the 10 Hz URG-04LX (expert stop_duration)
+    assert all(s.v == 0.0 and s.omega == 0.0 for s in sequence.samples[-60:])
+    assert (sequence.samples[-61].v, sequence.samples[-61].omega) != (0.0, 0.0)
     again = parse_records(format_records([sequence]))[0].samples[5]
     assert (again.v, again.omega) == (sequence.samples[5].v, sequence.samples[5].omega)
     np.testing.assert_array_equal(again.ranges, sequence.samples[5].ranges)   # NaN == NaN

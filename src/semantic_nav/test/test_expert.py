@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import yaml
 
-from semantic_nav.expert import ExpertConfig, ExpertDriver, rehearse, unicycle_step
+from semantic_nav.expert import (ExpertConfig, ExpertDriver, recorded_stop_steps, rehearse,
+                                 unicycle_step)
 from semantic_nav.route_oracle import RouteOracle
 from sim2d.occupancy_map import load_map
 
@@ -48,7 +49,10 @@ def test_turn_right_is_smooth_and_does_not_stop(crossroads):
     # ends facing along the new corridor (south) and records zero commands at the end
     assert math.remainder(demo.poses[-1, 2] + math.pi / 2, 2 * math.pi) == pytest.approx(
         0.0, abs=math.radians(config.align_tolerance))
-    assert np.all(demo.labels[-config.stop_steps:] == 0.0)
+    # §2.2.5.2: the demonstration ends standing still for 6 s = 60 steps at 10 Hz (> 50 of halting)
+    assert recorded_stop_steps(config) == 60
+    assert np.all(demo.labels[-60:] == 0.0) and np.any(demo.labels[-61] != 0.0)
+    assert recorded_stop_steps(ExpertConfig(rate=40.0)) == 240     # the sim2d scan rate
 
 
 def test_turn_around_turns_on_the_spot(crossroads):

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from penguin_base.recording import SequenceBuilder
-from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route
+from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route, recorded_stop_steps
 from sim2d.kinematics import RobotState
 from sim2d.odometry import Odometry
 from sim2d.world import World
@@ -69,7 +69,7 @@ def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, 
         builder.on_velocity("cmd_vel", *label_cmd)
         builder.on_scan(np.round(np.asarray(ranges, dtype=np.float64), RANGE_DECIMALS))
         stopped = stopped + 1 if done else 0
-        if stopped >= config.stop_steps:
+        if stopped >= recorded_stop_steps(config):
             break
         world.set_twist(robot_name, executed[0], 0.0, executed[1])
         world.step(scan_time)

@@ -29,10 +29,19 @@ class ExpertConfig:
     spin_gain: float = 1.5           # on-the-spot turn rate per heading error [1/s]
     arrive_distance: float = 0.15    # path end this close: align heading, then stop [m]
     align_tolerance: float = 4.0     # heading error accepted at the goal [deg]
-    stop_steps: int = 10             # zero commands recorded after arrival (halting, §2.2.5.2)
+    stop_steps: int = 10             # zero commands before the expert *policy* moves on [1]
+    stop_duration: float = 6.0       # standing still recorded at the end of a demonstration:
+    #                                  > the 50 steps ≈ 5 s of the halting counter (§2.2.5.2,
+    #                                  Fig. 3.3.1 records end with the robot standing) [s]
     noise_linear: float = 0.02       # std of the executed linear speed noise [m/s]
     noise_angular: float = 0.08      # std of the executed angular speed noise [rad/s]
     max_duration: float = 240.0      # give up after this long [s]
+
+
+def recorded_stop_steps(config):
+    """Zero commands recorded at the end of a demonstration at `config.rate`: the robot stands
+    still for `stop_duration` (§2.2.5.2: halting needs 50 zero outputs ≈ 5 s at 10 Hz)."""
+    return int(math.ceil(config.stop_duration * config.rate - 1e-9))
 
 
 def expert_route(walk, label, goal_pose):
@@ -174,7 +183,7 @@ def rehearse(oracle, start, label, config=None, rng=None, start_offset=(0.0, 0.0
         poses.append(pose)
         labels.append(label_cmd)
         stopped = stopped + 1 if done else 0
-        if stopped >= config.stop_steps:
+        if stopped >= recorded_stop_steps(config):
             break
         pose = unicycle_step(pose, *executed, 1.0 / config.rate)
     poses = np.array(poses)

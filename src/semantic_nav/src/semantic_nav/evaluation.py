@@ -1,0 +1,278 @@
+"""Per-class evaluation on unseen floors (thesis 002 §4.2.1, Table 4.2-1).
+
+`plan_episodes` draws, for every class, N legal simple instructions from starts on the test
+floors (each start displaced at random), 80 % of the sentences from the training phrasings and
+20 % from held-out phrasings (§4.2.1: 80 of 100 from the basic instruction sets, 20 new
+sentences of similar meaning). `evaluate` runs them in sim2d (episodes.run_episode) with a
+policy made in each worker process, on one or more cores. `success_table` gives the rows of
+Table 4.2-1 (class, tests, successes, rate, and the total).
+"""
+import math
+import multiprocessing
+import time
+from collections import Counter
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_goals,
+                                   run_episode)
+from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
+from semantic_nav.phrase_sets import CLASSES, sample_sentence
+from semantic_nav.route_oracle import OracleError, RouteOracle
+from sim2d.occupancy_map import load_map
+from sim2d.world import World
+from sim2d.world_config import load_world_config
+
+
+@dataclass
+class EvaluationConfig:
+    """How episodes are drawn."""
+
+    candidates: int = 240            # at most this many corridor starts sampled per floor [-]
+    batch: int = 40                  # starts sampled per floor and round [-]
+    min_starts: int = 6              # stop sampling once every class has this many starts [-]
+    held_out_fraction: float = 0.2   # §4.2.1: 20 of 100 sentences are new phrasings [-]
+    start_offset: float = 0.2        # start displaced up to ± this in x and y [m]
+    start_yaw_offset: float = 8.0    # and up to ± this in heading [deg]
+    start_clearance: float = 0.4     # displaced start must have this clearance [m]
+    max_redraws: int = 50            # displacements tried per episode before skipping [-]
+
+
+@dataclass
+class EpisodeSpec:
+    """One evaluation episode: where, which instruction, which phrasing."""
+
+    floor: str               # map_server YAML path
+    start: tuple             # (x, y, yaw) displaced start
+    labels: tuple            # class per simple instruction
+    sentence: str
+    held_out: bool           # sentence uses a held-out phrasing
+
+
+@dataclass
+class PolicySpec:
+    """How a worker process makes its policy: the expert or the learned follower."""
+
+    kind: str = "model"      # "model" | "expert"
+    model_path: str = None   # None: the follower's default model
+    word_vectors: str = None
+    config: str = None
+
+
+@dataclass
+class EpisodeOutcome:
+    """What is kept of one episode (picklable, JSON-friendly)."""
+
+    spec: EpisodeSpec
+    success: bool
+    reason: str
+    duration: float          # [s]
+    steps: int
+    predicted: list
+    path: list = field(default_factory=list)    # [[x, y, yaw], ...]
+    step_seconds: float = 0.0                   # wall time per control step [s]
+
+
+def world_for(template, map_path, raycast="table", laser_dir=None):
+    """A sim2d World of `template`'s robot and laser on `map_path`, lasers cast with `raycast`
+    (laser models from `laser_dir`, default: the template's config/lasers)."""
+    config = load_world_config(template, laser_dir)
+    config.map_path = Path(map_path).resolve()
+    config.graph_path = None
+    config.people, config.objects = [], []
+    for robot in config.robots:
+        robot.pose = sample_free_pose(config.map_path)   # episodes place the robot
+        for laser in robot.lasers:
+            laser.raycast = raycast
+    return World(config)
+
+
+def sample_free_pose(map_path):
+    """The pose of most clearance on the floor (a World needs its robot somewhere free)."""
+    clearance = RouteOracle(load_map(map_path)).field
+    row, col = np.unravel_index(np.argmax(clearance.clearance), clearance.clearance.shape)
+    x, y = clearance.grid.cell_to_world(row, col)
+    return (float(x), float(y), 0.0)
+
+
+def _displaced(oracle, start, labels, rng, config):
+    """start moved at random (clear of walls, classes still applicable) -> (pose, parts)."""
+    for _ in range(config.max_redraws):
+        pose = (start[0] + rng.uniform(-config.start_offset, config.start_offset),
+                start[1] + rng.uniform(-config.start_offset, config.start_offset),
+                start[2] + math.radians(rng.uniform(-config.start_yaw_offset,
+                                                    config.start_yaw_offset)))
+        if oracle.field.at(pose[0], pose[1]) < config.start_clearance:
+            continue
+        try:
+            return pose, chain_goals(oracle, pose, labels)
+        except (EpisodeError, OracleError):
+            continue
+    return None, None
+
+
+def applicable_starts(oracles, rng, config, classes=CLASSES):
+    """{class: [(floor, start)]} over corridor starts sampled on the floors, in rounds of
+    `batch` per floor until every class has `min_starts` (or `candidates` per floor)."""
+    pool = {label: [] for label in CLASSES}
+    structures = {floor: floor_structure(oracle.field, oracle.config.robot_radius)
+                  for floor, oracle in oracles.items()}
+    for _ in range(max(1, config.candidates // config.batch)):
+        for floor, oracle in oracles.items():
+            for start in sample_corridor_starts(oracle, structures[floor], config.batch, rng):
+                for label, goal in oracle.goals(start).items():
+                    if goal is not None:
+                        pool[label].append((floor, start))
+        if min(len(pool[label]) for label in classes) >= config.min_starts:
+            break
+    return pool
+
+
+def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASSES):
+    """`per_class` single-instruction episodes per class over the floors' starts -> [EpisodeSpec].
+
+    Starts are used in turn (shuffled) so every applicable start is used about equally; a class
+    applicable from none of the sampled starts gets no episodes."""
+    config = config or EvaluationConfig()
+    pool = applicable_starts(oracles, rng, config, classes)
+    specs = []
+    for label in classes:
+        candidates = pool[label]
+        if not candidates:      # the table then shows which classes these floors cannot test
+            continue
+        held = np.zeros(per_class, dtype=bool)
+        held[:int(round(config.held_out_fraction * per_class))] = True
+        rng.shuffle(held)
+        order = rng.permutation(len(candidates))
+        for i in range(per_class):
+            floor, start = candidates[order[i % len(order)]]
+            pose, _ = _displaced(oracles[floor], start, (label,), rng, config)
+            if pose is None:
+                pose = start
+            split = "held_out" if held[i] else "train"
+            sentence = sample_sentence(sets, label, rng, split).text
+            specs.append(EpisodeSpec(str(floor), tuple(float(v) for v in pose), (label,),
+                                     sentence, bool(held[i])))
+    return specs
+
+
+# --- running (one process per core) ------------------------------------------------------
+_WORKER = {}
+
+
+def _init_worker(template, policy_spec, raycast, episode_config, laser_dir):
+    _WORKER.update(template=template, policy_spec=policy_spec, raycast=raycast,
+                   episode_config=episode_config, laser_dir=laser_dir, worlds={}, policy=None)
+    try:                                   # one core per worker: no thread oversubscription
+        import torch
+        torch.set_num_threads(1)
+    except ImportError:
+        pass
+
+
+def _make_policy(spec):
+    if spec.kind == "expert":
+        return None
+    from semantic_nav.follower import DirectionFollower
+    return DirectionFollower.from_files(spec.model_path, spec.word_vectors, spec.config)
+
+
+def _world(floor):
+    if floor not in _WORKER["worlds"]:
+        world = world_for(_WORKER["template"], floor, _WORKER["raycast"], _WORKER["laser_dir"])
+        _WORKER["worlds"][floor] = (world, RouteOracle(world.grid))
+    return _WORKER["worlds"][floor]
+
+
+def run_spec(spec):
+    """One episode in this worker -> EpisodeOutcome."""
+    world, oracle = _world(spec.floor)
+    robot = world.robots[0]
+    parts = chain_goals(oracle, spec.start, spec.labels)
+    if _WORKER["policy_spec"].kind == "expert":
+        policy = ExpertPolicy(parts, lambda: robot.state.pose)
+    else:
+        if _WORKER["policy"] is None:
+            _WORKER["policy"] = _make_policy(_WORKER["policy_spec"])
+        policy = _WORKER["policy"]
+    began = time.perf_counter()
+    result = run_episode(world, robot.name, policy, spec.start, spec.sentence, parts,
+                         config=_WORKER["episode_config"])
+    seconds = (time.perf_counter() - began) / max(result.steps, 1)
+    path = np.round(result.path, 3).tolist()
+    return EpisodeOutcome(spec, result.success, result.reason, round(result.duration, 2),
+                          result.steps, [int(c) for c in result.predicted], path, seconds)
+
+
+def evaluate(specs, template, policy_spec, workers=1, raycast="table", episode_config=None,
+             progress=None, laser_dir=None):
+    """Run every spec -> [EpisodeOutcome] in spec order; `progress(n)` after each episode."""
+    args = (str(template), policy_spec, raycast, episode_config or EpisodeConfig(), laser_dir)
+    if workers <= 1:
+        _init_worker(*args)
+        outcomes = []
+        for spec in specs:
+            outcomes.append(run_spec(spec))
+            if progress:
+                progress(1)
+        return outcomes
+    context = multiprocessing.get_context("fork")
+    with context.Pool(workers, initializer=_init_worker, initargs=args) as pool:
+        outcomes = []
+        for outcome in pool.imap(run_spec, specs, chunksize=4):
+            outcomes.append(outcome)
+            if progress:
+                progress(1)
+    return outcomes
+
+
+# --- results -------------------------------------------------------------------------------
+def success_table(outcomes):
+    """Table 4.2-1 rows: [(class, tests, successes, rate)] and the total row."""
+    tests, wins = Counter(), Counter()
+    for outcome in outcomes:
+        label = outcome.spec.labels[-1]
+        tests[label] += 1
+        wins[label] += bool(outcome.success)
+    rows = [(label, tests[label], wins[label], wins[label] / tests[label])
+            for label in sorted(tests)]
+    total = sum(tests.values())
+    return rows, ("Total", total, sum(wins.values()), sum(wins.values()) / max(total, 1))
+
+
+def format_table(rows, total, title=""):
+    """Markdown table in the layout of Table 4.2-1."""
+    lines = [title] if title else []
+    lines += ["| Instruction Number | Testing Times | Success Times | Success Rate |",
+              "|---:|---:|---:|---:|"]
+    for label, tests, wins, rate in rows + [total]:
+        lines.append(f"| {label} | {tests} | {wins} | {rate:.4f} |")
+    return "\n".join(lines)
+
+
+def breakdown(outcomes):
+    """Success by phrasing (train / held-out), failure reasons, class predictions."""
+    by_split = {}
+    for held in (False, True):
+        chosen = [o for o in outcomes if o.spec.held_out == held]
+        if chosen:
+            by_split["held_out" if held else "train"] = {
+                "tests": len(chosen), "successes": sum(o.success for o in chosen)}
+    reasons = Counter(o.reason.split(":")[0] for o in outcomes)
+    predicted = [o for o in outcomes if o.predicted]
+    correct = sum(list(o.predicted) == list(o.spec.labels) for o in predicted)
+    held = [o for o in predicted if o.spec.held_out]
+    return {"by_phrasing": by_split, "reasons": dict(reasons),
+            "class_prediction_accuracy": correct / max(len(predicted), 1),
+            "held_out_class_prediction_accuracy":
+                sum(list(o.predicted) == list(o.spec.labels) for o in held) / max(len(held), 1)}
+
+
+def outcome_record(outcome, keep_path=False):
+    """JSON-friendly dict of one outcome."""
+    record = asdict(outcome)
+    if not keep_path:
+        record.pop("path")
+    return record

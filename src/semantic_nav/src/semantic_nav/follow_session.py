@@ -1,0 +1,75 @@
+"""One instruction being followed by the node: the follower, its progress and how it ends.
+
+ROS-free so the node (ros_follower.py) stays thin: the node feeds scans and the clock, sends
+the (v, ω) it gets back and reports the feedback and the outcome.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from semantic_nav.instruction_layer import InstructionError, split_instruction
+
+SUCCEEDED, ABORTED = "succeeded", "aborted"
+
+
+@dataclass
+class Feedback:
+    index: int               # simple instruction being followed (0-based)
+    text: str                # its words
+    instruction_class: int   # class the network predicts for it (1..10)
+    confidence: float        # its softmax probability (NaN when the follower gives none)
+
+
+@dataclass
+class Outcome:
+    status: str              # SUCCEEDED | ABORTED
+    completed: int           # simple instructions completed
+    message: str
+
+
+class InstructionRefused(ValueError):
+    """The sentence cannot be followed (no words, unknown words); the message says why."""
+
+
+class FollowSession:
+    """Follow one sentence: start it, step it once per control period, end it."""
+
+    def __init__(self, follower, sentence, now, max_duration):
+        """Raises InstructionRefused for a sentence the follower cannot take."""
+        try:
+            self.parts = split_instruction(sentence)
+            self.classes = list(follower.start(sentence))
+        except (InstructionError, ValueError) as error:
+            raise InstructionRefused(f"cannot follow {sentence!r}: {error}") from error
+        self.follower, self.sentence = follower, sentence
+        self.started, self.max_duration = now, max_duration
+        self.index, self.outcome = 0, None
+
+    def feedback(self, command=None):
+        index = min(self.index, len(self.classes) - 1)
+        predicted = command.predicted_class if command is not None else self.classes[index]
+        z_w = getattr(self.follower, "z_w", None)     # DirectionFollower: softmax per part
+        confidence = float(np.max(z_w[index])) if z_w is not None and index < len(z_w) \
+            else math.nan
+        text = self.parts[index] if index < len(self.parts) else ""
+        return Feedback(index, text, int(predicted), float(confidence))
+
+    def step(self, ranges, laser, now):
+        """One control step -> (v, w); sets self.outcome when the sentence is done or too long."""
+        if now - self.started > self.max_duration:
+            self.outcome = Outcome(ABORTED, self.index, f"not finished after "
+                                                        f"{self.max_duration:.0f} s")
+            return 0.0, 0.0, self.feedback()
+        command = self.follower.step(ranges, laser)
+        self.index = int(command.index)
+        if command.done:
+            self.outcome = Outcome(SUCCEEDED, len(self.classes),
+                                   f"completed {len(self.classes)} simple instruction(s)")
+            return 0.0, 0.0, self.feedback(command)
+        return float(command.v), float(command.w), self.feedback(command)
+
+    def stop(self, reason):
+        """Ended from outside (preempted, replaced, shut down) -> Outcome."""
+        self.outcome = Outcome(ABORTED, self.index, reason)
+        return self.outcome

@@ -1,0 +1,255 @@
+"""Neural network model (thesis 002 §2.2.4, Fig. 2.2.4) in Keras 3 and its single-step numpy twin.
+
+Stage 1: LSTM_w reads the word vectors (w_1 … w_n) of one simple instruction; a softmax over the
+ten basic instruction classes gives the instruction vector Z_w (Eq. 2.2-11, softmax).
+Stage 2: a fully connected ReLU layer turns each preprocessed scan (l_i1 … l_iN) into Z_si
+(Eq. 2.2-11, ReLU); [Z_w, Z_si] goes into LSTM_fused, whose linear output is (v, ω).
+
+Array layouts: words (batch, n_words, word_dim), padded with all-zero vectors (masked);
+scans (batch, T, beams) at the control rate; velocity (batch, T, 2) = (v [m/s], ω [rad/s]);
+instruction_class (batch, 10) = Z_w, class c (1..10) at index c - 1.
+
+Beyond the seed (optional, `NetworkConfig.stop_head`): a sigmoid output `stop` (batch, T, 1) on
+LSTM_fused, trained with binary cross-entropy on "the expert stands still here" (zero labels). A
+linear (v, ω) regression is never within the 1e-3 of Eq. 2.2-12 near the goal (its error is a few
+cm/s), so the halting counter never starts; the stop output turns "stop now" into a
+classification the post-processing can act on (postprocess.apply_stop).
+
+`StepPolicy` re-implements the trained network in numpy for control: classify a simple
+instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
+"""
+import os
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+os.environ.setdefault("KERAS_BACKEND", "torch")
+import keras  # noqa: E402  (the backend must be chosen before the import)
+
+NUM_CLASSES = 10   # Table 3.1-1
+
+
+@dataclass
+class NetworkConfig:
+    """Layer sizes of Fig. 2.2.4 (kept small: CPU training, a model file of a few hundred kB)."""
+
+    word_dim: int = 50        # GloVe dimension (6B-50d cache; the seed used 100)
+    beams: int = 881          # canonical scan length (laser_layer: UTM-30LX steps 100 … 980)
+    word_units: int = 32      # LSTM_w state size
+    scan_units: int = 64      # width of the FC ReLU layer (Z_s)
+    fused_units: int = 64     # LSTM_fused state size
+    class_loss_weight: float = 0.2   # weight of the Z_w cross-entropy next to the (v, ω) MSE
+    learning_rate: float = 2e-3      # Adam
+    stop_head: bool = False          # beyond the seed: sigmoid "standing at the goal" output
+    stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
+
+
+@keras.saving.register_keras_serializable(package="semantic_nav")
+class ConcatOverTime(keras.layers.Layer):
+    """[Z_w (batch, k), Z_s (batch, T, m)] -> (batch, T, k + m): Z_w repeated at every step."""
+
+    def call(self, inputs):
+        z_w, z_s = inputs
+        steps = keras.ops.shape(z_s)[1]
+        tiled = keras.ops.repeat(keras.ops.expand_dims(z_w, 1), steps, axis=1)
+        return keras.ops.concatenate([tiled, z_s], axis=-1)
+
+    def compute_output_shape(self, input_shapes):
+        (batch, k), (_, steps, m) = input_shapes
+        return (batch, steps, k + m)
+
+
+@keras.saving.register_keras_serializable(package="semantic_nav")
+class SequenceLSTM(keras.layers.Layer):
+    """An LSTM returning the whole output sequence, with Keras' weights and gate order (i, f, c, o)
+    but run by torch's native LSTM kernel: keras.layers.LSTM on the torch backend steps a Python
+    loop on the CPU, about ten times slower for the hundreds of steps of a demonstration."""
+
+    def __init__(self, units, **kwargs):
+        super().__init__(**kwargs)
+        self.units = units
+
+    def build(self, input_shape):
+        units = self.units
+        self.kernel = self.add_weight(shape=(input_shape[-1], 4 * units), name="kernel",
+                                      initializer="glorot_uniform")
+        self.recurrent_kernel = self.add_weight(shape=(units, 4 * units), name="recurrent_kernel",
+                                                initializer="orthogonal")
+        # unit forget bias, as keras.layers.LSTM
+        forget = np.concatenate([np.zeros(units), np.ones(units), np.zeros(2 * units)])
+        self.bias = self.add_weight(shape=(4 * units,), name="bias",
+                                    initializer=keras.initializers.Constant(forget))
+
+    def call(self, inputs):
+        import torch
+        batch = inputs.shape[0]
+        zeros = torch.zeros(1, batch, self.units, dtype=inputs.dtype, device=inputs.device)
+        bias = self.bias.value
+        params = [self.kernel.value.t().contiguous(), self.recurrent_kernel.value.t().contiguous(),
+                  bias, torch.zeros_like(bias)]
+        output, _, _ = torch.lstm(inputs, (zeros, zeros), params, True, 1, 0.0, self.trainable,
+                                  False, True)
+        return output
+
+    def compute_output_shape(self, input_shape):
+        return (*input_shape[:-1], self.units)
+
+    def get_config(self):
+        return {**super().get_config(), "units": self.units}
+
+
+def build_network(config=None):
+    """Fig. 2.2.4 as a Keras model: {words, scans} -> {velocity, instruction_class}, compiled
+    with the MSE of §4.1.1 on (v, ω) plus the cross-entropy on Z_w."""
+    config = config or NetworkConfig()
+    words = keras.Input((None, config.word_dim), name="words")
+    scans = keras.Input((None, config.beams), name="scans")
+    masked = keras.layers.Masking(0.0, name="word_mask")(words)
+    h_w = keras.layers.LSTM(config.word_units, name="lstm_w")(masked)
+    z_w = keras.layers.Dense(NUM_CLASSES, activation="softmax", name="instruction_class")(h_w)
+    z_s = keras.layers.Dense(config.scan_units, activation="relu", name="fc_scan")(scans)
+    fused = ConcatOverTime(name="concat")([z_w, z_s])
+    h_f = SequenceLSTM(config.fused_units, name="lstm_fused")(fused)
+    velocity = keras.layers.Dense(2, name="velocity")(h_f)
+    outputs = {"velocity": velocity, "instruction_class": z_w}
+    if config.stop_head:
+        outputs["stop"] = keras.layers.Dense(1, activation="sigmoid", name="stop")(h_f)
+    model = keras.Model({"words": words, "scans": scans}, outputs, name="semnav")
+    compile_network(model, config)
+    return model
+
+
+def has_stop_head(model):
+    return any(layer.name == "stop" for layer in model.layers)
+
+
+def add_stop_head(model, config):
+    """A model of build_network without the stop output -> the same layers (shared weights) plus
+    a new `stop` output, compiled (fine-tuning a behaviour-cloning model with a stop head)."""
+    if has_stop_head(model):
+        compile_network(model, config)
+        return model
+    inputs = {"words": model.get_layer("word_mask").input,
+              "scans": model.get_layer("fc_scan").input}
+    stop = keras.layers.Dense(1, activation="sigmoid", name="stop")(
+        model.get_layer("lstm_fused").output)
+    outputs = {name: model.get_layer(name).output for name in ("velocity", "instruction_class")}
+    extended = keras.Model(inputs, {**outputs, "stop": stop}, name="semnav")
+    compile_network(extended, config)
+    return extended
+
+
+def compile_network(model, config):
+    """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ binary cross-entropy on the stop
+    output when the model has one)."""
+    loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
+    weights = {"velocity": 1.0, "instruction_class": config.class_loss_weight}
+    if has_stop_head(model):
+        loss["stop"] = "binary_crossentropy"
+        weights["stop"] = config.stop_loss_weight
+    model.compile(optimizer=keras.optimizers.Adam(config.learning_rate), loss=loss,
+                  loss_weights=weights)
+
+
+def build_classifier(model):
+    """The first stage alone (words -> Z_w), sharing the layers (and weights) of `model`; compiled
+    for extra instruction batches (the phrase sets are far larger than the record set)."""
+    words = model.get_layer("word_mask").input
+    classifier = keras.Model(words, model.get_layer("instruction_class").output,
+                             name="semnav_classifier")
+    classifier.compile(optimizer=keras.optimizers.Adam(float(model.optimizer.learning_rate)),
+                       loss="sparse_categorical_crossentropy")
+    return classifier
+
+
+def network_config_dict(config):
+    return asdict(config)
+
+
+def load_network(path):
+    """Load a saved .keras model (custom layers registered above)."""
+    return keras.saving.load_model(path, compile=False)
+
+
+# ---------------------------------------------------------------- numpy single-step path
+
+def sigmoid(x):
+    return 1.0 / (1.0 + np.exp(-x))
+
+
+def softmax(z):
+    """Eq. 2.2-11 (first): sigma(Z)_i = e^{z_i} / sum_k e^{z_k}."""
+    e = np.exp(z - np.max(z, axis=-1, keepdims=True))
+    return e / np.sum(e, axis=-1, keepdims=True)
+
+
+def relu(z):
+    """Eq. 2.2-11 (second): sigma(Z)_i = max(0, z_i)."""
+    return np.maximum(z, 0.0)
+
+
+def lstm_step(x, h, c, kernel, recurrent, bias):
+    """One LSTM step (Keras gate order i, f, c, o; tanh / sigmoid) -> (h, c)."""
+    gates = x @ kernel + h @ recurrent + bias
+    i, f, g, o = np.split(gates, 4, axis=-1)
+    c = sigmoid(f) * c + sigmoid(i) * np.tanh(g)
+    return sigmoid(o) * np.tanh(c), c
+
+
+class StepPolicy:
+    """The trained network in numpy (float64): classify once, then one command per scan."""
+
+    def __init__(self, weights, config):
+        self.config = config
+        self.w = {name: np.asarray(value, dtype=np.float64) for name, value in weights.items()}
+        self.reset()
+
+    @classmethod
+    def from_keras(cls, model, config=None):
+        """Copy the weights of a Keras model built by build_network."""
+        weights = {}
+        for layer in ("lstm_w", "lstm_fused"):
+            kernel, recurrent, bias = model.get_layer(layer).get_weights()
+            weights.update({f"{layer}/kernel": kernel, f"{layer}/recurrent": recurrent,
+                            f"{layer}/bias": bias})
+        heads = ("instruction_class", "fc_scan", "velocity") + (
+            ("stop",) if has_stop_head(model) else ())
+        for layer in heads:
+            kernel, bias = model.get_layer(layer).get_weights()
+            weights.update({f"{layer}/kernel": kernel, f"{layer}/bias": bias})
+        if config is None:
+            config = NetworkConfig(
+                word_dim=weights["lstm_w/kernel"].shape[0],
+                beams=weights["fc_scan/kernel"].shape[0],
+                word_units=weights["lstm_w/recurrent"].shape[0],
+                scan_units=weights["fc_scan/kernel"].shape[1],
+                fused_units=weights["lstm_fused/recurrent"].shape[0],
+                stop_head="stop/kernel" in weights)
+        return cls(weights, config)
+
+    def reset(self):
+        """Clear the LSTM_fused memory (§2.2.5.2: a new simple instruction starts)."""
+        units = self.config.fused_units
+        self.h, self.c = np.zeros(units), np.zeros(units)
+        self.stop_probability = None
+
+    def classify(self, word_vectors):
+        """LSTM_w over the word vectors (n, word_dim) of one simple instruction -> Z_w (10,)."""
+        w = self.w
+        h = c = np.zeros(self.config.word_units)
+        for x in np.asarray(word_vectors, dtype=np.float64):
+            h, c = lstm_step(x, h, c, w["lstm_w/kernel"], w["lstm_w/recurrent"], w["lstm_w/bias"])
+        return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
+
+    def step(self, z_w, scan):
+        """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
+        With a stop head, `stop_probability` holds its output for this step (else None)."""
+        w = self.w
+        z_s = relu(np.asarray(scan, dtype=np.float64) @ w["fc_scan/kernel"] + w["fc_scan/bias"])
+        x = np.concatenate([z_w, z_s])
+        self.h, self.c = lstm_step(x, self.h, self.c, w["lstm_fused/kernel"],
+                                   w["lstm_fused/recurrent"], w["lstm_fused/bias"])
+        out = self.h @ w["velocity/kernel"] + w["velocity/bias"]
+        if "stop/kernel" in w:
+            self.stop_probability = float(sigmoid(self.h @ w["stop/kernel"] + w["stop/bias"])[0])
+        return float(out[0]), float(out[1])

@@ -1,0 +1,206 @@
+"""The semantic_nav node: FollowDirections action server and /voice_message input in front of
+the direction follower (scan -> laser layer -> network -> post-processing -> /cmd_vel).
+
+Callbacks only cache under a lock (scan, odometry, new goal, preemption, voice sentence); a
+timer at the follower's control period does the work. The robot is stopped (zero /cmd_vel) on
+preemption, when no scan arrives for ~scan_timeout, when a sentence ends and on exit.
+"""
+import math
+import threading
+from dataclasses import dataclass
+
+import actionlib
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import String
+from tamp_msgs.msg import FollowDirectionsAction
+from visualization_msgs.msg import Marker
+
+from semantic_nav.conversions import (feedback_msg, path_marker, result_msg, scan_to_core,
+                                      twist)
+from semantic_nav.follow_session import SUCCEEDED, FollowSession, InstructionRefused
+
+
+@dataclass(frozen=True)
+class NodeParams:
+    model: str = ""               # model file; "" = the follower's default (make train)
+    word_vectors: str = ""        # GloVe source; "" = the compact cache of scripts/setup
+    follower_config: str = ""     # follower YAML; "" = its defaults
+    scan_timeout: float = 0.5     # no scan for this long: stop the robot [s]
+    max_duration: float = 300.0   # a sentence not finished after this long is aborted [s]
+    path_frame: str = "odom"      # frame of the driven-path marker (that of /odom)
+    path_spacing: float = 0.05    # add a path point every this far [m]
+    marker_width: float = 0.05    # [m]
+
+    @classmethod
+    def from_ros(cls):
+        values = {}
+        for name in cls.__dataclass_fields__:
+            default = getattr(cls, name)
+            values[name] = type(default)(rospy.get_param(f"~{name}", default))
+        return cls(**values)
+
+
+class FollowerNode:
+    def __init__(self, params, follower):
+        self.params, self.follower = params, follower
+        self.lock = threading.Lock()   # guards the caches below
+        self.scan, self.scan_stamp, self.pose = None, None, None
+        self.voice, self.preempted, self.new_goal = None, False, None
+        self.session, self.source, self.path = None, None, []
+        self.last_result = ""
+
+    def setup(self):
+        self.cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        self.marker_pub = rospy.Publisher("~path", Marker, queue_size=1, latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.server = actionlib.SimpleActionServer("follow_directions", FollowDirectionsAction,
+                                                   auto_start=False)
+        self.server.register_goal_callback(self._on_goal)
+        self.server.register_preempt_callback(self._on_preempt)
+        rospy.Subscriber("/scan", LaserScan, self._on_scan, queue_size=1)
+        rospy.Subscriber("/odom", Odometry, self._on_odom, queue_size=1)
+        rospy.Subscriber("/voice_message", String, self._on_voice, queue_size=5)
+        self.server.start()
+        rospy.Timer(rospy.Duration(self.follower.control_period), self._tick)
+        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        rospy.on_shutdown(self._stop_robot)
+        return True
+
+    # ---- callbacks: cache only ----
+    def _on_scan(self, msg):
+        with self.lock:
+            self.scan, self.scan_stamp = msg, rospy.get_time()
+
+    def _on_odom(self, msg):
+        with self.lock:
+            self.pose = (msg.pose.pose.position.x, msg.pose.pose.position.y)
+
+    def _on_voice(self, msg):
+        with self.lock:
+            self.voice = msg.data
+
+    def _on_goal(self):
+        goal = self.server.accept_new_goal()
+        with self.lock:
+            self.new_goal, self.preempted = goal.text, False
+
+    def _on_preempt(self):
+        with self.lock:
+            self.preempted = True
+
+    # ---- work: the control timer ----
+    def _stop_robot(self):
+        self.cmd_pub.publish(twist(0.0, 0.0))
+
+    def _finish(self, outcome, report=True):
+        """End the current session with `outcome`: stop, report to the action (unless actionlib
+        already ended that goal) and the log."""
+        self._stop_robot()
+        self.last_result = outcome.message
+        if report and self.source == "action" and self.server.is_active():
+            result = result_msg(outcome)
+            if outcome.status == SUCCEEDED:
+                self.server.set_succeeded(result, outcome.message)
+            elif self.server.is_preempt_requested():
+                self.server.set_preempted(result, outcome.message)
+            else:
+                self.server.set_aborted(result, outcome.message)
+        rospy.loginfo("semantic_nav: %r: %s", self.session.sentence, outcome.message)
+        self.session, self.source = None, None
+
+    def _begin(self, sentence, source, now):
+        if self.session is not None:     # a new action goal: actionlib preempted the old one
+            self._finish(self.session.stop(f"replaced by a new instruction from {source}"),
+                         report=source != "action")
+        try:
+            self.session = FollowSession(self.follower, sentence, now, self.params.max_duration)
+        except InstructionRefused as error:
+            self.last_result = str(error)
+            rospy.logwarn("semantic_nav: %s", error)
+            if source == "action":
+                self.server.set_aborted(result_msg(str(error)), str(error))
+            return
+        self.source, self.path = source, []
+        rospy.loginfo("semantic_nav: following %r (%s): classes %s", sentence, source,
+                      self.session.classes)
+
+    def _take_inputs(self):
+        with self.lock:
+            inputs = (self.new_goal, self.voice, self.preempted, self.scan, self.scan_stamp,
+                      self.pose)
+            self.new_goal, self.voice, self.preempted = None, None, False
+        return inputs
+
+    def _tick(self, _event):
+        goal, voice, preempted, scan, stamp, pose = self._take_inputs()
+        now = rospy.get_time()
+        if goal is not None:
+            self._begin(goal, "action", now)
+        elif preempted and self.session is not None and self.source == "action":
+            self._finish(self.session.stop("preempted"))
+        if voice is not None:
+            self._begin(voice, "/voice_message", now)
+        if self.session is None:
+            return
+        if scan is None or now - stamp > self.params.scan_timeout:
+            self._stop_robot()
+            rospy.logwarn_throttle(2.0, "semantic_nav: no scan on /scan for %.1f s: stopped",
+                                   math.inf if stamp is None else now - stamp)
+            return
+        self._control(scan, pose, now)
+
+    def _control(self, scan, pose, now):
+        ranges, laser = scan_to_core(scan)
+        v, w, feedback = self.session.step(ranges, laser, now)
+        if self.session.outcome is not None:
+            self._finish(self.session.outcome)
+            return
+        self.cmd_pub.publish(twist(v, w))
+        if self.source == "action":
+            self.server.publish_feedback(feedback_msg(feedback))
+        if pose is not None and (not self.path or math.dist(self.path[-1], pose) >
+                                 self.params.path_spacing):
+            self.path.append(pose)
+            self.marker_pub.publish(path_marker(self.path, self.params.path_frame,
+                                                rospy.Time.now(), self.params.marker_width))
+
+    def _diagnose(self, _event):
+        with self.lock:
+            stamp = self.scan_stamp
+        age = math.inf if stamp is None else rospy.get_time() - stamp
+        status = DiagnosticStatus(name="semantic_nav", hardware_id="direction_follower")
+        if age > self.params.scan_timeout:
+            status.level, status.message = DiagnosticStatus.ERROR, f"no scan for {age:.1f} s"
+        elif self.session is not None:
+            status.level, status.message = DiagnosticStatus.OK, "following"
+        else:
+            status.level, status.message = DiagnosticStatus.OK, "idle"
+        session = self.session
+        status.values = [KeyValue("scan_age_s", f"{age:.2f}"),
+                         KeyValue("sentence", session.sentence if session else ""),
+                         KeyValue("index", str(session.index) if session else ""),
+                         KeyValue("last_result", self.last_result)]
+        self.diag_pub.publish(DiagnosticArray(header=rospy.Header(stamp=rospy.Time.now()),
+                                              status=[status]))
+
+
+def main():
+    rospy.init_node("semantic_nav")
+    params = NodeParams.from_ros()
+    from semantic_nav.follower import DirectionFollower, ModelMissingError
+    try:
+        follower = DirectionFollower.from_files(params.model or None,
+                                                params.word_vectors or None,
+                                                params.follower_config or None)
+    except ModelMissingError as error:
+        rospy.logfatal("semantic_nav: %s", error)
+        return 1
+    node = FollowerNode(params, follower)
+    node.setup()
+    rospy.loginfo("semantic_nav: ready (action follow_directions, /voice_message)")
+    rospy.spin()
+    return 0

@@ -1,0 +1,253 @@
+"""Training data, the validation function and the monitors of thesis 002 §4.1 (no Keras here).
+
+Episodes: one recording sequence (penguin_base record format, Fig. 3.3.1) as preprocessed
+canonical scans (N, beams) float32 and clean expert labels (N, 2) = (v [m/s], ω [rad/s]) at the
+record rate. Training subsamples them to the control rate with a random phase, appends the robot
+standing still at the goal (zero labels) for `hold_steps`, and pairs each with a random sentence of
+its class (§3.4), so every epoch sees new (phase, sentence) pairings.
+"""
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from semantic_nav.instruction_layer import sentence_vector
+from semantic_nav.laser_layer import preprocess_scan
+from semantic_nav.phrase_sets import CLASSES, sample_sentence
+
+
+@dataclass
+class TrainingConfig:
+    """How records become training sequences and how long training runs."""
+
+    control_rate: float = 10.0   # network steps per second (§2.2.5.2: 50 steps ≈ 5 s) [Hz]
+    record_rate: float = 40.0    # laser rate of the demonstration records (UTM-30LX) [Hz]
+    hold_steps: int = 60         # zero-label steps appended at the goal (> the 50 of halting) [1]
+    batch_size: int = 8          # sequences per batch [1]
+    epochs: int = 160            # [1]
+    class_batches: int = 4       # extra Z_w-only batches of phrase-set sentences per epoch [1]
+    class_batch_size: int = 256  # sentences per Z_w batch [1]
+    class_warmup_batches: int = 200  # Z_w-only batches before the first epoch (new model) [1]
+    stop_weight: float = 1.0     # loss weight of zero-label steps (standing at the goal) [1]
+    stop_targets: bool = False   # add the "stop" target (network with a stop head) [bool]
+
+
+@dataclass
+class ValidationThresholds:
+    """§4.1.2: tolerable error per step and accumulated (the seed does not give its values)."""
+
+    step_linear: float = 0.1     # |d_i| below this is a correct v [m/s]
+    step_angular: float = 0.25   # |e_i| below this is a correct ω [rad/s]
+    distance: float = 1.0        # |D_i| above this ends the sequence [m]
+    angle: float = 0.6           # |E_i| above this ends the sequence [rad] (34°)
+
+
+@dataclass
+class Episode:
+    """One recording sequence, preprocessed."""
+
+    label: int              # basic instruction class 1..10
+    scans: np.ndarray       # (N, beams) float32, canonical normalised scans at the record rate
+    commands: np.ndarray    # (N, 2) float32 clean expert (v, ω) at the record rate
+    source: str = ""        # file the sequence came from
+    rate: float = 40.0      # record rate [Hz] (demonstrations: laser rate; DAgger: control rate)
+
+
+def iter_record_arrays(path):
+    """Stream a record file (Fig. 3.3.1) -> (class, commands (N, 2), ranges (N, beams)) per
+    sequence, without building a Python float per range."""
+    label, rows = None, []
+    with open(path, encoding="ascii") as stream:
+        for number, line in enumerate(stream, 1):
+            line = line.strip().rstrip(";")
+            if not line:
+                continue
+            if line.startswith("R;"):
+                label, rows = int(line[2:]), []
+            elif line == "STOP":
+                if label is None:
+                    raise ValueError(f"{path}:{number}: STOP without a start indicator")
+                data = np.asarray(rows, dtype=np.float64)
+                yield label, data[:, :2], data[:, 2:]
+                label = None
+            else:
+                rows.append(np.array(line.split(";"), dtype=np.float64))
+
+
+def preprocess_matrix(ranges, laser, canonical, preprocess):
+    """laser_layer.preprocess_scan for every row -> (N, canonical.steps) float32."""
+    return np.stack([preprocess_scan(row, laser, canonical, preprocess)[0] for row in ranges])
+
+
+def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0):
+    """Episodes of record files (recorded at `rate` [Hz]); preprocessed scans cached as .npz
+    keyed by file size/mtime."""
+    episodes = []
+    for path in map(Path, paths):
+        stat = path.stat()
+        key = hashlib.sha1(f"{path.resolve()}:{stat.st_size}:{stat.st_mtime_ns}:"
+                           f"{canonical.start}:{canonical.steps}".encode()).hexdigest()[:16]
+        cache = Path(cache_dir) / f"{path.stem}-{key}.npz" if cache_dir else None
+        if cache and cache.is_file():
+            with np.load(cache) as data:   # each data[key] reads the whole array: once only
+                labels, lengths = data["labels"], data["lengths"]
+                scans, commands = data["scans"], data["commands"]
+            bounds = np.cumsum(np.concatenate([[0], lengths]))
+            episodes.extend(
+                Episode(int(label), scans[a:b], commands[a:b], str(path), rate)
+                for label, a, b in zip(labels, bounds[:-1], bounds[1:]))
+            continue
+        loaded = [Episode(label, preprocess_matrix(ranges, laser, canonical, preprocess),
+                          commands.astype(np.float32), str(path), rate)
+                  for label, commands, ranges in iter_record_arrays(path)]
+        if cache and loaded:
+            cache.parent.mkdir(parents=True, exist_ok=True)
+            np.savez(cache, labels=[e.label for e in loaded],
+                     lengths=[len(e.commands) for e in loaded],
+                     scans=np.concatenate([e.scans for e in loaded]),
+                     commands=np.concatenate([e.commands for e in loaded]))
+        episodes.extend(loaded)
+    return episodes
+
+
+def episode_stride(episode, config):
+    """Records per control step: 4 for 40 Hz demonstrations, 1 for 10 Hz DAgger records."""
+    return max(1, int(round(episode.rate / config.control_rate)))
+
+
+def control_rate_sequence(episode, phase, config):
+    """Subsample an episode to the control rate from `phase`; if it ends standing at the goal
+    (zero labels), make sure it stands there for `hold_steps` control steps: records with a
+    shorter standing tail (e.g. made before the expert recorded 6 s of standing, expert.py
+    `stop_duration`) get the trailing zero-label scans repeated with zero labels."""
+    stride = episode_stride(episode, config)
+    scans, commands = episode.scans[phase::stride], episode.commands[phase::stride]
+    moving = np.flatnonzero(np.any(episode.commands != 0.0, axis=1))
+    if moving.size and moving[-1] == len(episode.commands) - 1:
+        return scans, commands            # ended elsewhere (e.g. a DAgger episode that hit a wall)
+    last = moving[-1] if moving.size else -1
+    standing = int(np.count_nonzero(np.arange(phase, len(episode.commands), stride) > last))
+    missing = config.hold_steps - standing
+    if missing <= 0:
+        return scans, commands
+    tail = episode.scans[last + 1:]
+    hold = tail[np.arange(missing) % len(tail)]
+    return (np.concatenate([scans, hold]),
+            np.concatenate([commands, np.zeros((missing, 2), np.float32)]))
+
+
+def pad_words(vector_list, dim):
+    """Word vectors of several sentences -> (batch, n_max, dim), zero-padded (masked)."""
+    longest = max(len(v) for v in vector_list)
+    out = np.zeros((len(vector_list), longest, dim), np.float32)
+    for row, vectors in enumerate(vector_list):
+        out[row, :len(vectors)] = vectors
+    return out
+
+
+def sentence_vectors(label, sets, word_vectors, rng, split="train"):
+    """§3.4: word vectors of a random sentence of class `label`."""
+    return sentence_vector(sample_sentence(sets, label, rng, split).text, word_vectors).vectors
+
+
+def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
+    """One epoch: episodes -> [(inputs, targets, sample weights)] of similar lengths.
+
+    phases / sentences: fixed per episode (validation); random per epoch when None."""
+    items = []
+    for index, episode in enumerate(episodes):
+        stride = episode_stride(episode, config)
+        phase = int(rng.integers(stride)) if phases is None else min(phases[index], stride - 1)
+        scans, commands = control_rate_sequence(episode, phase, config)
+        words = (sentence_vectors(episode.label, sets, word_vectors, rng)
+                 if sentences is None else sentences[index])
+        items.append((scans, commands, words, episode.label))
+    items.sort(key=lambda item: len(item[0]))
+    batches = []
+    for start in range(0, len(items), config.batch_size):
+        chunk = items[start:start + config.batch_size]
+        steps = max(len(item[0]) for item in chunk)
+        scans = np.zeros((len(chunk), steps, chunk[0][0].shape[1]), np.float32)
+        commands = np.zeros((len(chunk), steps, 2), np.float32)
+        weights = np.zeros((len(chunk), steps), np.float32)
+        stop = np.zeros((len(chunk), steps, 1), np.float32)
+        for row, (s, c, _, _) in enumerate(chunk):
+            scans[row, :len(s)], commands[row, :len(c)] = s, c
+            standing = np.all(c == 0.0, axis=1)
+            weights[row, :len(s)] = np.where(standing, config.stop_weight, 1.0)
+            stop[row, :len(s), 0] = standing
+        words = pad_words([item[2] for item in chunk], word_vectors.dim)
+        labels = np.array([item[3] - 1 for item in chunk])
+        targets = {"velocity": commands, "instruction_class": labels}
+        sample_weights = {"velocity": weights,
+                          "instruction_class": np.ones(len(chunk), np.float32)}
+        if config.stop_targets:      # beyond the seed: 1 where the expert stands still
+            targets["stop"] = stop
+            sample_weights["stop"] = (weights > 0).astype(np.float32)
+        batches.append(({"words": words, "scans": scans}, targets, sample_weights))
+    return batches
+
+
+def class_batch(sets, word_vectors, rng, size, split="train"):
+    """A batch of random sentences, classes drawn uniformly -> (padded words, labels 0..9)."""
+    labels = rng.integers(1, len(CLASSES) + 1, size)
+    vectors = [sentence_vectors(int(label), sets, word_vectors, rng, split) for label in labels]
+    return pad_words(vectors, word_vectors.dim), labels - 1
+
+
+def step_errors(reference, output):
+    """Eq. 4.2-1 and 4.2-2: d_i = v_ref - v_out, e_i = ω_ref - ω_out -> (d, e)."""
+    reference, output = np.asarray(reference), np.asarray(output)
+    return reference[:, 0] - output[:, 0], reference[:, 1] - output[:, 1]
+
+
+def accumulated_errors(d, e, rate):
+    """Eq. 4.2-3 and 4.2-4: D_i = sum_k d_k / f, E_i = sum_k e_k / f (distance, angle)."""
+    return np.cumsum(d) / rate, np.cumsum(e) / rate
+
+
+def validate_sequence(reference, output, thresholds, rate):
+    """§4.1.2 for one sequence -> (correct outputs, destination reached).
+
+    A step is correct when |d_i| and |e_i| are below their thresholds; counting stops at the
+    first step where |D_i| or |E_i| exceeds its threshold, and then the destination is not
+    counted as reached. Otherwise it is reached when every output was correct."""
+    d, e = step_errors(reference, output)
+    dist, angle = accumulated_errors(d, e, rate)
+    broken = (np.abs(dist) > thresholds.distance) | (np.abs(angle) > thresholds.angle)
+    end = int(np.argmax(broken)) if broken.any() else len(d)
+    correct = (np.abs(d[:end]) < thresholds.step_linear) & \
+        (np.abs(e[:end]) < thresholds.step_angular)
+    return int(correct.sum()), bool(not broken.any() and correct.all())
+
+
+def validation_value(sequences, thresholds, rate):
+    """§4.1.2: [correct, destination] summed over the (reference, output) sequences."""
+    results = [validate_sequence(ref, out, thresholds, rate) for ref, out in sequences]
+    return [sum(r[0] for r in results), sum(r[1] for r in results)]
+
+
+class Monitor:
+    """§4.1.3: remembers the best value seen; update() says whether a new model must be saved.
+
+    Loss monitor: lower is better. Validation monitor: [correct, destination] with more
+    destinations better, ties broken by more correct outputs."""
+
+    def __init__(self, kind):
+        if kind not in ("loss", "validation"):
+            raise ValueError(f"monitor kind must be 'loss' or 'validation', got {kind!r}")
+        self.kind, self.best = kind, None
+
+    def better(self, value):
+        if self.best is None:
+            return True
+        if self.kind == "loss":
+            return value < self.best
+        return (value[1], value[0]) > (self.best[1], self.best[0])
+
+    def update(self, value):
+        if self.better(value):
+            self.best = value
+            return True
+        return False

@@ -1,0 +1,86 @@
+"""Evaluation: episode plans (classes, 80/20 phrasings), running them, Table 4.2-1."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
+                                     breakdown, evaluate, format_table, plan_episodes,
+                                     success_table)
+from semantic_nav.phrase_sets import load_phrase_sets
+from semantic_nav.route_oracle import RouteOracle
+from sim2d.blueprint import render_blueprint
+from sim2d.occupancy_map import save_map
+
+ROOT = Path(__file__).resolve().parents[3]
+WORLD = """map: {map}
+robots:
+  - name: penguin
+    drive: differential
+    radius: 0.3
+    pose: [1.0, 1.0, 0.0]
+    limits: {{max_linear: 0.4, max_angular: 1.0, max_linear_accel: 0.8, max_angular_accel: 2.0}}
+    wheels: {{radius: 0.075, separation: 0.45, encoder_ticks_per_rev: 4096}}
+    lasers:
+      - {{model: urg_04lx, mount: [0.0, 0.0, 0.0], mount_height: 0.45, raycast: march}}
+"""
+
+
+@pytest.fixture(scope="module")
+def l_floor(tmp_path_factory):
+    """A 1.8 m corridor running east 10 m into an L corner that turns north for 6 m."""
+    folder = tmp_path_factory.mktemp("eval")
+    grid = render_blueprint({"size": [10.0, 8.0], "resolution": 0.05, "wall_thickness": 0.2,
+                             "walls": [[0, 2, 8, 2], [8, 2, 8, 8]]})
+    save_map(grid, folder / "l_floor.yaml")
+    (folder / "world.yaml").write_text(WORLD.format(map=folder / "l_floor.yaml"))
+    return folder, {str(folder / "l_floor.yaml"): RouteOracle(grid)}
+
+
+def test_plan_has_n_per_applicable_class_and_a_fifth_held_out(l_floor):
+    _, oracles = l_floor
+    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
+    config = EvaluationConfig(candidates=40, batch=20, min_starts=2)
+    specs = plan_episodes(oracles, 10, sets, np.random.default_rng(0), config)
+    per_class = {}
+    for spec in specs:
+        per_class.setdefault(spec.labels[0], []).append(spec)
+    # an L corridor: straight on (1), the corner's branch turning one way (2 or 3), back (4),
+    # and the end turn of the same side (9 or 10); never a second or third corner
+    assert set(per_class) <= {1, 2, 3, 4, 9, 10} and {1, 4} <= set(per_class)
+    assert not set(per_class) & {5, 6, 7, 8}
+    for specs_of_class in per_class.values():
+        assert len(specs_of_class) == 10
+        assert sum(s.held_out for s in specs_of_class) == 2     # §4.2.1: 20 of 100
+    oracle = next(iter(oracles.values()))
+    assert all(oracle.field.at(*s.start[:2]) >= 0.4 for s in specs)
+
+
+def test_expert_episodes_in_a_worker_process(l_floor):
+    folder, oracles = l_floor
+    floor = next(iter(oracles))
+    specs = [EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False),
+             EpisodeSpec(floor, (1.2, 0.9, 0.05), (4,), "turn around", True)]
+    outcomes = evaluate(specs, folder / "world.yaml", PolicySpec(kind="expert"), workers=2,
+                        raycast="march", laser_dir=ROOT / "config" / "lasers")
+    assert [o.success for o in outcomes] == [True, True]
+    assert [o.spec.labels for o in outcomes] == [(1,), (4,)]
+    assert outcomes[0].path[-1][0] == pytest.approx(8.9, abs=0.2)
+    rows, total = success_table(outcomes)
+    assert rows == [(1, 1, 1, 1.0), (4, 1, 1, 1.0)] and total == ("Total", 2, 2, 1.0)
+
+
+def test_table_in_the_layout_of_table_4_2_1():
+    # the seed's own rows for classes 7 and 8 (Table 4.2-1)
+    outcomes = []
+    for label, tests, wins in ((7, 76, 17), (8, 62, 14)):
+        spec = EpisodeSpec("f", (0, 0, 0), (label,), "s", False)
+        outcomes += [EpisodeOutcome(spec, k < wins, "reached" if k < wins else "collision", 1.0,
+                                    10, [label]) for k in range(tests)]
+    rows, total = success_table(outcomes)
+    text = format_table(rows, total)
+    assert "| 7 | 76 | 17 | 0.2237 |" in text and "| 8 | 62 | 14 | 0.2258 |" in text
+    assert "| Total | 138 | 31 | 0.2246 |" in text
+    extra = breakdown(outcomes)
+    assert extra["reasons"] == {"reached": 31, "collision": 107}
+    assert extra["class_prediction_accuracy"] == 1.0

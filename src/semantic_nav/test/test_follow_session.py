@@ -1,0 +1,70 @@
+"""The node's ROS-free session: start, steps, the end of a sentence, refusals, time limit."""
+import math
+
+import pytest
+
+from semantic_nav.episodes import PolicyCommand
+from semantic_nav.follow_session import ABORTED, SUCCEEDED, FollowSession, InstructionRefused
+from semantic_nav.laser_layer import model_from_scan
+
+
+class ScriptedFollower:
+    """Goes at 0.3 m/s for `steps` steps per simple instruction, then reports done."""
+
+    control_period = 0.1
+
+    def __init__(self, classes, steps=3):
+        self.classes, self.steps, self.calls = classes, steps, 0
+
+    def start(self, sentence):
+        if "flibber" in sentence:
+            raise ValueError("unknown words: flibber")
+        self.calls = 0
+        return self.classes
+
+    def step(self, ranges, laser):
+        index = min(self.calls // self.steps, len(self.classes) - 1)
+        done = self.calls >= self.steps * len(self.classes)
+        self.calls += 1
+        return PolicyCommand(0.0 if done else 0.3, 0.1, index, self.classes[index], done)
+
+
+LASER = model_from_scan("utm", -2.35, 0.0043633, 1081)
+
+
+def test_two_part_sentence_runs_to_success():
+    session = FollowSession(ScriptedFollower([1, 3]), "go straight to the end, then turn left",
+                            now=0.0, max_duration=60.0)
+    assert session.parts == ["go straight to the end", "turn left"]
+    seen = []
+    for k in range(10):
+        v, w, feedback = session.step([1.0] * 1081, LASER, now=0.1 * k)
+        seen.append((feedback.index, feedback.text, feedback.instruction_class))
+        if session.outcome:
+            break
+    assert seen[0] == (0, "go straight to the end", 1)
+    assert seen[3] == (1, "turn left", 3)
+    assert session.outcome.status == SUCCEEDED and session.outcome.completed == 2
+    assert (v, w) == (0.0, 0.0) and len(seen) == 7
+    assert math.isnan(feedback.confidence)
+
+
+def test_unknown_words_and_empty_sentences_are_refused():
+    with pytest.raises(InstructionRefused, match="flibber"):
+        FollowSession(ScriptedFollower([1]), "flibber wibble", 0.0, 60.0)
+    with pytest.raises(InstructionRefused, match="no words"):
+        FollowSession(ScriptedFollower([1]), " , . ", 0.0, 60.0)
+
+
+def test_time_limit_and_stop_abort_with_progress():
+    session = FollowSession(ScriptedFollower([1, 3], steps=1000), "go on, then turn left", 5.0,
+                            max_duration=2.0)
+    assert session.step([1.0] * 1081, LASER, 6.0)[:2] == (0.3, 0.1)
+    assert session.step([1.0] * 1081, LASER, 7.5)[:2] == (0.0, 0.0)
+    assert session.outcome.status == ABORTED and "not finished after 2 s" in \
+        session.outcome.message
+    other = FollowSession(ScriptedFollower([1, 3], steps=2), "go on, then turn left", 0.0, 60.0)
+    for k in range(3):
+        other.step([1.0] * 1081, LASER, 0.1 * k)
+    outcome = other.stop("preempted")
+    assert (outcome.status, outcome.completed, outcome.message) == (ABORTED, 1, "preempted")

@@ -1,0 +1,128 @@
+"""DirectionFollower: simple instructions in order, halting advance, bad input."""
+import math
+
+import numpy as np
+import pytest
+
+from semantic_nav.follower import (DirectionFollower, FollowerCommand, ModelMissingError,
+                                   UnknownInstructionError)
+from semantic_nav.laser_layer import model_from_scan
+from semantic_nav.word_vectors import WordVectors
+
+WORDS = ["go", "straight", "to", "the", "end", "turn", "left", "right"]
+
+
+class ScriptedPolicy:
+    """Stands in for the network: Z_w from the first word vector, commands from a script."""
+
+    def __init__(self, commands):
+        self.commands, self.steps, self.resets, self.scans = list(commands), 0, 0, []
+
+    def classify(self, vectors):
+        z = np.zeros(10)
+        z[int(vectors[-1][0])] = 1.0          # class index taken from the last word's vector
+        return z
+
+    def reset(self):
+        self.resets += 1
+
+    def step(self, z_w, scan):
+        self.scans.append(scan)
+        self.steps += 1
+        return self.commands.pop(0) if self.commands else (0.0, 0.0)
+
+
+@pytest.fixture
+def words():
+    matrix = np.zeros((len(WORDS), 3), np.float32)
+    matrix[WORDS.index("end"), 0] = 0        # "... to the end" -> class 1
+    matrix[WORDS.index("left"), 0] = 2       # "turn left" -> class 3
+    matrix[WORDS.index("right"), 0] = 1      # "turn right" -> class 2
+    return WordVectors(WORDS, matrix, "tiny")
+
+
+def urg(beams=683):
+    inc = math.radians(360 / 1024) * 682 / (beams - 1)
+    return model_from_scan("urg", -inc * (beams - 1) / 2, inc, beams, 0.02, 5.6)
+
+
+def test_start_splits_and_classifies(words):
+    follower = DirectionFollower(ScriptedPolicy([]), words)
+    assert follower.start("go straight to the end, then turn left") == [1, 3]
+    assert follower.control_period == pytest.approx(0.1)
+
+
+def test_halting_counter_advances_to_the_next_instruction(words):
+    policy = ScriptedPolicy([(0.3, 0.0), (0.0005, -0.0004), (0.01, 0.0)] + [(0.0, 0.0)] * 49)
+    follower = DirectionFollower(policy, words)
+    follower.start("go straight to the end then turn right")
+    laser = urg()
+    ranges = np.full(683, 2.0)
+    first = [follower.step(ranges, laser) for _ in range(3)]
+    assert (first[0].v, first[0].w) == (0.3, 0.0)
+    assert (first[1].v, first[1].w) == (0.0, 0.0)       # Eq. 2.2-12: both below v_min
+    assert (first[2].v, first[2].w) == (0.02, 0.0)      # pulled up to v_move
+    resets = policy.resets
+    commands = [follower.step(ranges, laser) for _ in range(50)]
+    assert all(c.index == 0 and c.predicted_class == 1 for c in commands[:49])
+    assert commands[49] == FollowerCommand(0.0, 0.0, 1, 2, False)   # 50th zero: next one
+    assert policy.resets == resets + 1                   # memory cleared
+    more = [follower.step(ranges, laser) for _ in range(50)]
+    assert more[-1].done and not more[-2].done
+    steps = policy.steps
+    assert follower.step(ranges, laser).done and policy.steps == steps
+
+
+@pytest.mark.parametrize("beams", [683, 500, 1081])
+def test_any_beam_count_is_interpolated(words, beams):
+    policy = ScriptedPolicy([(0.2, 0.1)])
+    follower = DirectionFollower(policy, words)
+    follower.start("turn left")
+    if beams == 1081:
+        laser = model_from_scan("utm", math.radians(-135), math.radians(0.25), 1081, 0.02, 30)
+    else:
+        laser = urg(beams)
+    follower.step(np.full(beams, 3.0), laser)
+    assert policy.scans[0].shape == (881,)
+    assert np.linalg.norm(policy.scans[0]) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_unknown_words_are_named(words):
+    follower = DirectionFollower(ScriptedPolicy([]), words)
+    with pytest.raises(UnknownInstructionError, match="blorp"):
+        follower.start("turn left, then blorp zindle")
+    with pytest.raises(UnknownInstructionError):
+        follower.start("  ,  ")
+
+
+def test_step_before_start_is_an_error(words):
+    with pytest.raises(RuntimeError, match="start"):
+        DirectionFollower(ScriptedPolicy([]), words).step(np.ones(683), urg())
+
+
+def test_missing_model_names_make_train(tmp_path):
+    with pytest.raises(ModelMissingError, match="make train"):
+        DirectionFollower.from_files(tmp_path / "none.keras")
+
+
+class StopHeadPolicy(ScriptedPolicy):
+    """A network with a stop head: creeps at 0.04 m/s while saying "standing at the goal"."""
+
+    def __init__(self, moving_steps):
+        super().__init__([(0.3, 0.0)] * moving_steps)
+        self.moving_steps, self.stop_probability = moving_steps, None
+
+    def step(self, z_w, scan):
+        command = super().step(z_w, scan)
+        self.stop_probability = 0.1 if self.steps <= self.moving_steps else 0.9
+        return command if self.steps <= self.moving_steps else (0.04, 0.01)
+
+
+def test_stop_head_output_halts_the_instruction(words):
+    """Beyond the seed: the raw (0.04, 0.01) would never halt; the stop head makes it (0, 0)."""
+    follower = DirectionFollower(StopHeadPolicy(3), words)
+    follower.start("go straight to the end")
+    commands = [follower.step(np.full(683, 2.0), urg()) for _ in range(53)]
+    assert [(c.v, c.w) for c in commands[:3]] == [(0.3, 0.0)] * 3
+    assert all((c.v, c.w) == (0.0, 0.0) for c in commands[3:])
+    assert not commands[-2].done and commands[-1].done      # the 50th stop output halts

@@ -1,0 +1,103 @@
+"""The numpy single-step path reproduces the Keras sequence model (Fig. 2.2.4) to 1e-5."""
+import numpy as np
+import pytest
+
+keras = pytest.importorskip("keras")
+
+from semantic_nav.network import (NetworkConfig, StepPolicy, add_stop_head,  # noqa: E402
+                                  build_network, has_stop_head,
+                                  load_network, relu, softmax)
+from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
+
+
+def test_softmax_and_relu_eq_2_2_11():
+    z = np.array([1.0, 2.0, 3.0])
+    e = np.exp([1.0, 2.0, 3.0])
+    np.testing.assert_allclose(softmax(z), e / e.sum())
+    np.testing.assert_array_equal(relu(np.array([-1.0, 0.0, 2.5])), [0.0, 0.0, 2.5])
+
+
+def _compare(model, config, rng):
+    words = rng.normal(size=(3, 9, config.word_dim)).astype(np.float32)
+    lengths = [9, 4, 6]
+    for row, n in enumerate(lengths):
+        words[row, n:] = 0.0                       # padding is masked
+    scans = rng.random((3, 120, config.beams)).astype(np.float32)
+    scans /= np.linalg.norm(scans, axis=2, keepdims=True)
+    out = model.predict_on_batch({"words": words, "scans": scans})
+    policy = StepPolicy.from_keras(model)
+    worst = 0.0
+    for row, n in enumerate(lengths):
+        z_w = policy.classify(words[row, :n])
+        worst = max(worst, np.abs(z_w - np.asarray(out["instruction_class"][row])).max())
+        policy.reset()
+        steps = np.array([policy.step(z_w, scan) for scan in scans[row]])
+        worst = max(worst, np.abs(steps - np.asarray(out["velocity"][row])).max())
+    return worst
+
+
+def test_single_step_path_matches_sequence_model():
+    keras.utils.set_random_seed(3)
+    config = NetworkConfig(word_units=8, scan_units=16, fused_units=12)
+    model = build_network(config)
+    # larger weights than the initialiser's so the gates leave their linear range
+    for layer in model.layers:
+        layer.set_weights([w * 3.0 for w in layer.get_weights()])
+    assert _compare(model, config, np.random.default_rng(0)) < 1e-5
+
+
+@pytest.mark.skipif(not DEFAULT_MODEL.is_file(), reason="no committed default model")
+def test_single_step_path_matches_the_default_model():
+    model = load_network(str(DEFAULT_MODEL))
+    config = StepPolicy.from_keras(model).config
+    assert _compare(model, config, np.random.default_rng(1)) < 1e-5
+
+
+def test_reset_clears_the_memory():
+    keras.utils.set_random_seed(4)
+    config = NetworkConfig(word_units=4, scan_units=8, fused_units=6)
+    policy = StepPolicy.from_keras(build_network(config))
+    z_w = policy.classify(np.ones((2, config.word_dim)))
+    scan = np.full(config.beams, 1 / np.sqrt(config.beams))
+    first = policy.step(z_w, scan)
+    second = policy.step(z_w, scan)
+    policy.reset()
+    assert policy.step(z_w, scan) == first
+    assert second != first
+
+
+def test_stop_head_single_step_matches_sequence_model():
+    """Beyond the seed: the stop output of StepPolicy reproduces the Keras model to 1e-5."""
+    keras.utils.set_random_seed(5)
+    config = NetworkConfig(word_units=8, scan_units=16, fused_units=12, stop_head=True)
+    model = build_network(config)
+    for layer in model.layers:
+        layer.set_weights([w * 3.0 for w in layer.get_weights()])
+    rng = np.random.default_rng(2)
+    words = rng.normal(size=(1, 5, config.word_dim)).astype(np.float32)
+    scans = rng.random((1, 60, config.beams)).astype(np.float32)
+    out = model.predict_on_batch({"words": words, "scans": scans})
+    policy = StepPolicy.from_keras(model)
+    assert policy.config.stop_head
+    z_w = policy.classify(words[0])
+    stops = []
+    for scan in scans[0]:
+        policy.step(z_w, scan)
+        stops.append(policy.stop_probability)
+    np.testing.assert_allclose(stops, np.asarray(out["stop"])[0, :, 0], atol=1e-5)
+    assert _compare(model, config, rng) < 1e-5
+
+
+def test_add_stop_head_keeps_the_velocity_outputs():
+    keras.utils.set_random_seed(6)
+    config = NetworkConfig(word_units=4, scan_units=8, fused_units=6)
+    plain = build_network(config)
+    extended = add_stop_head(plain, config)
+    assert has_stop_head(extended) and not has_stop_head(plain)
+    rng = np.random.default_rng(3)
+    inputs = {"words": rng.normal(size=(2, 4, config.word_dim)).astype(np.float32),
+              "scans": rng.random((2, 7, config.beams)).astype(np.float32)}
+    a, b = plain.predict_on_batch(inputs), extended.predict_on_batch(inputs)
+    np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(b["velocity"]), atol=1e-6)
+    assert np.asarray(b["stop"]).shape == (2, 7, 1)
+    assert StepPolicy.from_keras(plain).stop_probability is None

@@ -1,0 +1,99 @@
+"""Validation function (§4.1.2, Eq. 4.2-1 … 4.2-4), monitors (§4.1.3) and training sequences."""
+import numpy as np
+import pytest
+
+from semantic_nav.training import (Episode, Monitor, TrainingConfig, ValidationThresholds,
+                                   accumulated_errors, control_rate_sequence, make_batches,
+                                   step_errors, validate_sequence)
+
+T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
+
+
+def test_errors_and_accumulation():
+    ref = np.array([[0.4, 0.0], [0.4, 0.5], [0.0, 0.0]])
+    out = np.array([[0.3, 0.1], [0.4, 0.2], [0.1, -0.1]])
+    d, e = step_errors(ref, out)
+    np.testing.assert_allclose(d, [0.1, 0.0, -0.1])
+    np.testing.assert_allclose(e, [-0.1, 0.3, 0.1])
+    dist, angle = accumulated_errors(d, e, 10.0)
+    np.testing.assert_allclose(dist, [0.01, 0.01, 0.0], atol=1e-12)
+    np.testing.assert_allclose(angle, [-0.01, 0.02, 0.03])
+
+
+def test_all_correct_reaches_the_destination():
+    ref = np.tile([0.3, 0.2], (50, 1))
+    assert validate_sequence(ref, ref + [0.005, -0.005], T, 10.0) == (50, True)
+
+
+def test_one_wrong_step_counts_but_no_destination():
+    ref = np.zeros((20, 2))
+    out = np.zeros((20, 2))
+    out[7, 1] = 0.3                     # |e_7| = 0.3 > 0.25
+    assert validate_sequence(ref, out, T, 10.0) == (19, False)
+
+
+def test_counting_stops_when_the_accumulated_error_is_too_large():
+    ref = np.zeros((100, 2))
+    out = np.full((100, 2), [0.09, 0.0])   # each step correct, D_i = 0.009 i: > 1 m at i = 112
+    assert validate_sequence(ref, out, T, 10.0) == (100, True)
+    out = np.full((100, 2), [0.0, 0.21])   # E = 0.021 (i + 1): 0.588 at index 27, 0.609 at 28
+    assert validate_sequence(ref, out, T, 10.0) == (28, False)
+
+
+def test_monitors():
+    loss = Monitor("loss")
+    assert [loss.update(v) for v in (0.5, 0.6, 0.4, 0.4)] == [True, False, True, False]
+    valid = Monitor("validation")
+    assert [valid.update(v) for v in ([514, 5], [495, 7], [629, 12], [631, 10], [617, 12],
+                                      [640, 12])] == [True, True, True, False, False, True]
+    assert valid.best == [640, 12]
+    with pytest.raises(ValueError):
+        Monitor("accuracy")
+
+
+def test_control_rate_sequence_subsamples_and_holds_at_the_goal():
+    scans = np.arange(12, dtype=np.float32)[:, None] * np.ones((1, 3), np.float32)
+    commands = np.zeros((12, 2), np.float32)
+    commands[:10] = [0.3, 0.1]
+    episode = Episode(1, scans, commands, rate=40.0)
+    config = TrainingConfig(hold_steps=5)
+    s, c = control_rate_sequence(episode, 1, config)
+    assert s[:3, 0].tolist() == [1, 5, 9]               # every 4th scan from phase 1
+    assert s[3:, 0].tolist() == [10, 11, 10, 11, 10]    # the standing scans repeated
+    assert c[3:].tolist() == [[0, 0]] * 5
+    moving = Episode(1, scans, np.full((12, 2), 0.2, np.float32), rate=10.0)
+    s, c = control_rate_sequence(moving, 0, config)     # ends moving: no hold appended
+    assert len(s) == 12
+
+
+def test_standing_tail_is_topped_up_not_doubled():
+    """Records that already end standing for long enough (expert stop_duration) get no hold."""
+    scans = np.arange(40, dtype=np.float32)[:, None] * np.ones((1, 3), np.float32)
+    commands = np.zeros((40, 2), np.float32)
+    commands[:8] = [0.3, 0.0]                   # moving up to index 7, then 32 standing samples
+    episode = Episode(1, scans, commands, rate=40.0)
+    s, c = control_rate_sequence(episode, 0, TrainingConfig(hold_steps=5))
+    assert s[:, 0].tolist() == [0, 4, 8, 12, 16, 20, 24, 28, 32, 36]   # 8 standing steps >= 5
+    s, c = control_rate_sequence(episode, 0, TrainingConfig(hold_steps=10))
+    assert s[10:, 0].tolist() == [8, 9]        # 2 steps short of 10: first standing scans added
+    assert np.all(c[2:] == 0.0) and len(c) == 12
+
+
+def test_stop_targets_mark_the_standing_steps():
+    scans = np.ones((12, 3), np.float32)
+    commands = np.zeros((12, 2), np.float32)
+    commands[:6] = [0.0, 0.5]                   # turning on the spot (v = 0, ω ≠ 0) is not a stop
+    episode = Episode(4, scans, commands, rate=10.0)
+    config = TrainingConfig(hold_steps=2, stop_targets=True, batch_size=2)
+
+    class Words:
+        dim = 2
+    sentences = [np.ones((3, 2), np.float32)]
+    (batch,) = make_batches([episode], None, Words(), np.random.default_rng(0), config,
+                            phases=[0], sentences=sentences)
+    inputs, targets, weights = batch
+    assert targets["stop"][0, :, 0].tolist() == [0] * 6 + [1] * 6
+    assert weights["stop"].tolist() == [[1.0] * 12]
+    assert "stop" not in make_batches([episode], None, Words(), np.random.default_rng(0),
+                                      TrainingConfig(hold_steps=2), phases=[0],
+                                      sentences=sentences)[0][1]
