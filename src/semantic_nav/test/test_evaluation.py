@@ -9,31 +9,16 @@ from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConf
                                      success_table)
 from semantic_nav.phrase_sets import load_phrase_sets
 from semantic_nav.route_oracle import RouteOracle
-from sim2d.blueprint import render_blueprint
-from sim2d.occupancy_map import save_map
+from semnav_l_floor import write_l_floor
 
 ROOT = Path(__file__).resolve().parents[3]
-WORLD = """map: {map}
-robots:
-  - name: penguin
-    drive: differential
-    radius: 0.3
-    pose: [1.0, 1.0, 0.0]
-    limits: {{max_linear: 0.4, max_angular: 1.0, max_linear_accel: 0.8, max_angular_accel: 2.0}}
-    wheels: {{radius: 0.075, separation: 0.45, encoder_ticks_per_rev: 4096}}
-    lasers:
-      - {{model: urg_04lx, mount: [0.0, 0.0, 0.0], mount_height: 0.45, raycast: march}}
-"""
 
 
 @pytest.fixture(scope="module")
 def l_floor(tmp_path_factory):
     """A 1.8 m corridor running east 10 m into an L corner that turns north for 6 m."""
     folder = tmp_path_factory.mktemp("eval")
-    grid = render_blueprint({"size": [10.0, 8.0], "resolution": 0.05, "wall_thickness": 0.2,
-                             "walls": [[0, 2, 8, 2], [8, 2, 8, 8]]})
-    save_map(grid, folder / "l_floor.yaml")
-    (folder / "world.yaml").write_text(WORLD.format(map=folder / "l_floor.yaml"))
+    grid = write_l_floor(folder)
     return folder, {str(folder / "l_floor.yaml"): RouteOracle(grid)}
 
 
