@@ -57,6 +57,30 @@ def test_recorded_scans_go_through_the_laser_layer(l_corridor):
     assert vector.shape == (881,) and np.linalg.norm(vector) == pytest.approx(1.0, abs=1e-5)
 
 
+def test_record_rate_records_one_scan_per_period(l_corridor):
+    """record_rate 5 Hz on the 10 Hz URG-04LX: half the samples of the same drive, still
+    ending with the 6 s of standing (30 samples at 5 Hz)."""
+    world, oracle = l_corridor
+    full = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 1)
+    half = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 1, record_rate=5.0)
+    assert full.ok and half.ok
+    assert len(half.sequence.samples) == pytest.approx(len(full.sequence.samples) / 2, abs=3)
+    assert all(s.v == 0.0 and s.omega == 0.0 for s in half.sequence.samples[-30:])
+    assert half.sequence.samples[-31].v > 0.0
+
+
+def test_world_for_floor_starts_the_robot_on_this_floor(tmp_path):
+    """The template's pose (2, 10) lies outside the 10 m x 8 m L floor (World would refuse
+    it); the robot is put where this floor is most open instead: the 8 m x 6 m free area north
+    of the corridor wall, whose centre is 3 m from its walls."""
+    write_l_floor(tmp_path)
+    world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml",
+                            tmp_path / "l_floor.yaml", cache_dir=None)
+    x, y, _ = world.robot("penguin").state.pose
+    clearance = world.geometry.clearance(np.array([x]), np.array([y]))[0]
+    assert clearance == pytest.approx(2.9, abs=0.1)     # 3 m minus half the 0.2 m walls
+
+
 def test_not_applicable_class_is_not_driven(l_corridor):
     world, oracle = l_corridor
     assert demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 2) is None

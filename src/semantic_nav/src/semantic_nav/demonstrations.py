@@ -6,13 +6,15 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from penguin_base.recording import SequenceBuilder
 from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route, recorded_stop_steps
 from sim2d.kinematics import RobotState
+from sim2d.occupancy_map import load_map
 from sim2d.odometry import Odometry
-from sim2d.world import World
+from sim2d.world import CACHE_DIR, World
 from sim2d.world_config import load_world_config
 
 RANGE_DECIMALS = 3   # ranges written to the mm (the UTM-30LX is ±30 mm): ~3x smaller files
@@ -32,13 +34,21 @@ class Demonstration:
         return self.reached and self.bumps == 0
 
 
-def world_for_floor(template, map_path, laser_dir=None):
-    """A sim2d World of `template` (config/worlds/*.yaml: robot, laser) on another floor."""
+def world_for_floor(template, map_path, laser_dir=None, cache_dir=CACHE_DIR):
+    """A sim2d World of `template` (config/worlds/*.yaml: robot, laser) on another floor
+    (cache_dir None: the laser's range table is not cached, e.g. for a generated floor)."""
     config = load_world_config(template, laser_dir)
     config.map_path = Path(map_path).resolve()
     config.graph_path = None
     config.people, config.objects = [], []
-    return World(config)
+    grid = load_map(config.map_path)
+    # the template's start pose belongs to its own floor: start where this floor is most open
+    clearance = cv2.distanceTransform((~grid.occupied_mask()).astype(np.uint8), cv2.DIST_L2, 5)
+    row, col = np.unravel_index(int(np.argmax(clearance)), clearance.shape)
+    x, y = grid.cell_to_world(row, col)
+    for robot in config.robots:
+        robot.pose = [float(x), float(y), 0.0]
+    return World(config, cache_dir)
 
 
 def _reset(world, robot, pose, laser_index):
@@ -48,18 +58,21 @@ def _reset(world, robot, pose, laser_index):
 
 
 def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, laser_index=0,
-                start_offset=(0.0, 0.0, 0.0)):
-    """Drive class `label` from `start` in the world, recording every scan; None if the class
-    is not applicable from this start."""
+                start_offset=(0.0, 0.0, 0.0), record_rate=None):
+    """Drive class `label` from `start` in the world, recording every scan (or, with
+    `record_rate` [Hz], one scan cast per period: the 10 Hz of control instead of the laser's
+    40 Hz); None if the class is not applicable from this start."""
     walk = oracle.walk(start)
     goal = oracle.goal(start, label, walk)
     if goal is None:
         return None
     robot = world.robot(robot_name)
-    scan_time = robot.lasers[laser_index].model.scan_time
+    scan_time = 1.0 / record_rate if record_rate else robot.lasers[laser_index].model.scan_time
     config = dataclasses.replace(config or ExpertConfig(), rate=1.0 / scan_time)
     driver = ExpertDriver(expert_route(walk, label, goal.pose), goal.pose, config, rng)
     _reset(world, robot, [a + b for a, b in zip(start, start_offset)], laser_index)
+    if record_rate:      # the world's own scans are not used: do not cast them
+        robot.next_scan[laser_index] = math.inf
     builder = SequenceBuilder(velocity_source="cmd_vel")
     builder.on_instruction_class(label)
     ranges = robot.lasers[laser_index].scan(robot.state.pose)
@@ -74,7 +87,8 @@ def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, 
         world.set_twist(robot_name, executed[0], 0.0, executed[1])
         world.step(scan_time)
         scan = robot.scans[laser_index]
-        ranges = scan.ranges if math.isclose(scan.stamp, world.time, abs_tol=1e-6) else \
+        ranges = scan.ranges if scan is not None and math.isclose(
+            scan.stamp, world.time, abs_tol=1e-6) else \
             robot.lasers[laser_index].scan(robot.state.pose)
     builder.on_instruction_class(0)
     pose = robot.state.pose
