@@ -8,11 +8,11 @@ and scores the trajectory as dwa_local_planner does:
          + occdist_scale * max costmap cost along the trajectory,
 where g is the distance to the local goal by way of the plan (goal_distance_via_plan, standing
 in for dwa_local_planner's wavefront distance), `front` is a point forward_point_distance ahead
-of the end pose (it aligns the heading) and
-the obstacle cost comes from the clearance of the trajectory's poses: clearance.ContactClearance,
-the Euclidean distance of each pose into the region where the grid contact test passes (a lower
-bound within 7 mm on 0.05 m cells), plus the distance to laser hits of obstacles not on the map;
-trajectories that come within contact_margin of contact are discarded.
+of the end pose (it aligns the heading) and the obstacle cost comes from the clearance of the
+trajectory's poses: clearance.ContactClearance, the Euclidean distance of each pose into the
+region where the grid contact test passes (a lower bound within 7 mm on 0.05 m cells), plus the
+distance to laser hits of obstacles not on the map; trajectories that come within
+contact_margin of contact are discarded.
 """
 import math
 from dataclasses import dataclass
@@ -141,8 +141,9 @@ def goal_distance_via_plan(points, segment):
     (south along a corridor, then west through a door, then north behind the wall), the local
     goal lies beyond the wall and moving along the plan takes the robot away from it in a
     straight line: the straight-line term then holds the robot still (a rotation in place
-    scores best). Along the plan this distance falls by every metre driven; for a straight plan
-    with p on it, it equals the straight-line distance."""
+    scores best; docs/nav_mocks/RESULTS.md, "Door passage"). Along the plan this distance falls
+    by every metre driven; for a straight plan with p on it, it equals the straight-line
+    distance."""
     steps = np.hypot(*np.diff(segment, axis=0).T)
     remaining = np.concatenate((np.cumsum(steps[::-1])[::-1], [0.0]))   # [m] s_k -> goal
     diff = points[:, None, :] - segment[None, :, :]
@@ -155,9 +156,9 @@ def goal_distance_via_plan(points, segment):
 def _moves_away(clearance, here):
     """(S,) True where the first change of clearance along a trajectory is an increase.
 
-    A robot already inside the inscribed radius may only translate away from the obstacle: a
-    move along it at the same clearance is what leaves a robot wedged against a
-    door jamb, since the true clearance there may be smaller than the estimate's.
+    A robot already inside the collision radius may only translate away from the obstacle: a
+    move along it at the same clearance is what leaves a robot wedged against a door jamb,
+    since the true clearance there may be smaller than the estimate's.
     """
     changed = clearance != here
     first = np.argmax(changed, axis=1)
