@@ -10,7 +10,7 @@ from sim2d.raycast import GridGeometry
 from nav_mocks.clearance import OFF_GRID_DEPTH, ContactClearance
 from nav_mocks.costmap import (Costmap, CostmapConfig, admissible_cells, obstacle_distance,
                                signed_depth_field)
-from nav_mocks.dwa import DwaConfig, DwaController, LocalCostmap
+from nav_mocks.dwa import DwaConfig, DwaController
 
 RES = 0.05
 RADIUS = 0.3
@@ -128,19 +128,3 @@ def test_continuous_clearance_drives_a_two_cell_band_without_contact(offset):
         math.hypot(trace[-1][0] - 3.60, trace[-1][1] - 0.45) <= 0.1 + abs(offset)
     judge = GridGeometry.from_map(grid)        # sim2d's contact test on the true poses
     assert judge.clearance(trace[:, 0], trace[:, 1]).min() >= RADIUS
-
-
-def test_the_cell_lookup_stalls_in_the_same_band():
-    # the former model: the band's cells measure 0.40 m to the wall cells, the limit with
-    # padding 0.1 is 0.40 m and `clearance <= 0.40` closes the corridor
-    grid = corridor(16)
-    costmap = CostmapConfig(robot_radius=RADIUS, footprint_padding=0.1, inflation_radius=0.75)
-    controller = DwaController(DwaConfig(max_vel_y=0.3, clearance_model="cells"), costmap)
-    controller.set_plan(np.column_stack((np.linspace(0.30, 3.60, 67), np.full(67, 0.45))))
-    lethal = grid.cells > 50
-
-    def local_for(pose):
-        return LocalCostmap(lethal, grid, pose, np.zeros((0, 2)), 5.0)
-
-    trace = drive_corridor(controller, local_for, 0.0, steps=60)
-    assert np.hypot(*(trace[-1][:2] - trace[0][:2])) < 0.01

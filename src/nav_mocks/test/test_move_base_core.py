@@ -6,7 +6,7 @@ from helpers import integrate, open_room, synthetic_scan
 from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
-from nav_mocks.dwa import DwaConfig, LocalCostmap
+from nav_mocks.dwa import DwaConfig
 from nav_mocks.move_base_core import (ABORTED, ACTIVE, BACK_OUT, CLEAR, PREEMPTED, REJECTED, ROTATE,
                                       SUCCEEDED, ZERO, MoveBaseConfig, MoveBaseCore)
 
@@ -131,28 +131,6 @@ def test_back_out_leaves_a_wall_the_robot_is_wedged_against():
     assert cmd == pytest.approx((0.0, -0.1, 0.0), abs=1e-12)   # east, robot facing north
 
 
-def test_local_costmap_places_map_walls_where_the_laser_sees_them():
-    # The pose estimate is 0.05 m off (AMCL error): the true robot stands 0.395 m from the door
-    # wall at x = 2 m, the estimate says 0.445 m. The laser hits on that wall are not marked in the
-    # global costmap (they are the map's wall, static_match_distance 0.15 m), but the local
-    # costmap keeps them: placed from the estimate they lie 0.40 m ahead (the reference laser
-    # steps 0.01 m), where the wall really is; the map alone would give 0.05 m more room.
-    grid = two_rooms()
-    truth, estimate = (1.605, 2.0, 0.0), (1.555, 2.0, 0.0)
-    core = make_core(grid)
-    core.observe(synthetic_scan(grid.occupied_mask(), grid, truth), estimate)
-    assert not core.costmap.marked.any()
-    points = core.scan_points
-    ahead = points[(np.abs(points[:, 1] - 2.0) < 0.03) & (points[:, 0] > 1.5)]
-    assert ahead[:, 0].min() == pytest.approx(1.555 + 0.40, abs=0.002)   # beams 2 deg apart
-    x, y = np.array([estimate[0]]), np.array([estimate[1]])
-    local = LocalCostmap(core.costmap.lethal(), grid, estimate, points, 5.0)
-    map_only = LocalCostmap(core.costmap.lethal(), grid, estimate, np.zeros((0, 2)), 5.0)
-    # cell centres: robot col 31 (x 1.575), hit col 39 (1.975), wall col 40 (2.025)
-    assert float(local.clearance(x, y)[0]) == pytest.approx(0.40)
-    assert float(map_only.clearance(x, y)[0]) == pytest.approx(0.45)
-
-
 def test_continuous_clearance_keeps_only_hits_off_the_map():
     # robot at (1.0, 1.4) facing east; a 0.2 m box not on the map with its west face at x = 1.5
     # (cells 30..33, y rows 26..29: x in [1.50, 1.70], y in [1.30, 1.50]); the room wall at x = 0.05
@@ -166,7 +144,7 @@ def test_continuous_clearance_keeps_only_hits_off_the_map():
     assert len(hits) > 0
     rows, cols = grid.world_to_cell(hits[:, 0], hits[:, 1])
     assert world[rows, cols].all() and not grid.occupied_mask()[rows, cols].any()
-    local = core._local_costmap(pose)
+    local = core._local_clearance()
     # the beam straight ahead marches in 0.01 m steps and stops at 1.50 m: 0.50 m from the robot
     assert local.hit_distance(np.array([1.0]), np.array([1.4]))[0] == pytest.approx(0.50, abs=0.011)
     # the map's walls enter only through the contact region: west wall column 0 (centre

@@ -3,30 +3,26 @@
 ROS-free. Each control cycle samples velocities (vx, vy, wz) in the dynamic window reachable from
 the current velocity within one control period, rolls each out at constant velocity for sim_time,
 and scores the trajectory as dwa_local_planner does:
-    cost = path_distance_bias * d(end, path) + goal_distance_bias * d(end, local goal)
-         + path_distance_bias * d(front, path) + goal_distance_bias * d(front, local goal)
+    cost = path_distance_bias * d(end, path) + goal_distance_bias * g(end)
+         + path_distance_bias * d(front, path) + goal_distance_bias * g(front)
          + occdist_scale * max costmap cost along the trajectory,
-where `front` is a point forward_point_distance ahead of the end pose (it aligns the heading) and
-the obstacle cost comes from the clearance of the trajectory's poses. That clearance is, by
-default (clearance_model "continuous"), clearance.ContactClearance: the Euclidean distance of
-each pose into the region where the grid contact test passes (a lower bound within 7 mm on
-0.05 m cells), plus the distance to laser hits of obstacles not on the map; trajectories that
-come within contact_margin of contact are discarded.
-With clearance_model "cells" it is LocalCostmap: a cell lookup of a rolling-window distance
-transform of the map and the live laser hits, and the discarded trajectories are those passing
-within the inscribed radius, never taken smaller than the contact clearance.
+where g is the distance to the local goal by way of the plan (goal_distance_via_plan, standing
+in for dwa_local_planner's wavefront distance), `front` is a point forward_point_distance ahead
+of the end pose (it aligns the heading) and the obstacle cost comes from the clearance of the
+trajectory's poses: clearance.ContactClearance, the Euclidean distance of each pose into the
+region where the grid contact test passes (a lower bound within 7 mm on 0.05 m cells), plus the
+distance to laser hits of obstacles not on the map; trajectories that come within
+contact_margin of contact are discarded.
 """
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from nav_mocks.costmap import (CostmapConfig, contact_clearance, inflation_cost,
-                               obstacle_distance)
+from nav_mocks.costmap import CostmapConfig, inflation_cost
 from nav_mocks.pose2d import wrap_angle
 
 ALIGNMENT_OFF_FACTOR = 2.0  # [-] alignment terms off within this many forward-point distances
-CLEARANCE_MODELS = ("continuous", "cells")
 LATE_COLLISION_COST = 1e3   # [-] ranks trajectories that would collide after a stop behind all
 
 
@@ -52,18 +48,12 @@ class DwaConfig:
     occdist_scale: float = 0.01       # [1/cost] weight of the largest costmap cost on the way
     forward_point_distance: float = 0.325  # [m] heading-alignment point ahead of the robot
     local_goal_distance: float = 2.0  # [m] how far along the plan the local goal lies
-    local_window: float = 5.0         # [m] side of the rolling local costmap
-    fused_scans: int = 1              # [-] latest scans whose median clearance the local
-                                      # costmap uses (1: the last scan only)
     xy_goal_tolerance: float = 0.1    # [m]
     yaw_goal_tolerance: float = 0.15  # [rad]
     rotate_gain: float = 2.0          # [1/s] in-place rotation rate per rad of yaw error
     contact_margin: float = 0.02      # [m] kept beyond the contact clearance (localisation error)
-    clearance_model: str = "continuous"  # [-] "continuous": distance into the contact region
-                                         # and to unmapped laser hits (clearance.py); "cells":
-                                         # cell lookup of a local distance transform
-    clearance_subdivision: int = 10   # [-] continuous model: the contact region's depth is
-                                      # tabulated on cells this many times finer than the map
+    clearance_subdivision: int = 10   # [-] the contact region's depth is tabulated on cells
+                                      # this many times finer than the map
 
     @property
     def holonomic(self):
@@ -72,14 +62,9 @@ class DwaConfig:
     def validate(self):
         if self.max_vel_x <= 0 or self.max_vel_theta <= 0 or self.min_vel_x > self.max_vel_x:
             raise ValueError("dwa: need max_vel_x > 0, max_vel_theta > 0, min_vel_x <= max_vel_x")
-        if self.clearance_model not in CLEARANCE_MODELS:
-            raise ValueError(f"dwa: clearance_model must be one of {CLEARANCE_MODELS}, "
-                             f"got {self.clearance_model!r}")
         if self.clearance_subdivision < 1:
             raise ValueError(f"dwa: clearance_subdivision must be >= 1, "
                              f"got {self.clearance_subdivision}")
-        if self.fused_scans < 1:
-            raise ValueError(f"dwa: fused_scans must be >= 1, got {self.fused_scans}")
         if min(self.control_period, self.sim_time, self.sim_granularity) <= 0:
             raise ValueError("dwa: control_period, sim_time and sim_granularity must be > 0")
 
@@ -127,69 +112,6 @@ def rollout(pose, velocities, config):
     return np.stack((x, y, yaw + wz * dt), axis=2)
 
 
-class LocalCostmap:
-    """Rolling window around the robot: map obstacles plus laser hits -> clearance [m].
-
-    The laser hits may be one scan's or the last few scans' (a list, oldest first): each scan
-    with the map gives a distance field, and the clearance of a cell is the lower median of
-    those fields (fuse_scans). A single noisy beam, or a hit that range noise moved into the
-    next cell, then no longer sets the clearance; an obstacle seen in most of the scans does.
-    """
-
-    def __init__(self, lethal, grid, center, points, side):
-        """lethal: (H, W) bool global lethal mask on `grid`; points: (M, 2) laser hits [m], or a
-        list of such arrays, one per scan."""
-        res = grid.resolution
-        half = int(math.ceil(0.5 * side / res))
-        row0, col0 = grid.world_to_cell(center[0], center[1])
-        self.row0, self.col0 = int(row0) - half, int(col0) - half
-        size = 2 * half + 1
-        window = np.zeros((size, size), dtype=bool)
-        r_lo, c_lo = max(self.row0, 0), max(self.col0, 0)
-        r_hi, c_hi = min(self.row0 + size, grid.height), min(self.col0 + size, grid.width)
-        if r_hi > r_lo and c_hi > c_lo:
-            window[r_lo - self.row0:r_hi - self.row0, c_lo - self.col0:c_hi - self.col0] = \
-                lethal[r_lo:r_hi, c_lo:c_hi]
-        scans = list(points) if isinstance(points, (list, tuple)) else [points]
-        fields = []
-        for scan_points in scans or [np.zeros((0, 2))]:
-            marked = window.copy()
-            if len(scan_points):
-                rows, cols = grid.world_to_cell(scan_points[:, 0], scan_points[:, 1])
-                rows, cols = rows - self.row0, cols - self.col0
-                keep = (rows >= 0) & (rows < size) & (cols >= 0) & (cols < size)
-                marked[rows[keep], cols[keep]] = True
-            fields.append(obstacle_distance(marked) * res)          # [m]
-        self.grid = grid
-        self.distance = fuse_scans(np.stack(fields))
-
-    def collision_radius(self, costmap_config, margin):
-        """[m] cell-centre clearance a trajectory must keep: the padded radius, and never less
-        than the contact clearance (a padding smaller than the cell bound does not count)."""
-        return max(costmap_config.inscribed_radius,
-                   contact_clearance(costmap_config.robot_radius, self.grid.resolution, margin))
-
-    def clearance(self, x, y):
-        """Distance [m] from map points to the nearest obstacle cell centre in the window."""
-        rows, cols = self.grid.world_to_cell(x, y)
-        rows, cols = rows - self.row0, cols - self.col0
-        size = self.distance.shape[0]
-        inside = (rows >= 0) & (rows < size) & (cols >= 0) & (cols < size)
-        out = np.full(np.shape(rows), np.inf)
-        out[inside] = self.distance[rows[inside], cols[inside]]
-        return out
-
-
-def fuse_scans(fields):
-    """(K, H, W) distance fields, one per scan -> (H, W): the lower median over the scans.
-
-    With three scans the middle value: an obstacle counts where at least two of them see it
-    that close. With two, the smaller (no majority: keep the cautious one); with one, itself.
-    """
-    rank = (len(fields) - 1) // 2
-    return np.partition(fields, rank, axis=0)[rank]
-
-
 def local_plan(plan, pose, start_index, length):
     """Part of the global plan (N, 2) from the point nearest the robot to `length` metres on.
 
@@ -210,12 +132,33 @@ def _point_set_distance(points, targets):
     return np.sqrt((diff ** 2).sum(axis=2)).min(axis=1)
 
 
+def goal_distance_via_plan(points, segment):
+    """(S,) distance from each point (S, 2) to the local goal (the segment's last point) by way
+    of the plan: |p - s_k| + (plan length from s_k to the goal), s_k the segment point nearest p.
+
+    dwa_local_planner's goal distance is a wavefront (grid) distance on the local costmap, which
+    goes round walls; the straight-line distance does not. Where the plan folds round a wall
+    (south along a corridor, then west through a door, then north behind the wall), the local
+    goal lies beyond the wall and moving along the plan takes the robot away from it in a
+    straight line: the straight-line term then holds the robot still (a rotation in place
+    scores best; docs/nav_mocks/RESULTS.md, "Door passage"). Along the plan this distance falls
+    by every metre driven; for a straight plan with p on it, it equals the straight-line
+    distance."""
+    steps = np.hypot(*np.diff(segment, axis=0).T)
+    remaining = np.concatenate((np.cumsum(steps[::-1])[::-1], [0.0]))   # [m] s_k -> goal
+    diff = points[:, None, :] - segment[None, :, :]
+    distance = np.sqrt((diff ** 2).sum(axis=2))
+    nearest = np.argmin(distance, axis=1)
+    rows = np.arange(len(points))
+    return distance[rows, nearest] + remaining[nearest]
+
+
 def _moves_away(clearance, here):
     """(S,) True where the first change of clearance along a trajectory is an increase.
 
-    A robot already inside the inscribed radius may only translate away from the obstacle: a
-    move along it at the same (cell-quantised) clearance is what leaves a robot wedged against a
-    door jamb, since the true clearance there may be smaller than the estimate's.
+    A robot already inside the collision radius may only translate away from the obstacle: a
+    move along it at the same clearance is what leaves a robot wedged against a door jamb,
+    since the true clearance there may be smaller than the estimate's.
     """
     changed = clearance != here
     first = np.argmax(changed, axis=1)
@@ -225,14 +168,13 @@ def _moves_away(clearance, here):
 def score_trajectories(trajectories, segment, clearance, costmap_config, config, align=True):
     """dwa_local_planner cost of each trajectory; `align` adds the forward-point terms."""
     end = trajectories[:, -1, :]
-    goal = segment[-1:]
     cost = (config.path_distance_bias * _point_set_distance(end[:, :2], segment)
-            + config.goal_distance_bias * _point_set_distance(end[:, :2], goal))
+            + config.goal_distance_bias * goal_distance_via_plan(end[:, :2], segment))
     if align:
         front = end[:, :2] + config.forward_point_distance * np.column_stack(
             (np.cos(end[:, 2]), np.sin(end[:, 2])))
         cost += (config.path_distance_bias * _point_set_distance(front, segment)
-                 + config.goal_distance_bias * _point_set_distance(front, goal))
+                 + config.goal_distance_bias * goal_distance_via_plan(front, segment))
     worst = clearance.min(axis=1)
     cost = cost + config.occdist_scale * inflation_cost(worst, costmap_config).astype(float)
     return cost
@@ -297,9 +239,8 @@ class DwaController:
         return np.where(inadmissible, np.inf, penalty)
 
     def collision_radius(self, local_costmap):
-        """[m] clearance a trajectory must keep on this local map (LocalCostmap: the padded
-        radius and at least the contact clearance; ContactClearance: contact_margin from
-        contact)."""
+        """[m] clearance a trajectory must keep on this local map (ContactClearance:
+        contact_margin from contact)."""
         return local_costmap.collision_radius(self.costmap_config, self.config.contact_margin)
 
     def best_command(self, pose, velocity, local_costmap):

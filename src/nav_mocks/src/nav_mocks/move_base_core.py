@@ -10,14 +10,13 @@ straight, slowly, in the direction that gains the most clearance without coming 
 obstacle it is already within the collision radius of, then replans from there.
 """
 import math
-from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from nav_mocks.clearance import ContactClearance
 from nav_mocks.costmap import LETHAL_OBSTACLE
-from nav_mocks.dwa import DwaController, LocalCostmap
+from nav_mocks.dwa import DwaController
 from nav_mocks.global_planner import GlobalPlanner, NoPath
 from nav_mocks.pose2d import distance, wrap_angle
 from nav_mocks.scan_rays import beam_cells, hit_points
@@ -85,7 +84,6 @@ class MoveBaseCore:
         self.controller = DwaController(dwa_config, costmap.config)
         self.run = None
         self.scan_points = np.zeros((0, 2))   # last laser hits, map frame [m]
-        self.scan_history = deque(maxlen=self.controller.config.fused_scans)  # of scan_points
 
     # goal life cycle ---------------------------------------------------------------------------
     def check_goal(self, goal):
@@ -134,11 +132,10 @@ class MoveBaseCore:
         free, hit = beam_cells(scan, laser_pose, self.costmap.grid, cfg.raytrace_range,
                                cfg.obstacle_range)
         self.costmap.update_from_scan(free, hit)
-        # Every hit goes into the local costmap, map walls included: the hits are where the
-        # walls are relative to the robot, whereas the map's walls are placed through the pose
-        # estimate and are off by the localisation error (a few cm: the whole margin in a door).
+        # The controller keeps the hits of obstacles the map does not have (_unmapped_hits); the
+        # map's walls it takes from the static contact region, with contact_margin for the
+        # localisation error.
         self.scan_points = hit_points(scan, laser_pose, cfg.obstacle_range)
-        self.scan_history.append(self.scan_points)
 
     def step(self, now, pose, velocity):
         """One control cycle: pose (x, y, yaw) map frame, velocity (vx, vy, wz) base frame.
@@ -188,7 +185,7 @@ class MoveBaseCore:
                 run.status = SUCCEEDED
             return cmd
         self._track_progress(run, now, pose)
-        local = self._local_costmap(pose)
+        local = self._local_clearance()
         cmd = self.controller.best_command(pose, velocity, local)
         if cmd is not None:
             run.blocked_since = None
@@ -239,24 +236,21 @@ class MoveBaseCore:
         w = min(cfg.max_vel_theta, abs(velocity[2]) + cfg.acc_lim_theta * cfg.control_period)
         return (0.0, 0.0, float(np.copysign(w, 1.0)))
 
-    def _local_costmap(self, pose):
-        """The controller's clearance model around `pose` (DwaConfig.clearance_model)."""
-        if self.controller.config.clearance_model == "cells":
-            return LocalCostmap(self.costmap.lethal(), self.costmap.grid, pose,
-                                list(self.scan_history),
-                                self.controller.config.local_window)
+    def _local_clearance(self):
+        """The controller's clearance model (clearance.ContactClearance): the static map's
+        contact region and the last scan's hits of obstacles not on the map. `pose` is unused
+        (the model covers the whole map); kept so that every caller names where it asks."""
         subdivision = self.controller.config.clearance_subdivision
         return ContactClearance(self.costmap.contact_depth(subdivision), subdivision,
                                 self.costmap.grid, self.costmap.config.robot_radius,
                                 self._unmapped_hits())
 
     def _unmapped_hits(self):
-        """(M, 2) hits of the kept scans that are not a wall of the static map (inside the grid
+        """(M, 2) hits of the last scan that are not a wall of the static map (inside the grid
         and farther than static_match_distance from a map obstacle; off the grid: kept)."""
-        points = [p for p in self.scan_history if len(p)]
-        if not points:
+        points = self.scan_points
+        if not len(points):
             return np.zeros((0, 2))
-        points = np.concatenate(points)
         grid = self.costmap.grid
         rows, cols = grid.world_to_cell(points[:, 0], points[:, 1])
         inside = grid.inside(rows, cols)
@@ -269,7 +263,7 @@ class MoveBaseCore:
         clearance, among lines that never come closer than the robot is now to an obstacle
         within the collision radius (nor below it elsewhere); None when there is no such line.
         A differential-drive base may only reverse."""
-        local = self._local_costmap(pose)
+        local = self._local_clearance()
         limit = self.controller.collision_radius(local)
         here = float(local.clearance(np.array([pose[0]]), np.array([pose[1]]))[0])
         floor = min(here, limit)
@@ -295,7 +289,7 @@ class MoveBaseCore:
         cfg = self.config
         step = cfg.back_out_speed * self.controller.config.control_period
         ahead = np.array(pose[:2]) + direction * step
-        local = self._local_costmap(pose)
+        local = self._local_clearance()
         here = float(local.clearance(np.array([pose[0]]), np.array([pose[1]]))[0])
         nxt = float(local.clearance(np.array([ahead[0]]), np.array([ahead[1]]))[0])
         floor = min(here, self.controller.collision_radius(local))

@@ -21,13 +21,17 @@ from nav_mocks.amcl_model import AmclConfig, AmclModel
 from nav_mocks.astar import astar
 from nav_mocks.costmap import INSCRIBED_INFLATED_OBSTACLE, Costmap, CostmapConfig
 from nav_mocks.dwa import DwaConfig
-from nav_mocks.global_planner import NoPath, PlannerConfig
+from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig
 from nav_mocks.move_base_core import ACTIVE, SUCCEEDED, MoveBaseConfig, MoveBaseCore
 from nav_mocks.pose2d import between, compose
 from nav_mocks.scan_rays import Scan
 
 ROOT = Path(__file__).resolve().parents[4]
 MAX_GOAL_DRAWS = 10000   # [-] random cells tried for the next goal before the run gives up
+# the executor rostests' drives: from the charging place (the world's start pose) to the dining
+# room through its door and back to the alley
+PLACE_ROUTE = ("alley", "dining_room", "charging_place", "dining_room", "alley", "dining_room",
+               "alley")
 
 
 @dataclass
@@ -219,3 +223,35 @@ def run_navigation_benchmark(config, progress=False):
                   f"{outcome.reason}", flush=True)
     report.wall_seconds = time.perf_counter() - started
     return report
+
+
+@dataclass
+class PlaceLeg:
+    start: str
+    goal: str
+    outcome: GoalOutcome
+    recoveries: list      # recovery behaviours run, in order
+
+
+def load_places(graph_path):
+    """{place name: (x, y, yaw)} from a topological graph YAML (maps/household.graph.yaml)."""
+    nodes = yaml.safe_load(Path(graph_path).read_text())["nodes"]
+    return {node["name"]: tuple(float(v) for v in node["pose"]) for node in nodes}
+
+
+def run_place_tour(config, graph_path, route=PLACE_ROUTE, start="charging_place"):
+    """Drive the robot from place to place (the places' poses of the graph); the robot starts
+    where the world puts it (`start` names that place). The time limit of a leg follows
+    NavBenchConfig from the length of a plan on the static map (the core's own planner may see
+    laser marks). Returns [PlaceLeg]."""
+    bench = NavigationBenchmark(config)
+    static = GlobalPlanner(Costmap(bench.world.grid, bench.core.costmap.config),
+                           bench.core.planner.config)
+    places = load_places(graph_path)
+    legs, here = [], start
+    for name in route:
+        goal = places[name]
+        outcome = bench.drive(goal, static.plan(bench.robot.state.pose[:2], goal[:2]).length_m)
+        legs.append(PlaceLeg(here, name, outcome, list(bench.core.run.history)))
+        here = name
+    return legs
