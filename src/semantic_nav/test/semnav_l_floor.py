@@ -2,6 +2,8 @@
 written as a map_server map plus a sim2d world file with the Penguin (URG-04LX, exact casting)."""
 from pathlib import Path
 
+from semantic_nav.demonstrations import world_for_floor
+from semantic_nav.route_oracle import RouteOracle
 from sim2d.blueprint import render_blueprint
 from sim2d.occupancy_map import save_map
 
@@ -27,3 +29,10 @@ def write_l_floor(folder):
     save_map(grid, folder / "l_floor.yaml")
     (folder / "world.yaml").write_text(WORLD.format(map=folder / "l_floor.yaml"))
     return grid
+
+
+def l_floor_world(folder):
+    """The L floor written into `folder` -> (sim2d World with the Penguin, RouteOracle)."""
+    grid = write_l_floor(folder)
+    return world_for_floor(folder / "world.yaml", folder / "l_floor.yaml", LASER_DIR), \
+        RouteOracle(grid)

@@ -9,7 +9,7 @@ from penguin_base.record_format import format_records, parse_records
 from semantic_nav.demonstrations import demonstrate, world_for_floor
 from semantic_nav.laser_layer import model_from_scan, preprocess_scan, load_laser_config
 from semantic_nav.route_oracle import RouteOracle
-from semnav_l_floor import write_l_floor
+from semnav_l_floor import l_floor_world, write_l_floor
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -17,11 +17,7 @@ ROOT = Path(__file__).resolve().parents[3]
 @pytest.fixture(scope="module")
 def l_corridor(tmp_path_factory):
     """A 1.8 m corridor running east 10 m into an L corner that turns north for 6 m."""
-    folder = tmp_path_factory.mktemp("world")
-    grid = write_l_floor(folder)
-    world = world_for_floor(folder / "world.yaml", folder / "l_floor.yaml",
-                            ROOT / "config" / "lasers")
-    return world, RouteOracle(grid)
+    return l_floor_world(tmp_path_factory.mktemp("world"))
 
 
 def test_turn_left_at_the_corner_in_the_simulator(l_corridor):

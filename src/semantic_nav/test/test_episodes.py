@@ -1,6 +1,5 @@
 """Closed-loop episodes in sim2d judged by the route oracle."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,22 +7,15 @@ import pytest
 from semantic_nav.episodes import (COLLISION, NOT_UNDERSTOOD, REACHED, STOPPED_OUTSIDE, TIMEOUT,
                                    EpisodeError, ExpertLabeller, ExpertPolicy, PolicyCommand,
                                    chain_goals, run_episode, run_expert_episode, time_limit)
-from semantic_nav.demonstrations import world_for_floor
-from semantic_nav.route_oracle import RouteOracle
-from semnav_l_floor import write_l_floor
+from semnav_l_floor import l_floor_world
 
-ROOT = Path(__file__).resolve().parents[3]
 START = (1.0, 1.0, 0.0)
 
 
 @pytest.fixture(scope="module")
 def l_corridor(tmp_path_factory):
     """A 1.8 m corridor running east 10 m into an L corner that turns north for 6 m."""
-    folder = tmp_path_factory.mktemp("world")
-    grid = write_l_floor(folder)
-    world = world_for_floor(folder / "world.yaml", folder / "l_floor.yaml",
-                            ROOT / "config" / "lasers")
-    return world, RouteOracle(grid)
+    return l_floor_world(tmp_path_factory.mktemp("world"))
 
 
 class ConstantPolicy:

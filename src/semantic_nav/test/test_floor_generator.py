@@ -3,16 +3,11 @@ import numpy as np
 import pytest
 
 from semantic_nav.floor_generator import FloorGeneratorConfig, random_floor
+from sim2d.blueprint import rect_cells
 from sim2d.occupancy_map import FREE, OCCUPIED
 
 CONFIG = FloorGeneratorConfig()
 RES = CONFIG.resolution
-
-
-def _slice(rect, shape):
-    x0, y0, x1, y1 = rect
-    return (slice(int(np.ceil(y0 / RES - 0.5)), int(np.floor(y1 / RES - 0.5)) + 1),
-            slice(int(np.ceil(x0 / RES - 0.5)), int(np.floor(x1 / RES - 0.5)) + 1))
 
 
 def _runs(values):
@@ -46,7 +41,7 @@ def test_floor_is_closed_and_corridors_are_clear(seed):
         # the corridor itself minus the outer wall band it may end against
         inner = [max(x0, CONFIG.wall), max(y0, CONFIG.wall),
                  min(x1, grid.width * RES - CONFIG.wall), min(y1, grid.height * RES - CONFIG.wall)]
-        assert np.all(cells[_slice(inner, cells.shape)] == FREE)
+        assert np.all(cells[rect_cells(inner, RES, cells.shape)] == FREE)
 
 
 @pytest.mark.parametrize("seed", range(6))

@@ -11,7 +11,8 @@ import numpy as np
 
 from penguin_base.record_format import RecordSequence, Sample, write_records
 from semantic_nav.episodes import ExpertLabeller, chain_goals, run_episode
-from semantic_nav.evaluation import plan_episodes, world_for
+from semantic_nav.demonstrations import world_for_floor
+from semantic_nav.evaluation import plan_episodes
 from semantic_nav.route_oracle import RouteOracle
 
 RANGE_DECIMALS = 3   # as the demonstrations: ranges to the millimetre
@@ -32,7 +33,7 @@ def visited_states(world, oracle, policy, spec):
 
 def collect_round(floors, template, policy, sets, per_class, rng, progress=None):
     """One DAgger round on `floors` (map YAML paths) -> ([RecordSequence], [EpisodeResult])."""
-    worlds = {str(f): world_for(template, f) for f in floors}
+    worlds = {str(f): world_for_floor(template, f) for f in floors}
     oracles = {floor: RouteOracle(world.grid) for floor, world in worlds.items()}
     specs = plan_episodes(oracles, per_class, sets, rng)
     sequences, results = [], []

@@ -6,11 +6,11 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from penguin_base.recording import SequenceBuilder
 from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route, recorded_stop_steps
+from semantic_nav.route_oracle import RouteOracle
 from sim2d.kinematics import RobotState
 from sim2d.occupancy_map import load_map
 from sim2d.odometry import Odometry
@@ -34,21 +34,28 @@ class Demonstration:
         return self.reached and self.bumps == 0
 
 
-def world_for_floor(template, map_path, laser_dir=None, cache_dir=CACHE_DIR):
-    """A sim2d World of `template` (config/worlds/*.yaml: robot, laser) on another floor
-    (cache_dir None: the laser's range table is not cached, e.g. for a generated floor)."""
+def world_for_floor(template, map_path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None):
+    """A sim2d World of `template` (config/worlds/*.yaml: robot, laser) on another floor, the
+    robot where that floor is most open (the template's pose belongs to its own floor; episodes
+    and demonstrations place the robot themselves). raycast: "table" / "march" overrides the
+    template's lasers; cache_dir None: the range table is not cached (a one-off floor)."""
     config = load_world_config(template, laser_dir)
     config.map_path = Path(map_path).resolve()
     config.graph_path = None
     config.people, config.objects = [], []
-    grid = load_map(config.map_path)
-    # the template's start pose belongs to its own floor: start where this floor is most open
-    clearance = cv2.distanceTransform((~grid.occupied_mask()).astype(np.uint8), cv2.DIST_L2, 5)
-    row, col = np.unravel_index(int(np.argmax(clearance)), clearance.shape)
-    x, y = grid.cell_to_world(row, col)
     for robot in config.robots:
-        robot.pose = [float(x), float(y), 0.0]
+        robot.pose = sample_free_pose(config.map_path)
+        for laser in robot.lasers:
+            laser.raycast = raycast or laser.raycast
     return World(config, cache_dir)
+
+
+def sample_free_pose(map_path):
+    """The pose of most clearance on the floor (a World needs its robot somewhere free)."""
+    clearance = RouteOracle(load_map(map_path)).field
+    row, col = np.unravel_index(np.argmax(clearance.clearance), clearance.clearance.shape)
+    x, y = clearance.grid.cell_to_world(row, col)
+    return (float(x), float(y), 0.0)
 
 
 def _reset(world, robot, pose, laser_index):

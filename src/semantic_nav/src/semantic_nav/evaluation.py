@@ -12,18 +12,15 @@ import multiprocessing
 import time
 from collections import Counter
 from dataclasses import asdict, dataclass, field
-from pathlib import Path
 
 import numpy as np
 
+from semantic_nav.demonstrations import world_for_floor
 from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_goals,
                                    run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
 from semantic_nav.route_oracle import OracleError, RouteOracle
-from sim2d.occupancy_map import load_map
-from sim2d.world import World
-from sim2d.world_config import load_world_config
 
 
 @dataclass
@@ -73,28 +70,6 @@ class EpisodeOutcome:
     predicted: list
     path: list = field(default_factory=list)    # [[x, y, yaw], ...]
     step_seconds: float = 0.0                   # wall time per control step [s]
-
-
-def world_for(template, map_path, raycast="table", laser_dir=None):
-    """A sim2d World of `template`'s robot and laser on `map_path`, lasers cast with `raycast`
-    (laser models from `laser_dir`, default: the template's config/lasers)."""
-    config = load_world_config(template, laser_dir)
-    config.map_path = Path(map_path).resolve()
-    config.graph_path = None
-    config.people, config.objects = [], []
-    for robot in config.robots:
-        robot.pose = sample_free_pose(config.map_path)   # episodes place the robot
-        for laser in robot.lasers:
-            laser.raycast = raycast
-    return World(config)
-
-
-def sample_free_pose(map_path):
-    """The pose of most clearance on the floor (a World needs its robot somewhere free)."""
-    clearance = RouteOracle(load_map(map_path)).field
-    row, col = np.unravel_index(np.argmax(clearance.clearance), clearance.clearance.shape)
-    x, y = clearance.grid.cell_to_world(row, col)
-    return (float(x), float(y), 0.0)
 
 
 def _displaced(oracle, start, labels, rng, config):
@@ -181,7 +156,8 @@ def _make_policy(spec):
 
 def _world(floor):
     if floor not in _WORKER["worlds"]:
-        world = world_for(_WORKER["template"], floor, _WORKER["raycast"], _WORKER["laser_dir"])
+        world = world_for_floor(_WORKER["template"], floor, _WORKER["laser_dir"],
+                                raycast=_WORKER["raycast"])
         _WORKER["worlds"][floor] = (world, RouteOracle(world.grid))
     return _WORKER["worlds"][floor]
 

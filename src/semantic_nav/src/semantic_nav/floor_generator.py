@@ -10,8 +10,10 @@ Coordinates in metres, origin at the map's lower-left corner.
 """
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
+from sim2d.blueprint import rect_cells
 from sim2d.occupancy_map import FREE, OCCUPIED, OccupancyMap
 
 
@@ -26,7 +28,8 @@ class FloorGeneratorConfig:
     spacing: float = 6.0                  # min distance of parallel corridor centre lines [m]
     overhang: tuple = (2.5, 12.0)         # a corridor runs on past its last crossing [m]
     flush_probability: float = 0.35       # ... or ends there (an L corner or a T) [1]
-    min_stub: float = 2.5                 # an end never stops closer to a crossing corridor [m]
+    end_gap: float = 2.5                  # a dead end stops this far before the next crossing
+    #                                       corridor line's wall, or runs into it [m]
     wall: float = 0.2                     # wall thickness [m]
     room_size: tuple = (3.0, 7.0)         # offices are split when longer than this [m]
     door_width: tuple = (0.8, 1.1)        # [m]
@@ -71,12 +74,12 @@ def _centres(rng, extent, count, config):
 def _end(rng, lines, widths, index, direction, extent, config):
     """Where a corridor ends beyond the crossing line `index` (direction -1: low end, +1: high
     end): flush with that line's outer wall (an L corner or a T) or running on towards the map
-    edge or the next line (a dead end), never closer than min_stub to the next line."""
+    edge or the next line (a dead end), at least end_gap short of the next line's wall."""
     centre, half = lines[index], widths[index] / 2.0
     flush = centre + direction * half
     neighbour = index + direction
     if 0 <= neighbour < len(lines):
-        room = abs(lines[neighbour] - centre) - widths[neighbour] / 2.0 - half - config.min_stub
+        room = abs(lines[neighbour] - centre) - widths[neighbour] / 2.0 - half - config.end_gap
     else:
         room = (extent - centre if direction > 0 else centre) - half - config.wall
     if rng.random() < config.flush_probability or room < config.overhang[0]:
@@ -119,29 +122,6 @@ def random_corridors(rng, width, depth, config):
     return corridors
 
 
-def _cells(rect, resolution, shape):
-    """Row/col slices of the cells whose centres lie in rect = [x0, y0, x1, y1]."""
-    x0, y0, x1, y1 = rect
-    c0, c1 = int(np.ceil(x0 / resolution - 0.5)), int(np.floor(x1 / resolution - 0.5)) + 1
-    r0, r1 = int(np.ceil(y0 / resolution - 0.5)), int(np.floor(y1 / resolution - 0.5)) + 1
-    return (slice(min(max(r0, 0), shape[0]), min(max(r1, 0), shape[0])),
-            slice(min(max(c0, 0), shape[1]), min(max(c1, 0), shape[1])))
-
-
-def _dilate(mask, cells):
-    """Square dilation of a boolean mask by `cells` in each direction."""
-    out = mask.copy()
-    for axis in (0, 1):
-        grown = out.copy()
-        for k in range(1, cells + 1):
-            grown[tuple(slice(k, None) if a == axis else slice(None) for a in range(2))] |= \
-                out[tuple(slice(None, -k) if a == axis else slice(None) for a in range(2))]
-            grown[tuple(slice(None, -k) if a == axis else slice(None) for a in range(2))] |= \
-                out[tuple(slice(k, None) if a == axis else slice(None) for a in range(2))]
-        out = grown
-    return out
-
-
 def _partition(rooms, rng, config, res):
     """Split the room space by full-length partition walls every room_size along x and y."""
     h, w = rooms.shape
@@ -172,8 +152,8 @@ def _doors(free, corridor_mask, rooms, corridors, rng, config, res):
             side = 1 if rng.random() < 0.5 else -1
             for s in (side, -side):
                 edge = (y1 if s > 0 else y0) if corridor.horizontal else (x1 if s > 0 else x0)
-                near, far = sorted((edge, edge + s * (config.wall + 0.1)))
-                rect = [a, near, b, far] if corridor.horizontal else [near, a, far, b]
+                far = edge + s * (config.wall + 0.1)
+                rect = [a, edge, b, far] if corridor.horizontal else [edge, a, far, b]
                 guard = (a - config.junction_clearance, b + config.junction_clearance)
                 beyond = [a - 0.1, edge + s * (config.wall + 0.3), b + 0.1,
                           edge + s * (config.wall + 0.5)]
@@ -181,23 +161,17 @@ def _doors(free, corridor_mask, rooms, corridors, rng, config, res):
                 if not corridor.horizontal:
                     beyond = [beyond[1], beyond[0], beyond[3], beyond[2]]
                     beside = [beside[1], beside[0], beside[3], beside[2]]
-                behind = rooms[_cells(_sorted(beyond), res, shape)]
-                wall_band = corridor_mask[_cells(_sorted(beside), res, shape)]
+                behind = rooms[rect_cells(beyond, res, shape)]
+                wall_band = corridor_mask[rect_cells(beside, res, shape)]
                 if behind.size and behind.all() and not wall_band.any() and \
                         rng.random() < config.door_probability:
-                    free[_cells(_sorted(rect), res, shape)] = True
+                    free[rect_cells(rect, res, shape)] = True
                     break
             position += door + float(rng.uniform(*config.door_gap))
 
 
-def _sorted(rect):
-    x0, y0, x1, y1 = rect
-    return [min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)]
-
-
 def _furniture(free, rooms, rng, config, res):
     """A desk or cupboard in some offices, against the middle of the office, off its walls."""
-    import cv2
     count, labels = cv2.connectedComponents(rooms.astype(np.uint8), connectivity=4)
     for label in range(1, count):
         if rng.random() >= config.furniture_probability:
@@ -229,11 +203,13 @@ def random_floor(seed, config=None):
     shape = (int(round(depth / res)), int(round(width / res)))
     corridor_mask = np.zeros(shape, dtype=bool)
     for corridor in corridors:
-        corridor_mask[_cells(corridor.rect(), res, shape)] = True
+        corridor_mask[rect_cells(corridor.rect(), res, shape)] = True
     wall = int(round(config.wall / res))
     inner = np.zeros(shape, dtype=bool)
     inner[wall:-wall, wall:-wall] = True
-    rooms = inner & ~_dilate(corridor_mask, wall)
+    near_corridor = cv2.dilate(corridor_mask.astype(np.uint8),
+                               np.ones((2 * wall + 1, 2 * wall + 1), np.uint8)).astype(bool)
+    rooms = inner & ~near_corridor
     rooms = _partition(rooms, rng, config, res)
     free = (corridor_mask & inner) | rooms
     _doors(free, corridor_mask, rooms, corridors, rng, config, res)

@@ -7,13 +7,21 @@ import yaml
 from sim2d.occupancy_map import FREE, OCCUPIED, MapError, OccupancyMap
 
 
-def _fill(cells, rect, value, resolution):
-    """Set every cell whose centre lies in rect = [x0, y0, x1, y1] (metres) to value."""
+def rect_cells(rect, resolution, shape):
+    """(row slice, col slice) of the cells of a grid of `shape` whose centres lie in
+    rect = [x0, y0, x1, y1] (metres, origin (0, 0), corners in any order), clipped to the grid."""
     x0, x1 = sorted((rect[0], rect[2]))
     y0, y1 = sorted((rect[1], rect[3]))
     c0, c1 = int(np.ceil(x0 / resolution - 0.5)), int(np.floor(x1 / resolution - 0.5)) + 1
     r0, r1 = int(np.ceil(y0 / resolution - 0.5)), int(np.floor(y1 / resolution - 0.5)) + 1
-    cells[max(r0, 0):max(r1, 0), max(c0, 0):max(c1, 0)] = value
+    rows, cols = shape
+    return (slice(min(max(r0, 0), rows), min(max(r1, 0), rows)),
+            slice(min(max(c0, 0), cols), min(max(c1, 0), cols)))
+
+
+def _fill(cells, rect, value, resolution):
+    """Set every cell whose centre lies in rect = [x0, y0, x1, y1] (metres) to value."""
+    cells[rect_cells(rect, resolution, cells.shape)] = value
 
 
 def render_blueprint(blueprint):
