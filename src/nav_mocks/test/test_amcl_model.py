@@ -3,7 +3,8 @@ import math
 import numpy as np
 import pytest
 
-from nav_mocks.amcl_model import AmclConfig, AmclModel, gauss_markov_step, map_to_odom
+from nav_mocks.amcl_model import (AmclConfig, AmclModel, gauss_markov_step, latest_pair,
+                                  map_to_odom)
 from nav_mocks.pose2d import compose, inverse, wrap_angle
 
 TRUTH = (2.0, 3.0, 0.5)
@@ -19,6 +20,26 @@ def test_map_to_odom_composes_to_the_estimate():
     odom_pose = (0.7, -0.2, 1.1)
     estimate = (2.0, 3.0, 0.5)
     assert compose(map_to_odom(estimate, odom_pose), odom_pose) == pytest.approx(estimate)
+
+
+def test_latest_pair_takes_truth_and_odometry_of_one_instant():
+    """The truth callback ran one sample ahead of the odometry one: pairing the two latest
+    would give map -> odom the robot's turn between them (here 0.03 rad)."""
+    truths = [(1.00, (1.0, 0.0, 0.00)), (1.02, (1.0, 0.0, 0.03)), (1.04, (1.0, 0.0, 0.06))]
+    odoms = [(1.00, (0.0, 0.0, 0.00)), (1.02, (0.0, 0.0, 0.03))]
+    assert latest_pair(truths, odoms, max_gap=0.011) == ((1.0, 0.0, 0.03), (0.0, 0.0, 0.03))
+    # a base's own odometry, stamped between two truth samples: the nearer one
+    assert latest_pair(truths, [(1.035, (0.0, 0.0, 0.05))], max_gap=0.011) == (
+        (1.0, 0.0, 0.06), (0.0, 0.0, 0.05))
+
+
+def test_latest_pair_without_a_common_instant_is_none():
+    truths = [(1.00, (1.0, 0.0, 0.0))]
+    assert latest_pair(truths, [(1.10, (0.0, 0.0, 0.0))], max_gap=0.011) is None
+    assert latest_pair([], [(1.00, (0.0, 0.0, 0.0))], max_gap=0.011) is None
+    # the newest odometry has no truth yet: the one before it pairs
+    odoms = [(1.00, (0.0, 0.0, 0.0)), (1.10, (0.5, 0.0, 0.0))]
+    assert latest_pair(truths, odoms, max_gap=0.011) == ((1.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
 
 def test_not_localised_until_initial_pose():

@@ -176,16 +176,6 @@ def test_sitting_person_is_lower_in_the_image_than_standing(world):
     assert sitting.y[0] > standing.y[0] + 50           # nose lower (larger row) when sitting
 
 
-def test_odometry_scale_error_drifts_by_the_configured_factor():
-    from sim2d.odometry import Odometry, OdometryConfig
-    config = OdometryConfig(alpha_rot_rot=0.0, alpha_rot_trans=0.0, alpha_trans_trans=0.0,
-                            alpha_trans_rot=0.0, scale_linear=1.05)
-    odometry = Odometry(config, (1.0, 1.0, 0.0))
-    for k in range(1, 101):                          # 2 m straight along +x in 2 cm steps
-        odometry.update((1.0 + 0.02 * k, 1.0, 0.0))
-    assert odometry.pose == pytest.approx((2.1, 0.0, 0.0))
-
-
 def test_place_robot_starts_an_episode_at_rest(world):
     world.set_wheel_speeds("penguin", 4.0, 4.0)
     for _ in range(20):

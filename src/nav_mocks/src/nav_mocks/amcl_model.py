@@ -45,6 +45,26 @@ def map_to_odom(map_pose, odom_pose):
     return compose(map_pose, inverse(odom_pose))
 
 
+def latest_pair(truths, odoms, max_gap):
+    """The newest odometry sample with a ground-truth sample at (nearly) the same time.
+
+    map -> odom = truth ⊕ odom⁻¹ holds only for poses of one instant: pairing the latest of each
+    stream, which arrive through separate callbacks, turns the correction by however far the
+    robot turned between them, and every scan placed through it is laid down turned.
+    Args: truths, odoms: sequences of (stamp [s], pose), oldest first; max_gap [s].
+    Returns: (truth_pose, odom_pose), or None when no odometry sample has a truth within
+    max_gap.
+    """
+    if not truths:
+        return None
+    truth_stamps = np.array([stamp for stamp, _ in truths])
+    for stamp, odom_pose in reversed(odoms):
+        nearest = int(np.argmin(np.abs(truth_stamps - stamp)))
+        if abs(truth_stamps[nearest] - stamp) <= max_gap:
+            return truths[nearest][1], odom_pose
+    return None
+
+
 class AmclModel:
     """Pose estimates over time; call estimate() with increasing times."""
 

@@ -4,6 +4,7 @@ Subscribes /base_pose_ground_truth (nav_msgs/Odometry, map frame), /odom (nav_ms
 /initialpose (PoseWithCovarianceStamped); publishes /amcl_pose and the map -> odom transform
 (post-dated by ~transform_tolerance, as amcl does) at ~update_rate, and /diagnostics.
 """
+import collections
 import threading
 
 import rospy
@@ -12,9 +13,13 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
-from nav_mocks.amcl_model import AmclConfig, AmclModel, map_to_odom
+from nav_mocks.amcl_model import AmclConfig, AmclModel, latest_pair, map_to_odom
 from nav_mocks.conversions import pose_from_msg, pose_to_msg, transform_msg
 from nav_mocks.ros_params import config_from_params
+
+HISTORY = 50          # samples kept per stream: 1 s of sim2d's 50 Hz odometry
+MAX_PAIR_GAP = 0.011  # [s] a truth this close to an odometry sample is of the same instant
+                      # (sim2d stamps both alike; a base's own odometry within half a 50 Hz step)
 
 
 class AmclNode:
@@ -26,7 +31,10 @@ class AmclNode:
         self.model = AmclModel(config_from_params(AmclConfig, "~"),
                                seed=int(rospy.get_param("~seed", 0)))
         self.lock = threading.Lock()
-        self.truth = self.odom = self.initial = None
+        # recent (stamp, pose) samples of each stream, to pair them by time (latest_pair)
+        self.truths = collections.deque(maxlen=HISTORY)
+        self.odoms = collections.deque(maxlen=HISTORY)
+        self.initial = None
         self.published = 0
         self.pose_pub = rospy.Publisher("amcl_pose", PoseWithCovarianceStamped, queue_size=2,
                                         latch=True)
@@ -40,11 +48,11 @@ class AmclNode:
 
     def _on_truth(self, msg):
         with self.lock:
-            self.truth = msg
+            self.truths.append((msg.header.stamp.to_sec(), pose_from_msg(msg.pose.pose)))
 
     def _on_odom(self, msg):
         with self.lock:
-            self.odom = msg
+            self.odoms.append((msg.header.stamp.to_sec(), pose_from_msg(msg.pose.pose)))
 
     def _on_initial(self, msg):
         with self.lock:
@@ -52,12 +60,12 @@ class AmclNode:
 
     def _update(self, _event):
         with self.lock:
-            truth, odom, initial = self.truth, self.odom, self.initial
-            self.initial = None
-        if truth is None or odom is None:
-            return
+            pair = latest_pair(list(self.truths), list(self.odoms), MAX_PAIR_GAP)
+            if pair is None:
+                return
+            initial, self.initial = self.initial, None
+        true_pose, odom_pose = pair
         now = rospy.Time.now()
-        true_pose = pose_from_msg(truth.pose.pose)
         if initial is not None:
             if initial.header.frame_id.lstrip("/") not in ("", self.global_frame):
                 rospy.logwarn("amcl mock: ignored /initialpose in frame %r (expected %r)",
@@ -80,7 +88,7 @@ class AmclNode:
         pose_to_msg(estimate, msg.pose.pose)
         msg.pose.covariance = covariance
         self.pose_pub.publish(msg)
-        correction = map_to_odom(estimate, pose_from_msg(odom.pose.pose))
+        correction = map_to_odom(estimate, odom_pose)
         self.tf_pub.sendTransform(transform_msg(correction, self.global_frame, self.odom_frame,
                                                 now + self.tolerance))
         self.published += 1

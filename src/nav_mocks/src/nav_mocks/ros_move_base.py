@@ -90,18 +90,24 @@ class MoveBaseNode:
         self.goal_pub.publish(action_goal)
 
     # helpers -------------------------------------------------------------------------------------
-    def _lookup(self, frame, stamp=None):
-        """Pose (x, y, yaw) of `frame` in the global frame at `stamp` (None: latest available)."""
-        frame = frame.lstrip("/")
-        if stamp is not None:
-            try:
-                tf = self.tf_buffer.lookup_transform(self.global_frame, frame, stamp,
-                                                     rospy.Duration(0.05))
-                return pose_from_transform(tf.transform)
-            except tf2_ros.ExtrapolationException:
-                pass   # the scan is newer than the last map -> odom: use the latest
-        tf = self.tf_buffer.lookup_transform(self.global_frame, frame, rospy.Time(0),
+    def _lookup(self, frame):
+        """Latest pose (x, y, yaw) of `frame` in the global frame."""
+        tf = self.tf_buffer.lookup_transform(self.global_frame, frame.lstrip("/"), rospy.Time(0),
                                              rospy.Duration(0.05))
+        return pose_from_transform(tf.transform)
+
+    def _scan_pose(self, scan, odom_frame):
+        """Laser pose (x, y, yaw) in the global frame when `scan` was taken.
+
+        odom -> laser at the scan's stamp, map -> odom at the latest (tf2 time travel through
+        the odom frame): odometry is exact between the two times and AMCL's correction changes
+        slowly. costmap_2d waits for map -> odom at the stamp; a mock AMCL late under load
+        would leave only the latest laser pose, which lays an older scan of a turning robot
+        down turned and marks walls in free space. A TF error (no odometry at the stamp)
+        drops the scan, as costmap_2d's message filter does."""
+        tf = self.tf_buffer.lookup_transform_full(
+            self.global_frame, rospy.Time(0), scan.header.frame_id.lstrip("/"),
+            scan.header.stamp, odom_frame, rospy.Duration(0.05))
         return pose_from_transform(tf.transform)
 
     def _goal_in_global(self, target):
@@ -157,10 +163,10 @@ class MoveBaseNode:
             self._handle_new_goal(handle, pose)
         if self.core is None or pose is None or self.handle is None:
             return
-        if scan is not None:
+        if scan is not None and odom is not None:
             try:
                 self.core.observe(scan_from_msg(scan),
-                                  self._lookup(scan.header.frame_id, scan.header.stamp))
+                                  self._scan_pose(scan, odom.header.frame_id.lstrip("/")))
             except TF_ERRORS as error:
                 rospy.logwarn_throttle(10.0, "move_base mock: scan not placed: %s", error)
         velocity = (0.0, 0.0, 0.0)

@@ -13,8 +13,7 @@ from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route, record
 from semantic_nav.route_oracle import RouteOracle
 from sim2d.kinematics import RobotState
 from sim2d.occupancy_map import load_map
-from sim2d.odometry import Odometry
-from sim2d.world import CACHE_DIR, World
+from sim2d.world import CACHE_DIR, World, new_odometry
 from sim2d.world_config import load_world_config
 
 RANGE_DECIMALS = 3   # ranges written to the mm (the UTM-30LX is ±30 mm): ~3x smaller files
@@ -60,7 +59,7 @@ def sample_free_pose(map_path):
 
 def _reset(world, robot, pose, laser_index):
     robot.state = RobotState(pose=tuple(float(v) for v in pose))
-    robot.odometry = Odometry(robot.config.odometry, list(pose))
+    robot.odometry = new_odometry(robot.config, pose)
     robot.next_scan[laser_index] = world.time + robot.lasers[laser_index].model.scan_time
 
 

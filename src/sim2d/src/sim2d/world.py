@@ -80,6 +80,11 @@ class Robot:
         return self.config.name
 
 
+def new_odometry(robot_config, pose):
+    """Odometry that starts at `pose`, with the noise model of the robot's drive."""
+    return Odometry(robot_config.odometry, pose, holonomic=robot_config.drive != DIFFERENTIAL)
+
+
 class World:
     """Everything in one simulated building, stepped without ROS."""
 
@@ -150,7 +155,7 @@ class World:
         if rc.camera is not None:
             camera = Camera(rc.camera.top, rc.camera.bottom, rc.camera.detection,
                             self.camera_geometry)
-        return Robot(rc, RobotState(pose=tuple(rc.pose)), Odometry(rc.odometry, rc.pose),
+        return Robot(rc, RobotState(pose=tuple(rc.pose)), new_odometry(rc, rc.pose),
                      lasers, list(rc.lasers), camera, [None] * len(lasers),
                      [laser.model.scan_time for laser in lasers])
 
@@ -199,7 +204,7 @@ class World:
             raise WorldError(f"robot {name!r} cannot be placed at ({pose[0]:.2f}, {pose[1]:.2f}): "
                              f"clearance {clearance:.2f} m < radius {robot.config.radius:.2f} m")
         robot.state = RobotState(pose=tuple(float(v) for v in pose))
-        robot.odometry = Odometry(robot.config.odometry, robot.state.pose)
+        robot.odometry = new_odometry(robot.config, robot.state.pose)
         robot.scans = [None] * len(robot.lasers)
         robot.next_scan = [self.time + laser.model.scan_time for laser in robot.lasers]
 
