@@ -42,6 +42,25 @@ def test_turn_left_at_the_corner_in_the_simulator(l_corridor):
     np.testing.assert_array_equal(again.ranges, sequence.samples[5].ranges)   # NaN == NaN
 
 
+def test_turn_after_the_end_starts_where_go_to_the_end_stops(l_corridor):
+    """after=(1,): "turn left" standing at the corner that "go straight to the end" reached
+    (the oracle's class-1 goal, episodes.chain_goals), not from the corridor's start."""
+    world, oracle = l_corridor
+    whole = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
+                        rng=np.random.default_rng(0))
+    end = oracle.goal((1.0, 1.0, 0.0), 1, oracle.walk((1.0, 1.0, 0.0))).pose
+    demo = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
+                       rng=np.random.default_rng(0), after=(1,))
+    assert demo.ok, demo
+    assert demo.sequence.instruction_class == 3
+    assert demo.final_pose[:2] == pytest.approx(whole.final_pose[:2], abs=0.3)
+    # the drive from `end` is shorter than the whole one by at least the corridor from x = 1
+    # to `end` at 0.4 m/s (10 Hz samples), less a margin for the turn's own speed profile
+    skipped = (end[0] - 1.0) / 0.4 * 10
+    assert len(demo.sequence.samples) < len(whole.sequence.samples) - 0.8 * skipped
+    assert demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 2, after=(1,)) is None
+
+
 def test_recorded_scans_go_through_the_laser_layer(l_corridor):
     world, oracle = l_corridor
     demo = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 4)

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from penguin_base.recording import SequenceBuilder
-from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route, recorded_stop_steps
+from semantic_nav.episodes import EpisodeError, chain_goals
+from semantic_nav.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
 from semantic_nav.route_oracle import RouteOracle
 from sim2d.kinematics import RobotState
 from sim2d.occupancy_map import load_map
@@ -64,18 +65,25 @@ def _reset(world, robot, pose, laser_index):
 
 
 def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, laser_index=0,
-                start_offset=(0.0, 0.0, 0.0), record_rate=None):
+                start_offset=(0.0, 0.0, 0.0), record_rate=None, after=()):
     """Drive class `label` from `start` in the world, recording every scan (or, with
     `record_rate` [Hz], one scan cast per period: the 10 Hz of control instead of the laser's
-    40 Hz); None if the class is not applicable from this start."""
-    walk = oracle.walk(start)
-    goal = oracle.goal(start, label, walk)
-    if goal is None:
+    40 Hz); None if the class is not applicable from this start.
+
+    after: classes of the earlier parts of a chained instruction (episodes.chain_goals), not
+    driven: the demonstration starts where they end (e.g. after=(1,), label 3: "turn left",
+    standing at the end of the corridor that "go straight to the end" followed)."""
+    try:
+        parts = chain_goals(oracle, start, (*after, label))
+    except EpisodeError:
         return None
+    goal, route = parts[-1].goal, parts[-1].route
+    if after:
+        start = parts[-2].goal.pose
     robot = world.robot(robot_name)
     scan_time = 1.0 / record_rate if record_rate else robot.lasers[laser_index].model.scan_time
     config = dataclasses.replace(config or ExpertConfig(), rate=1.0 / scan_time)
-    driver = ExpertDriver(expert_route(walk, label, goal.pose), goal.pose, config, rng)
+    driver = ExpertDriver(route, goal.pose, config, rng)
     _reset(world, robot, [a + b for a, b in zip(start, start_offset)], laser_index)
     if record_rate:      # the world's own scans are not used: do not cast them
         robot.next_scan[laser_index] = math.inf
