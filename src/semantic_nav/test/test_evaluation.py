@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
-                                     breakdown, evaluate, format_table, plan_episodes,
-                                     success_table)
+                                     breakdown, evaluate, format_table, plan_chain_episodes,
+                                     plan_episodes, success_table)
+from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
 from semantic_nav.route_oracle import RouteOracle
 from semnav_l_floor import write_l_floor
@@ -39,6 +40,28 @@ def test_plan_has_n_per_applicable_class_and_a_fifth_held_out(l_floor):
         assert sum(s.held_out for s in specs_of_class) == 2     # §4.2.1: 20 of 100
     oracle = next(iter(oracles.values()))
     assert all(oracle.field.at(*s.start[:2]) >= 0.4 for s in specs)
+
+
+def test_chain_plan_takes_starts_where_the_whole_chain_applies(l_floor):
+    """The L corridor turns left (north) at its east end: "go straight to the end, then turn
+    left" (1, 3) applies from starts facing east, "... then turn right" (1, 2) from starts in
+    the north leg facing south (right of south is west, back into the east-west leg)."""
+    _, oracles = l_floor
+    config = EvaluationConfig(candidates=40, batch=20)
+    rng = np.random.default_rng(0)
+    sentence = "go straight to the end, then turn left"
+    specs = plan_chain_episodes(oracles, (1, 3), sentence, 12, rng, config)
+    assert len(specs) == 12
+    assert all(s.labels == (1, 3) and s.sentence == sentence and not s.held_out for s in specs)
+    assert all(abs(np.cos(s.start[2]) - 1.0) < 0.1 for s in specs)          # heading east
+    oracle = next(iter(oracles.values()))
+    for spec in specs:
+        assert chain_goals(oracle, spec.start, spec.labels)[-1].goal.pose[1] > 2.0  # in the branch
+    right = plan_chain_episodes(oracles, (1, 2), "then turn right", 12, rng, config)
+    assert len(right) == 12
+    assert all(abs(np.sin(s.start[2]) + 1.0) < 0.1 for s in right)         # heading south
+    for spec in right:
+        assert chain_goals(oracle, spec.start, spec.labels)[-1].goal.pose[1] < 2.0
 
 
 def test_expert_episodes_in_a_worker_process(l_floor):

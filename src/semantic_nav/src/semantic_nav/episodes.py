@@ -25,6 +25,7 @@ import numpy as np
 
 from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route
 from semantic_nav.laser_layer import model_from_scan
+from semantic_nav.route_oracle import OracleError
 
 REACHED, TIMEOUT, COLLISION, STOPPED_OUTSIDE, NOT_UNDERSTOOD = (
     "reached", "timeout", "collision", "stopped outside goal", "not understood")
@@ -98,6 +99,15 @@ def chain_goals(oracle, start, labels):
         parts.append(ChainPart(label, goal, route))
         pose = goal.pose
     return parts
+
+
+def chain_applies(oracle, start, labels):
+    """Whether every part of the chain `labels` is applicable from `start` (chain_goals)."""
+    try:
+        chain_goals(oracle, start, labels)
+        return True
+    except (EpisodeError, OracleError):
+        return False
 
 
 def time_limit(parts, config=None):

@@ -16,8 +16,8 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from semantic_nav.demonstrations import world_for_floor
-from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_goals,
-                                   run_episode)
+from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
+                                   chain_goals, run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
 from semantic_nav.route_oracle import OracleError, RouteOracle
@@ -131,6 +131,31 @@ def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASSES):
             specs.append(EpisodeSpec(str(floor), tuple(float(v) for v in pose), (label,),
                                      sentence, bool(held[i])))
     return specs
+
+
+def plan_chain_episodes(oracles, labels, sentence, count, rng, config=None, per_start=4):
+    """Beyond the seed's table: `count` episodes of one chained instruction (e.g. labels (1, 3),
+    "go straight to the end, then turn left"), shared evenly by the floors, `per_start`
+    displaced starts at each sampled corridor start from which the whole chain is applicable
+    -> [EpisodeSpec]."""
+    config = config or EvaluationConfig()
+    quota = -(-count // len(oracles))
+    specs = []
+    for floor, oracle in oracles.items():
+        structure = floor_structure(oracle.field, oracle.config.robot_radius)
+        mine = []
+        for _ in range(max(1, config.candidates // config.batch)):
+            starts = sample_corridor_starts(oracle, structure, config.batch, rng)
+            for start in (s for s in starts if chain_applies(oracle, s, labels)):
+                for _ in range(per_start):
+                    pose, _ = _displaced(oracle, start, tuple(labels), rng, config)
+                    if pose is not None and len(mine) < quota:
+                        mine.append(EpisodeSpec(str(floor), tuple(float(v) for v in pose),
+                                                tuple(labels), sentence, False))
+            if len(mine) >= quota:
+                break
+        specs += mine
+    return specs[:count]
 
 
 # --- running (one process per core) ------------------------------------------------------
