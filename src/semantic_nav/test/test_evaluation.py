@@ -42,6 +42,15 @@ def test_plan_has_n_per_applicable_class_and_a_fifth_held_out(l_floor):
     assert all(oracle.field.at(*s.start[:2]) >= 0.4 for s in specs)
 
 
+def test_plan_of_chosen_classes_only(l_floor):
+    """DAgger rounds on the classes a model gets wrong (dagger_semnav --classes)."""
+    _, oracles = l_floor
+    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
+    config = EvaluationConfig(candidates=40, batch=20, min_starts=2)
+    specs = plan_episodes(oracles, 5, sets, np.random.default_rng(1), config, classes=(4, 1))
+    assert sorted(s.labels[0] for s in specs) == [1] * 5 + [4] * 5
+
+
 def test_chain_plan_takes_starts_where_the_whole_chain_applies(l_floor):
     """The L corridor turns left (north) at its east end: "go straight to the end, then turn
     left" (1, 3) applies from starts facing east, "... then turn right" (1, 2) from starts in

@@ -13,6 +13,7 @@ from penguin_base.record_format import RecordSequence, Sample, write_records
 from semantic_nav.episodes import ExpertLabeller, chain_goals, run_episode
 from semantic_nav.demonstrations import world_for_floor
 from semantic_nav.evaluation import plan_episodes
+from semantic_nav.phrase_sets import CLASSES
 from semantic_nav.route_oracle import RouteOracle
 
 RANGE_DECIMALS = 3   # as the demonstrations: ranges to the millimetre
@@ -31,11 +32,13 @@ def visited_states(world, oracle, policy, spec):
     return RecordSequence(spec.labels[-1], samples), result
 
 
-def collect_round(floors, template, policy, sets, per_class, rng, progress=None):
-    """One DAgger round on `floors` (map YAML paths) -> ([RecordSequence], [EpisodeResult])."""
+def collect_round(floors, template, policy, sets, per_class, rng, progress=None,
+                  classes=CLASSES):
+    """One DAgger round on `floors` (map YAML paths) over `classes` -> ([RecordSequence],
+    [EpisodeResult])."""
     worlds = {str(f): world_for_floor(template, f) for f in floors}
     oracles = {floor: RouteOracle(world.grid) for floor, world in worlds.items()}
-    specs = plan_episodes(oracles, per_class, sets, rng)
+    specs = plan_episodes(oracles, per_class, sets, rng, classes=classes)
     sequences, results = [], []
     for spec in specs:
         sequence, result = visited_states(worlds[spec.floor], oracles[spec.floor], policy, spec)
