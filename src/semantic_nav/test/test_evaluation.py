@@ -1,11 +1,12 @@
 """Evaluation: episode plans (classes, 80/20 phrasings), running them, Table 4.2-1."""
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
-                                     breakdown, evaluate, format_table, plan_chain_episodes,
+                                     breakdown, class_census, evaluate, format_table, plan_chain_episodes,
                                      plan_episodes, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
@@ -49,6 +50,18 @@ def test_plan_of_chosen_classes_only(l_floor):
     config = EvaluationConfig(candidates=40, batch=20, min_starts=2)
     specs = plan_episodes(oracles, 5, sets, np.random.default_rng(1), config, classes=(4, 1))
     assert sorted(s.labels[0] for s in specs) == [1] * 5 + [4] * 5
+
+
+def test_census_finds_the_l_corner_is_the_corridors_end(l_floor):
+    """The L floor's only corner is its east end: from starts heading east, "turn left" (3)
+    goes where "go straight to the end and turn left" (10) does; nothing has a second corner."""
+    _, oracles = l_floor
+    oracle = next(iter(oracles.values()))
+    starts = [(1.0, 1.0, 0.0), (3.0, 0.9, 0.0), (1.0, 1.0, math.pi)]
+    census = class_census(oracle, starts)
+    assert census[3] == (2, 2) and census[10][0] == 2
+    assert census[1][0] == 2 and census[4][0] == 3
+    assert all(census[label] == (0, 0) for label in (5, 6, 7, 8))
 
 
 def test_chain_plan_takes_starts_where_the_whole_chain_applies(l_floor):

@@ -105,6 +105,27 @@ def applicable_starts(oracles, rng, config, classes=CLASSES):
     return pool
 
 
+# the turn at the corridor's end on the same side as a corner turn (Table 3.1-1)
+END_TURN = {2: 9, 3: 10, 5: 9, 6: 10, 7: 9, 8: 10}
+
+
+def class_census(oracle, starts, same_place=1.5):
+    """{class: (starts it applies from, of those: its goal within `same_place` [m] of the
+    same side's end turn)} for a floor. Where every third corner is a corridor's end, "turn
+    right at the third corner" is learnt as "turn right at the end"."""
+    census = {label: [0, 0] for label in CLASSES}
+    for start in starts:
+        goals = oracle.goals(start)
+        for label, goal in goals.items():
+            if goal is None:
+                continue
+            census[label][0] += 1
+            end = goals.get(END_TURN.get(label))
+            if end is not None and math.dist(goal.pose[:2], end.pose[:2]) < same_place:
+                census[label][1] += 1
+    return {label: tuple(counts) for label, counts in census.items()}
+
+
 def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASSES):
     """`per_class` single-instruction episodes per class over the floors' starts -> [EpisodeSpec].
 
