@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
-                                     breakdown, class_census, evaluate, format_table, plan_chain_episodes,
-                                     plan_episodes, success_table)
+                                     breakdown, class_census, evaluate, format_table,
+                                     plan_chain_episodes, plan_episodes, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
 from semantic_nav.route_oracle import RouteOracle
