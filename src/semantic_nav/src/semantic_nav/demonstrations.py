@@ -34,6 +34,12 @@ class Demonstration:
         return self.reached and self.bumps == 0
 
 
+def floor_map_path(name, maps_dir):
+    """A floor named on a command line -> its map YAML: a path ending in .yaml as given, else
+    `maps_dir`/<name>.yaml (the hand-made floors)."""
+    return Path(name) if str(name).endswith(".yaml") else Path(maps_dir) / f"{name}.yaml"
+
+
 def world_for_floor(template, map_path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None):
     """A sim2d World of `template` (config/worlds/*.yaml: robot, laser) on another floor, the
     robot where that floor is most open (the template's pose belongs to its own floor; episodes

@@ -19,7 +19,7 @@ from semantic_nav.demonstrations import world_for_floor
 from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
                                    chain_goals, run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
-from semantic_nav.phrase_sets import CLASSES, sample_sentence
+from semantic_nav.phrase_sets import CLASSES, KIND, SIDE, TURN_CLASSES, sample_sentence
 from semantic_nav.route_oracle import OracleError, RouteOracle
 
 
@@ -105,8 +105,9 @@ def applicable_starts(oracles, rng, config, classes=CLASSES):
     return pool
 
 
-# the turn at the corridor's end on the same side as a corner turn (Table 3.1-1)
-END_TURN = {2: 9, 3: 10, 5: 9, 6: 10, 7: 9, 8: 10}
+# corner turn (2, 3, 5-8) -> the turn at the corridor's end on the same side (9, 10)
+END_TURN = {label: TURN_CLASSES[(side, "end")] for label, side in SIDE.items()
+            if KIND.get(label) != "end"}
 
 
 def class_census(oracle, starts, same_place=1.5):
