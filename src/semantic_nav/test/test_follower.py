@@ -4,9 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from semantic_nav.follower import (DirectionFollower, FollowerCommand, ModelMissingError,
-                                   UnknownInstructionError)
+from semantic_nav.follower import (ROOT, DirectionFollower, FollowerCommand, FollowerConfig,
+                                   ModelMissingError, UnknownInstructionError)
 from semantic_nav.laser_layer import model_from_scan
+from semantic_nav.postprocess import PostprocessConfig
 from semantic_nav.word_vectors import WordVectors
 
 WORDS = ["go", "straight", "to", "the", "end", "turn", "left", "right"]
@@ -126,3 +127,44 @@ def test_stop_head_output_halts_the_instruction(words):
     assert [(c.v, c.w) for c in commands[:3]] == [(0.3, 0.0)] * 3
     assert all((c.v, c.w) == (0.0, 0.0) for c in commands[3:])
     assert not commands[-2].done and commands[-1].done      # the 50th stop output halts
+
+
+def test_collision_guard_stops_v_keeps_omega_and_a_held_robot_halts(words):
+    """Beyond the seed: a wall 0.36 m ahead (gap 0.06 m to the footprint) leaves less free path
+    than v_move can drive, so v becomes 0; ω passes; 50 held steps end the instruction."""
+    laser = urg()
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    with np.errstate(divide="ignore"):
+        ranges = np.where(np.cos(angles) > 1e-9, 0.36 / np.cos(angles), 5.6)
+    ranges = np.minimum(ranges, 5.6)
+    policy = ScriptedPolicy([(0.3, 0.2)] + [(0.3, 0.0)] * 50)
+    follower = DirectionFollower(policy, words)
+    follower.start("go straight to the end")
+    turning = follower.step(ranges, laser)
+    assert (turning.v, turning.w) == (0.0, 0.2)
+    held = [follower.step(ranges, laser) for _ in range(50)]
+    assert all((c.v, c.w) == (0.0, 0.0) for c in held)
+    assert held[-1].done and not held[-2].done
+    open_space = DirectionFollower(ScriptedPolicy([(0.3, 0.2)]), words)
+    open_space.start("go straight to the end")
+    assert (open_space.step(np.full(683, 5.0), laser).v) == 0.3
+
+
+def test_follower_config_file(tmp_path):
+    from semantic_nav.follower import load_follower_config
+    shipped = load_follower_config(ROOT / "config" / "semnav_follower.yaml")
+    assert shipped == FollowerConfig(laser_config=str(ROOT / "config" / "semnav_laser.yaml"))
+    no_guard = load_follower_config(ROOT / "config" / "semnav_follower_no_guard.yaml")
+    assert not no_guard.guard.enabled and no_guard.postprocess == PostprocessConfig()
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("guard:\n  radius: 0.3\n  margn: 0.1\n")
+    with pytest.raises(ValueError, match="margn"):
+        load_follower_config(bad)
+    bad.write_text("postprocess:\n  halt_steps: many\n")
+    with pytest.raises(ValueError, match="halt_steps"):
+        load_follower_config(bad)
+    bad.write_text("guard:\n  enabled: 1\n")
+    with pytest.raises(ValueError, match="enabled"):
+        load_follower_config(bad)
+    with pytest.raises(FileNotFoundError, match="none.yaml"):
+        load_follower_config(tmp_path / "none.yaml")

@@ -55,7 +55,7 @@ class PolicySpec:
     kind: str = "model"      # "model" | "expert"
     model_path: str = None   # None: the follower's default model
     word_vectors: str = None
-    config: str = None
+    config: object = None     # FollowerConfig, a follower YAML path, or None (defaults)
 
 
 @dataclass

@@ -8,11 +8,12 @@ the halting counter has ended every simple instruction.
     every follower.control_period seconds: command = follower.step(scan.ranges, laser_model)
 """
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 
+from semantic_nav.collision_guard import GuardConfig, guard_velocity, scan_points
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
@@ -37,6 +38,53 @@ class FollowerConfig:
     control_period: float = 0.1     # s between steps (the records are subsampled to 10 Hz)
     laser_config: str = str(DEFAULT_LASER_CONFIG)   # canonical scan + preprocessing
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
+    guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
+
+
+def _section(cls, values, where):
+    """A config dataclass from a YAML mapping; unknown keys are named."""
+    if not isinstance(values, dict):
+        raise ValueError(f"{where}: expected a mapping, got {values!r}")
+    known = {f.name: f.type for f in fields(cls)}
+    unknown = sorted(set(values) - set(known))
+    if unknown:
+        raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} "
+                         f"(known: {', '.join(known)})")
+    default = cls()
+    converted = {}
+    for key, value in values.items():
+        kind = type(getattr(default, key))
+        if kind is bool and not isinstance(value, bool):
+            raise ValueError(f"{where}.{key}: expected true or false, got {value!r}")
+        try:
+            converted[key] = kind(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"{where}.{key}: expected a {kind.__name__}, got {value!r}") \
+                from None
+    return replace(default, **converted)
+
+
+def load_follower_config(path):
+    """A FollowerConfig from a YAML file (config/semnav_follower.yaml lists every key with its
+    default): top-level control_period and laser_config, sections postprocess and guard. Keys
+    left out keep their defaults; an unknown key or a wrong type is a ValueError naming it."""
+    import yaml
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"follower config {path} not found")
+    data = yaml.safe_load(path.read_text()) or {}
+    where = str(path)
+    if not isinstance(data, dict):
+        raise ValueError(f"{where}: expected a mapping of follower settings")
+    sections = {"postprocess": PostprocessConfig, "guard": GuardConfig}
+    top = {k: v for k, v in data.items() if k not in sections}
+    config = _section(FollowerConfig, top, where)
+    if "laser_config" in top:    # relative to the file, like the world files' paths
+        config.laser_config = str((path.parent / top["laser_config"]).resolve())
+    for name, cls in sections.items():
+        if name in data:
+            setattr(config, name, _section(cls, data[name], f"{where}: {name}"))
+    return config
 
 
 @dataclass
@@ -75,7 +123,10 @@ class DirectionFollower:
     @classmethod
     def from_files(cls, model_path=None, word_vectors=None, config=None):
         """Load a .keras model (default models/semantic_nav/default.keras) and the GloVe vectors
-        (a WordVectors, a GloVe file / cache directory, or None for the default cache)."""
+        (a WordVectors, a GloVe file / cache directory, or None for the default cache); `config`
+        is a FollowerConfig, the path of a follower YAML (load_follower_config) or None."""
+        if isinstance(config, (str, Path)):
+            config = load_follower_config(config)
         path = Path(model_path or os.environ.get("SEMNAV_MODEL", DEFAULT_MODEL))
         if not path.is_file():
             raise ModelMissingError(
@@ -132,10 +183,20 @@ class DirectionFollower:
                                   self.config.postprocess)
         v = adjust_speed(raw_v, self.config.postprocess)
         w = adjust_speed(raw_w, self.config.postprocess)
+        v = self._guarded(v, w, ranges, laser)
         if self.halting.update(v, w):
             self.index += 1             # §2.2.5.2: next simple instruction, memory cleared
             self.policy.reset()
         return self._command(v, w)
+
+    def _guarded(self, v, w, ranges, laser):
+        """collision_guard on the post-processed command; a guarded speed the robot cannot drive
+        (below v_move, §2.2.5.1) becomes a stop, which the halting counter then counts."""
+        guard = self.config.guard
+        if not guard.enabled or v == 0.0:
+            return v
+        guarded = guard_velocity(v, w, scan_points(ranges, laser, guard.laser_x), guard)
+        return guarded if abs(guarded) >= self.config.postprocess.v_move else 0.0
 
     def _command(self, v, w):
         current = min(self.index, len(self.instructions) - 1)

@@ -191,12 +191,12 @@ class FollowerNode:
 def main():
     rospy.init_node("semantic_nav")
     params = NodeParams.from_ros()
-    from semantic_nav.follower import DirectionFollower, ModelMissingError
-    try:
+    from semantic_nav.follower import DirectionFollower
+    try:       # a missing model names `make train`; a bad follower YAML names its key
         follower = DirectionFollower.from_files(params.model or None,
                                                 params.word_vectors or None,
                                                 params.follower_config or None)
-    except ModelMissingError as error:
+    except (OSError, ValueError) as error:
         rospy.logfatal("semantic_nav: %s", error)
         return 1
     node = FollowerNode(params, follower)

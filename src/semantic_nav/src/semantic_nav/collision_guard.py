@@ -1,0 +1,81 @@
+"""Collision guard (beyond the seed): the last stage before /cmd_vel slows the network's moving
+velocity so that the robot's circular footprint never reaches a laser return.
+
+The seed names drifting into side walls and accumulated small errors as its failure modes
+(thesis 002 §4.2.2); most failed evaluation episodes end in a wall. The guard keeps the
+network's rotating velocity and only limits v: the robot is a circle, so turning in place
+cannot touch a wall, and the network sees the next scan and can steer out. It rolls the
+commanded arc (v, ω) forward over `horizon` seconds, finds the free path length s before the
+footprint plus `margin` would touch a return, and sends v' = sgn(v) · min(|v|, s / horizon):
+full speed in the open, a smooth approach to a wall, and a stop at the margin.
+
+Reversing is blocked unless `allow_reverse`: the Penguin's lasers do not see behind it (UTM-30LX
+270°, URG-04LX 240°), and the expert never reverses, so a negative v is a regression artefact
+that backs the robot into a wall it cannot see (all 5 collisions left with the guard on the
+1,000 test episodes were such reversals while turning).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class GuardConfig:
+    """Footprint and look-ahead of the guard."""
+
+    enabled: bool = True
+    radius: float = 0.3        # footprint radius of the Penguin (sim2d: circle of 0.3 m) [m]
+    margin: float = 0.05       # kept free around the footprint [m]
+    horizon: float = 1.0       # look-ahead along the commanded arc, and the approach time [s]
+    resolution: float = 0.05   # time between checked poses on the arc [s]
+    laser_x: float = 0.0       # laser ahead of the base centre (Penguin: mounted on it) [m]
+    allow_reverse: bool = False   # True only for a laser that sees behind the robot
+
+
+def scan_points(ranges, laser, laser_x=0.0):
+    """Valid returns of one scan of `laser` (laser_layer.LaserModel) as (M, 2) points in the base
+    frame (x forward, y left); NaN, out-of-range and "no return" readings are dropped."""
+    ranges = np.asarray(ranges, dtype=float)
+    angles = laser.angle_min + laser.angle_increment * np.arange(ranges.size)
+    valid = np.isfinite(ranges) & (ranges >= laser.range_min) & (ranges < laser.range_max)
+    r, a = ranges[valid], angles[valid]
+    return np.column_stack((laser_x + r * np.cos(a), r * np.sin(a)))
+
+
+def arc_positions(v, w, times):
+    """Unicycle positions (x, y) after `times` [s] at constant (v, ω) from the origin facing +x."""
+    times = np.asarray(times, dtype=float)
+    if abs(w) < 1e-9:
+        return np.column_stack((v * times, np.zeros_like(times)))
+    return np.column_stack((v / w * np.sin(w * times), v / w * (1.0 - np.cos(w * times))))
+
+
+def guard_velocity(v, w, points, config=None):
+    """The moving velocity the guard lets through for the command (v, ω) and the scan `points`
+    (base frame, from scan_points). ω is never changed. Returns v' with |v'| <= |v|."""
+    config = config or GuardConfig()
+    if not config.enabled or v == 0.0:
+        return float(v)
+    if v < 0.0 and not config.allow_reverse:
+        return 0.0
+    if len(points) == 0:
+        return float(v)
+    reach = config.radius + config.margin
+    near = points[np.hypot(points[:, 0], points[:, 1]) < abs(v) * config.horizon + reach]
+    if len(near) == 0:
+        return float(v)
+    steps = max(1, int(math.ceil(config.horizon / config.resolution)))
+    times = np.linspace(0.0, config.horizon, steps + 1)
+    positions = arc_positions(v, w, times)
+    clearance = np.min(np.hypot(positions[:, None, 0] - near[None, :, 0],
+                                positions[:, None, 1] - near[None, :, 1]), axis=1)
+    if clearance[0] < reach:
+        # already inside the margin: only an arc that comes no closer (1 mm for the scan's
+        # discretisation) is allowed, e.g. along a wall or away from it
+        return float(v) if clearance[1:].min() >= clearance[0] - 1e-3 else 0.0
+    blocked = np.flatnonzero(clearance < reach)
+    if len(blocked) == 0:
+        return float(v)
+    free_path = abs(v) * times[blocked[0] - 1]
+    return math.copysign(min(abs(v), free_path / config.horizon), v)
