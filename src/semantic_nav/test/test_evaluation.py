@@ -1,12 +1,14 @@
 """Evaluation: episode plans (classes, 80/20 phrasings), running them, Table 4.2-1."""
 import math
+from dataclasses import astuple
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
-                                     breakdown, class_census, evaluate, format_table,
+                                     breakdown, class_census, episode_seed, evaluate,
+                                     format_table,
                                      plan_chain_episodes, plan_episodes, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
@@ -98,6 +100,20 @@ def test_expert_episodes_in_a_worker_process(l_floor):
     assert outcomes[0].path[-1][0] == pytest.approx(8.9, abs=0.2)
     rows, total = success_table(outcomes)
     assert rows == [(1, 1, 1, 1.0), (4, 1, 1, 1.0)] and total == ("Total", 2, 2, 1.0)
+
+
+def test_an_episode_sees_the_same_laser_noise_whatever_ran_before(l_floor):
+    """Each episode reseeds the laser from its own spec (episode_seed), so a model's episode
+    drives the same path first in a worker or after another episode."""
+    folder, oracles = l_floor
+    floor = next(iter(oracles))
+    a = EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False)
+    b = EpisodeSpec(floor, (1.5, 0.8, 0.1), (4,), "turn around", True)
+    assert episode_seed(a) == episode_seed(EpisodeSpec(*astuple(a))) != episode_seed(b)
+    outcomes = evaluate([a, b, a], folder / "world.yaml", PolicySpec(), workers=1,
+                        raycast="march", laser_dir=ROOT / "config" / "lasers")
+    assert outcomes[0].steps > 10
+    assert outcomes[0].path == outcomes[2].path and outcomes[0].reason == outcomes[2].reason
 
 
 def test_table_in_the_layout_of_table_4_2_1():

@@ -75,6 +75,21 @@ def test_utm30lx_scan_of_a_wall_is_within_its_noise(geometry):
     assert samples.std() == pytest.approx(model.noise_std, rel=0.2)
 
 
+def test_reseed_restarts_the_noise_whatever_came_before(geometry):
+    model = find_laser_model("utm_30lx", LASER_DIR)
+    laser = LaserSensor(model, (0.0, 0.0, 0.0), geometry, seed=5)
+    pose = (1.23, 3.0, 0.0)
+    laser.reseed(11)
+    first = [laser.scan(pose) for _ in range(3)]
+    for _ in range(7):                    # an earlier "episode" of a different length
+        laser.scan(pose)
+    laser.reseed(11)
+    again = [laser.scan(pose) for _ in range(3)]
+    assert all(np.array_equal(a, b) for a, b in zip(first, again))
+    laser.reseed(12)
+    assert not np.array_equal(laser.scan(pose), first[0])
+
+
 def test_circle_ranges_hits_the_near_side_of_a_person():
     r = circle_ranges(0.0, 0.0, np.array([0.0, math.pi / 2]), [(2.0, 0.0, 0.2)])
     assert r[0] == pytest.approx(1.8)

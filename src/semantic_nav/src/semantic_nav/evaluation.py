@@ -10,8 +10,10 @@ Table 4.2-1 (class, tests, successes, rate, and the total).
 import math
 import multiprocessing
 import time
+import zlib
 from collections import Counter
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -209,10 +211,20 @@ def _world(floor):
     return _WORKER["worlds"][floor]
 
 
+def episode_seed(spec):
+    """Laser-noise seed of one episode, from what defines it (floor name, start, classes,
+    sentence): the same episode sees the same noise in any worker and any order."""
+    key = repr((Path(spec.floor).stem, [round(float(v), 6) for v in spec.start],
+                list(spec.labels), spec.sentence))
+    return zlib.crc32(key.encode())
+
+
 def run_spec(spec):
     """One episode in this worker -> EpisodeOutcome."""
     world, oracle = _world(spec.floor)
     robot = world.robots[0]
+    for laser in robot.lasers:
+        laser.reseed(episode_seed(spec))
     parts = chain_goals(oracle, spec.start, spec.labels)
     if _WORKER["policy_spec"].kind == "expert":
         policy = ExpertPolicy(parts, lambda: robot.state.pose)

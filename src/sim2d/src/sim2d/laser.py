@@ -139,6 +139,12 @@ class LaserSensor:
         steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
         self._fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
 
+    def reseed(self, seed):
+        """Restart the noise stream (e.g. per episode, so an episode's scans do not depend on
+        the episodes run before it); the noise pools stay those of the construction seed."""
+        self.rng = np.random.default_rng(seed)
+        self._offsets, self._next_offset = [], 0
+
     def pose_in_map(self, pose):
         x, y, yaw = pose
         mx, my, myaw = self.mount
