@@ -203,12 +203,14 @@ def _latest_ranges(world, robot, laser_index):
 
 
 def run_episode(world, robot_name, policy, start_pose, sentence, parts, limit=None,
-                config=None, laser_index=0, labeller=None, record_scans=False):
+                config=None, laser_index=0, labeller=None, record_scans=False, noise_seed=None):
     """Drive `policy` through `sentence` from `start_pose`; judge by the last part's goal.
 
     Args:
         parts: [ChainPart] from chain_goals (the goals of the sentence's simple instructions).
         limit: time limit [s]; default time_limit(parts, config).
+        noise_seed: reseed the robot's laser noise with it (repeatable episodes); None keeps
+            the noise running on from the previous episode.
     Returns:
         EpisodeResult.
     """
@@ -216,6 +218,9 @@ def run_episode(world, robot_name, policy, start_pose, sentence, parts, limit=No
     limit = time_limit(parts, config) if limit is None else limit
     robot = world.robot(robot_name)
     world.place_robot(robot_name, start_pose)
+    if noise_seed is not None:
+        for sensor in robot.lasers:
+            sensor.reseed(noise_seed)
     laser = sim_laser_model(robot, laser_index)
     try:
         predicted = list(policy.start(sentence))

@@ -223,8 +223,6 @@ def run_spec(spec):
     """One episode in this worker -> EpisodeOutcome."""
     world, oracle = _world(spec.floor)
     robot = world.robots[0]
-    for laser in robot.lasers:
-        laser.reseed(episode_seed(spec))
     parts = chain_goals(oracle, spec.start, spec.labels)
     if _WORKER["policy_spec"].kind == "expert":
         policy = ExpertPolicy(parts, lambda: robot.state.pose)
@@ -234,7 +232,7 @@ def run_spec(spec):
         policy = _WORKER["policy"]
     began = time.perf_counter()
     result = run_episode(world, robot.name, policy, spec.start, spec.sentence, parts,
-                         config=_WORKER["episode_config"])
+                         config=_WORKER["episode_config"], noise_seed=episode_seed(spec))
     seconds = (time.perf_counter() - began) / max(result.steps, 1)
     path = np.round(result.path, 3).tolist()
     return EpisodeOutcome(spec, result.success, result.reason, round(result.duration, 2),

@@ -45,7 +45,7 @@ def _section(cls, values, where):
     """A config dataclass from a YAML mapping; unknown keys are named."""
     if not isinstance(values, dict):
         raise ValueError(f"{where}: expected a mapping, got {values!r}")
-    known = {f.name: f.type for f in fields(cls)}
+    known = [f.name for f in fields(cls)]
     unknown = sorted(set(values) - set(known))
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} "
@@ -85,6 +85,16 @@ def load_follower_config(path):
         if name in data:
             setattr(config, name, _section(cls, data[name], f"{where}: {name}"))
     return config
+
+
+def model_file(model_path=None):
+    """The follower's model file: `model_path`, else $SEMNAV_MODEL, else the committed default.
+    ModelMissingError (naming `make train`) if it does not exist."""
+    path = Path(model_path or os.environ.get("SEMNAV_MODEL", DEFAULT_MODEL))
+    if not path.is_file():
+        raise ModelMissingError(
+            f"semantic_nav model {path} not found: run `make train` (or pass a model path)")
+    return path
 
 
 @dataclass
@@ -127,10 +137,7 @@ class DirectionFollower:
         is a FollowerConfig, the path of a follower YAML (load_follower_config) or None."""
         if isinstance(config, (str, Path)):
             config = load_follower_config(config)
-        path = Path(model_path or os.environ.get("SEMNAV_MODEL", DEFAULT_MODEL))
-        if not path.is_file():
-            raise ModelMissingError(
-                f"semantic_nav model {path} not found: run `make train` (or pass a model path)")
+        path = model_file(model_path)
         from semantic_nav.network import StepPolicy, load_network
         from semantic_nav.word_vectors import WordVectors, load_word_vectors
         policy = StepPolicy.from_keras(load_network(str(path)))
