@@ -1,15 +1,17 @@
 """Evaluation: episode plans (classes, 80/20 phrasings), running them, Table 4.2-1."""
+import json
 import math
-from dataclasses import astuple
+from dataclasses import asdict, astuple
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+import semantic_nav.evaluation as evaluation
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, episode_seed, evaluate,
-                                     format_table,
-                                     plan_chain_episodes, plan_episodes, success_table)
+                                     format_table, load_plan, plan_chain_episodes, plan_episodes,
+                                     preload_floors, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
 from semantic_nav.route_oracle import RouteOracle
@@ -114,6 +116,46 @@ def test_an_episode_sees_the_same_laser_noise_whatever_ran_before(l_floor):
                         raycast="march", laser_dir=ROOT / "config" / "lasers")
     assert outcomes[0].steps > 10
     assert outcomes[0].path == outcomes[2].path and outcomes[0].reason == outcomes[2].reason
+
+
+def test_floors_load_once_for_every_evaluate_call_in_a_process(l_floor, monkeypatch):
+    """A training run drives the closed-loop plan after every epoch: the floor's world (and its
+    range table) is built once, by preload_floors, not once per call."""
+    folder, oracles = l_floor
+    floor = next(iter(oracles))
+    built = []
+
+    def counting(*args, **kwargs):
+        built.append(args[1])
+        return world_for_floor(*args, **kwargs)
+
+    world_for_floor = evaluation.world_for_floor
+    monkeypatch.setattr(evaluation, "world_for_floor", counting)
+    monkeypatch.setattr(evaluation, "_WORKER", {})
+    lasers = ROOT / "config" / "lasers"
+    preload_floors(folder / "world.yaml", [floor], raycast="march", laser_dir=lasers)
+    spec = EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False)
+    for _ in range(2):
+        outcome, = evaluate([spec], folder / "world.yaml", PolicySpec(kind="expert"), workers=1,
+                            raycast="march", laser_dir=lasers)
+        assert outcome.success
+    assert built == [floor]
+    evaluate([spec], folder / "world.yaml", PolicySpec(kind="expert"), workers=1,
+             raycast="table", laser_dir=lasers)          # another laser model: a new world
+    assert built == [floor, floor]
+
+
+def test_plan_file_round_trip_and_a_bad_plan_is_named(l_floor, tmp_path):
+    _, oracles = l_floor
+    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
+    specs = plan_episodes(oracles, 3, sets, np.random.default_rng(2), EvaluationConfig())
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps([asdict(s) for s in specs]))
+    assert load_plan(plan) == specs
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps([{"floor": "x.yaml"}]))
+    with pytest.raises(ValueError, match="bad.json: not an evaluation plan"):
+        load_plan(bad)
 
 
 def test_table_in_the_layout_of_table_4_2_1():

@@ -47,6 +47,10 @@ def test_monitors():
     assert [valid.update(v) for v in ([514, 5], [495, 7], [629, 12], [631, 10], [617, 12],
                                       [640, 12])] == [True, True, True, False, False, True]
     assert valid.best == [640, 12]
+    closed = Monitor("closed_loop")    # goals reached; a tie keeps the earlier model
+    assert [closed.update(v) for v in (120, 118, 131, 131, 140)] == [True, False, True, False,
+                                                                    True]
+    assert closed.best == 140
     with pytest.raises(ValueError):
         Monitor("accuracy")
 

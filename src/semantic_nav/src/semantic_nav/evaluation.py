@@ -7,6 +7,7 @@ sentences of similar meaning). `evaluate` runs them in sim2d (episodes.run_episo
 policy made in each worker process, on one or more cores. `success_table` gives the rows of
 Table 4.2-1 (class, tests, successes, rate, and the total).
 """
+import json
 import math
 import multiprocessing
 import time
@@ -187,8 +188,13 @@ _WORKER = {}
 
 
 def _init_worker(template, policy_spec, raycast, episode_config, laser_dir):
+    # floors already loaded for the same robot and laser stay (a training run evaluates every
+    # epoch; a pool forked after preload_floors inherits them)
+    same = _WORKER.get("world_key") == (template, raycast, laser_dir)
     _WORKER.update(template=template, policy_spec=policy_spec, raycast=raycast,
-                   episode_config=episode_config, laser_dir=laser_dir, worlds={}, policy=None)
+                   episode_config=episode_config, laser_dir=laser_dir, policy=None,
+                   world_key=(template, raycast, laser_dir),
+                   worlds=_WORKER["worlds"] if same else {})
     try:                                   # one core per worker: no thread oversubscription
         import torch
         torch.set_num_threads(1)
@@ -209,6 +215,27 @@ def _world(floor):
                                 raycast=_WORKER["raycast"])
         _WORKER["worlds"][floor] = (world, RouteOracle(world.grid))
     return _WORKER["worlds"][floor]
+
+
+def preload_floors(template, floors, raycast="table", laser_dir=None):
+    """Load the floors' worlds (and laser range tables) in this process, for evaluate calls
+    that follow, in-process or in pools forked from it."""
+    _init_worker(str(template), PolicySpec(), raycast, EpisodeConfig(), laser_dir)
+    for floor in floors:
+        _world(str(floor))
+
+
+def load_plan(path):
+    """Episode specs of a plan file (a JSON list of EpisodeSpec fields), or of the episodes of
+    an earlier eval_semnav --json result. ValueError naming the file if it is neither."""
+    try:
+        data = json.loads(Path(path).read_text())
+        entries = [e["spec"] for e in data["episodes"]] if isinstance(data, dict) else data
+        return [EpisodeSpec(e["floor"], tuple(e["start"]), tuple(e["labels"]), e["sentence"],
+                            bool(e["held_out"])) for e in entries]
+    except (json.JSONDecodeError, KeyError, TypeError) as error:
+        raise ValueError(f"{path}: not an evaluation plan ({type(error).__name__}: {error})") \
+            from None
 
 
 def episode_seed(spec):

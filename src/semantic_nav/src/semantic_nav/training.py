@@ -232,11 +232,15 @@ class Monitor:
     """§4.1.3: remembers the best value seen; update() says whether a new model must be saved.
 
     Loss monitor: lower is better. Validation monitor: [correct, destination] with more
-    destinations better, ties broken by more correct outputs."""
+    destinations better, ties broken by more correct outputs. Beyond the seed, the closed-loop
+    monitor: episodes that reached their goal on validation floors, more is better (a tie keeps
+    the earlier model)."""
+
+    KINDS = ("loss", "validation", "closed_loop")
 
     def __init__(self, kind):
-        if kind not in ("loss", "validation"):
-            raise ValueError(f"monitor kind must be 'loss' or 'validation', got {kind!r}")
+        if kind not in self.KINDS:
+            raise ValueError(f"monitor kind must be one of {', '.join(self.KINDS)}, got {kind!r}")
         self.kind, self.best = kind, None
 
     def better(self, value):
@@ -244,6 +248,8 @@ class Monitor:
             return True
         if self.kind == "loss":
             return value < self.best
+        if self.kind == "closed_loop":
+            return value > self.best
         return (value[1], value[0]) > (self.best[1], self.best[0])
 
     def update(self, value):
