@@ -11,7 +11,7 @@ import semantic_nav.evaluation as evaluation
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, episode_seed, evaluate,
                                      format_table, load_plan, plan_chain_episodes, plan_episodes,
-                                     preload_floors, success_table)
+                                     success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
 from semantic_nav.route_oracle import RouteOracle
@@ -120,7 +120,7 @@ def test_an_episode_sees_the_same_laser_noise_whatever_ran_before(l_floor):
 
 def test_floors_load_once_for_every_evaluate_call_in_a_process(l_floor, monkeypatch):
     """A training run drives the closed-loop plan after every epoch: the floor's world (and its
-    range table) is built once, by preload_floors, not once per call."""
+    range table) is built once, not once per call."""
     folder, oracles = l_floor
     floor = next(iter(oracles))
     built = []
@@ -133,7 +133,6 @@ def test_floors_load_once_for_every_evaluate_call_in_a_process(l_floor, monkeypa
     monkeypatch.setattr(evaluation, "world_for_floor", counting)
     monkeypatch.setattr(evaluation, "_WORKER", {})
     lasers = ROOT / "config" / "lasers"
-    preload_floors(folder / "world.yaml", [floor], raycast="march", laser_dir=lasers)
     spec = EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False)
     for _ in range(2):
         outcome, = evaluate([spec], folder / "world.yaml", PolicySpec(kind="expert"), workers=1,

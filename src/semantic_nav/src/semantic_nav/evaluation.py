@@ -188,8 +188,8 @@ _WORKER = {}
 
 
 def _init_worker(template, policy_spec, raycast, episode_config, laser_dir):
-    # floors already loaded for the same robot and laser stay (a training run evaluates every
-    # epoch; a pool forked after preload_floors inherits them)
+    # floors already loaded for the same robot and laser stay: a training run evaluates its
+    # closed-loop plan in-process after every epoch
     same = _WORKER.get("world_key") == (template, raycast, laser_dir)
     _WORKER.update(template=template, policy_spec=policy_spec, raycast=raycast,
                    episode_config=episode_config, laser_dir=laser_dir, policy=None,
@@ -215,14 +215,6 @@ def _world(floor):
                                 raycast=_WORKER["raycast"])
         _WORKER["worlds"][floor] = (world, RouteOracle(world.grid))
     return _WORKER["worlds"][floor]
-
-
-def preload_floors(template, floors, raycast="table", laser_dir=None):
-    """Load the floors' worlds (and laser range tables) in this process, for evaluate calls
-    that follow, in-process or in pools forked from it."""
-    _init_worker(str(template), PolicySpec(), raycast, EpisodeConfig(), laser_dir)
-    for floor in floors:
-        _world(str(floor))
 
 
 def load_plan(path):
