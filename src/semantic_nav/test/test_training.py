@@ -4,7 +4,7 @@ import pytest
 
 from semantic_nav.training import (Episode, Monitor, TrainingConfig, ValidationThresholds,
                                    accumulated_errors, control_rate_sequence, make_batches,
-                                   step_errors, validate_sequence)
+                                   step_errors, step_weights, validate_sequence)
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
 
@@ -101,3 +101,11 @@ def test_stop_targets_mark_the_standing_steps():
     assert "stop" not in make_batches([episode], None, Words(), np.random.default_rng(0),
                                       TrainingConfig(hold_steps=2), phases=[0],
                                       sentences=sentences)[0][1]
+
+
+def test_step_weights_single_out_turning_and_standing_steps():
+    commands = np.array([[0.5, 0.0], [0.5, 0.1], [0.3, 0.15], [0.2, -0.3], [0.0, 0.0]],
+                        np.float32)
+    config = TrainingConfig(stop_weight=0.5, turn_weight=3.0, turn_threshold=0.15)
+    assert step_weights(commands, config).tolist() == [1.0, 1.0, 3.0, 3.0, 0.5]
+    assert step_weights(commands, TrainingConfig()).tolist() == [1.0] * 5   # the seed's MSE

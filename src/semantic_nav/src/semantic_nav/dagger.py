@@ -19,9 +19,38 @@ from semantic_nav.route_oracle import RouteOracle
 RANGE_DECIMALS = 3   # as the demonstrations: ranges to the millimetre
 
 
-def visited_states(world, oracle, policy, spec):
+def route_distances(points, route):
+    """Distance [m] of each point (N, 2) to the polyline `route` (M, 2)."""
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    route = np.asarray(route, dtype=float).reshape(-1, 2)
+    if len(route) == 1:
+        return np.hypot(*(points - route[0]).T)
+    a, b = route[:-1], route[1:]
+    ab = b - a
+    length2 = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12)
+    t = np.clip(np.einsum("nij,ij->ni", points[:, None, :] - a[None], ab) / length2, 0.0, 1.0)
+    nearest = a[None] + t[..., None] * ab[None]
+    return np.min(np.hypot(*(points[:, None, :] - nearest).transpose(2, 0, 1)), axis=1)
+
+
+def on_route_steps(path, routes, max_offset):
+    """Leading control steps whose pose lies within `max_offset` [m] of one of the expert's
+    part routes: the states before the policy left the expert's way (e.g. drove past its corner).
+    """
+    distance = np.min([route_distances(np.asarray(path)[:, :2], r) for r in routes], axis=0)
+    off = np.flatnonzero(distance > max_offset)
+    return int(off[0]) if off.size else len(distance)
+
+
+def visited_states(world, oracle, policy, spec, max_route_offset=None):
     """Run one episode with the expert labelling every visited state -> (RecordSequence,
-    EpisodeResult). The sequence holds (expert v, expert ω, ranges seen) per control step."""
+    EpisodeResult). The sequence holds (expert v, expert ω, ranges seen) per control step.
+
+    max_route_offset [m]: keep only the states before the robot first strays that far from the
+    expert's route. Beyond the seed's DAgger: once a recurrent policy has driven past its
+    corner, the expert's label (turn back) depends on where the robot is, but the policy's
+    memory says it has not reached the corner yet; those labels contradict the instruction
+    and teach the network to turn around instead of to count."""
     robot = world.robots[0]
     parts = chain_goals(oracle, spec.start, spec.labels)
     result = run_episode(world, robot.name, policy, spec.start, spec.sentence, parts,
@@ -29,19 +58,24 @@ def visited_states(world, oracle, policy, spec):
     samples = [Sample(float(v), float(w), tuple(np.round(ranges.astype(np.float64),
                                                          RANGE_DECIMALS)))
                for (v, w), ranges in zip(result.expert_commands, result.scans)]
+    if max_route_offset is not None and samples:
+        keep = on_route_steps(result.path[:len(samples)], [p.route for p in parts],
+                              max_route_offset)
+        samples = samples[:keep]
     return RecordSequence(spec.labels[-1], samples), result
 
 
 def collect_round(floors, template, policy, sets, per_class, rng, progress=None,
-                  classes=CLASSES):
+                  classes=CLASSES, max_route_offset=None):
     """One DAgger round on `floors` (map YAML paths) over `classes` -> ([RecordSequence],
-    [EpisodeResult])."""
+    [EpisodeResult]); max_route_offset as in visited_states."""
     worlds = {str(f): world_for_floor(template, f) for f in floors}
     oracles = {floor: RouteOracle(world.grid) for floor, world in worlds.items()}
     specs = plan_episodes(oracles, per_class, sets, rng, classes=classes)
     sequences, results = [], []
     for spec in specs:
-        sequence, result = visited_states(worlds[spec.floor], oracles[spec.floor], policy, spec)
+        sequence, result = visited_states(worlds[spec.floor], oracles[spec.floor], policy, spec,
+                                          max_route_offset)
         if sequence.samples:
             sequences.append(sequence)
         results.append(result)

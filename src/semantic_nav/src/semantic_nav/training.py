@@ -30,6 +30,8 @@ class TrainingConfig:
     class_batch_size: int = 256  # sentences per Z_w batch [1]
     class_warmup_batches: int = 200  # Z_w-only batches before the first epoch (new model) [1]
     stop_weight: float = 1.0     # loss weight of zero-label steps (standing at the goal) [1]
+    turn_weight: float = 1.0     # loss weight of turning steps (beyond the seed, step_weights) [1]
+    turn_threshold: float = 0.15  # |ω| of the expert from which a step counts as turning [rad/s]
     stop_targets: bool = False   # add the "stop" target (network with a stop head) [bool]
 
 
@@ -151,6 +153,19 @@ def sentence_vectors(label, sets, word_vectors, rng, split="train"):
     return sentence_vector(sample_sentence(sets, label, rng, split).text, word_vectors).vectors
 
 
+def step_weights(commands, config):
+    """MSE weight per control step: stop_weight where the expert stands, turn_weight where it
+    turns (|ω| ≥ turn_threshold), 1 elsewhere.
+
+    Beyond the seed (§4.1.1 weights every step alike): a corner-counting instruction is decided
+    in the few steps where the expert turns; the hundreds of straight steps before it dominate
+    an unweighted MSE, so a model that drives past the corner loses little."""
+    standing = np.all(commands == 0.0, axis=1)
+    turning = np.abs(commands[:, 1]) >= config.turn_threshold
+    return np.where(standing, config.stop_weight,
+                    np.where(turning, config.turn_weight, 1.0)).astype(np.float32)
+
+
 def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
     """One epoch: episodes -> [(inputs, targets, sample weights)] of similar lengths.
 
@@ -175,7 +190,7 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
         for row, (s, c, _, _) in enumerate(chunk):
             scans[row, :len(s)], commands[row, :len(c)] = s, c
             standing = np.all(c == 0.0, axis=1)
-            weights[row, :len(s)] = np.where(standing, config.stop_weight, 1.0)
+            weights[row, :len(s)] = step_weights(c, config)
             stop[row, :len(s), 0] = standing
         words = pad_words([item[2] for item in chunk], word_vectors.dim)
         labels = np.array([item[3] - 1 for item in chunk])
