@@ -2,9 +2,11 @@
 import numpy as np
 import pytest
 
-from semantic_nav.training import (Episode, Monitor, TrainingConfig, ValidationThresholds,
-                                   accumulated_errors, control_rate_sequence, make_batches,
-                                   step_errors, step_weights, validate_sequence)
+from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingConfig,
+                                   ValidationThresholds, accumulated_errors,
+                                   control_rate_sequence, make_batches, mirror_sequence,
+                                   onset_verdict, step_errors, step_weights, turn_onset,
+                                   validate_sequence)
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
 
@@ -109,3 +111,44 @@ def test_step_weights_single_out_turning_and_standing_steps():
     config = TrainingConfig(stop_weight=0.5, turn_weight=3.0, turn_threshold=0.15)
     assert step_weights(commands, config).tolist() == [1.0, 1.0, 3.0, 3.0, 0.5]
     assert step_weights(commands, TrainingConfig()).tolist() == [1.0] * 5   # the seed's MSE
+
+
+def test_turn_onset_compares_the_first_turning_steps():
+    reference = np.zeros((30, 2))
+    reference[12:20, 1] = 0.3                   # the expert turns left from step 12
+    on_time, early, wrong_way = np.zeros((30, 2)), np.zeros((30, 2)), np.zeros((30, 2))
+    on_time[14:22, 1] = 0.25
+    early[3:6, 1] = 0.2                          # a left turn at an earlier corner
+    wrong_way[12:20, 1] = -0.3                   # turns right instead: never turns left
+    assert turn_onset(reference, on_time, 0.15) == (12, 14)
+    assert onset_verdict(turn_onset(reference, on_time, 0.15), 2) == "on time"
+    assert onset_verdict(turn_onset(reference, on_time, 0.15), 1) == "late"
+    assert onset_verdict(turn_onset(reference, early, 0.15), 2) == "early"
+    assert onset_verdict(turn_onset(reference, wrong_way, 0.15), 2) == "never"
+    assert turn_onset(np.zeros((5, 2)), on_time[:5], 0.15) is None   # the expert never turns
+
+
+def test_mirror_sequence_swaps_the_sides():
+    scans = np.array([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], np.float32)   # beam 0 on the right
+    commands = np.array([[0.5, 0.2], [0.3, -0.1]], np.float32)
+    m_scans, m_commands, label = mirror_sequence(scans, commands, 6)
+    assert m_scans.tolist() == [[3.0, 2.0, 1.0], [6.0, 5.0, 4.0]]
+    np.testing.assert_allclose(m_commands, [[0.5, -0.2], [0.3, 0.1]])
+    assert label == 5                            # left at the 2nd corner -> right at the 2nd
+    assert all(MIRRORED_CLASS[MIRRORED_CLASS[c]] == c for c in range(1, 11))
+    assert [c for c in range(1, 11) if MIRRORED_CLASS[c] == c] == [1, 4]
+
+
+def test_only_training_batches_are_mirrored():
+    scans = np.arange(12, dtype=np.float32).reshape(4, 3)
+    commands = np.tile(np.array([[0.4, 0.3]], np.float32), (4, 1))
+    episode = Episode(3, scans, commands, rate=10.0)
+    config = TrainingConfig(hold_steps=0, mirror_probability=1.0)
+
+    class Words:
+        dim = 2
+    words = [np.ones((2, 2), np.float32)]
+    fixed = make_batches([episode], None, Words(), np.random.default_rng(0), config,
+                         phases=[0], sentences=words)
+    assert fixed[0][1]["instruction_class"].tolist() == [2]          # validation: class 3
+    assert np.all(fixed[0][1]["velocity"][0, :, 1] == 0.3)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
@@ -32,6 +33,7 @@ class TrainingConfig:
     stop_weight: float = 1.0     # loss weight of zero-label steps (standing at the goal) [1]
     turn_weight: float = 1.0     # loss weight of turning steps (beyond the seed, step_weights) [1]
     turn_threshold: float = 0.15  # |ω| of the expert from which a step counts as turning [rad/s]
+    mirror_probability: float = 0.0  # share of training sequences mirrored left-right [1]
     stop_targets: bool = False   # add the "stop" target (network with a stop head) [bool]
 
 
@@ -54,6 +56,14 @@ class Episode:
     commands: np.ndarray    # (N, 2) float32 clean expert (v, ω) at the record rate
     source: str = ""        # file the sequence came from
     rate: float = 40.0      # record rate [Hz] (demonstrations: laser rate; DAgger: control rate)
+
+
+def dataset_record_rate(directory, default):
+    """[Hz] the rate a dataset's summary.yaml records (datasets at the control rate say so)."""
+    summary = Path(directory) / "summary.yaml"
+    if not summary.is_file():
+        return default
+    return float(yaml.safe_load(summary.read_text()).get("record_rate", default))
 
 
 def iter_record_arrays(path):
@@ -166,6 +176,19 @@ def step_weights(commands, config):
                     np.where(turning, config.turn_weight, 1.0)).astype(np.float32)
 
 
+# Left-right mirror image of each class (Table 3.1-1): right and left swap, 1 and 4 stay.
+MIRRORED_CLASS = {1: 1, 2: 3, 3: 2, 4: 4, 5: 6, 6: 5, 7: 8, 8: 7, 9: 10, 10: 9}
+
+
+def mirror_sequence(scans, commands, label):
+    """The sequence a mirrored building gives: beams reversed (the canonical scan is symmetric,
+    -110° … +110°), ω negated, right and left swapped in the class.
+
+    Beyond the seed: a floor's left turns are another floor's right turns, so every
+    demonstration also teaches its mirror image, and the network cannot prefer one side."""
+    return scans[:, ::-1], commands * np.array([1.0, -1.0], np.float32), MIRRORED_CLASS[label]
+
+
 def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
     """One epoch: episodes -> [(inputs, targets, sample weights)] of similar lengths.
 
@@ -175,9 +198,13 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
         stride = episode_stride(episode, config)
         phase = int(rng.integers(stride)) if phases is None else min(phases[index], stride - 1)
         scans, commands = control_rate_sequence(episode, phase, config)
-        words = (sentence_vectors(episode.label, sets, word_vectors, rng)
+        label = episode.label
+        if phases is None and config.mirror_probability > 0 and \
+                rng.random() < config.mirror_probability:
+            scans, commands, label = mirror_sequence(scans, commands, label)
+        words = (sentence_vectors(label, sets, word_vectors, rng)
                  if sentences is None else sentences[index])
-        items.append((scans, commands, words, episode.label))
+        items.append((scans, commands, words, label))
     items.sort(key=lambda item: len(item[0]))
     batches = []
     for start in range(0, len(items), config.batch_size):
@@ -241,6 +268,32 @@ def validation_value(sequences, thresholds, rate):
     """§4.1.2: [correct, destination] summed over the (reference, output) sequences."""
     results = [validate_sequence(ref, out, thresholds, rate) for ref, out in sequences]
     return [sum(r[0] for r in results), sum(r[1] for r in results)]
+
+
+def turn_onset(reference, output, threshold):
+    """Open-loop turn onset on a recorded sequence (beyond the seed: where §4.1.2 counts steps,
+    this asks whether the network turns where the expert did) -> (expert step, model step) or
+    None when the expert never turns. The expert's onset is its first step with |ω| ≥ threshold;
+    the model's is its first step with ω ≥ threshold in the expert's turn direction (None if it
+    never turns that way)."""
+    reference, output = np.asarray(reference), np.asarray(output)
+    turning = np.flatnonzero(np.abs(reference[:, 1]) >= threshold)
+    if not turning.size:
+        return None
+    expert = int(turning[0])
+    side = np.sign(reference[expert, 1])
+    model = np.flatnonzero(side * output[:, 1] >= threshold)
+    return expert, (int(model[0]) if model.size else None)
+
+
+def onset_verdict(onset, tolerance):
+    """turn_onset -> "on time" (within `tolerance` steps), "early", "late" or "never"."""
+    expert, model = onset
+    if model is None:
+        return "never"
+    if abs(model - expert) <= tolerance:
+        return "on time"
+    return "early" if model < expert else "late"
 
 
 class Monitor:
