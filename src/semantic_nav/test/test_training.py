@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 
 from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingConfig,
-                                   ValidationThresholds, accumulated_errors,
+                                   ValidationThresholds, accumulated_errors, batch_rows,
                                    control_rate_sequence, make_batches, mirror_sequence,
-                                   onset_verdict, step_errors, step_weights, turn_onset,
-                                   validate_sequence)
+                                   onset_verdict, step_errors, step_weights, turn_fit_by_class,
+                                   turn_onset, validate_sequence)
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
 
@@ -152,3 +152,38 @@ def test_only_training_batches_are_mirrored():
                          phases=[0], sentences=words)
     assert fixed[0][1]["instruction_class"].tolist() == [2]          # validation: class 3
     assert np.all(fixed[0][1]["velocity"][0, :, 1] == 0.3)
+
+
+def test_batch_rows_cut_the_padding_whatever_the_step_weights():
+    """Two sequences of 3 and 5 steps in one batch; turning steps weigh 3 (--turn-weight)."""
+    short = Episode(2, np.ones((3, 2), np.float32), np.array([[0.4, 0.3]] * 3, np.float32),
+                    rate=10.0)
+    long = Episode(5, np.ones((5, 2), np.float32), np.array([[0.4, 0.0]] * 5, np.float32),
+                   rate=10.0)
+    config = TrainingConfig(hold_steps=0, turn_weight=3.0, batch_size=2)
+
+    class Words:
+        dim = 2
+    sentences = [np.ones((2, 2), np.float32)] * 2
+    (batch,) = make_batches([short, long], None, Words(), np.random.default_rng(0), config,
+                            phases=[0, 0], sentences=sentences)
+    _, targets, weights = batch
+    outputs = {"velocity": targets["velocity"] + 0.01}
+    rows = list(batch_rows(targets, outputs, weights))
+    assert [(label, len(ref), len(out)) for label, ref, out in rows] == [(2, 3, 3), (5, 5, 5)]
+    np.testing.assert_allclose(rows[0][2], [[0.41, 0.31]] * 3, atol=1e-6)
+
+
+def test_turn_fit_by_class_counts_verdicts_and_turning_error():
+    reference = np.zeros((20, 2))
+    reference[8:12, 1] = -0.3                    # a right turn from step 8
+    late = reference.copy()
+    late[:, 1] = np.roll(reference[:, 1], 5)     # the same turn 5 steps later
+    rows = [(5, reference, reference), (5, reference, late), (1, np.zeros((20, 2)),
+                                                             np.zeros((20, 2)))]
+    fit = turn_fit_by_class(rows, 0.15, 2)
+    assert list(fit) == [5]                      # class 1 never turns: left out
+    records, mse, verdicts = fit[5]
+    assert records == 2 and verdicts == {"on time": 1, "late": 1}
+    # the late model still drives straight (ω = 0) on the expert's 4 turning steps (-0.3)
+    assert mse == pytest.approx((0.0 + 0.3 ** 2) / 2)

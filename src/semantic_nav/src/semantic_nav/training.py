@@ -7,6 +7,7 @@ standing still at the goal (zero labels) for `hold_steps`, and pairs each with a
 its class (§3.4), so every epoch sees new (phase, sentence) pairings.
 """
 import hashlib
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -56,6 +57,11 @@ class Episode:
     commands: np.ndarray    # (N, 2) float32 clean expert (v, ω) at the record rate
     source: str = ""        # file the sequence came from
     rate: float = 40.0      # record rate [Hz] (demonstrations: laser rate; DAgger: control rate)
+
+
+def split_record_files(datasets, split):
+    """Record files of `split` (a sub-directory) in the dataset directories, sorted."""
+    return sorted(f for d in datasets for f in (Path(d) / split).glob("*.records"))
 
 
 def dataset_record_rate(directory, default):
@@ -270,6 +276,17 @@ def validation_value(sequences, thresholds, rate):
     return [sum(r[0] for r in results), sum(r[1] for r in results)]
 
 
+def batch_rows(targets, outputs, weights):
+    """Per row of a make_batches batch and the network's outputs on it: (class 1..10, expert
+    (v, ω), network (v, ω)) over the steps that count in the loss (weight > 0; padding is 0).
+    Counting steps, not summing weights: --turn-weight / --stop-weight change the sums."""
+    lengths = np.count_nonzero(weights["velocity"] > 0, axis=1)
+    velocity = np.asarray(outputs["velocity"])
+    for row, steps in enumerate(lengths):
+        yield (int(targets["instruction_class"][row]) + 1, targets["velocity"][row, :steps],
+               velocity[row, :steps])
+
+
 def turn_onset(reference, output, threshold):
     """Open-loop turn onset on a recorded sequence (beyond the seed: where §4.1.2 counts steps,
     this asks whether the network turns where the expert did) -> (expert step, model step) or
@@ -294,6 +311,23 @@ def onset_verdict(onset, tolerance):
     if abs(model - expert) <= tolerance:
         return "on time"
     return "early" if model < expert else "late"
+
+
+def turn_fit_by_class(rows, threshold, tolerance):
+    """Open-loop fit where the expert turns, per class, over (class, expert, network) rows
+    (batch_rows) -> {class: (records with a turn, mean turning-step MSE(ω),
+    Counter of onset_verdict)}. Rows where the expert never turns are left out."""
+    errors, verdicts = {}, {}
+    for label, reference, output in rows:
+        onset = turn_onset(reference, output, threshold)
+        if onset is None:
+            continue
+        turning = np.abs(reference[:, 1]) >= threshold
+        errors.setdefault(label, []).append(
+            float(np.mean((reference[turning, 1] - output[turning, 1]) ** 2)))
+        verdicts.setdefault(label, Counter())[onset_verdict(onset, tolerance)] += 1
+    return {label: (len(errors[label]), float(np.mean(errors[label])), verdicts[label])
+            for label in sorted(verdicts)}
 
 
 class Monitor:
