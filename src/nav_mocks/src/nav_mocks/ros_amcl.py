@@ -35,13 +35,16 @@ class AmclNode:
         self.truths = collections.deque(maxlen=HISTORY)
         self.odoms = collections.deque(maxlen=HISTORY)
         self.initial = None
+        self.correction = None   # last map -> odom, re-sent while no new pair is found
         self.published = 0
         self.pose_pub = rospy.Publisher("amcl_pose", PoseWithCovarianceStamped, queue_size=2,
                                         latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.tf_pub = tf2_ros.TransformBroadcaster()
-        rospy.Subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=1)
-        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=1)
+        # Every sample is queued: with queue_size=1 each callback keeps only the newest message,
+        # and under load the two streams can drop alternate instants so that no pair exists.
+        rospy.Subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=HISTORY)
+        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=HISTORY)
         rospy.Subscriber("initialpose", PoseWithCovarianceStamped, self._on_initial, queue_size=1)
         rospy.Timer(rospy.Duration(1.0 / rate), self._update)
         rospy.Timer(rospy.Duration(1.0), self._diagnose)
@@ -62,6 +65,7 @@ class AmclNode:
         with self.lock:
             pair = latest_pair(list(self.truths), list(self.odoms), MAX_PAIR_GAP)
             if pair is None:
+                self._resend_correction()
                 return
             initial, self.initial = self.initial, None
         true_pose, odom_pose = pair
@@ -88,10 +92,21 @@ class AmclNode:
         pose_to_msg(estimate, msg.pose.pose)
         msg.pose.covariance = covariance
         self.pose_pub.publish(msg)
-        correction = map_to_odom(estimate, odom_pose)
-        self.tf_pub.sendTransform(transform_msg(correction, self.global_frame, self.odom_frame,
-                                                now + self.tolerance))
+        self.correction = map_to_odom(estimate, odom_pose)
+        self.tf_pub.sendTransform(transform_msg(self.correction, self.global_frame,
+                                                self.odom_frame, now + self.tolerance))
         self.published += 1
+
+    def _resend_correction(self):
+        """amcl re-sends its last map -> odom, post-dated, between updates: without it the
+        transform expires and every consumer (move_base) loses the robot's pose."""
+        if self.correction is None:
+            return
+        rospy.logwarn_throttle(10.0, "amcl mock: no odometry and ground truth of one instant; "
+                               "re-sending the last map -> odom")
+        self.tf_pub.sendTransform(transform_msg(self.correction, self.global_frame,
+                                                self.odom_frame,
+                                                rospy.Time.now() + self.tolerance))
 
     def _diagnose(self, _event):
         localised = self.model.localised
