@@ -4,8 +4,8 @@ import pytest
 
 keras = pytest.importorskip("keras")
 
-from semantic_nav.network import (NetworkConfig, StepPolicy, add_stop_head,  # noqa: E402
-                                  build_network, has_stop_head,
+from semantic_nav.network import (NetworkConfig, StepPolicy, add_heads,  # noqa: E402
+                                  build_network, has_head, has_stop_head,
                                   load_network, relu, softmax)
 from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
 
@@ -88,16 +88,24 @@ def test_stop_head_single_step_matches_sequence_model():
     assert _compare(model, config, rng) < 1e-5
 
 
-def test_add_stop_head_keeps_the_velocity_outputs():
+def test_add_heads_keeps_the_velocity_outputs():
     keras.utils.set_random_seed(6)
     config = NetworkConfig(word_units=4, scan_units=8, fused_units=6)
     plain = build_network(config)
-    extended = add_stop_head(plain, config)
-    assert has_stop_head(extended) and not has_stop_head(plain)
+    config.stop_head = True
+    with_stop = add_heads(plain, config)
+    assert has_stop_head(with_stop) and not has_stop_head(plain)
+    config.decision_head = True
+    both = add_heads(with_stop, config)
+    assert has_head(both, "decision") and not has_head(with_stop, "decision")
     rng = np.random.default_rng(3)
     inputs = {"words": rng.normal(size=(2, 4, config.word_dim)).astype(np.float32),
               "scans": rng.random((2, 7, config.beams)).astype(np.float32)}
-    a, b = plain.predict_on_batch(inputs), extended.predict_on_batch(inputs)
+    a, b, c = (m.predict_on_batch(inputs) for m in (plain, with_stop, both))
     np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(b["velocity"]), atol=1e-6)
-    assert np.asarray(b["stop"]).shape == (2, 7, 1)
+    np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(c["velocity"]), atol=1e-6)
+    np.testing.assert_allclose(np.asarray(b["stop"]), np.asarray(c["stop"]), atol=1e-6)
+    assert np.asarray(c["decision"]).shape == (2, 7, 1)
     assert StepPolicy.from_keras(plain).stop_probability is None
+    # control does not use the decision output: the single-step path still matches
+    assert _compare(both, config, rng) < 1e-5

@@ -4,7 +4,8 @@ import pytest
 
 from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingConfig,
                                    ValidationThresholds, accumulated_errors, batch_rows,
-                                   control_rate_sequence, make_batches, mirror_sequence,
+                                   control_rate_sequence, decision_distance, decision_step,
+                                   make_batches, mirror_sequence,
                                    onset_verdict, step_errors, step_weights, turn_fit_by_class,
                                    turn_onset, validate_sequence)
 
@@ -103,6 +104,52 @@ def test_stop_targets_mark_the_standing_steps():
     assert "stop" not in make_batches([episode], None, Words(), np.random.default_rng(0),
                                       TrainingConfig(hold_steps=2), phases=[0],
                                       sentences=sentences)[0][1]
+
+
+def _corner_commands():
+    """10 Hz: 0.5 s of steering (ω 0.2, too short for a turn), 1 s straight at 0.5 m/s, a
+    2.5 s turn at 0.3 m/s, 0.5 s standing."""
+    return np.array([[0.5, 0.2]] * 5 + [[0.5, 0.0]] * 10 + [[0.3, 0.3]] * 25
+                    + [[0.0, 0.0]] * 5, np.float32)
+
+
+def test_decision_step_skips_steering_and_falls_back_to_the_stop():
+    config = TrainingConfig()                 # turn_threshold 0.15, turns of ≥ 2 s
+    assert decision_step(_corner_commands(), 10.0, config) == 15
+    straight = np.array([[0.5, 0.0]] * 20 + [[0.0, 0.0]] * 10, np.float32)
+    assert decision_step(straight, 10.0, config) == 20
+    assert decision_step(straight[:20], 10.0, config) is None
+
+
+def test_decision_distance_counts_down_to_the_turn():
+    config = TrainingConfig(decision_horizon=15.0)
+    target = decision_distance(_corner_commands(), 10.0, config)
+    # 15 steps of 0.05 m before the turn: 0.75 m at step 0, 0.25 m at step 10, then 0
+    np.testing.assert_allclose(target[[0, 10, 14]], np.array([0.75, 0.25, 0.05]) / 15.0,
+                               rtol=1e-6)
+    assert not target[15:].any()
+    clipped = decision_distance(_corner_commands(), 10.0, TrainingConfig(decision_horizon=0.5))
+    np.testing.assert_allclose(clipped[[0, 10]], [1.0, 0.5], rtol=1e-6)
+    endless = np.array([[0.5, 0.0]] * 20, np.float32)      # never turns nor stops: "far"
+    assert decision_distance(endless, 10.0, config).tolist() == [1.0] * 20
+
+
+def test_decision_targets_only_when_asked():
+    episode = Episode(5, np.ones((45, 3), np.float32), _corner_commands(), rate=10.0)
+
+    class Words:
+        dim = 2
+    sentences = [np.ones((3, 2), np.float32)]
+    config = TrainingConfig(hold_steps=0, decision_targets=True)
+    (batch,) = make_batches([episode], None, Words(), np.random.default_rng(0), config,
+                            phases=[0], sentences=sentences)
+    _, targets, weights = batch
+    np.testing.assert_allclose(targets["decision"][0, :, 0],
+                               decision_distance(_corner_commands(), 10.0, config))
+    assert weights["decision"].tolist() == [[1.0] * 45]
+    assert "decision" not in make_batches([episode], None, Words(), np.random.default_rng(0),
+                                          TrainingConfig(hold_steps=0), phases=[0],
+                                          sentences=sentences)[0][1]
 
 
 def test_step_weights_single_out_turning_and_standing_steps():

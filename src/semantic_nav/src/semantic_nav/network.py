@@ -15,6 +15,14 @@ linear (v, ω) regression is never within the 1e-3 of Eq. 2.2-12 near the goal (
 cm/s), so the halting counter never starts; the stop output turns "stop now" into a
 classification the post-processing can act on (postprocess.apply_stop).
 
+Beyond the seed (optional, `NetworkConfig.decision_head`): a linear output `decision`
+(batch, T, 1) on LSTM_fused, trained with MSE on the distance the expert still drives before
+its decision (its turn, or its stop), over `TrainingConfig.decision_horizon`
+(training.decision_distance).
+An auxiliary task: "turn left at the third corner" is decided in a few steps, but this target
+asks at every step how far that corner still is, so LSTM_fused must keep count of the corners
+passed. Control does not use it.
+
 `StepPolicy` re-implements the trained network in numpy for control: classify a simple
 instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
 """
@@ -42,6 +50,8 @@ class NetworkConfig:
     learning_rate: float = 2e-3      # Adam
     stop_head: bool = False          # beyond the seed: sigmoid "standing at the goal" output
     stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
+    decision_head: bool = False      # beyond the seed: "distance to the decision" output
+    decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
 
 
 @keras.saving.register_keras_serializable(package="semantic_nav")
@@ -112,41 +122,60 @@ def build_network(config=None):
     h_f = SequenceLSTM(config.fused_units, name="lstm_fused")(fused)
     velocity = keras.layers.Dense(2, name="velocity")(h_f)
     outputs = {"velocity": velocity, "instruction_class": z_w}
-    if config.stop_head:
-        outputs["stop"] = keras.layers.Dense(1, activation="sigmoid", name="stop")(h_f)
+    for name in wanted_heads(config):
+        outputs[name] = _head_layer(name)(h_f)
     model = keras.Model({"words": words, "scans": scans}, outputs, name="semnav")
     compile_network(model, config)
     return model
 
 
+# Optional outputs on LSTM_fused (beyond the seed): name -> (activation, loss)
+HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
+
+
+def _head_layer(name):
+    return keras.layers.Dense(1, activation=HEADS[name][0], name=name)
+
+
+def wanted_heads(config):
+    """The optional outputs `config` asks for, in HEADS order."""
+    return [name for name in HEADS if getattr(config, f"{name}_head")]
+
+
+def has_head(model, name):
+    return any(layer.name == name for layer in model.layers)
+
+
 def has_stop_head(model):
-    return any(layer.name == "stop" for layer in model.layers)
+    return has_head(model, "stop")
 
 
-def add_stop_head(model, config):
-    """A model of build_network without the stop output -> the same layers (shared weights) plus
-    a new `stop` output, compiled (fine-tuning a behaviour-cloning model with a stop head)."""
-    if has_stop_head(model):
-        compile_network(model, config)
-        return model
-    inputs = {"words": model.get_layer("word_mask").input,
-              "scans": model.get_layer("fc_scan").input}
-    stop = keras.layers.Dense(1, activation="sigmoid", name="stop")(
-        model.get_layer("lstm_fused").output)
-    outputs = {name: model.get_layer(name).output for name in ("velocity", "instruction_class")}
-    extended = keras.Model(inputs, {**outputs, "stop": stop}, name="semnav")
-    compile_network(extended, config)
-    return extended
+def add_heads(model, config):
+    """A model of build_network -> the same layers (shared weights) plus the optional outputs
+    `config` asks for that it lacks, compiled (fine-tuning a model with a new head). Heads the
+    model has are kept."""
+    missing = [name for name in wanted_heads(config) if not has_head(model, name)]
+    if missing:
+        inputs = {"words": model.get_layer("word_mask").input,
+                  "scans": model.get_layer("fc_scan").input}
+        fused = model.get_layer("lstm_fused").output
+        outputs = {name: model.get_layer(name).output for name in
+                   ("velocity", "instruction_class", *HEADS) if has_head(model, name)}
+        outputs.update({name: _head_layer(name)(fused) for name in missing})
+        model = keras.Model(inputs, outputs, name="semnav")
+    compile_network(model, config)
+    return model
 
 
 def compile_network(model, config):
-    """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ binary cross-entropy on the stop
-    output when the model has one)."""
+    """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ the losses of the optional heads the
+    model has: binary cross-entropy on stop, MSE on decision)."""
     loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
     weights = {"velocity": 1.0, "instruction_class": config.class_loss_weight}
-    if has_stop_head(model):
-        loss["stop"] = "binary_crossentropy"
-        weights["stop"] = config.stop_loss_weight
+    for name, (_, head_loss) in HEADS.items():
+        if has_head(model, name):
+            loss[name] = head_loss
+            weights[name] = getattr(config, f"{name}_loss_weight")
     model.compile(optimizer=keras.optimizers.Adam(config.learning_rate), loss=loss,
                   loss_weights=weights)
 

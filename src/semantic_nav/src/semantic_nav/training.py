@@ -36,6 +36,9 @@ class TrainingConfig:
     turn_threshold: float = 0.15  # |ω| of the expert from which a step counts as turning [rad/s]
     mirror_probability: float = 0.0  # share of training sequences mirrored left-right [1]
     stop_targets: bool = False   # add the "stop" target (network with a stop head) [bool]
+    decision_targets: bool = False  # add the "decision" target (network with a decision head)
+    decision_horizon: float = 15.0  # decision distances are clipped here and scaled by it [m]
+    decision_turn_seconds: float = 2.0  # a turn lasts this long; shorter ones are steering [s]
 
 
 @dataclass
@@ -182,6 +185,39 @@ def step_weights(commands, config):
                     np.where(turning, config.turn_weight, 1.0)).astype(np.float32)
 
 
+def decision_step(commands, rate, config):
+    """The step where the expert decides: the first step of its first turn that lasts
+    `decision_turn_seconds` (at least |ω| ≥ turn_threshold all along; shorter runs are steering
+    back onto the corridor axis), else its first standing step, else None."""
+    turning = np.abs(commands[:, 1]) >= config.turn_threshold
+    least = max(1, int(round(config.decision_turn_seconds * rate)))
+    padded = np.concatenate([[False], turning, [False]]).astype(int)
+    edges = np.flatnonzero(np.diff(padded))
+    for first, end in zip(edges[::2], edges[1::2]):
+        if end - first >= least:
+            return int(first)
+    standing = np.flatnonzero(np.all(commands == 0.0, axis=1))
+    return int(standing[0]) if standing.size else None
+
+
+def decision_distance(commands, rate, config):
+    """Beyond the seed, the auxiliary target of the decision head: per step, the distance
+    [m] the expert still drives before its decision step (sum of v / rate), 0 from there on,
+    clipped at decision_horizon and divided by it -> (N,) float32 in [0, 1]. Without a decision
+    (a sequence that ends elsewhere) the distance counts to the sequence's end plus the
+    horizon, i.e. "far"."""
+    decision = decision_step(commands, rate, config)
+    travel = np.abs(commands[:, 0]) / rate
+    end = len(commands) if decision is None else decision
+    remaining = np.zeros(len(commands))
+    # distance from step t to `end`: the travel of steps t … end-1
+    remaining[:end] = np.cumsum(travel[:end][::-1])[::-1]
+    if decision is None:
+        remaining += config.decision_horizon
+    return (np.minimum(remaining, config.decision_horizon)
+            / config.decision_horizon).astype(np.float32)
+
+
 # Left-right mirror image of each class (Table 3.1-1): right and left swap, 1 and 4 stay.
 MIRRORED_CLASS = {1: 1, 2: 3, 3: 2, 4: 4, 5: 6, 6: 5, 7: 8, 8: 7, 9: 10, 10: 9}
 
@@ -220,11 +256,14 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
         commands = np.zeros((len(chunk), steps, 2), np.float32)
         weights = np.zeros((len(chunk), steps), np.float32)
         stop = np.zeros((len(chunk), steps, 1), np.float32)
+        decision = np.zeros((len(chunk), steps, 1), np.float32)
         for row, (s, c, _, _) in enumerate(chunk):
             scans[row, :len(s)], commands[row, :len(c)] = s, c
             standing = np.all(c == 0.0, axis=1)
             weights[row, :len(s)] = step_weights(c, config)
             stop[row, :len(s), 0] = standing
+            if config.decision_targets:
+                decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
         words = pad_words([item[2] for item in chunk], word_vectors.dim)
         labels = np.array([item[3] - 1 for item in chunk])
         targets = {"velocity": commands, "instruction_class": labels}
@@ -233,6 +272,9 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
         if config.stop_targets:      # beyond the seed: 1 where the expert stands still
             targets["stop"] = stop
             sample_weights["stop"] = (weights > 0).astype(np.float32)
+        if config.decision_targets:  # beyond the seed: distance to the expert's decision
+            targets["decision"] = decision
+            sample_weights["decision"] = (weights > 0).astype(np.float32)
         batches.append(({"words": words, "scans": scans}, targets, sample_weights))
     return batches
 
