@@ -93,20 +93,22 @@ class AmclNode:
         msg.pose.covariance = covariance
         self.pose_pub.publish(msg)
         self.correction = map_to_odom(estimate, odom_pose)
-        self.tf_pub.sendTransform(transform_msg(self.correction, self.global_frame,
-                                                self.odom_frame, now + self.tolerance))
+        self._send_correction(now)
         self.published += 1
 
+    def _send_correction(self, now):
+        """The last map -> odom, post-dated by ~transform_tolerance, as amcl does."""
+        self.tf_pub.sendTransform(transform_msg(self.correction, self.global_frame,
+                                                self.odom_frame, now + self.tolerance))
+
     def _resend_correction(self):
-        """amcl re-sends its last map -> odom, post-dated, between updates: without it the
-        transform expires and every consumer (move_base) loses the robot's pose."""
+        """amcl re-sends its last map -> odom between updates: without it the transform
+        expires and every consumer (move_base) loses the robot's pose."""
         if self.correction is None:
             return
         rospy.logwarn_throttle(10.0, "amcl mock: no odometry and ground truth of one instant; "
                                "re-sending the last map -> odom")
-        self.tf_pub.sendTransform(transform_msg(self.correction, self.global_frame,
-                                                self.odom_frame,
-                                                rospy.Time.now() + self.tolerance))
+        self._send_correction(rospy.Time.now())
 
     def _diagnose(self, _event):
         localised = self.model.localised

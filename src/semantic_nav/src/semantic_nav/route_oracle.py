@@ -187,9 +187,9 @@ def corridor_axis(field, x, y, yaw, config):
     return axis if abs(axis - coarse) <= math.radians(config.axis_search) else coarse
 
 
-def _side_runs(open_mask):
+def true_runs(mask):
     """Index ranges [(first, last)] of consecutive True values."""
-    padded = np.concatenate([[False], open_mask, [False]]).astype(int)
+    padded = np.concatenate([[False], mask, [False]]).astype(int)
     edges = np.flatnonzero(np.diff(padded))
     return list(zip(edges[::2], edges[1::2] - 1))
 
@@ -199,7 +199,7 @@ def find_openings(field, walk, positions, side_distances, config):
     openings = []
     for side, sign in (("left", 1.0), ("right", -1.0)):
         distances = side_distances[side]
-        for first, last in _side_runs(distances > walk.half_width + config.open_margin):
+        for first, last in true_runs(distances > walk.half_width + config.open_margin):
             width = positions[last] - positions[first] + config.step
             if width < config.min_door_width:
                 continue

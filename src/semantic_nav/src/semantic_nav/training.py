@@ -17,6 +17,7 @@ import yaml
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
+from semantic_nav.route_oracle import true_runs
 
 
 @dataclass
@@ -191,10 +192,8 @@ def decision_step(commands, rate, config):
     back onto the corridor axis), else its first standing step, else None."""
     turning = np.abs(commands[:, 1]) >= config.turn_threshold
     least = max(1, int(round(config.decision_turn_seconds * rate)))
-    padded = np.concatenate([[False], turning, [False]]).astype(int)
-    edges = np.flatnonzero(np.diff(padded))
-    for first, end in zip(edges[::2], edges[1::2]):
-        if end - first >= least:
+    for first, last in true_runs(turning):
+        if last - first + 1 >= least:
             return int(first)
     standing = np.flatnonzero(np.all(commands == 0.0, axis=1))
     return int(standing[0]) if standing.size else None
