@@ -113,3 +113,16 @@ def test_plan_balances_classes_over_starts():
     assert per_class[6] == [] and per_class[7] == []
     assert sorted(per_class[9]) == sorted(starts[1:])
     assert len(per_class[1]) == 2 and len(per_class[4]) == 2
+
+
+def test_counting_plan_takes_only_starts_where_the_other_side_counts():
+    from semantic_nav.demonstrations import plan_counting_demonstrations
+    from sim2d.occupancy_map import load_map
+    oracle = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml"))
+    # the spine from its south end: the crossroad is the 3rd corner but the 2nd on either side;
+    # the side corridors and the west branch: classes 5 and 6 apply, but one side counts alike
+    spine = (18.0, 5.0, math.pi / 2)
+    starts = [spine, (4.0, 11.0, math.pi / 2), (32.0, 16.0, math.pi / 2), (6.0, 18.0, 0.0)]
+    plan = plan_counting_demonstrations(oracle, starts, 3, np.random.default_rng(0))
+    assert plan == [(spine, 5), (spine, 7), (spine, 8)]
+    assert plan_counting_demonstrations(oracle, starts, 0, np.random.default_rng(0)) == []

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import yaml
 
-from semantic_nav.route_oracle import OracleConfig, OracleError, RouteOracle
+from semantic_nav.route_oracle import (OracleConfig, OracleError, RouteOracle, counting_matters,
+                                       goal_branch, one_side_branch)
 from sim2d.blueprint import render_blueprint
 from sim2d.occupancy_map import load_map
 
@@ -81,6 +82,20 @@ def test_slanted_start_heading_finds_the_corridor_axis():
     walk = RouteOracle(grid).walk((1.0, 2.6, math.radians(12)))
     assert walk.axis == pytest.approx(0.0, abs=math.radians(1))
     assert walk.origin[1] == pytest.approx(3.0, abs=0.05)
+
+
+def test_corners_count_over_both_sides_not_only_the_turning_side():
+    # office_comb's blueprint, walking north up its spine from the south end: branches west at
+    # y = 10, east at 14, both at 18 (the crossroad), west at 24, east at 27
+    walk = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml")).walk((18.0, 5.0, math.pi / 2))
+
+    def along(branch):
+        return None if branch is None else round(float(walk.point(branch.centre)[1]))
+
+    assert [along(goal_branch(walk, label)) for label in (5, 6, 7, 8)] == [14, None, 18, 18]
+    assert [along(one_side_branch(walk, label)) for label in (5, 6, 7, 8)] == [18, 18, 27, 24]
+    assert [counting_matters(walk, label) for label in range(1, 11)] == \
+        [False] * 4 + [True, False, True, True, False, False]
 
 
 def test_map_with_no_corridor_is_a_clear_error():

@@ -11,7 +11,7 @@ import numpy as np
 from penguin_base.recording import SequenceBuilder
 from semantic_nav.episodes import EpisodeError, chain_goals
 from semantic_nav.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
-from semantic_nav.route_oracle import RouteOracle
+from semantic_nav.route_oracle import RouteOracle, counting_matters
 from sim2d.kinematics import RobotState
 from sim2d.occupancy_map import load_map
 from sim2d.world import CACHE_DIR, World, new_odometry
@@ -126,6 +126,20 @@ def plan_demonstrations(oracle, starts, per_class, rng):
                 applicable[label].append(start)
     plan = []
     for label, candidates in applicable.items():
+        chosen = rng.permutation(len(candidates))[:per_class]
+        plan.extend((candidates[i], label) for i in sorted(chosen))
+    return plan
+
+
+def plan_counting_demonstrations(oracle, starts, per_class, rng):
+    """Classes 5-8 from starts where counting the corners over both sides matters
+    (route_oracle.counting_matters): for each class, up to `per_class` of those starts, drawn at
+    random. Returns [(start, class)] in class order."""
+    plan = []
+    walks = [oracle.walk(start) for start in starts]
+    for label in (5, 6, 7, 8):
+        candidates = [start for start, walk in zip(starts, walks)
+                      if counting_matters(walk, label)]
         chosen = rng.permutation(len(candidates))[:per_class]
         plan.extend((candidates[i], label) for i in sorted(chosen))
     return plan

@@ -301,6 +301,25 @@ def goal_branch(walk, label):
     return corner.branches.get(side) if corner else None
 
 
+def one_side_branch(walk, label):
+    """Classes 5-8 counted the wrong way, over the corners with a branch on the turning side
+    only: the branch that count reaches, or None."""
+    side, nth = SIDE[label], NTH[KIND[label]]
+    corners = [c for c in walk.corners if side in c.branches]
+    return corners[nth - 1].branches[side] if len(corners) >= nth else None
+
+
+def counting_matters(walk, label):
+    """True when class `label` (5-8) applies here and counting the corners over both sides
+    (the oracle's rule) reaches another branch than counting one side only: the starts that
+    teach a network to count every corner, not only those on its turning side (beyond the
+    seed; a network trained without enough of them turns at the Nth opening on its side)."""
+    if KIND.get(label) not in NTH:
+        return False
+    branch = goal_branch(walk, label)
+    return branch is not None and branch is not one_side_branch(walk, label)
+
+
 def goal_pose(walk, label, config):
     """Table 3.1-1 class -> goal pose (x, y, yaw), or None when not applicable here."""
     if label == 1:
