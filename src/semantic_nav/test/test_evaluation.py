@@ -9,7 +9,8 @@ import pytest
 
 import semantic_nav.evaluation as evaluation
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
-                                     breakdown, class_census, episode_seed, evaluate,
+                                     breakdown, class_census, counting_breakdown, episode_seed,
+                                     evaluate,
                                      format_table, load_plan, plan_chain_episodes, plan_episodes,
                                      success_table)
 from semantic_nav.episodes import chain_goals
@@ -171,3 +172,18 @@ def test_table_in_the_layout_of_table_4_2_1():
     extra = breakdown(outcomes)
     assert extra["reasons"] == {"reached": 31, "collision": 107}
     assert extra["class_prediction_accuracy"] == 1.0
+
+
+def test_counting_breakdown_splits_classes_5_to_8_by_the_other_side():
+    from sim2d.occupancy_map import load_map
+    floor = str(ROOT / "maps" / "office_comb.yaml")
+    oracles = {floor: RouteOracle(load_map(floor))}
+    # from the spine's south end corners on the other side count for 5, 7, 8; from the west
+    # corridor (4, 11) northwards class 5 counts alike; classes 1-4 and chains are left out
+    spine, west = (18.0, 5.0, math.pi / 2), (4.0, 11.0, math.pi / 2)
+    cases = [(spine, (7,), True), (spine, (8,), False), (spine, (5,), False),
+             (west, (5,), True), (west, (5,), True), (spine, (1,), True), (spine, (1, 3), True)]
+    outcomes = [EpisodeOutcome(EpisodeSpec(floor, start, labels, "s", False), ok, "r", 1.0, 1,
+                               list(labels)) for start, labels, ok in cases]
+    assert counting_breakdown(outcomes, oracles) == {
+        "matters": {"tests": 3, "successes": 1}, "alike": {"tests": 2, "successes": 2}}

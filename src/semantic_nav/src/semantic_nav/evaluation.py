@@ -23,7 +23,7 @@ from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, ch
                                    chain_goals, run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.phrase_sets import CLASSES, KIND, SIDE, TURN_CLASSES, sample_sentence
-from semantic_nav.route_oracle import OracleError, RouteOracle
+from semantic_nav.route_oracle import OracleError, RouteOracle, counting_matters
 
 
 @dataclass
@@ -302,6 +302,23 @@ def format_table(rows, total, title=""):
     for label, tests, wins, rate in rows + [total]:
         lines.append(f"| {label} | {tests} | {wins} | {rate:.4f} |")
     return "\n".join(lines)
+
+
+def counting_breakdown(outcomes, oracles):
+    """Classes 5-8 (single-part episodes) split by whether counting the corners over both sides
+    matters from their start (route_oracle.counting_matters) -> {"matters" / "alike":
+    {"tests", "successes"}}: a policy that counts one side only fails the first group."""
+    groups = {}
+    for outcome in outcomes:
+        (label,) = outcome.spec.labels if len(outcome.spec.labels) == 1 else (None,)
+        if label not in (5, 6, 7, 8):
+            continue
+        walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
+        group = groups.setdefault("matters" if counting_matters(walk, label) else "alike",
+                                  {"tests": 0, "successes": 0})
+        group["tests"] += 1
+        group["successes"] += bool(outcome.success)
+    return groups
 
 
 def breakdown(outcomes):
