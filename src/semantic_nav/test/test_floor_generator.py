@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from semantic_nav.floor_generator import FloorGeneratorConfig, random_floor
+from semantic_nav.floor_generator import (Corridor, FloorGeneratorConfig, random_floor,
+                                          side_branches)
 from sim2d.blueprint import rect_cells
 from sim2d.occupancy_map import FREE, OCCUPIED
 
@@ -72,3 +73,34 @@ def test_openings_in_corridor_walls_are_doors_or_corridor_mouths(seed):
                 assert is_door or is_mouth, f"gap of {run:.2f} m beside {corridor}"
                 doors += is_door
     assert doors > 0
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_side_branches_leave_one_side_clear_of_other_mouths(seed):
+    # a 40 m corridor along y = 10 (walls at 9 and 11) crossed by one at x = 20 (19..21)
+    config = FloorGeneratorConfig(side_branch_rate=0.3)
+    main, cross = Corridor(True, 10.0, 0.0, 40.0, 2.0), Corridor(False, 20.0, 0.0, 20.0, 2.0)
+    branches = side_branches(np.random.default_rng(seed), [main, cross], 40.0, 20.0, config)
+    assert branches, "rate 0.3 on 60 m of corridor gave no branch"
+    spans = [(19.0, 21.0)]
+    for branch in branches:
+        low, high = branch.centre - branch.width / 2, branch.centre + branch.width / 2
+        if branch.horizontal:        # off the crossing corridor x 19..21
+            assert branch.start == 21.0 or branch.end == 19.0
+            continue
+        assert branch.start == 11.0 or branch.end == 9.0          # one side of the wall only
+        assert 3.0 <= branch.end - branch.start <= 8.0
+        assert all(high + 1.5 <= a or b + 1.5 <= low for a, b in spans), (branch, spans)
+        spans.append((low, high))
+
+
+def test_side_branches_keep_the_floor_closed_and_older_seeds_unchanged():
+    plain, _ = random_floor(4)
+    grid, corridors = random_floor(4, FloorGeneratorConfig(side_branch_rate=0.3))
+    assert np.array_equal(random_floor(4, FloorGeneratorConfig(side_branch_rate=0.0))[0].cells,
+                          plain.cells)
+    wall = int(round(CONFIG.wall / RES))
+    cells = grid.cells
+    for border in (cells[:wall], cells[-wall:], cells[:, :wall], cells[:, -wall:]):
+        assert np.all(border == OCCUPIED)
+    assert len(corridors) > len(random_floor(4)[1])

@@ -4,8 +4,10 @@ floors; a network that has seen few buildings learns their walls, not corridors)
 A floor is a grid of axis-aligned corridors (1.8-2.4 m wide) that cross, meet in T-junctions and
 L corners and end in dead ends, rooms filling the space between them (split into offices by
 partition walls) and doors (0.8-1.1 m, narrower than the route oracle's 1.3 m branches) from the
-offices into the corridors, some furniture. The result is an OccupancyMap carved cell by cell:
-everything starts occupied, corridors and rooms are cleared, the walls are what remains.
+offices into the corridors, some furniture. Optionally (side_branch_rate) short one-sided branches
+leave corridors between the crossings (staggered corners). The result is an OccupancyMap carved
+cell by cell: everything starts occupied, corridors and rooms are cleared, the walls are what
+remains.
 Coordinates in metres, origin at the map's lower-left corner.
 """
 from dataclasses import dataclass
@@ -37,6 +39,10 @@ class FloorGeneratorConfig:
     door_probability: float = 0.6         # a candidate place gets a door [1]
     junction_clearance: float = 0.8       # no door this close to a corridor mouth [m]
     furniture_probability: float = 0.5    # per office [1]
+    side_branch_rate: float = 0.0         # one-sided T branches per metre of corridor, off
+    #                                       the crossings (staggered corners) [1/m]
+    side_branch_length: tuple = (3.0, 8.0)  # [m]
+    side_branch_gap: float = 1.5          # wall left between a side branch and other mouths [m]
     resolution: float = 0.05              # [m/cell]
 
 
@@ -122,6 +128,46 @@ def random_corridors(rng, width, depth, config):
     return corridors
 
 
+def _mouths(corridor, corridors):
+    """(low, high) spans along `corridor` where perpendicular corridors meet or cross it."""
+    spans = []
+    for other in corridors:
+        if other.horizontal == corridor.horizontal:
+            continue
+        if other.start <= corridor.centre + corridor.width / 2.0 and \
+                corridor.centre - corridor.width / 2.0 <= other.end:
+            spans.append((other.centre - other.width / 2.0, other.centre + other.width / 2.0))
+    return spans
+
+
+def side_branches(rng, corridors, width, depth, config):
+    """Beyond crossings and corridor ends: short corridors leaving one side of a corridor (a T
+    with the stem on one side only) at random places at least `side_branch_gap` of wall from
+    every other mouth, so a walk meets staggered corners, a left one soon after a right one."""
+    branches = []
+    for corridor in corridors:
+        count = int(rng.poisson(config.side_branch_rate * (corridor.end - corridor.start)))
+        for _ in range(count):
+            w = float(rng.uniform(*config.corridor_width))
+            if corridor.end - corridor.start < 3.0 * w:
+                continue
+            position = float(rng.uniform(corridor.start + w, corridor.end - w))
+            spans = _mouths(corridor, corridors + branches)
+            if any(low - config.side_branch_gap < position + w / 2.0 and
+                   position - w / 2.0 < high + config.side_branch_gap for low, high in spans):
+                continue
+            side = 1.0 if rng.random() < 0.5 else -1.0
+            wall = corridor.centre + side * corridor.width / 2.0
+            limit = (depth if corridor.horizontal else width) - 1.0 if side > 0 else 1.0
+            tip = wall + side * float(rng.uniform(*config.side_branch_length))
+            tip = min(tip, limit) if side > 0 else max(tip, limit)
+            if abs(tip - wall) < config.side_branch_length[0]:
+                continue
+            branches.append(Corridor(not corridor.horizontal, position, min(wall, tip),
+                                     max(wall, tip), w))
+    return branches
+
+
 def _partition(rooms, rng, config, res):
     """Split the room space by full-length partition walls every room_size along x and y."""
     h, w = rooms.shape
@@ -200,6 +246,8 @@ def random_floor(seed, config=None):
     width = round(float(rng.uniform(*config.width)) / res) * res
     depth = round(float(rng.uniform(*config.depth)) / res) * res
     corridors = random_corridors(rng, width, depth, config)
+    if config.side_branch_rate > 0:      # (no draw otherwise: older seeds keep their floors)
+        corridors += side_branches(rng, corridors, width, depth, config)
     shape = (int(round(depth / res)), int(round(width / res)))
     corridor_mask = np.zeros(shape, dtype=bool)
     for corridor in corridors:
