@@ -10,9 +10,8 @@ import pytest
 import semantic_nav.evaluation as evaluation
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, counting_breakdown, episode_seed,
-                                     evaluate,
-                                     format_table, load_plan, plan_chain_episodes, plan_episodes,
-                                     success_table)
+                                     evaluate, format_table, load_plan, plan_chain_episodes,
+                                     plan_episodes, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
 from semantic_nav.route_oracle import RouteOracle

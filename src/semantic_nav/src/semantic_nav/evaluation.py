@@ -310,9 +310,10 @@ def counting_breakdown(outcomes, oracles):
     {"tests", "successes"}}: a policy that counts one side only fails the first group."""
     groups = {}
     for outcome in outcomes:
-        (label,) = outcome.spec.labels if len(outcome.spec.labels) == 1 else (None,)
-        if label not in (5, 6, 7, 8):
+        labels = outcome.spec.labels
+        if len(labels) != 1 or labels[0] not in (5, 6, 7, 8):
             continue
+        label = labels[0]
         walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
         group = groups.setdefault("matters" if counting_matters(walk, label) else "alike",
                                   {"tests": 0, "successes": 0})

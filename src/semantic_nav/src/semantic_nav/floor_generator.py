@@ -158,7 +158,8 @@ def side_branches(rng, corridors, width, depth, config):
                 continue
             side = 1.0 if rng.random() < 0.5 else -1.0
             wall = corridor.centre + side * corridor.width / 2.0
-            limit = (depth if corridor.horizontal else width) - 1.0 if side > 0 else 1.0
+            extent = depth if corridor.horizontal else width
+            limit = extent - 1.0 if side > 0 else 1.0        # stay off the outer wall
             tip = wall + side * float(rng.uniform(*config.side_branch_length))
             tip = min(tip, limit) if side > 0 else max(tip, limit)
             if abs(tip - wall) < config.side_branch_length[0]:

@@ -293,20 +293,24 @@ def goal_branch(walk, label):
     """The branch a turn class (2, 3, 5-10) turns into, or None when there is none."""
     side, kind = SIDE[label], KIND.get(label)
     if kind is None:
-        corner = next((c for c in walk.corners if side in c.branches), None)
-    elif kind == "end":
+        return nth_branch_on_side(walk, side, 1)
+    if kind == "end":
         corner = walk.corners[-1] if walk.corners and walk.corners[-1].at_end else None
     else:
         corner = walk.corners[NTH[kind] - 1] if len(walk.corners) >= NTH[kind] else None
     return corner.branches.get(side) if corner else None
 
 
+def nth_branch_on_side(walk, side, nth):
+    """The `nth` branch on `side`, counting only the corners with a branch there, or None."""
+    corners = [c for c in walk.corners if side in c.branches]
+    return corners[nth - 1].branches[side] if len(corners) >= nth else None
+
+
 def one_side_branch(walk, label):
     """Classes 5-8 counted the wrong way, over the corners with a branch on the turning side
     only: the branch that count reaches, or None."""
-    side, nth = SIDE[label], NTH[KIND[label]]
-    corners = [c for c in walk.corners if side in c.branches]
-    return corners[nth - 1].branches[side] if len(corners) >= nth else None
+    return nth_branch_on_side(walk, SIDE[label], NTH[KIND[label]])
 
 
 def counting_matters(walk, label):
