@@ -5,8 +5,8 @@ import pytest
 from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingConfig,
                                    ValidationThresholds, accumulated_errors, batch_rows,
                                    control_rate_sequence, decision_distance, decision_step,
-                                   make_batches, mirror_sequence,
-                                   onset_verdict, step_errors, step_weights, turn_fit_by_class,
+                                   class_batch, make_batches, mirror_sequence,
+                                   onset_verdict, word_noise, step_errors, step_weights, turn_fit_by_class,
                                    turn_onset, validate_sequence)
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
@@ -199,6 +199,52 @@ def test_only_training_batches_are_mirrored():
                          phases=[0], sentences=words)
     assert fixed[0][1]["instruction_class"].tolist() == [2]          # validation: class 3
     assert np.all(fixed[0][1]["velocity"][0, :, 1] == 0.3)
+
+
+def test_word_noise_has_the_asked_spread_and_none_at_zero():
+    vectors = np.tile(np.array([[1.0, -2.0, 0.5]], np.float32), (20000, 1))
+    rng = np.random.default_rng(3)
+    assert word_noise(vectors, 0.0, rng) is vectors
+    assert rng.integers(1 << 30) == np.random.default_rng(3).integers(1 << 30)   # no draw at 0
+    noisy = word_noise(vectors, 0.3, np.random.default_rng(4))
+    assert noisy.dtype == np.float32
+    np.testing.assert_allclose(noisy.mean(axis=0), [1.0, -2.0, 0.5], atol=0.01)
+    np.testing.assert_allclose(noisy.std(axis=0), [0.3] * 3, rtol=0.03)
+
+
+@pytest.fixture(scope="module")
+def phrase_words():
+    """The real phrase sets and a random vector for every word they use."""
+    from pathlib import Path
+
+    from semantic_nav.instruction_layer import tokenise
+    from semantic_nav.phrase_sets import load_phrase_sets
+    from semantic_nav.word_vectors import WordVectors
+    sets = load_phrase_sets(Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml")
+    vocabulary = sorted({t for phrases in sets.values() for p in phrases for t in tokenise(p.text)})
+    matrix = np.random.default_rng(0).normal(size=(len(vocabulary), 4)).astype(np.float32)
+    return sets, WordVectors(vocabulary, matrix, "random")
+
+
+def test_word_noise_reaches_training_sentences_but_not_validation(phrase_words):
+    sets, words = phrase_words
+    episode = Episode(3, np.ones((4, 3), np.float32),
+                      np.tile(np.array([[0.4, 0.3]], np.float32), (4, 1)), rate=10.0)
+
+    def sentence(noise, phases):
+        config = TrainingConfig(hold_steps=0, word_noise=noise)
+        (batch,) = make_batches([episode], sets, words, np.random.default_rng(5), config,
+                                phases=phases)
+        return batch[0]["words"][0]
+    assert np.array_equal(sentence(0.5, [0]), sentence(0.0, [0]))       # validation: clean
+    clean, noisy = sentence(0.0, None), sentence(0.5, None)
+    assert clean.shape == noisy.shape and not np.allclose(clean, noisy)
+    rows = {tuple(v) for v in words.matrix.tolist()}
+    assert all(tuple(v) in rows for v in clean.tolist())                # clean rows are words
+    clean_batch, labels = class_batch(sets, words, np.random.default_rng(6), 8)
+    noisy_batch, noisy_labels = class_batch(sets, words, np.random.default_rng(6), 8, noise=0.5)
+    assert labels.tolist() == noisy_labels.tolist()
+    assert not np.allclose(clean_batch, noisy_batch)
 
 
 def test_batch_rows_cut_the_padding_whatever_the_step_weights():
