@@ -6,8 +6,8 @@ from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingCon
                                    ValidationThresholds, accumulated_errors, batch_rows,
                                    control_rate_sequence, decision_distance, decision_step,
                                    class_batch, make_batches, mirror_sequence,
-                                   onset_verdict, word_noise, step_errors, step_weights, turn_fit_by_class,
-                                   turn_onset, validate_sequence)
+                                   onset_verdict, step_errors, step_weights, turn_fit_by_class,
+                                   turn_onset, validate_sequence, word_noise)
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
 
