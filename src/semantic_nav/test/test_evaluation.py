@@ -10,7 +10,8 @@ import pytest
 import semantic_nav.evaluation as evaluation
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, counting_breakdown, episode_seed,
-                                     evaluate, format_table, load_plan, plan_chain_episodes,
+                                     evaluate, failure_place, failure_places, format_table,
+                                     load_plan, plan_chain_episodes,
                                      plan_episodes, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
@@ -186,3 +187,28 @@ def test_counting_breakdown_splits_classes_5_to_8_by_the_other_side():
                                list(labels)) for start, labels, ok in cases]
     assert counting_breakdown(outcomes, oracles) == {
         "matters": {"tests": 3, "successes": 1}, "alike": {"tests": 2, "successes": 2}}
+
+
+def test_failure_places_tell_one_side_counting_from_overshooting():
+    from sim2d.occupancy_map import load_map
+    floor = str(ROOT / "maps" / "office_comb.yaml")
+    oracles = {floor: RouteOracle(load_map(floor))}
+    # office_comb's spine from its south end, facing north: west openings at y = 10, 18, 24,
+    # east ones at y = 14, 18, 27. The third corner is the crossroad y = 18: the second opening
+    # on either side; counting one side only reaches y = 27 (east) or y = 24 (west).
+    spine = (18.0, 4.0, math.pi / 2)
+    walk = oracles[floor].walk(spine)
+    assert failure_place(walk, 7, (20.5, 27.0)) == "opening 3 of 3 on its side (goal: 2)"
+    assert failure_place(walk, 8, (15.5, 24.0)) == "opening 3 of 3 on its side (goal: 2)"
+    assert failure_place(walk, 7, (15.5, 18.0)) == "other side"
+    assert failure_place(walk, 7, (18.0, 12.0)) == "short of the goal's corner"
+    assert failure_place(walk, 7, (18.2, 22.0)) == "past the goal's corner"
+    assert failure_place(walk, 2, (20.5, 18.0)) == "opening 2 of 3 on its side (goal: 1)"
+    ends = [((20.5, 27.0), 7, False), ((20.5, 27.2), 7, False), ((18.0, 22.0), 7, False),
+            ((20.5, 18.0), 7, True), ((18.0, 25.0), 1, False), ((15.5, 24.0), 8, False)]
+    outcomes = [EpisodeOutcome(EpisodeSpec(floor, spine, (label,), "s", False), ok, "r", 1.0, 1,
+                               [label], [[18.0, 4.0, 1.57], [x, y, 0.0]])
+                for (x, y), label, ok in ends]
+    assert failure_places(outcomes, oracles) == {
+        7: {"opening 3 of 3 on its side (goal: 2)": 2, "past the goal's corner": 1},
+        8: {"opening 3 of 3 on its side (goal: 2)": 1}}

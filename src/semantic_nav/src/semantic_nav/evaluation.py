@@ -23,7 +23,7 @@ from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, ch
                                    chain_goals, run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.phrase_sets import CLASSES, KIND, SIDE, TURN_CLASSES, sample_sentence
-from semantic_nav.route_oracle import OracleError, RouteOracle, counting_matters
+from semantic_nav.route_oracle import OracleError, RouteOracle, counting_matters, goal_branch
 
 
 @dataclass
@@ -320,6 +320,45 @@ def counting_breakdown(outcomes, oracles):
         group["tests"] += 1
         group["successes"] += bool(outcome.success)
     return groups
+
+
+def failure_place(walk, label, end, margin=0.3):
+    """Where a failed single turn (classes 2, 3, 5-10) ended, against the oracle's walk from its
+    start -> "opening K of N on its side (goal: M)" when the final position `end` (x, y) lies in
+    the K-th of the N openings on the turning side (the goal's is the M-th), "other side",
+    "short of the goal's corner" or "past the goal's corner" (still in the walked corridor).
+
+    Beyond the seed: tells a policy that counts the openings of one side only (it reaches
+    opening M' != M) from one that misses or overshoots the turn."""
+    side = SIDE[label]
+    along, lateral = walk.frame(end)
+    branches = [c.branches[side] for c in walk.corners if side in c.branches]
+    goal = goal_branch(walk, label)
+    if abs(lateral) > walk.half_width + margin:
+        if (lateral > 0) != (side == "left"):
+            return "other side"
+        inside = [k for k, b in enumerate(branches, 1)
+                  if b.start - margin <= along <= b.end + margin]
+        where = inside[0] if inside else "?"
+        goal_index = next((k for k, b in enumerate(branches, 1) if b is goal), "?")
+        return f"opening {where} of {len(branches)} on its side (goal: {goal_index})"
+    if goal is None:
+        return "in the corridor"
+    return "short of the goal's corner" if along < goal.start else "past the goal's corner"
+
+
+def failure_places(outcomes, oracles):
+    """failure_place of every failed single-part turn episode -> {class: {place: count}}."""
+    places = {}
+    for outcome in outcomes:
+        labels = outcome.spec.labels
+        if outcome.success or len(labels) != 1 or labels[0] not in SIDE or not outcome.path:
+            continue
+        walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
+        place = failure_place(walk, labels[0], outcome.path[-1][:2])
+        counts = places.setdefault(labels[0], {})
+        counts[place] = counts.get(place, 0) + 1
+    return dict(sorted(places.items()))
 
 
 def breakdown(outcomes):

@@ -92,6 +92,13 @@ class CorridorWalk:
     def point(self, s):
         return self.origin + s * np.array([math.cos(self.axis), math.sin(self.axis)])
 
+    def frame(self, xy):
+        """(x, y) -> (along, lateral) [m]: distance along the walk from the origin and offset
+        from its centre line, positive to the left."""
+        offset = np.asarray(xy, float)[:2] - self.origin
+        c, s = math.cos(self.axis), math.sin(self.axis)
+        return float(c * offset[0] + s * offset[1]), float(c * offset[1] - s * offset[0])
+
 
 @dataclass
 class Goal:
