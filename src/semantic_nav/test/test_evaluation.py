@@ -11,7 +11,8 @@ import semantic_nav.evaluation as evaluation
 from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, counting_breakdown, episode_seed,
                                      evaluate, failure_place, failure_places, format_table,
-                                     load_plan, plan_chain_episodes,
+                                     load_plan, mcnemar_exact, paired_comparison,
+                                     plan_chain_episodes,
                                      plan_episodes, success_table)
 from semantic_nav.episodes import chain_goals
 from semantic_nav.phrase_sets import load_phrase_sets
@@ -212,3 +213,27 @@ def test_failure_places_tell_one_side_counting_from_overshooting():
     assert failure_places(outcomes, oracles) == {
         7: {"opening 3 of 3 on its side (goal: 2)": 2, "past the goal's corner": 1},
         8: {"opening 3 of 3 on its side (goal: 2)": 1}}
+
+
+def test_mcnemar_exact_against_the_binomial_tail_by_hand():
+    assert mcnemar_exact(0, 5) == pytest.approx(2 / 32)             # 2 · (1/2)^5
+    assert mcnemar_exact(9, 1) == pytest.approx(2 * (1 + 10) / 1024)  # 2 (C(10,0) + C(10,1)) / 2^10
+    assert mcnemar_exact(3, 3) == 1.0                               # 2 · 42/64 > 1: capped
+    assert mcnemar_exact(0, 0) == 1.0
+
+
+def test_paired_comparison_counts_discordant_episodes_per_class():
+    def episode(label, index, success):
+        return {"spec": {"labels": [label], "start": [index, 0, 0]}, "success": success}
+    first = [episode(7, 0, True), episode(7, 1, False), episode(7, 2, False), episode(2, 3, True)]
+    second = [episode(7, 0, True), episode(7, 1, True), episode(7, 2, True), episode(2, 3, False)]
+    result = paired_comparison(first, second)
+    assert (result["first"], result["second"], result["only_first"], result["only_second"]) == \
+        (2, 3, 1, 2)
+    assert result["p"] == pytest.approx(1.0)
+    assert result["by_class"][7] == {"first": 1, "second": 3, "only_first": 0, "only_second": 2,
+                                     "p": pytest.approx(0.5)}
+    with pytest.raises(ValueError, match="episode 1 differs"):
+        paired_comparison(first, [first[0], episode(7, 9, True), *first[2:]])
+    with pytest.raises(ValueError, match="4 and 3 episodes"):
+        paired_comparison(first, first[:3])

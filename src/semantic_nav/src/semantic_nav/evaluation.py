@@ -361,6 +361,41 @@ def failure_places(outcomes, oracles):
     return dict(sorted(places.items()))
 
 
+def mcnemar_exact(only_first, only_second):
+    """Exact two-sided McNemar test on paired episodes: the discordant counts (episodes only
+    the first / only the second policy reached) -> p, twice the binomial(n, 1/2) tail of the
+    smaller count, at most 1 (beyond the seed: two models on the same plan)."""
+    n, k = only_first + only_second, min(only_first, only_second)
+    if n == 0:
+        return 1.0
+    return min(1.0, 2.0 * sum(math.comb(n, i) for i in range(k + 1)) / 2.0 ** n)
+
+
+def paired_comparison(first, second):
+    """Two result lists of the same plan (episode records with "spec" and "success", e.g. the
+    "episodes" of two eval_semnav --json files) -> {"first", "second", "only_first",
+    "only_second", "p"} overall and per class ("by_class"). ValueError naming the first
+    episode whose spec differs."""
+    if len(first) != len(second):
+        raise ValueError(f"the results have {len(first)} and {len(second)} episodes: not the "
+                         f"same plan")
+    for index, (a, b) in enumerate(zip(first, second)):
+        if a["spec"] != b["spec"]:
+            raise ValueError(f"episode {index} differs: {a['spec']} vs {b['spec']}")
+
+    def compare(pairs):
+        only_first = sum(1 for a, b in pairs if a["success"] and not b["success"])
+        only_second = sum(1 for a, b in pairs if b["success"] and not a["success"])
+        return {"first": sum(bool(a["success"]) for a, _ in pairs),
+                "second": sum(bool(b["success"]) for _, b in pairs), "only_first": only_first,
+                "only_second": only_second, "p": mcnemar_exact(only_first, only_second)}
+    pairs = list(zip(first, second))
+    labels = sorted({a["spec"]["labels"][-1] for a in first})
+    return {**compare(pairs), "by_class": {
+        label: compare([(a, b) for a, b in pairs if a["spec"]["labels"][-1] == label])
+        for label in labels}}
+
+
 def breakdown(outcomes):
     """Success by phrasing (train / held-out), failure reasons, class predictions."""
     by_split = {}
