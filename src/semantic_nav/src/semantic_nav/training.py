@@ -246,10 +246,21 @@ def mirror_sequence(scans, commands, label):
 
 
 def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
-    """One epoch: episodes -> [(inputs, targets, sample weights)] of similar lengths.
+    """One epoch: episodes -> [(inputs, targets, sample weights)] of similar lengths (all
+    built at once: validation, reports; training builds each batch when it needs it,
+    batch_chunks + batch_arrays, so an epoch's padded copy of the data never sits in memory).
 
     phases / sentences: fixed per episode (validation); random per epoch when None. Mirroring
     and word noise apply to training batches (phases None) only."""
+    return [batch_arrays(chunk, word_vectors.dim, config)
+            for chunk in batch_chunks(episodes, sets, word_vectors, rng, config, phases,
+                                      sentences)]
+
+
+def batch_chunks(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
+    """The random part of make_batches: per episode its control-rate sequence (views of the
+    episode's arrays where possible), mirroring and sentence -> the epoch's batches as lists of
+    (scans, commands, word vectors, class), sorted by length."""
     noise = config.word_noise if phases is None else 0.0
     items = []
     for index, episode in enumerate(episodes):
@@ -264,35 +275,37 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
                  if sentences is None else sentences[index])
         items.append((scans, commands, words, label))
     items.sort(key=lambda item: len(item[0]))
-    batches = []
-    for start in range(0, len(items), config.batch_size):
-        chunk = items[start:start + config.batch_size]
-        steps = max(len(item[0]) for item in chunk)
-        scans = np.zeros((len(chunk), steps, chunk[0][0].shape[1]), np.float32)
-        commands = np.zeros((len(chunk), steps, 2), np.float32)
-        weights = np.zeros((len(chunk), steps), np.float32)
-        stop = np.zeros((len(chunk), steps, 1), np.float32)
-        decision = np.zeros((len(chunk), steps, 1), np.float32)
-        for row, (s, c, _, _) in enumerate(chunk):
-            scans[row, :len(s)], commands[row, :len(c)] = s, c
-            standing = np.all(c == 0.0, axis=1)
-            weights[row, :len(s)] = step_weights(c, config)
-            stop[row, :len(s), 0] = standing
-            if config.decision_targets:
-                decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
-        words = pad_words([item[2] for item in chunk], word_vectors.dim)
-        labels = np.array([item[3] - 1 for item in chunk])
-        targets = {"velocity": commands, "instruction_class": labels}
-        sample_weights = {"velocity": weights,
-                          "instruction_class": np.ones(len(chunk), np.float32)}
-        if config.stop_targets:      # beyond the seed: 1 where the expert stands still
-            targets["stop"] = stop
-            sample_weights["stop"] = (weights > 0).astype(np.float32)
-        if config.decision_targets:  # beyond the seed: distance to the expert's decision
-            targets["decision"] = decision
-            sample_weights["decision"] = (weights > 0).astype(np.float32)
-        batches.append(({"words": words, "scans": scans}, targets, sample_weights))
-    return batches
+    return [items[start:start + config.batch_size]
+            for start in range(0, len(items), config.batch_size)]
+
+
+def batch_arrays(chunk, word_dim, config):
+    """One chunk of batch_chunks -> (inputs, targets, sample weights), zero-padded to its
+    longest sequence."""
+    steps = max(len(item[0]) for item in chunk)
+    scans = np.zeros((len(chunk), steps, chunk[0][0].shape[1]), np.float32)
+    commands = np.zeros((len(chunk), steps, 2), np.float32)
+    weights = np.zeros((len(chunk), steps), np.float32)
+    stop = np.zeros((len(chunk), steps, 1), np.float32)
+    decision = np.zeros((len(chunk), steps, 1), np.float32)
+    for row, (s, c, _, _) in enumerate(chunk):
+        scans[row, :len(s)], commands[row, :len(c)] = s, c
+        standing = np.all(c == 0.0, axis=1)
+        weights[row, :len(s)] = step_weights(c, config)
+        stop[row, :len(s), 0] = standing
+        if config.decision_targets:
+            decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
+    words = pad_words([item[2] for item in chunk], word_dim)
+    labels = np.array([item[3] - 1 for item in chunk])
+    targets = {"velocity": commands, "instruction_class": labels}
+    sample_weights = {"velocity": weights, "instruction_class": np.ones(len(chunk), np.float32)}
+    if config.stop_targets:      # beyond the seed: 1 where the expert stands still
+        targets["stop"] = stop
+        sample_weights["stop"] = (weights > 0).astype(np.float32)
+    if config.decision_targets:  # beyond the seed: distance to the expert's decision
+        targets["decision"] = decision
+        sample_weights["decision"] = (weights > 0).astype(np.float32)
+    return {"words": words, "scans": scans}, targets, sample_weights
 
 
 def class_batch(sets, word_vectors, rng, size, split="train", noise=0.0):
