@@ -23,7 +23,8 @@ from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, ch
                                    chain_goals, run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.phrase_sets import CLASSES, KIND, SIDE, TURN_CLASSES, sample_sentence
-from semantic_nav.route_oracle import OracleError, RouteOracle, counting_matters, goal_branch
+from semantic_nav.route_oracle import (OracleError, RouteOracle, branches_on_side,
+                                       counting_matters, goal_branch)
 
 
 @dataclass
@@ -332,7 +333,7 @@ def failure_place(walk, label, end, margin=0.3):
     opening M' != M) from one that misses or overshoots the turn."""
     side = SIDE[label]
     along, lateral = walk.frame(end)
-    branches = [c.branches[side] for c in walk.corners if side in c.branches]
+    branches = branches_on_side(walk, side)
     goal = goal_branch(walk, label)
     if abs(lateral) > walk.half_width + margin:
         if (lateral > 0) != (side == "left"):

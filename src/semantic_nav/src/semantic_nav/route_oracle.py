@@ -308,10 +308,15 @@ def goal_branch(walk, label):
     return corner.branches.get(side) if corner else None
 
 
+def branches_on_side(walk, side):
+    """The branches on `side` of the walk, in walking order."""
+    return [c.branches[side] for c in walk.corners if side in c.branches]
+
+
 def nth_branch_on_side(walk, side, nth):
     """The `nth` branch on `side`, counting only the corners with a branch there, or None."""
-    corners = [c for c in walk.corners if side in c.branches]
-    return corners[nth - 1].branches[side] if len(corners) >= nth else None
+    branches = branches_on_side(walk, side)
+    return branches[nth - 1] if len(branches) >= nth else None
 
 
 def one_side_branch(walk, label):
