@@ -152,6 +152,29 @@ def test_decision_targets_only_when_asked():
                                           sentences=sentences)[0][1]
 
 
+def test_corner_targets_count_until_the_decision_and_survive_mirroring():
+    sides = np.ones((45, 2), np.float32)
+    sides[3:13, 1] = 4.0            # the right side open from 0.15 to 0.6 m of travel
+    episode = Episode(5, np.ones((45, 3), np.float32), _corner_commands(), rate=10.0,
+                      sides=sides)
+
+    class Words:
+        dim = 2
+    config = TrainingConfig(hold_steps=0, corner_targets=True, mirror_probability=1.0)
+    config.corners.min_width = 0.3
+    expected = [0] * 3 + [1] * 42
+    for phases in ([0], None):      # validation, and training (mirrored: the count is the same)
+        (batch,) = make_batches([episode], None, Words(), np.random.default_rng(0), config,
+                                phases=phases, sentences=[np.ones((3, 2), np.float32)])
+        _, targets, weights = batch
+        assert targets["corners"][0].tolist() == expected
+        assert weights["corners"][0].tolist() == [1.0] * 15 + [0.0] * 30   # decided at 15
+    with pytest.raises(ValueError, match="side ranges"):
+        make_batches([Episode(5, episode.scans, episode.commands, rate=10.0)], None, Words(),
+                     np.random.default_rng(0), config, phases=[0],
+                     sentences=[np.ones((3, 2), np.float32)])
+
+
 def test_step_weights_single_out_turning_and_standing_steps():
     commands = np.array([[0.5, 0.0], [0.5, 0.1], [0.3, 0.15], [0.2, -0.3], [0.0, 0.0]],
                         np.float32)

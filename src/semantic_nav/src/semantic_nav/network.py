@@ -23,6 +23,12 @@ An auxiliary task: "turn left at the third corner" is decided in a few steps, bu
 asks at every step how far that corner still is, so LSTM_fused must keep count of the corners
 passed. Control does not use it.
 
+Beyond the seed (optional, `NetworkConfig.corner_head`): a softmax output `corners`
+(batch, T, CORNER_CLASSES) on LSTM_fused, trained with cross-entropy on the corners reached so
+far, counted over both sides, up to the expert's decision (corner_count.corners_passed). The
+decision head asks how far the turn is; this one asks for the count itself, including the
+corners on the side the robot will not turn to. Control does not use it.
+
 `StepPolicy` re-implements the trained network in numpy for control: classify a simple
 instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
 """
@@ -35,6 +41,7 @@ os.environ.setdefault("KERAS_BACKEND", "torch")
 import keras  # noqa: E402  (the backend must be chosen before the import)
 
 NUM_CLASSES = 10   # Table 3.1-1
+CORNER_CLASSES = 4  # corners head: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
 
 
 @dataclass
@@ -52,6 +59,8 @@ class NetworkConfig:
     stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
     decision_head: bool = False      # beyond the seed: "distance to the decision" output
     decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
+    corner_head: bool = False        # beyond the seed: "corners reached so far" output
+    corner_loss_weight: float = 0.005  # weight of its cross-entropy
 
 
 @keras.saving.register_keras_serializable(package="semantic_nav")
@@ -129,17 +138,21 @@ def build_network(config=None):
     return model
 
 
-# Optional outputs on LSTM_fused (beyond the seed): name -> (activation, loss)
-HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
+# Optional outputs on LSTM_fused (beyond the seed): name -> (units, activation, loss, the
+# NetworkConfig prefix of its <prefix>_head / <prefix>_loss_weight)
+HEADS = {"stop": (1, "sigmoid", "binary_crossentropy", "stop"),
+         "decision": (1, None, "mse", "decision"),
+         "corners": (CORNER_CLASSES, "softmax", "sparse_categorical_crossentropy", "corner")}
 
 
 def _head_layer(name):
-    return keras.layers.Dense(1, activation=HEADS[name][0], name=name)
+    units, activation, _, _ = HEADS[name]
+    return keras.layers.Dense(units, activation=activation, name=name)
 
 
 def wanted_heads(config):
     """The optional outputs `config` asks for, in HEADS order."""
-    return [name for name in HEADS if getattr(config, f"{name}_head")]
+    return [name for name, head in HEADS.items() if getattr(config, f"{head[3]}_head")]
 
 
 def has_head(model, name):
@@ -169,13 +182,13 @@ def add_heads(model, config):
 
 def compile_network(model, config):
     """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ the losses of the optional heads the
-    model has: binary cross-entropy on stop, MSE on decision)."""
+    model has: binary cross-entropy on stop, MSE on decision, cross-entropy on corners)."""
     loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
     weights = {"velocity": 1.0, "instruction_class": config.class_loss_weight}
-    for name, (_, head_loss) in HEADS.items():
+    for name, (_, _, head_loss, prefix) in HEADS.items():
         if has_head(model, name):
             loss[name] = head_loss
-            weights[name] = getattr(config, f"{name}_loss_weight")
+            weights[name] = getattr(config, f"{prefix}_loss_weight")
     model.compile(optimizer=keras.optimizers.Adam(config.learning_rate), loss=loss,
                   loss_weights=weights)
 

@@ -7,13 +7,15 @@ standing still at the goal (zero labels) for `hold_steps`, and pairs each with a
 its class (§3.4), so every epoch sees new (phase, sentence) pairings.
 """
 import hashlib
+import zipfile
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import yaml
 
+from semantic_nav.corner_count import CornerCountConfig, corners_passed, side_ranges
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
@@ -41,6 +43,8 @@ class TrainingConfig:
     decision_targets: bool = False  # add the "decision" target (network with a decision head)
     decision_horizon: float = 15.0  # decision distances are clipped here and scaled by it [m]
     decision_turn_seconds: float = 2.0  # a turn lasts this long; shorter ones are steering [s]
+    corner_targets: bool = False    # add the "corners" target (network with a corners head)
+    corners: CornerCountConfig = field(default_factory=CornerCountConfig)  # its side beams
 
 
 @dataclass
@@ -62,6 +66,7 @@ class Episode:
     commands: np.ndarray    # (N, 2) float32 clean expert (v, ω) at the record rate
     source: str = ""        # file the sequence came from
     rate: float = 40.0      # record rate [Hz] (demonstrations: laser rate; DAgger: control rate)
+    sides: np.ndarray = None  # (N, 2) float32 raw side ranges, left / right (corner_count)
 
 
 def split_record_files(datasets, split):
@@ -103,35 +108,66 @@ def preprocess_matrix(ranges, laser, canonical, preprocess):
     return np.stack([preprocess_scan(row, laser, canonical, preprocess)[0] for row in ranges])
 
 
-def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0):
-    """Episodes of record files (recorded at `rate` [Hz]); preprocessed scans cached as .npz
-    keyed by file size/mtime."""
+def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0,
+                  window_deg=CornerCountConfig.window_deg):
+    """Episodes of record files (recorded at `rate` [Hz]) with their side ranges
+    (corner_count.side_ranges over ±window_deg); preprocessed scans and side ranges cached as
+    .npz keyed by file size/mtime (a cache without side ranges for this window gets them
+    added)."""
     episodes = []
     for path in map(Path, paths):
         stat = path.stat()
         key = hashlib.sha1(f"{path.resolve()}:{stat.st_size}:{stat.st_mtime_ns}:"
                            f"{canonical.start}:{canonical.steps}".encode()).hexdigest()[:16]
         cache = Path(cache_dir) / f"{path.stem}-{key}.npz" if cache_dir else None
-        if cache and cache.is_file():
-            with np.load(cache) as data:   # each data[key] reads the whole array: once only
-                labels, lengths = data["labels"], data["lengths"]
-                scans, commands = data["scans"], data["commands"]
-            bounds = np.cumsum(np.concatenate([[0], lengths]))
-            episodes.extend(
-                Episode(int(label), scans[a:b], commands[a:b], str(path), rate)
-                for label, a, b in zip(labels, bounds[:-1], bounds[1:]))
-            continue
-        loaded = [Episode(label, preprocess_matrix(ranges, laser, canonical, preprocess),
-                          commands.astype(np.float32), str(path), rate)
-                  for label, commands, ranges in iter_record_arrays(path)]
-        if cache and loaded:
-            cache.parent.mkdir(parents=True, exist_ok=True)
-            np.savez(cache, labels=[e.label for e in loaded],
-                     lengths=[len(e.commands) for e in loaded],
-                     scans=np.concatenate([e.scans for e in loaded]),
-                     commands=np.concatenate([e.commands for e in loaded]))
-        episodes.extend(loaded)
+        arrays = _read_cache(cache)
+        if arrays is None or float(arrays.get("side_window", np.nan)) != window_deg:
+            arrays = _parse_records(path, laser, canonical, preprocess, window_deg, arrays)
+            if cache and len(arrays["labels"]):
+                cache.parent.mkdir(parents=True, exist_ok=True)
+                partial = cache.with_suffix(".partial.npz")
+                np.savez(partial, **arrays)
+                partial.replace(cache)     # an interrupted write never leaves a cache behind
+        bounds = np.cumsum(np.concatenate([[0], arrays["lengths"]])).astype(int)
+        episodes.extend(
+            Episode(int(label), arrays["scans"][a:b], arrays["commands"][a:b], str(path), rate,
+                    arrays["sides"][a:b])
+            for label, a, b in zip(arrays["labels"], bounds[:-1], bounds[1:]))
     return episodes
+
+
+def _read_cache(cache):
+    """The arrays of a cache file, or None when there is none or it cannot be read (a cache of
+    an older, interrupted write: rebuilt from the records)."""
+    if not cache or not cache.is_file():
+        return None
+    try:
+        with np.load(cache) as data:   # each data[key] reads the whole array: once only
+            return {name: data[name] for name in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile):
+        return None
+
+
+def _parse_records(path, laser, canonical, preprocess, window_deg, cached=None):
+    """One record file -> the cache arrays; with `cached` (a cache without side ranges) only
+    the side ranges are computed, the preprocessed scans are kept."""
+    labels, lengths, scans, commands, sides = [], [], [], [], []
+    for label, command, ranges in iter_record_arrays(path):
+        labels.append(label)
+        lengths.append(len(command))
+        commands.append(command.astype(np.float32))
+        sides.append(side_ranges(ranges, laser.angle_min, laser.angle_increment, window_deg))
+        if cached is None:
+            scans.append(preprocess_matrix(ranges, laser, canonical, preprocess))
+    if not labels:
+        return {"labels": np.zeros(0, int), "lengths": np.zeros(0, int),
+                "scans": np.zeros((0, canonical.steps), np.float32),
+                "commands": np.zeros((0, 2), np.float32), "sides": np.zeros((0, 2), np.float32),
+                "side_window": np.float64(window_deg)}
+    return {"labels": np.array(labels), "lengths": np.array(lengths),
+            "scans": cached["scans"] if cached is not None else np.concatenate(scans),
+            "commands": np.concatenate(commands), "sides": np.concatenate(sides),
+            "side_window": np.float64(window_deg)}
 
 
 def episode_stride(episode, config):
@@ -158,6 +194,27 @@ def control_rate_sequence(episode, phase, config):
     hold = tail[np.arange(missing) % len(tail)]
     return (np.concatenate([scans, hold]),
             np.concatenate([commands, np.zeros((missing, 2), np.float32)]))
+
+
+def control_rate_sides(episode, phase, steps, config):
+    """The episode's side ranges at the control rate from `phase`, the last row repeated over
+    the hold steps control_rate_sequence appends -> (steps, 2), or None without side ranges."""
+    if episode.sides is None:
+        return None
+    sides = episode.sides[phase::episode_stride(episode, config)][:steps]
+    return np.concatenate([sides, np.repeat(sides[-1:], steps - len(sides), axis=0)])
+
+
+def corner_targets(commands, sides, config):
+    """Beyond the seed, the target of the corners head: corner_count.corners_passed up to the
+    expert's decision step (its weight mask: 1 before the decision, 0 from there on) ->
+    ((N,) int64, (N,) float32). Without a decision the whole sequence counts."""
+    decision = decision_step(commands, config.control_rate, config)
+    counts = corners_passed(sides, commands, config.control_rate, config.corners, decision)
+    mask = np.ones(len(commands), np.float32)
+    if decision is not None:
+        mask[decision:] = 0.0
+    return counts, mask
 
 
 def pad_words(vector_list, dim):
@@ -260,20 +317,22 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
 def batch_chunks(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
     """The random part of make_batches: per episode its control-rate sequence (views of the
     episode's arrays where possible), mirroring and sentence -> the epoch's batches as lists of
-    (scans, commands, word vectors, class), sorted by length."""
+    (scans, commands, word vectors, class, side ranges or None), sorted by length."""
     noise = config.word_noise if phases is None else 0.0
     items = []
     for index, episode in enumerate(episodes):
         stride = episode_stride(episode, config)
         phase = int(rng.integers(stride)) if phases is None else min(phases[index], stride - 1)
         scans, commands = control_rate_sequence(episode, phase, config)
+        sides = control_rate_sides(episode, phase, len(scans), config)
         label = episode.label
         if phases is None and config.mirror_probability > 0 and \
                 rng.random() < config.mirror_probability:
             scans, commands, label = mirror_sequence(scans, commands, label)
+            sides = None if sides is None else sides[:, ::-1]
         words = (sentence_vectors(label, sets, word_vectors, rng, noise=noise)
                  if sentences is None else sentences[index])
-        items.append((scans, commands, words, label))
+        items.append((scans, commands, words, label, sides))
     items.sort(key=lambda item: len(item[0]))
     return [items[start:start + config.batch_size]
             for start in range(0, len(items), config.batch_size)]
@@ -288,13 +347,20 @@ def batch_arrays(chunk, word_dim, config):
     weights = np.zeros((len(chunk), steps), np.float32)
     stop = np.zeros((len(chunk), steps, 1), np.float32)
     decision = np.zeros((len(chunk), steps, 1), np.float32)
-    for row, (s, c, _, _) in enumerate(chunk):
+    corners = np.zeros((len(chunk), steps), np.int64)
+    corner_weights = np.zeros((len(chunk), steps), np.float32)
+    for row, (s, c, _, _, sides) in enumerate(chunk):
         scans[row, :len(s)], commands[row, :len(c)] = s, c
         standing = np.all(c == 0.0, axis=1)
         weights[row, :len(s)] = step_weights(c, config)
         stop[row, :len(s), 0] = standing
         if config.decision_targets:
             decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
+        if config.corner_targets:
+            if sides is None:
+                raise ValueError("corner targets need the side ranges of the records "
+                                 "(training.load_episodes)")
+            corners[row, :len(s)], corner_weights[row, :len(s)] = corner_targets(c, sides, config)
     words = pad_words([item[2] for item in chunk], word_dim)
     labels = np.array([item[3] - 1 for item in chunk])
     targets = {"velocity": commands, "instruction_class": labels}
@@ -305,6 +371,9 @@ def batch_arrays(chunk, word_dim, config):
     if config.decision_targets:  # beyond the seed: distance to the expert's decision
         targets["decision"] = decision
         sample_weights["decision"] = (weights > 0).astype(np.float32)
+    if config.corner_targets:    # beyond the seed: corners reached so far, both sides
+        targets["corners"] = corners
+        sample_weights["corners"] = corner_weights * (weights > 0)
     return {"words": words, "scans": scans}, targets, sample_weights
 
 

@@ -1,0 +1,83 @@
+"""Corners passed so far, read from a demonstration's own laser ranges (beyond the seed; no ROS).
+
+The target of the optional `corners` output (network.py): at every step before the expert's
+decision, how many corners the robot has reached, counted over both sides as the route oracle
+counts them for "the second / third corner" (route_oracle, classes 5-8). A network that counts
+only the openings on its turning side turns one corner late wherever a corner on the other side
+comes first (EVALUATION.md, "Corners on the other side"); this target asks for the count that
+includes them at every step, not only in the few steps where the expert turns.
+
+The records keep no poses, so the corners come from the recorded scans: the shortest range in a
+few degrees round each side (±90°) is "open" when it reaches `open_range` (a branch leads on
+past the wall line); a run of open steps over at least `min_width` metres of travel (integrated
+from the expert's v) is a branch opening (narrower: a door); openings on the two sides whose
+spans overlap are one corner (a crossroad), as route_oracle.group_corners.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from semantic_nav.route_oracle import true_runs
+
+
+@dataclass
+class CornerCountConfig:
+    """What a corner looks like from the side beams."""
+
+    open_range: float = 2.5     # side range from which a side counts as open [m]
+    window_deg: float = 5.0     # half width of the side windows round ±90° [deg]
+    min_width: float = 1.0      # narrower openings are doors [m] (route_oracle: 1.3 m on the
+    #                             centre line; a window of beams sees an opening narrower)
+    max_count: int = 3          # counts above are "3 or more" (classes 0 … max_count) [1]
+
+
+def side_ranges(ranges, angle_min, angle_increment, window_deg):
+    """Raw scans (N, beams) -> (N, 2) shortest range within ±window_deg of +90° (left) and
+    -90° (right), laser angles counter-clockwise from the front [rad]."""
+    ranges = np.asarray(ranges, dtype=np.float64)
+    angles = angle_min + angle_increment * np.arange(ranges.shape[1])
+    out = np.empty((len(ranges), 2), np.float32)
+    for column, centre in enumerate((np.pi / 2, -np.pi / 2)):
+        beams = np.abs(angles - centre) <= np.radians(window_deg) + 1e-9
+        if not beams.any():
+            raise ValueError(f"the laser covers no beam within {window_deg}° of "
+                             f"{np.degrees(centre):+.0f}°")
+        out[:, column] = np.nanmin(ranges[:, beams], axis=1)
+    return out
+
+
+def travel(commands, rate):
+    """Distance [m] driven before each step: cumulative |v| / rate, 0 at the first step."""
+    step = np.abs(np.asarray(commands, dtype=np.float64)[:, 0]) / rate
+    return np.concatenate([[0.0], np.cumsum(step)[:-1]])
+
+
+def corner_starts(sides, commands, rate, config, end=None):
+    """Where each corner begins [m of travel], in order: openings of both sides (runs of open
+    steps spanning at least min_width) merged where their spans overlap. Only steps before `end`
+    are read (after the expert's decision it turns and the side beams sweep)."""
+    end = len(commands) if end is None else end
+    s = travel(commands, rate)[:end]
+    spans = []
+    for column in range(2):
+        for first, last in true_runs(np.asarray(sides)[:end, column] >= config.open_range):
+            if s[last] - s[first] >= config.min_width:
+                spans.append((s[first], s[last]))
+    starts = []
+    reach = -np.inf
+    for first, last in sorted(spans):
+        if first > reach:
+            starts.append(first)
+        reach = max(reach, last)
+    return starts
+
+
+def corners_passed(sides, commands, rate, config, end=None):
+    """Per step, the corners reached so far (capped at max_count) -> (N,) int64; steps from
+    `end` (the decision step) on repeat the count there."""
+    s = travel(commands, rate)
+    starts = np.asarray(corner_starts(sides, commands, rate, config, end))
+    counts = np.searchsorted(starts, s, side="right") if starts.size else np.zeros(len(s), int)
+    if end is not None and end < len(s):
+        counts[end:] = counts[end - 1] if end > 0 else 0
+    return np.minimum(counts, config.max_count).astype(np.int64)

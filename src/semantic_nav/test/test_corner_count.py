@@ -1,0 +1,126 @@
+"""Corners reached so far, from the side beams of a demonstration (corner_count)."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from semantic_nav.corner_count import (CornerCountConfig, corner_starts, corners_passed,
+                                       side_ranges, travel)
+from semantic_nav.demonstrations import demonstrate, world_for_floor
+from semantic_nav.route_oracle import RouteOracle
+from semantic_nav.training import TrainingConfig, corner_targets, decision_step
+from sim2d.occupancy_map import load_map
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def test_side_ranges_take_the_shortest_beam_round_each_side():
+    # 9 beams every 45° from -180°: +90° is beam 6, -90° is beam 2
+    ranges = np.full((1, 9), 5.0)
+    ranges[0, 6], ranges[0, 2] = 1.5, 2.0
+    sides = side_ranges(ranges, -math.pi, math.pi / 4, 5.0)
+    assert sides.tolist() == [[1.5, 2.0]]
+    with pytest.raises(ValueError, match="no beam within 5.0° of"):
+        side_ranges(np.ones((1, 2)), 0.0, 0.1, 5.0)      # 0° … 5.7°: no side beam
+
+
+def _corridor(openings, length=20.0, speed=0.5, rate=10.0):
+    """A drive at `speed` along a corridor with walls 1 m to each side; `openings`: (side
+    column, from [m], to [m]) where that side reads 4 m."""
+    commands = np.tile([speed, 0.0], (int(length / speed * rate), 1)).astype(np.float32)
+    s = travel(commands, rate)
+    sides = np.ones((len(commands), 2), np.float32)
+    for column, first, last in openings:
+        sides[(s >= first) & (s <= last), column] = 4.0
+    return sides, commands
+
+
+def test_travel_integrates_the_expert_speed():
+    assert travel(np.array([[0.5, 0.0], [0.5, 0.1], [-0.5, 0.0]]), 10.0) == \
+        pytest.approx([0.0, 0.05, 0.1])
+
+
+def test_overlapping_openings_are_one_corner_and_doors_none():
+    # left branch 3-5 m, a 0.8 m door on the right at 7 m, crossroad 10-12 m (right opens a
+    # little later than left), right branch 15-17 m
+    sides, commands = _corridor([(0, 3.0, 5.0), (1, 7.0, 7.8), (0, 10.0, 12.0),
+                                 (1, 10.5, 12.0), (1, 15.0, 17.0)])
+    config = CornerCountConfig()
+    assert corner_starts(sides, commands, 10.0, config) == pytest.approx([3.0, 10.0, 15.0],
+                                                                        abs=0.051)  # 1 step
+    counts = corners_passed(sides, commands, 10.0, config)
+    s = travel(commands, 10.0)
+    assert [counts[np.searchsorted(s, x)] for x in (1.0, 4.0, 8.0, 11.0, 16.0)] == [0, 1, 1, 2, 3]
+
+
+def test_counts_stop_at_the_decision_and_saturate():
+    sides, commands = _corridor([(0, 2.0, 3.5), (1, 5.0, 6.5), (0, 8.0, 9.5), (1, 11.0, 12.5),
+                                 (0, 14.0, 15.5)])
+    config = CornerCountConfig(max_count=3)
+    counts = corners_passed(sides, commands, 10.0, config)
+    assert counts.max() == 3                      # five corners: "3 or more"
+    end = int(np.searchsorted(travel(commands, 10.0), 7.0))    # decided at 7 m
+    frozen = corners_passed(sides, commands, 10.0, config, end)
+    assert frozen[end:].tolist() == [2] * (len(commands) - end)   # corners at 8 m+ not seen
+
+
+def test_corner_targets_mask_the_steps_from_the_decision_on():
+    sides, commands = _corridor([(0, 0.5, 1.8)], length=6.0)
+    commands[40:, 1] = 0.6                        # a 2 s turn from step 40 on
+    counts, mask = corner_targets(commands, sides, TrainingConfig())
+    assert mask[:40].tolist() == [1.0] * 40 and not mask[40:].any()
+    assert counts[39] == 1 and counts[0] == 0
+
+
+def test_counts_from_a_demonstration_match_the_oracles_corners():
+    """Independent check on office_comb's spine, heading north from the south end, where the
+    oracle finds branches west at y = 10, east at 14 and a crossroad at 18: the expert's drive to
+    the 3rd corner on the right (class 8, the crossroad) passes two corners before its turn, and
+    the side beams of its recorded scans find them where the oracle's walk puts them."""
+    map_path = ROOT / "maps" / "office_comb.yaml"
+    oracle = RouteOracle(load_map(map_path))
+    world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml", map_path,
+                            cache_dir=None)
+    start = (18.0, 5.0, math.pi / 2)
+    demo = demonstrate(world, "penguin", oracle, start, 8, record_rate=10.0)
+    assert demo.ok, demo
+    samples = demo.sequence.samples
+    commands = np.array([[s.v, s.omega] for s in samples], np.float32)
+    laser = world.robot("penguin").lasers[0].model
+    sides = side_ranges(np.array([s.ranges for s in samples]), laser.angle_min,
+                        laser.angle_increment, CornerCountConfig().window_deg)
+    decision = decision_step(commands, 10.0, TrainingConfig())
+    counts = corners_passed(sides, commands, 10.0, CornerCountConfig(), decision)
+    assert counts[decision - 1] == 2
+    walk = oracle.walk(start)
+    expected = [min(b.start for b in corner.branches.values()) for corner in walk.corners[:2]]
+    found = corner_starts(sides, commands, 10.0, CornerCountConfig(), decision)[:2]
+    assert found == pytest.approx(expected, abs=0.5)
+
+
+def test_record_files_bring_their_side_ranges_and_a_broken_cache_is_rebuilt(tmp_path):
+    from penguin_base.record_format import RecordSequence, Sample, format_records
+    from semantic_nav.laser_layer import load_laser_config
+    from semantic_nav.training import load_episodes
+    models, canonical, preprocess = load_laser_config(ROOT / "config" / "semnav_laser.yaml")
+    laser = models["utm30lx"]            # beam 900 is +90°, beam 180 is -90°
+    ranges = np.full(laser.beams, 1.0)
+    ranges[900], ranges[180] = 0.8, 0.9
+    samples = [Sample(0.3, 0.0, tuple(ranges)), Sample(0.3, 0.1, tuple(np.full(laser.beams, 3.0)))]
+    path = tmp_path / "floor.records"
+    path.write_text(format_records([RecordSequence(5, samples)]))
+    cache = tmp_path / "cache"
+
+    def load():
+        return load_episodes([path], laser, canonical, preprocess, cache, rate=10.0)
+
+    first = load()[0]
+    assert first.label == 5
+    np.testing.assert_allclose(first.sides, [[0.8, 0.9], [3.0, 3.0]], rtol=1e-6)
+    [cached] = cache.glob("*.npz")
+    cached.write_bytes(cached.read_bytes()[:100])         # a write cut short
+    again = load()[0]
+    np.testing.assert_array_equal(again.sides, first.sides)
+    np.testing.assert_array_equal(again.scans, first.scans)
+    assert [p.name for p in cache.glob("*.npz")] == [cached.name]   # rebuilt in place
