@@ -5,7 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from semantic_nav.corner_count import (CornerCountConfig, corner_starts, corners_passed,
+from semantic_nav.corner_count import (CornerCountConfig, CornerCounter, corner_starts,
+                                       corners_passed, count_inputs, one_hot_counts,
                                        side_ranges, travel)
 from semantic_nav.demonstrations import demonstrate, world_for_floor
 from semantic_nav.route_oracle import RouteOracle
@@ -124,3 +125,33 @@ def test_record_files_bring_their_side_ranges_and_a_broken_cache_is_rebuilt(tmp_
     np.testing.assert_array_equal(again.sides, first.sides)
     np.testing.assert_array_equal(again.scans, first.scans)
     assert [p.name for p in cache.glob("*.npz")] == [cached.name]   # rebuilt in place
+
+
+def test_online_counter_counts_each_corner_once_it_is_min_width_long():
+    """The causal twin of corner_starts: a corner is counted min_width (1 m) after its first
+    opening began; the door and the crossroad's later right side add nothing."""
+    sides, commands = _corridor([(0, 3.0, 5.0), (1, 7.0, 7.8), (0, 10.0, 12.0),
+                                 (1, 10.5, 12.5), (1, 15.0, 17.0)])
+    counts = count_inputs(sides, commands, 10.0, CornerCountConfig())
+    s = travel(commands, 10.0)
+    rises = s[np.flatnonzero(np.diff(counts)) + 1]
+    assert counts[0] == 0 and np.all(np.diff(counts) >= 0)
+    # where each corner began (corner_starts, the offline count) + min_width, within 2 steps
+    expected = np.asarray(corner_starts(sides, commands, 10.0, CornerCountConfig())) + 1.0
+    assert rises == pytest.approx(expected, abs=0.11) and counts[-1] == 3
+
+
+def test_online_counter_joins_the_other_side_of_a_crossroad_and_resets():
+    counter = CornerCounter(CornerCountConfig(min_width=1.0))
+    seen = []
+    for step in range(80):               # 0.1 m per step: left open 1-4 m, right open 3-6 m
+        sides = (4.0 if 10 <= step < 40 else 1.0, 4.0 if 30 <= step < 60 else 1.0)
+        seen.append(counter.observe(sides))
+        counter.advance(-0.1)            # reversing drives as far
+    assert seen[19] == 0 and seen[20] == 1 and seen[-1] == 1
+    counter.reset()
+    assert counter.observe((1.0, 1.0)) == 0 and counter.travel == 0.0
+
+
+def test_one_hot_counts():
+    assert one_hot_counts([0, 3, 1], 3).tolist() == [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]

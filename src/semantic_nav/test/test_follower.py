@@ -168,3 +168,41 @@ def test_follower_config_file(tmp_path):
         load_follower_config(bad)
     with pytest.raises(FileNotFoundError, match="none.yaml"):
         load_follower_config(tmp_path / "none.yaml")
+
+
+class CountingPolicy(ScriptedPolicy):
+    """A network with the corner-count input: drives at 0.5 m/s and keeps the counts it gets."""
+
+    class config:
+        count_input = True
+
+    def __init__(self, steps):
+        super().__init__([(0.5, 0.0)] * steps)
+        self.counts = []
+
+    def step(self, z_w, scan, counts=None):
+        self.counts.append(int(np.argmax(counts)))
+        return super().step(z_w, scan)
+
+
+def test_count_input_network_gets_the_corners_counted_from_the_live_scans(words):
+    """Beyond the seed: the left side reads open (4 m) from step 10 to 39; at 0.05 m a step the
+    opening is 1 m long at step 30, where the count becomes 1; the next simple instruction
+    starts counting afresh."""
+    policy = CountingPolicy(60)
+    follower = DirectionFollower(policy, words)
+    follower.start("go straight to the end then turn left")
+    laser = urg()
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    left = np.abs(angles - math.pi / 2) <= math.radians(5)
+    commands = []
+    for step in range(60):
+        ranges = np.full(laser.beams, 2.0)
+        ranges[left] = 4.0 if 10 <= step < 40 else 2.0
+        commands.append(follower.step(ranges, laser))
+    assert policy.counts[:30] == [0] * 30 and policy.counts[30:] == [1] * 30
+    assert [c.corners for c in commands[29:31]] == [0, 1]
+    follower.index = 1                    # as the halting counter would: next instruction
+    follower._reset_memory()
+    follower.step(np.full(laser.beams, 2.0), laser)
+    assert policy.counts[-1] == 0

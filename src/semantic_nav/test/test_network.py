@@ -5,7 +5,8 @@ import pytest
 keras = pytest.importorskip("keras")
 
 from semantic_nav.network import (CORNER_CLASSES, NetworkConfig, StepPolicy,  # noqa: E402
-                                  add_heads, build_network, has_head, has_stop_head,
+                                  add_count_input, add_heads, build_network,
+                                  has_count_input, has_head, has_stop_head,
                                   load_network, relu, softmax)
 from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
 
@@ -116,3 +117,33 @@ def test_add_heads_keeps_the_velocity_outputs():
     assert StepPolicy.from_keras(plain).stop_probability is None
     # control does not use the decision and corners outputs: the single-step path still matches
     assert _compare(three, config, rng) < 1e-5
+
+
+def test_count_input_grows_the_network_without_changing_it_and_steps_match():
+    """add_count_input: zero weights for the count, so the grown network drives as before; once
+    the count has weights, the single-step path (with counts) still matches the sequence model."""
+    keras.utils.set_random_seed(8)
+    config = NetworkConfig(word_units=4, scan_units=8, fused_units=6, decision_head=True)
+    plain = build_network(config)
+    grown = add_count_input(plain, config)
+    assert has_count_input(grown) and not has_count_input(plain) and has_head(grown, "decision")
+    rng = np.random.default_rng(5)
+    words = rng.normal(size=(2, 4, config.word_dim)).astype(np.float32)
+    scans = rng.random((2, 30, config.beams)).astype(np.float32)
+    counts = np.eye(CORNER_CLASSES, dtype=np.float32)[rng.integers(0, CORNER_CLASSES, (2, 30))]
+    before = plain.predict_on_batch({"words": words, "scans": scans})
+    after = grown.predict_on_batch({"words": words, "scans": scans, "counts": counts})
+    np.testing.assert_allclose(np.asarray(after["velocity"]), np.asarray(before["velocity"]),
+                               atol=1e-6)
+    kernel, recurrent, bias = grown.get_layer("lstm_fused").get_weights()
+    kernel[-CORNER_CLASSES:] = rng.normal(0.0, 0.5, (CORNER_CLASSES, kernel.shape[1]))
+    grown.get_layer("lstm_fused").set_weights([kernel, recurrent, bias])
+    out = grown.predict_on_batch({"words": words, "scans": scans, "counts": counts})
+    assert np.abs(np.asarray(out["velocity"]) - np.asarray(before["velocity"])).max() > 1e-3
+    policy = StepPolicy.from_keras(grown)
+    assert policy.config.count_input
+    z_w = policy.classify(words[0])
+    steps = np.array([policy.step(z_w, scans[0, i], counts[0, i]) for i in range(30)])
+    np.testing.assert_allclose(steps, np.asarray(out["velocity"])[0], atol=1e-5)
+    with pytest.raises(ValueError, match="needs counts"):
+        policy.step(z_w, scans[0, 0])

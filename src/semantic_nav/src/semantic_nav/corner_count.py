@@ -81,3 +81,66 @@ def corners_passed(sides, commands, rate, config, end=None):
     if end is not None and end < len(s):
         counts[end:] = counts[end - 1] if end > 0 else 0
     return np.minimum(counts, config.max_count).astype(np.int64)
+
+
+class CornerCounter:
+    """corner_starts done online, step by step, for the network's `counts` input (beyond the
+    seed): a corner counts once one of its openings has run for min_width; an opening that
+    overlaps an opening already counted on the other side belongs to the same corner. Causal,
+    so training (count_inputs over the records) and control (follower, live scans) see the same
+    counts."""
+
+    def __init__(self, config=None):
+        self.config = config or CornerCountConfig()
+        self.reset()
+
+    def reset(self):
+        """A new simple instruction: nothing counted, no travel."""
+        self.travel = 0.0
+        self.count = 0
+        self.run_start = [None, None]     # travel where each side's current opening began
+        self.counted = [False, False]     # that opening belongs to a counted corner
+        self.corner_end = -np.inf         # travel where the last counted opening closed
+
+    def observe(self, sides):
+        """Side ranges (left, right) [m] at this step -> corners counted so far (capped at
+        max_count)."""
+        config = self.config
+        for side in range(2):
+            is_open = bool(sides[side] >= config.open_range)
+            start = self.run_start[side]
+            if not is_open:
+                if start is not None and self.counted[side]:
+                    self.corner_end = max(self.corner_end, self.travel)
+                self.run_start[side] = None
+                continue
+            if start is None:
+                start = self.run_start[side] = self.travel
+                self.counted[side] = False
+            if not self.counted[side] and self.travel - start >= config.min_width:
+                self.counted[side] = True
+                other = 1 - side
+                same = (self.run_start[other] is not None and self.counted[other]) or \
+                    start <= self.corner_end
+                self.count += 0 if same else 1
+        return min(self.count, config.max_count)
+
+    def advance(self, distance):
+        """The robot drove `distance` [m] (its sign is ignored) before the next step."""
+        self.travel += abs(float(distance))
+
+
+def count_inputs(sides, commands, rate, config):
+    """The `counts` input of a recorded sequence: CornerCounter over its side ranges, travel from
+    the expert's v -> (N,) int64."""
+    counter = CornerCounter(config)
+    counts = np.zeros(len(commands), np.int64)
+    for step, (row, v) in enumerate(zip(sides, np.asarray(commands, dtype=np.float64)[:, 0])):
+        counts[step] = counter.observe(row)
+        counter.advance(v / rate)
+    return counts
+
+
+def one_hot_counts(counts, max_count):
+    """(N,) counts -> (N, max_count + 1) float32 one-hot rows."""
+    return np.eye(max_count + 1, dtype=np.float32)[np.asarray(counts)]

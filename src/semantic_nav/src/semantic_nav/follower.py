@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from semantic_nav.collision_guard import GuardConfig, guard_velocity, scan_points
+from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
@@ -106,6 +107,7 @@ class FollowerCommand:
     index: int              # current simple instruction, 0-based
     predicted_class: int    # 1..10 (argmax Z_w) of the current simple instruction
     done: bool              # every simple instruction has halted
+    corners: int = None     # corners counted in this simple instruction (count-input networks)
 
 
 def _step_policy(model):
@@ -126,6 +128,9 @@ class DirectionFollower:
         self.word_vectors = word_vectors
         _, self.canonical, self.preprocess = load_laser_config(self.config.laser_config)
         self.halting = HaltingCounter(self.config.postprocess)
+        # beyond the seed: a network with the count input gets the corners counted so far
+        counts = getattr(getattr(self.policy, "config", None), "count_input", False)
+        self.counter = CornerCounter() if counts else None
         self.instructions, self.z_w, self.classes = [], [], []
         self.unknown_words = []
         self.index = 0
@@ -166,9 +171,15 @@ class DirectionFollower:
         self.classes = [int(np.argmax(z)) + 1 for z in self.z_w]
         self.unknown_words = unknown
         self.index = 0
-        self.policy.reset()
+        self._reset_memory()
         self.halting.reset()
         return list(self.classes)
+
+    def _reset_memory(self):
+        """A new simple instruction: LSTM_fused's memory and the corner count start afresh."""
+        self.policy.reset()
+        if self.counter is not None:
+            self.counter.reset()
 
     @property
     def done(self):
@@ -185,16 +196,33 @@ class DirectionFollower:
         if self.done:
             return self._command(0.0, 0.0)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
-        raw_v, raw_w = apply_stop(*self.policy.step(self.z_w[self.index], scan),
-                                  getattr(self.policy, "stop_probability", None),
+        counts = None
+        if self.counter is not None:
+            counts = one_hot_counts(self.counter.observe(self._sides(ranges, laser)),
+                                    self.counter.config.max_count)
+            output = self.policy.step(self.z_w[self.index], scan, counts)
+        else:
+            output = self.policy.step(self.z_w[self.index], scan)
+        raw_v, raw_w = apply_stop(*output, getattr(self.policy, "stop_probability", None),
                                   self.config.postprocess)
         v = adjust_speed(raw_v, self.config.postprocess)
         w = adjust_speed(raw_w, self.config.postprocess)
         v = self._guarded(v, w, ranges, laser)
+        corners = None if self.counter is None else self.counter.count
+        if self.counter is not None:
+            self.counter.advance(v * self.control_period)
         if self.halting.update(v, w):
             self.index += 1             # §2.2.5.2: next simple instruction, memory cleared
-            self.policy.reset()
-        return self._command(v, w)
+            self._reset_memory()
+        return self._command(v, w, corners)
+
+    def _sides(self, ranges, laser):
+        """corner_count.side_ranges of one raw scan; invalid readings (NaN, below the laser's
+        range_min) count as no opening."""
+        ranges = np.asarray(ranges, dtype=np.float64)
+        ranges = np.where(np.isnan(ranges) | (ranges < laser.range_min), 0.0, ranges)
+        return side_ranges(ranges[None], laser.angle_min, laser.angle_increment,
+                           self.counter.config.window_deg)[0]
 
     def _guarded(self, v, w, ranges, laser):
         """collision_guard on the post-processed command; a guarded speed the robot cannot drive
@@ -205,7 +233,7 @@ class DirectionFollower:
         guarded = guard_velocity(v, w, scan_points(ranges, laser, guard.laser_x), guard)
         return guarded if abs(guarded) >= self.config.postprocess.v_move else 0.0
 
-    def _command(self, v, w):
+    def _command(self, v, w, corners=None):
         current = min(self.index, len(self.instructions) - 1)
         return FollowerCommand(v=v, w=w, index=current, predicted_class=self.classes[current],
-                               done=self.done)
+                               done=self.done, corners=corners)

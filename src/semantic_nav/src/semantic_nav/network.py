@@ -29,6 +29,12 @@ far, counted over both sides, up to the expert's decision (corner_count.corners_
 decision head asks how far the turn is; this one asks for the count itself, including the
 corners on the side the robot will not turn to. Control does not use it.
 
+Beyond the seed (optional, `NetworkConfig.count_input`): a third input `counts` (batch, T,
+CORNER_CLASSES), the one-hot number of corners counted so far over both sides from the side
+beams (corner_count.CornerCounter, the same counter in training and control), joins [Z_w, Z_s]
+at LSTM_fused. Counting is then done outside the network: it only has to tie the count to the
+instruction's corner number.
+
 `StepPolicy` re-implements the trained network in numpy for control: classify a simple
 instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
 """
@@ -61,6 +67,7 @@ class NetworkConfig:
     decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
     corner_head: bool = False        # beyond the seed: "corners reached so far" output
     corner_loss_weight: float = 0.005  # weight of its cross-entropy
+    count_input: bool = False        # beyond the seed: corners counted so far as an input
 
 
 @keras.saving.register_keras_serializable(package="semantic_nav")
@@ -128,14 +135,52 @@ def build_network(config=None):
     z_w = keras.layers.Dense(NUM_CLASSES, activation="softmax", name="instruction_class")(h_w)
     z_s = keras.layers.Dense(config.scan_units, activation="relu", name="fc_scan")(scans)
     fused = ConcatOverTime(name="concat")([z_w, z_s])
+    inputs = {"words": words, "scans": scans}
+    if config.count_input:
+        inputs["counts"] = keras.Input((None, CORNER_CLASSES), name="counts")
+        fused = keras.layers.Concatenate(name="concat_counts")([fused, inputs["counts"]])
     h_f = SequenceLSTM(config.fused_units, name="lstm_fused")(fused)
     velocity = keras.layers.Dense(2, name="velocity")(h_f)
     outputs = {"velocity": velocity, "instruction_class": z_w}
     for name in wanted_heads(config):
         outputs[name] = _head_layer(name)(h_f)
-    model = keras.Model({"words": words, "scans": scans}, outputs, name="semnav")
+    model = keras.Model(inputs, outputs, name="semnav")
     compile_network(model, config)
     return model
+
+
+def has_count_input(model):
+    return isinstance(model.input, dict) and "counts" in model.input
+
+
+def add_count_input(model, config):
+    """A model of build_network -> the same network with the `counts` input, compiled: every
+    weight copied, LSTM_fused's kernel grown by zero rows for the count, so the new model drives
+    exactly as `model` until training gives the count a weight. A model that has the input is
+    only recompiled."""
+    if has_count_input(model):
+        compile_network(model, config)
+        return model
+    config.count_input = True
+    config.stop_head = config.stop_head or has_head(model, "stop")
+    config.decision_head = config.decision_head or has_head(model, "decision")
+    config.corner_head = config.corner_head or has_head(model, "corners")
+    config.word_dim, config.beams = (model.get_layer(name).input.shape[-1]
+                                     for name in ("word_mask", "fc_scan"))
+    config.word_units = model.get_layer("lstm_w").units
+    config.scan_units = model.get_layer("fc_scan").units
+    config.fused_units = model.get_layer("lstm_fused").units
+    grown = build_network(config)
+    for layer in model.layers:
+        weights = layer.get_weights()
+        if not weights:
+            continue
+        if layer.name == "lstm_fused":
+            kernel = weights[0]
+            weights[0] = np.concatenate(
+                [kernel, np.zeros((CORNER_CLASSES, kernel.shape[1]), kernel.dtype)])
+        grown.get_layer(layer.name).set_weights(weights)
+    return grown
 
 
 # Optional outputs on LSTM_fused (beyond the seed): name -> (units, activation, loss, the
@@ -171,6 +216,8 @@ def add_heads(model, config):
     if missing:
         inputs = {"words": model.get_layer("word_mask").input,
                   "scans": model.get_layer("fc_scan").input}
+        if has_count_input(model):
+            inputs["counts"] = model.input["counts"]
         fused = model.get_layer("lstm_fused").output
         outputs = {name: model.get_layer(name).output for name in
                    ("velocity", "instruction_class", *HEADS) if has_head(model, name)}
@@ -266,7 +313,9 @@ class StepPolicy:
                 word_units=weights["lstm_w/recurrent"].shape[0],
                 scan_units=weights["fc_scan/kernel"].shape[1],
                 fused_units=weights["lstm_fused/recurrent"].shape[0],
-                stop_head="stop/kernel" in weights)
+                stop_head="stop/kernel" in weights,
+                count_input=weights["lstm_fused/kernel"].shape[0] == (
+                    NUM_CLASSES + weights["fc_scan/kernel"].shape[1] + CORNER_CLASSES))
         return cls(weights, config)
 
     def reset(self):
@@ -283,12 +332,18 @@ class StepPolicy:
             h, c = lstm_step(x, h, c, w["lstm_w/kernel"], w["lstm_w/recurrent"], w["lstm_w/bias"])
         return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
 
-    def step(self, z_w, scan):
+    def step(self, z_w, scan, counts=None):
         """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
-        With a stop head, `stop_probability` holds its output for this step (else None)."""
+        With a stop head, `stop_probability` holds its output for this step (else None).
+        A network with the count input needs `counts` (one-hot, CORNER_CLASSES)."""
         w = self.w
         z_s = relu(np.asarray(scan, dtype=np.float64) @ w["fc_scan/kernel"] + w["fc_scan/bias"])
-        x = np.concatenate([z_w, z_s])
+        parts = [z_w, z_s]
+        if self.config.count_input:
+            if counts is None:
+                raise ValueError("this network has the corner-count input: step() needs counts")
+            parts.append(np.asarray(counts, dtype=np.float64))
+        x = np.concatenate(parts)
         self.h, self.c = lstm_step(x, self.h, self.c, w["lstm_fused/kernel"],
                                    w["lstm_fused/recurrent"], w["lstm_fused/bias"])
         out = self.h @ w["velocity/kernel"] + w["velocity/bias"]

@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from semantic_nav.corner_count import CornerCountConfig, corners_passed, side_ranges
+from semantic_nav.corner_count import (CornerCountConfig, corners_passed, count_inputs,
+                                       one_hot_counts, side_ranges)
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
@@ -44,7 +45,8 @@ class TrainingConfig:
     decision_horizon: float = 15.0  # decision distances are clipped here and scaled by it [m]
     decision_turn_seconds: float = 2.0  # a turn lasts this long; shorter ones are steering [s]
     corner_targets: bool = False    # add the "corners" target (network with a corners head)
-    corners: CornerCountConfig = field(default_factory=CornerCountConfig)  # its side beams
+    count_inputs: bool = False      # add the "counts" input (network with the count input)
+    corners: CornerCountConfig = field(default_factory=CornerCountConfig)  # their side beams
 
 
 @dataclass
@@ -349,6 +351,7 @@ def batch_arrays(chunk, word_dim, config):
     decision = np.zeros((len(chunk), steps, 1), np.float32)
     corners = np.zeros((len(chunk), steps), np.int64)
     corner_weights = np.zeros((len(chunk), steps), np.float32)
+    counts = np.zeros((len(chunk), steps), np.int64)
     for row, (s, c, _, _, sides) in enumerate(chunk):
         scans[row, :len(s)], commands[row, :len(c)] = s, c
         standing = np.all(c == 0.0, axis=1)
@@ -356,11 +359,13 @@ def batch_arrays(chunk, word_dim, config):
         stop[row, :len(s), 0] = standing
         if config.decision_targets:
             decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
+        if (config.corner_targets or config.count_inputs) and sides is None:
+            raise ValueError("corner targets and count inputs need the side ranges of the "
+                             "records (training.load_episodes)")
         if config.corner_targets:
-            if sides is None:
-                raise ValueError("corner targets need the side ranges of the records "
-                                 "(training.load_episodes)")
             corners[row, :len(s)], corner_weights[row, :len(s)] = corner_targets(c, sides, config)
+        if config.count_inputs:      # beyond the seed: corners counted so far, an input
+            counts[row, :len(s)] = count_inputs(sides, c, config.control_rate, config.corners)
     words = pad_words([item[2] for item in chunk], word_dim)
     labels = np.array([item[3] - 1 for item in chunk])
     targets = {"velocity": commands, "instruction_class": labels}
@@ -374,7 +379,10 @@ def batch_arrays(chunk, word_dim, config):
     if config.corner_targets:    # beyond the seed: corners reached so far, both sides
         targets["corners"] = corners
         sample_weights["corners"] = corner_weights * (weights > 0)
-    return {"words": words, "scans": scans}, targets, sample_weights
+    inputs = {"words": words, "scans": scans}
+    if config.count_inputs:
+        inputs["counts"] = one_hot_counts(counts, config.corners.max_count)
+    return inputs, targets, sample_weights
 
 
 def class_batch(sets, word_vectors, rng, size, split="train", noise=0.0):
