@@ -1,16 +1,15 @@
-"""Corners reached so far, from the side beams of a demonstration (corner_count)."""
+"""Corners counted so far from the side beams (corner_count): the network's count input."""
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from semantic_nav.corner_count import (CornerCountConfig, CornerCounter, corner_starts,
-                                       corners_passed, count_inputs, one_hot_counts,
-                                       side_ranges, travel)
+from semantic_nav.corner_count import (CornerCountConfig, CornerCounter, count_inputs,
+                                       one_hot_counts, side_ranges)
 from semantic_nav.demonstrations import demonstrate, world_for_floor
 from semantic_nav.route_oracle import RouteOracle
-from semantic_nav.training import TrainingConfig, corner_targets, decision_step
+from semantic_nav.training import TrainingConfig, decision_step
 from sim2d.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -26,59 +25,63 @@ def test_side_ranges_take_the_shortest_beam_round_each_side():
         side_ranges(np.ones((1, 2)), 0.0, 0.1, 5.0)      # 0° … 5.7°: no side beam
 
 
+def _travel(commands, rate):
+    """Distance [m] driven before each step."""
+    return np.concatenate([[0.0], np.cumsum(np.abs(commands[:, 0]) / rate)[:-1]])
+
+
 def _corridor(openings, length=20.0, speed=0.5, rate=10.0):
     """A drive at `speed` along a corridor with walls 1 m to each side; `openings`: (side
     column, from [m], to [m]) where that side reads 4 m."""
     commands = np.tile([speed, 0.0], (int(length / speed * rate), 1)).astype(np.float32)
-    s = travel(commands, rate)
+    s = _travel(commands, rate)
     sides = np.ones((len(commands), 2), np.float32)
     for column, first, last in openings:
         sides[(s >= first) & (s <= last), column] = 4.0
     return sides, commands
 
 
-def test_travel_integrates_the_expert_speed():
-    assert travel(np.array([[0.5, 0.0], [0.5, 0.1], [-0.5, 0.0]]), 10.0) == \
-        pytest.approx([0.0, 0.05, 0.1])
-
-
-def test_overlapping_openings_are_one_corner_and_doors_none():
-    # left branch 3-5 m, a 0.8 m door on the right at 7 m, crossroad 10-12 m (right opens a
-    # little later than left), right branch 15-17 m
+def test_each_corner_counts_once_it_is_min_width_long_doors_never():
+    """Left branch 3-5 m, a 0.8 m door on the right at 7 m, a crossroad 10-12 m (its right side
+    opens a little later: the same corner), a right branch 15-17 m: the count rises 1 m
+    (min_width) into each corner, within a step of 5 cm."""
     sides, commands = _corridor([(0, 3.0, 5.0), (1, 7.0, 7.8), (0, 10.0, 12.0),
-                                 (1, 10.5, 12.0), (1, 15.0, 17.0)])
-    config = CornerCountConfig()
-    assert corner_starts(sides, commands, 10.0, config) == pytest.approx([3.0, 10.0, 15.0],
-                                                                        abs=0.051)  # 1 step
-    counts = corners_passed(sides, commands, 10.0, config)
-    s = travel(commands, 10.0)
-    assert [counts[np.searchsorted(s, x)] for x in (1.0, 4.0, 8.0, 11.0, 16.0)] == [0, 1, 1, 2, 3]
+                                 (1, 10.5, 12.5), (1, 15.0, 17.0)])
+    counts = count_inputs(sides, commands, 10.0, CornerCountConfig())
+    s = _travel(commands, 10.0)
+    rises = s[np.flatnonzero(np.diff(counts)) + 1]
+    assert counts[0] == 0 and np.all(np.diff(counts) >= 0) and counts[-1] == 3
+    assert rises == pytest.approx([4.0, 11.0, 16.0], abs=0.11)
 
 
-def test_counts_stop_at_the_decision_and_saturate():
+def test_counts_saturate_at_max_count():
     sides, commands = _corridor([(0, 2.0, 3.5), (1, 5.0, 6.5), (0, 8.0, 9.5), (1, 11.0, 12.5),
                                  (0, 14.0, 15.5)])
-    config = CornerCountConfig(max_count=3)
-    counts = corners_passed(sides, commands, 10.0, config)
-    assert counts.max() == 3                      # five corners: "3 or more"
-    end = int(np.searchsorted(travel(commands, 10.0), 7.0))    # decided at 7 m
-    frozen = corners_passed(sides, commands, 10.0, config, end)
-    assert frozen[end:].tolist() == [2] * (len(commands) - end)   # corners at 8 m+ not seen
+    counts = count_inputs(sides, commands, 10.0, CornerCountConfig(max_count=3))
+    assert counts.max() == 3 and sorted(set(counts.tolist())) == [0, 1, 2, 3]
 
 
-def test_corner_targets_mask_the_steps_from_the_decision_on():
-    sides, commands = _corridor([(0, 0.5, 1.8)], length=6.0)
-    commands[40:, 1] = 0.6                        # a 2 s turn from step 40 on
-    counts, mask = corner_targets(commands, sides, TrainingConfig())
-    assert mask[:40].tolist() == [1.0] * 40 and not mask[40:].any()
-    assert counts[39] == 1 and counts[0] == 0
+def test_online_counter_joins_the_other_side_of_a_crossroad_and_resets():
+    counter = CornerCounter(CornerCountConfig(min_width=1.0))
+    seen = []
+    for step in range(80):               # 0.1 m per step: left open 1-4 m, right open 3-6 m
+        sides = (4.0 if 10 <= step < 40 else 1.0, 4.0 if 30 <= step < 60 else 1.0)
+        seen.append(counter.observe(sides))
+        counter.advance(-0.1)            # reversing drives as far
+    assert seen[19] == 0 and seen[20] == 1 and seen[-1] == 1
+    counter.reset()
+    assert counter.observe((1.0, 1.0)) == 0 and counter.travel == 0.0
+
+
+def test_one_hot_counts():
+    assert one_hot_counts([0, 3, 1], 3).tolist() == [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]
 
 
 def test_counts_from_a_demonstration_match_the_oracles_corners():
     """Independent check on office_comb's spine, heading north from the south end, where the
     oracle finds branches west at y = 10, east at 14 and a crossroad at 18: the expert's drive to
-    the 3rd corner on the right (class 8, the crossroad) passes two corners before its turn, and
-    the side beams of its recorded scans find them where the oracle's walk puts them."""
+    the 3rd corner on the right (class 8, the crossroad) has counted two corners when it turns,
+    each 1 m (min_width) past where the oracle's walk puts the corner's first branch."""
     map_path = ROOT / "maps" / "office_comb.yaml"
     oracle = RouteOracle(load_map(map_path))
     world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml", map_path,
@@ -91,13 +94,15 @@ def test_counts_from_a_demonstration_match_the_oracles_corners():
     laser = world.robot("penguin").lasers[0].model
     sides = side_ranges(np.array([s.ranges for s in samples]), laser.angle_min,
                         laser.angle_increment, CornerCountConfig().window_deg)
+    counts = count_inputs(sides, commands, 10.0, CornerCountConfig())
     decision = decision_step(commands, 10.0, TrainingConfig())
-    counts = corners_passed(sides, commands, 10.0, CornerCountConfig(), decision)
-    assert counts[decision - 1] == 2
+    assert counts[decision] == 2
+    s = _travel(commands, 10.0)
+    rises = s[np.flatnonzero(np.diff(counts[:decision])) + 1]
     walk = oracle.walk(start)
-    expected = [min(b.start for b in corner.branches.values()) for corner in walk.corners[:2]]
-    found = corner_starts(sides, commands, 10.0, CornerCountConfig(), decision)[:2]
-    assert found == pytest.approx(expected, abs=0.5)
+    expected = [min(b.start for b in corner.branches.values()) + 1.0
+                for corner in walk.corners[:2]]
+    assert rises == pytest.approx(expected, abs=0.5)
 
 
 def test_record_files_bring_their_side_ranges_and_a_broken_cache_is_rebuilt(tmp_path):
@@ -125,33 +130,3 @@ def test_record_files_bring_their_side_ranges_and_a_broken_cache_is_rebuilt(tmp_
     np.testing.assert_array_equal(again.sides, first.sides)
     np.testing.assert_array_equal(again.scans, first.scans)
     assert [p.name for p in cache.glob("*.npz")] == [cached.name]   # rebuilt in place
-
-
-def test_online_counter_counts_each_corner_once_it_is_min_width_long():
-    """The causal twin of corner_starts: a corner is counted min_width (1 m) after its first
-    opening began; the door and the crossroad's later right side add nothing."""
-    sides, commands = _corridor([(0, 3.0, 5.0), (1, 7.0, 7.8), (0, 10.0, 12.0),
-                                 (1, 10.5, 12.5), (1, 15.0, 17.0)])
-    counts = count_inputs(sides, commands, 10.0, CornerCountConfig())
-    s = travel(commands, 10.0)
-    rises = s[np.flatnonzero(np.diff(counts)) + 1]
-    assert counts[0] == 0 and np.all(np.diff(counts) >= 0)
-    # where each corner began (corner_starts, the offline count) + min_width, within 2 steps
-    expected = np.asarray(corner_starts(sides, commands, 10.0, CornerCountConfig())) + 1.0
-    assert rises == pytest.approx(expected, abs=0.11) and counts[-1] == 3
-
-
-def test_online_counter_joins_the_other_side_of_a_crossroad_and_resets():
-    counter = CornerCounter(CornerCountConfig(min_width=1.0))
-    seen = []
-    for step in range(80):               # 0.1 m per step: left open 1-4 m, right open 3-6 m
-        sides = (4.0 if 10 <= step < 40 else 1.0, 4.0 if 30 <= step < 60 else 1.0)
-        seen.append(counter.observe(sides))
-        counter.advance(-0.1)            # reversing drives as far
-    assert seen[19] == 0 and seen[20] == 1 and seen[-1] == 1
-    counter.reset()
-    assert counter.observe((1.0, 1.0)) == 0 and counter.travel == 0.0
-
-
-def test_one_hot_counts():
-    assert one_hot_counts([0, 3, 1], 3).tolist() == [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]

@@ -99,24 +99,17 @@ def test_add_heads_keeps_the_velocity_outputs():
     config.decision_head = True
     both = add_heads(with_stop, config)
     assert has_head(both, "decision") and not has_head(with_stop, "decision")
-    config.corner_head = True
-    three = add_heads(both, config)
-    assert has_head(three, "corners") and not has_head(both, "corners")
     rng = np.random.default_rng(3)
     inputs = {"words": rng.normal(size=(2, 4, config.word_dim)).astype(np.float32),
               "scans": rng.random((2, 7, config.beams)).astype(np.float32)}
-    a, b, c, d = (m.predict_on_batch(inputs) for m in (plain, with_stop, both, three))
-    for out in (b, c, d):
-        np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(out["velocity"]),
-                                   atol=1e-6)
+    a, b, c = (m.predict_on_batch(inputs) for m in (plain, with_stop, both))
+    np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(b["velocity"]), atol=1e-6)
+    np.testing.assert_allclose(np.asarray(a["velocity"]), np.asarray(c["velocity"]), atol=1e-6)
     np.testing.assert_allclose(np.asarray(b["stop"]), np.asarray(c["stop"]), atol=1e-6)
     assert np.asarray(c["decision"]).shape == (2, 7, 1)
-    corners = np.asarray(d["corners"])      # a distribution over 0, 1, 2, 3+ corners per step
-    assert corners.shape == (2, 7, CORNER_CLASSES)
-    np.testing.assert_allclose(corners.sum(axis=-1), 1.0, atol=1e-5)
     assert StepPolicy.from_keras(plain).stop_probability is None
-    # control does not use the decision and corners outputs: the single-step path still matches
-    assert _compare(three, config, rng) < 1e-5
+    # control does not use the decision output: the single-step path still matches
+    assert _compare(both, config, rng) < 1e-5
 
 
 def test_count_input_grows_the_network_without_changing_it_and_steps_match():

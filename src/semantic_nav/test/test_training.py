@@ -152,7 +152,7 @@ def test_decision_targets_only_when_asked():
                                           sentences=sentences)[0][1]
 
 
-def test_corner_targets_count_until_the_decision_and_survive_mirroring():
+def test_count_inputs_join_the_batches_and_survive_mirroring():
     sides = np.ones((45, 2), np.float32)
     sides[3:13, 1] = 4.0            # the right side open from 0.15 to 0.6 m of travel
     episode = Episode(5, np.ones((45, 3), np.float32), _corner_commands(), rate=10.0,
@@ -160,15 +160,15 @@ def test_corner_targets_count_until_the_decision_and_survive_mirroring():
 
     class Words:
         dim = 2
-    config = TrainingConfig(hold_steps=0, corner_targets=True, mirror_probability=1.0)
-    config.corners.min_width = 0.3
-    expected = [0] * 3 + [1] * 42
+    config = TrainingConfig(hold_steps=0, count_inputs=True, mirror_probability=1.0)
+    config.corners.min_width = 0.28
+    # the opening began at 0.15 m (step 3): 0.25 m long at step 8, 0.3 m at step 9 (0.45 m)
+    expected = np.eye(4)[[0] * 9 + [1] * 36]
     for phases in ([0], None):      # validation, and training (mirrored: the count is the same)
         (batch,) = make_batches([episode], None, Words(), np.random.default_rng(0), config,
                                 phases=phases, sentences=[np.ones((3, 2), np.float32)])
-        _, targets, weights = batch
-        assert targets["corners"][0].tolist() == expected
-        assert weights["corners"][0].tolist() == [1.0] * 15 + [0.0] * 30   # decided at 15
+        inputs, _, _ = batch
+        assert inputs["counts"][0].tolist() == expected.tolist()
     with pytest.raises(ValueError, match="side ranges"):
         make_batches([Episode(5, episode.scans, episode.commands, rate=10.0)], None, Words(),
                      np.random.default_rng(0), config, phases=[0],

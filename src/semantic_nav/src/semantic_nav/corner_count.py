@@ -1,23 +1,21 @@
-"""Corners passed so far, read from a demonstration's own laser ranges (beyond the seed; no ROS).
+"""Corners counted so far from the side beams of a laser (beyond the seed; no ROS).
 
-The target of the optional `corners` output (network.py): at every step before the expert's
-decision, how many corners the robot has reached, counted over both sides as the route oracle
-counts them for "the second / third corner" (route_oracle, classes 5-8). A network that counts
-only the openings on its turning side turns one corner late wherever a corner on the other side
-comes first (EVALUATION.md, "Corners on the other side"); this target asks for the count that
-includes them at every step, not only in the few steps where the expert turns.
+The network's optional `counts` input (network.py): how many corners the robot has reached in
+the current simple instruction, counted over both sides as the route oracle counts them for "the
+second / third corner" (route_oracle, classes 5-8). A network left to count on its own counts
+only the openings on its turning side and turns one corner late wherever a corner on the other
+side comes first (EVALUATION.md, "Corners on the other side"); here the counting is done outside
+the network, the same way in training (over the records) and in control (over live scans).
 
-The records keep no poses, so the corners come from the recorded scans: the shortest range in a
-few degrees round each side (±90°) is "open" when it reaches `open_range` (a branch leads on
-past the wall line); a run of open steps over at least `min_width` metres of travel (integrated
-from the expert's v) is a branch opening (narrower: a door); openings on the two sides whose
-spans overlap are one corner (a crossroad), as route_oracle.group_corners.
+The records keep no poses, so the corners come from the scans: the shortest range in a few
+degrees round each side (±90°) is "open" when it reaches `open_range` (a branch leads on past
+the wall line); an opening that stays open for `min_width` metres of travel (integrated from v)
+is a branch (narrower: a door); an opening that overlaps one already counted on the other side
+is the same corner (a crossroad), as route_oracle.group_corners.
 """
 from dataclasses import dataclass
 
 import numpy as np
-
-from semantic_nav.route_oracle import true_runs
 
 
 @dataclass
@@ -46,49 +44,11 @@ def side_ranges(ranges, angle_min, angle_increment, window_deg):
     return out
 
 
-def travel(commands, rate):
-    """Distance [m] driven before each step: cumulative |v| / rate, 0 at the first step."""
-    step = np.abs(np.asarray(commands, dtype=np.float64)[:, 0]) / rate
-    return np.concatenate([[0.0], np.cumsum(step)[:-1]])
-
-
-def corner_starts(sides, commands, rate, config, end=None):
-    """Where each corner begins [m of travel], in order: openings of both sides (runs of open
-    steps spanning at least min_width) merged where their spans overlap. Only steps before `end`
-    are read (after the expert's decision it turns and the side beams sweep)."""
-    end = len(commands) if end is None else end
-    s = travel(commands, rate)[:end]
-    spans = []
-    for column in range(2):
-        for first, last in true_runs(np.asarray(sides)[:end, column] >= config.open_range):
-            if s[last] - s[first] >= config.min_width:
-                spans.append((s[first], s[last]))
-    starts = []
-    reach = -np.inf
-    for first, last in sorted(spans):
-        if first > reach:
-            starts.append(first)
-        reach = max(reach, last)
-    return starts
-
-
-def corners_passed(sides, commands, rate, config, end=None):
-    """Per step, the corners reached so far (capped at max_count) -> (N,) int64; steps from
-    `end` (the decision step) on repeat the count there."""
-    s = travel(commands, rate)
-    starts = np.asarray(corner_starts(sides, commands, rate, config, end))
-    counts = np.searchsorted(starts, s, side="right") if starts.size else np.zeros(len(s), int)
-    if end is not None and end < len(s):
-        counts[end:] = counts[end - 1] if end > 0 else 0
-    return np.minimum(counts, config.max_count).astype(np.int64)
-
-
 class CornerCounter:
-    """corner_starts done online, step by step, for the network's `counts` input (beyond the
-    seed): a corner counts once one of its openings has run for min_width; an opening that
-    overlaps an opening already counted on the other side belongs to the same corner. Causal,
-    so training (count_inputs over the records) and control (follower, live scans) see the same
-    counts."""
+    """Corners counted step by step: a corner counts once one of its openings has run for
+    min_width; an opening that overlaps an opening already counted on the other side belongs to
+    the same corner. Causal, so training (count_inputs over the records) and control
+    (follower, live scans) see the same counts."""
 
     def __init__(self, config=None):
         self.config = config or CornerCountConfig()

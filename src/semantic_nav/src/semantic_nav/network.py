@@ -23,12 +23,6 @@ An auxiliary task: "turn left at the third corner" is decided in a few steps, bu
 asks at every step how far that corner still is, so LSTM_fused must keep count of the corners
 passed. Control does not use it.
 
-Beyond the seed (optional, `NetworkConfig.corner_head`): a softmax output `corners`
-(batch, T, CORNER_CLASSES) on LSTM_fused, trained with cross-entropy on the corners reached so
-far, counted over both sides, up to the expert's decision (corner_count.corners_passed). The
-decision head asks how far the turn is; this one asks for the count itself, including the
-corners on the side the robot will not turn to. Control does not use it.
-
 Beyond the seed (optional, `NetworkConfig.count_input`): a third input `counts` (batch, T,
 CORNER_CLASSES), the one-hot number of corners counted so far over both sides from the side
 beams (corner_count.CornerCounter, the same counter in training and control), joins [Z_w, Z_s]
@@ -47,7 +41,7 @@ os.environ.setdefault("KERAS_BACKEND", "torch")
 import keras  # noqa: E402  (the backend must be chosen before the import)
 
 NUM_CLASSES = 10   # Table 3.1-1
-CORNER_CLASSES = 4  # corners head: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
+CORNER_CLASSES = 4  # count input: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
 
 
 @dataclass
@@ -65,8 +59,6 @@ class NetworkConfig:
     stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
     decision_head: bool = False      # beyond the seed: "distance to the decision" output
     decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
-    corner_head: bool = False        # beyond the seed: "corners reached so far" output
-    corner_loss_weight: float = 0.005  # weight of its cross-entropy
     count_input: bool = False        # beyond the seed: corners counted so far as an input
 
 
@@ -164,7 +156,6 @@ def add_count_input(model, config):
     config.count_input = True
     config.stop_head = config.stop_head or has_head(model, "stop")
     config.decision_head = config.decision_head or has_head(model, "decision")
-    config.corner_head = config.corner_head or has_head(model, "corners")
     config.word_dim, config.beams = (model.get_layer(name).input.shape[-1]
                                      for name in ("word_mask", "fc_scan"))
     config.word_units = model.get_layer("lstm_w").units
@@ -183,21 +174,17 @@ def add_count_input(model, config):
     return grown
 
 
-# Optional outputs on LSTM_fused (beyond the seed): name -> (units, activation, loss, the
-# NetworkConfig prefix of its <prefix>_head / <prefix>_loss_weight)
-HEADS = {"stop": (1, "sigmoid", "binary_crossentropy", "stop"),
-         "decision": (1, None, "mse", "decision"),
-         "corners": (CORNER_CLASSES, "softmax", "sparse_categorical_crossentropy", "corner")}
+# Optional outputs on LSTM_fused (beyond the seed): name -> (activation, loss)
+HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
 
 
 def _head_layer(name):
-    units, activation, _, _ = HEADS[name]
-    return keras.layers.Dense(units, activation=activation, name=name)
+    return keras.layers.Dense(1, activation=HEADS[name][0], name=name)
 
 
 def wanted_heads(config):
     """The optional outputs `config` asks for, in HEADS order."""
-    return [name for name, head in HEADS.items() if getattr(config, f"{head[3]}_head")]
+    return [name for name in HEADS if getattr(config, f"{name}_head")]
 
 
 def has_head(model, name):
@@ -229,13 +216,13 @@ def add_heads(model, config):
 
 def compile_network(model, config):
     """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ the losses of the optional heads the
-    model has: binary cross-entropy on stop, MSE on decision, cross-entropy on corners)."""
+    model has: binary cross-entropy on stop, MSE on decision)."""
     loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
     weights = {"velocity": 1.0, "instruction_class": config.class_loss_weight}
-    for name, (_, _, head_loss, prefix) in HEADS.items():
+    for name, (_, head_loss) in HEADS.items():
         if has_head(model, name):
             loss[name] = head_loss
-            weights[name] = getattr(config, f"{prefix}_loss_weight")
+            weights[name] = getattr(config, f"{name}_loss_weight")
     model.compile(optimizer=keras.optimizers.Adam(config.learning_rate), loss=loss,
                   loss_weights=weights)
 

@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from semantic_nav.corner_count import (CornerCountConfig, corners_passed, count_inputs,
-                                       one_hot_counts, side_ranges)
+from semantic_nav.corner_count import CornerCountConfig, count_inputs, one_hot_counts, side_ranges
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
@@ -44,7 +43,6 @@ class TrainingConfig:
     decision_targets: bool = False  # add the "decision" target (network with a decision head)
     decision_horizon: float = 15.0  # decision distances are clipped here and scaled by it [m]
     decision_turn_seconds: float = 2.0  # a turn lasts this long; shorter ones are steering [s]
-    corner_targets: bool = False    # add the "corners" target (network with a corners head)
     count_inputs: bool = False      # add the "counts" input (network with the count input)
     corners: CornerCountConfig = field(default_factory=CornerCountConfig)  # their side beams
 
@@ -207,18 +205,6 @@ def control_rate_sides(episode, phase, steps, config):
     return np.concatenate([sides, np.repeat(sides[-1:], steps - len(sides), axis=0)])
 
 
-def corner_targets(commands, sides, config):
-    """Beyond the seed, the target of the corners head: corner_count.corners_passed up to the
-    expert's decision step (its weight mask: 1 before the decision, 0 from there on) ->
-    ((N,) int64, (N,) float32). Without a decision the whole sequence counts."""
-    decision = decision_step(commands, config.control_rate, config)
-    counts = corners_passed(sides, commands, config.control_rate, config.corners, decision)
-    mask = np.ones(len(commands), np.float32)
-    if decision is not None:
-        mask[decision:] = 0.0
-    return counts, mask
-
-
 def pad_words(vector_list, dim):
     """Word vectors of several sentences -> (batch, n_max, dim), zero-padded (masked)."""
     longest = max(len(v) for v in vector_list)
@@ -349,8 +335,6 @@ def batch_arrays(chunk, word_dim, config):
     weights = np.zeros((len(chunk), steps), np.float32)
     stop = np.zeros((len(chunk), steps, 1), np.float32)
     decision = np.zeros((len(chunk), steps, 1), np.float32)
-    corners = np.zeros((len(chunk), steps), np.int64)
-    corner_weights = np.zeros((len(chunk), steps), np.float32)
     counts = np.zeros((len(chunk), steps), np.int64)
     for row, (s, c, _, _, sides) in enumerate(chunk):
         scans[row, :len(s)], commands[row, :len(c)] = s, c
@@ -359,12 +343,10 @@ def batch_arrays(chunk, word_dim, config):
         stop[row, :len(s), 0] = standing
         if config.decision_targets:
             decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
-        if (config.corner_targets or config.count_inputs) and sides is None:
-            raise ValueError("corner targets and count inputs need the side ranges of the "
-                             "records (training.load_episodes)")
-        if config.corner_targets:
-            corners[row, :len(s)], corner_weights[row, :len(s)] = corner_targets(c, sides, config)
         if config.count_inputs:      # beyond the seed: corners counted so far, an input
+            if sides is None:
+                raise ValueError("count inputs need the side ranges of the records "
+                                 "(training.load_episodes)")
             counts[row, :len(s)] = count_inputs(sides, c, config.control_rate, config.corners)
     words = pad_words([item[2] for item in chunk], word_dim)
     labels = np.array([item[3] - 1 for item in chunk])
@@ -376,9 +358,6 @@ def batch_arrays(chunk, word_dim, config):
     if config.decision_targets:  # beyond the seed: distance to the expert's decision
         targets["decision"] = decision
         sample_weights["decision"] = (weights > 0).astype(np.float32)
-    if config.corner_targets:    # beyond the seed: corners reached so far, both sides
-        targets["corners"] = corners
-        sample_weights["corners"] = corner_weights * (weights > 0)
     inputs = {"words": words, "scans": scans}
     if config.count_inputs:
         inputs["counts"] = one_hot_counts(counts, config.corners.max_count)
