@@ -25,14 +25,21 @@ def _compare(model, config, rng):
         words[row, n:] = 0.0                       # padding is masked
     scans = rng.random((3, 120, config.beams)).astype(np.float32)
     scans /= np.linalg.norm(scans, axis=2, keepdims=True)
-    out = model.predict_on_batch({"words": words, "scans": scans})
+    inputs = {"words": words, "scans": scans}
+    counts = [[None] * 120] * 3
+    if has_count_input(model):      # a count that rises as corners would, 0 … 3
+        counts = np.eye(CORNER_CLASSES, dtype=np.float32)[np.minimum(
+            np.cumsum(rng.random((3, 120)) < 0.03, axis=1), CORNER_CLASSES - 1)]
+        inputs["counts"] = counts
+    out = model.predict_on_batch(inputs)
     policy = StepPolicy.from_keras(model)
     worst = 0.0
     for row, n in enumerate(lengths):
         z_w = policy.classify(words[row, :n])
         worst = max(worst, np.abs(z_w - np.asarray(out["instruction_class"][row])).max())
         policy.reset()
-        steps = np.array([policy.step(z_w, scan) for scan in scans[row]])
+        steps = np.array([policy.step(z_w, scan, count)
+                          for scan, count in zip(scans[row], counts[row])])
         worst = max(worst, np.abs(steps - np.asarray(out["velocity"][row])).max())
     return worst
 
