@@ -5,6 +5,7 @@ import pytest
 
 from semantic_nav.episodes import PolicyCommand
 from semantic_nav.follow_session import ABORTED, SUCCEEDED, FollowSession, InstructionRefused
+from semantic_nav.follower import FollowerCommand
 from semantic_nav.laser_layer import model_from_scan
 
 
@@ -47,6 +48,19 @@ def test_two_part_sentence_runs_to_success():
     assert session.outcome.status == SUCCEEDED and session.outcome.completed == 2
     assert (v, w) == (0.0, 0.0) and len(seen) == 7
     assert math.isnan(feedback.confidence)
+    assert feedback.corners == -1           # a follower without the corner count
+
+
+def test_feedback_reports_the_corner_count_of_a_count_input_follower():
+    class CountingFollower(ScriptedFollower):
+        def step(self, ranges, laser):
+            command = super().step(ranges, laser)
+            return FollowerCommand(command.v, command.w, command.index,
+                                   command.predicted_class, command.done, corners=self.calls)
+
+    session = FollowSession(CountingFollower([7]), "turn right at the third corner", 0.0, 60.0)
+    counts = [session.step([1.0] * 1081, LASER, now=0.1 * k)[2].corners for k in range(3)]
+    assert counts == [1, 2, 3]
 
 
 def test_unknown_words_and_empty_sentences_are_refused():

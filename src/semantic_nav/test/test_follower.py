@@ -202,7 +202,9 @@ def test_count_input_network_gets_the_corners_counted_from_the_live_scans(words)
         commands.append(follower.step(ranges, laser))
     assert policy.counts[:30] == [0] * 30 and policy.counts[30:] == [1] * 30
     assert [c.corners for c in commands[29:31]] == [0, 1]
-    follower.index = 1                    # as the halting counter would: next instruction
-    follower._reset_memory()
-    follower.step(np.full(laser.beams, 2.0), laser)
-    assert policy.counts[-1] == 0
+    # 50 zero commands end "go straight to the end": the command that starts "turn left"
+    # reports its count, 0, and the network gets 0 from then on
+    policy.commands = [(0.0, 0.0)] * 50
+    stops = [follower.step(np.full(laser.beams, 2.0), laser) for _ in range(51)]
+    assert [c.index for c in stops[47:50]] == [0, 0, 1]
+    assert [c.corners for c in stops[47:50]] == [1, 1, 0] and policy.counts[-1] == 0

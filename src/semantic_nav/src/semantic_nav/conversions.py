@@ -23,7 +23,8 @@ def twist(v, w):
 def feedback_msg(feedback):
     return FollowDirectionsFeedback(index=feedback.index, current=feedback.text,
                                     instruction_class=feedback.instruction_class,
-                                    class_confidence=feedback.confidence)
+                                    class_confidence=feedback.confidence,
+                                    corners=feedback.corners)
 
 
 def result_msg(outcome_or_error, completed=0):

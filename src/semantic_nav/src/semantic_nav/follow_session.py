@@ -19,6 +19,7 @@ class Feedback:
     text: str                # its words
     instruction_class: int   # class the network predicts for it (1..10)
     confidence: float        # its softmax probability (NaN when the follower gives none)
+    corners: int = -1        # corners counted so far in it (-1: no count-input network)
 
 
 @dataclass
@@ -53,7 +54,9 @@ class FollowSession:
         confidence = float(np.max(z_w[index])) if z_w is not None and index < len(z_w) \
             else math.nan
         text = self.parts[index] if index < len(self.parts) else ""
-        return Feedback(index, text, int(predicted), float(confidence))
+        corners = getattr(command, "corners", None)
+        return Feedback(index, text, int(predicted), float(confidence),
+                        -1 if corners is None else int(corners))
 
     def step(self, ranges, laser, now):
         """One control step -> (v, w); sets self.outcome when the sentence is done or too long."""

@@ -208,13 +208,13 @@ class DirectionFollower:
         v = adjust_speed(raw_v, self.config.postprocess)
         w = adjust_speed(raw_w, self.config.postprocess)
         v = self._guarded(v, w, ranges, laser)
-        corners = None if self.counter is None else self.counter.count
         if self.counter is not None:
             self.counter.advance(v * self.control_period)
         if self.halting.update(v, w):
             self.index += 1             # §2.2.5.2: next simple instruction, memory cleared
             self._reset_memory()
-        return self._command(v, w, corners)
+        # the count of the instruction the command's index names (0 when one just began)
+        return self._command(v, w, None if self.counter is None else self.counter.count)
 
     def _sides(self, ranges, laser):
         """corner_count.side_ranges of one raw scan; invalid readings (NaN, below the laser's
