@@ -1,4 +1,5 @@
-"""Collision guard (beyond the seed): v limited along the commanded arc, ω never changed.
+"""Collision guard (beyond the seed): v limited along the commanded arc, ω kept unless the
+guard steers round a blocked arc.
 
 Expected values come from the closed-form clearance to straight walls, not from the guard."""
 import math
@@ -7,7 +8,7 @@ import numpy as np
 import pytest
 
 from semantic_nav.collision_guard import (GuardConfig, arc_positions, guard_velocity,
-                                          scan_points)
+                                          scan_points, steer_around)
 from semantic_nav.laser_layer import model_from_scan
 
 UTM = model_from_scan("utm", math.radians(-135), math.radians(0.25), 1081, 0.1, 30.0)
@@ -99,3 +100,32 @@ def test_disabled_guard_and_no_returns_pass_everything():
     assert guard_velocity(0.4, 0.0, points(front=0.4), GuardConfig(enabled=False)) == 0.4
     assert guard_velocity(0.4, 0.0, np.zeros((0, 2))) == 0.4
     assert guard_velocity(0.0, 1.0, points(front=0.31)) == 0.0
+
+
+V_MOVE = 0.02    # postprocess.v_move: the slowest real motion
+
+
+def test_steering_takes_the_nearest_omega_that_no_longer_closes_on_the_wall():
+    """Inside the margin of the wall y = 0.33 every ω > 0 closes on it; ω = 0 runs along it, so
+    on the 0.1 rad/s grid the nearest usable ω to 0.5 is 0.0, at the full 0.1 m/s."""
+    beside = points(left=0.33, right=2.0)
+    assert steer_around(0.1, 0.5, beside, V_MOVE) == (0.1, 0.0)
+    assert steer_around(0.1, 0.5, beside, V_MOVE, GuardConfig(steer=False)) == (0.0, 0.5)
+
+
+def test_a_free_or_slowed_arc_and_a_stop_are_not_steered():
+    assert steer_around(0.4, 0.3, points(left=1.0, right=1.0), V_MOVE) == (0.4, 0.3)
+    slowed = steer_around(0.4, 0.0, points(front=0.6), V_MOVE)
+    assert slowed == (pytest.approx(expected_straight(0.4, 0.6)), 0.0)
+    assert steer_around(0.01, 0.2, points(front=0.3), V_MOVE) == (0.0, 0.2)    # below v_move
+
+
+def test_with_every_arc_blocked_the_robot_turns_in_place():
+    """A wall 0.36 m ahead: the first checked pose (0.3 m/s · 0.05 s = 0.015 m on) is inside
+    the 0.35 m reach on every arc, so no arc is usable and v' = 0."""
+    wall = points(front=0.36)
+    assert steer_around(0.3, 0.2, wall, V_MOVE) == (0.0, 0.5)      # the network's side
+    assert steer_around(0.3, -0.8, wall, V_MOVE) == (0.0, -0.8)    # already turning fast
+    corner = np.array([[0.36, -0.05], [0.36, -0.5], [0.36, -1.0]])   # returns ahead-right
+    assert steer_around(0.3, 0.0, corner, V_MOVE) == (0.0, 0.5)    # away from the nearest
+    assert steer_around(0.3, 0.0, corner * [1, -1], V_MOVE) == (0.0, -0.5)

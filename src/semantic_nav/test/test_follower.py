@@ -6,6 +6,7 @@ import pytest
 
 from semantic_nav.follower import (ROOT, DirectionFollower, FollowerCommand, FollowerConfig,
                                    ModelMissingError, UnknownInstructionError)
+from semantic_nav.collision_guard import GuardConfig
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.postprocess import PostprocessConfig
 from semantic_nav.word_vectors import WordVectors
@@ -129,16 +130,23 @@ def test_stop_head_output_halts_the_instruction(words):
     assert not commands[-2].done and commands[-1].done      # the 50th stop output halts
 
 
-def test_collision_guard_stops_v_keeps_omega_and_a_held_robot_halts(words):
-    """Beyond the seed: a wall 0.36 m ahead (gap 0.06 m to the footprint) leaves less free path
-    than v_move can drive, so v becomes 0; ω passes; 50 held steps end the instruction."""
-    laser = urg()
+def wall_ahead_ranges(laser, distance):
+    """Ranges of `laser` facing a wall `distance` ahead, open (5.6 m) elsewhere."""
     angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
     with np.errstate(divide="ignore"):
-        ranges = np.where(np.cos(angles) > 1e-9, 0.36 / np.cos(angles), 5.6)
-    ranges = np.minimum(ranges, 5.6)
+        ranges = np.where(np.cos(angles) > 1e-9, distance / np.cos(angles), 5.6)
+    return np.minimum(ranges, 5.6)
+
+
+def test_collision_guard_stops_v_keeps_omega_and_a_held_robot_halts(words):
+    """Beyond the seed, steering off: a wall 0.36 m ahead (gap 0.06 m to the footprint) leaves
+    less free path than v_move can drive, so v becomes 0; ω passes; 50 held steps end the
+    instruction."""
+    laser = urg()
+    ranges = wall_ahead_ranges(laser, 0.36)
     policy = ScriptedPolicy([(0.3, 0.2)] + [(0.3, 0.0)] * 50)
-    follower = DirectionFollower(policy, words)
+    config = FollowerConfig(guard=GuardConfig(steer=False))
+    follower = DirectionFollower(policy, words, config)
     follower.start("go straight to the end")
     turning = follower.step(ranges, laser)
     assert (turning.v, turning.w) == (0.0, 0.2)
@@ -148,6 +156,18 @@ def test_collision_guard_stops_v_keeps_omega_and_a_held_robot_halts(words):
     open_space = DirectionFollower(ScriptedPolicy([(0.3, 0.2)]), words)
     open_space.start("go straight to the end")
     assert (open_space.step(np.full(683, 5.0), laser).v) == 0.3
+
+
+def test_steering_guard_turns_a_blocked_robot_instead_of_halting_it(words):
+    """Default guard: the same wall blocks every arc, so the follower turns in place at
+    steer_turn (0.5 rad/s), to the network's side, and the halting counter never runs."""
+    laser = urg()
+    ranges = wall_ahead_ranges(laser, 0.36)
+    follower = DirectionFollower(ScriptedPolicy([(0.3, -0.2)] * 60), words)
+    follower.start("go straight to the end")
+    commands = [follower.step(ranges, laser) for _ in range(60)]
+    assert all((c.v, c.w) == (0.0, -0.5) for c in commands)
+    assert not commands[-1].done
 
 
 def test_follower_config_file(tmp_path):

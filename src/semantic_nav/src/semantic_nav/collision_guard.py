@@ -13,6 +13,13 @@ Reversing is blocked unless `allow_reverse`: the Penguin's lasers do not see beh
 270°, URG-04LX 240°), and the expert never reverses, so a negative v is a regression artefact
 that backs the robot into a wall it cannot see (all 5 collisions left with the guard on the
 1,000 test episodes were such reversals while turning).
+
+Steering round a blocked arc (`steer`, on by default; `steer_around`): where the guard would
+stop a robot the network wants to move, it tries the nearest rotating velocities instead, and
+turns the robot in place if no arc is free. Without it a robot that cut a corner stands before
+the wall: the network either gives up, so the halting counter ends the instruction short of the
+goal, or its ω dithers round zero until the episode times out (EVALUATION.md, "Steering round
+a blocked arc").
 """
 import math
 from dataclasses import dataclass
@@ -31,6 +38,12 @@ class GuardConfig:
     resolution: float = 0.05   # time between checked poses on the arc [s]
     laser_x: float = 0.0       # laser ahead of the base centre (Penguin: mounted on it) [m]
     allow_reverse: bool = False   # True only for a laser that sees behind the robot
+    steer: bool = True         # a blocked arc: try the nearest ω that lets the robot move
+    steer_range: float = 1.0   # largest |ω| tried (the Penguin's max_angular) [rad/s]
+    steer_step: float = 0.1    # spacing of the ω tried [rad/s]
+    steer_speed: float = 0.1   # an arc is usable from this guarded speed (or the command's) [m/s]
+    steer_turn: float = 0.5    # no arc usable: turn in place at this rate, away from the
+    #                            nearest return ahead [rad/s]
 
 
 def scan_points(ranges, laser, laser_x=0.0):
@@ -79,3 +92,54 @@ def guard_velocity(v, w, points, config=None):
         return float(v)
     free_path = abs(v) * times[blocked[0] - 1]
     return math.copysign(min(abs(v), free_path / config.horizon), v)
+
+
+def steer_around(v, w, points, blocked_below, config=None):
+    """Beyond the seed: the command (v', ω') the guard sends for (v, ω). As guard_velocity, with
+    ω kept, unless the guard would stop a robot the network wants to move (guarded |v| below
+    `blocked_below`, the slowest real motion, while |v| is not); then, with `steer` on:
+
+    1. ω' is the rotating velocity nearest ω, on a grid of `steer_step` within ±`steer_range`,
+       whose arc the guard lets through at `steer_speed` (or |v| if slower); v' is the guarded
+       speed on that arc.
+    2. If no arc is usable the robot turns in place (v' = 0): at the network's ω if that is
+       already `steer_turn` or faster (a turn-around), else at `steer_turn` to the network's
+       side, or, if the network barely turns (|ω| < `steer_step`), away from the nearest return
+       ahead. A turn in place cannot touch a wall, and the next step tries the arcs again."""
+    config = config or GuardConfig()
+    guarded = guard_velocity(v, w, points, config)
+    if not config.steer or abs(guarded) >= blocked_below or abs(v) < blocked_below:
+        return guarded, float(w)
+    steered = _nearest_free_arc(v, w, points, config)
+    if steered is not None:
+        return steered
+    return _turn_in_place(guarded, w, points, config)
+
+
+def _nearest_free_arc(v, w, points, config):
+    """(v', ω') on the ω grid nearest ω (ties: further to ω's side) that the guard lets through
+    at the usable speed, or None."""
+    usable = min(abs(v), config.steer_speed)
+    count = int(round(config.steer_range / config.steer_step))
+    grid = config.steer_step * np.arange(-count, count + 1)
+    side = math.copysign(1.0, w)
+    for candidate in sorted(grid, key=lambda c: (abs(c - w), -c * side)):
+        if abs(candidate - w) < 1e-9:
+            continue
+        speed = guard_velocity(v, float(candidate), points, config)
+        if abs(speed) >= usable:
+            return speed, float(candidate)
+    return None
+
+
+def _turn_in_place(guarded, w, points, config):
+    """Step 2 of steer_around: (v', ω') when no arc is usable."""
+    if abs(w) >= config.steer_turn:
+        return guarded, float(w)
+    if abs(w) >= config.steer_step:
+        return 0.0, math.copysign(config.steer_turn, w)
+    ahead = points[points[:, 0] > 0.0] if len(points) else points
+    if len(ahead) == 0:
+        return guarded, float(w)
+    nearest = ahead[np.argmin(np.hypot(ahead[:, 0], ahead[:, 1]))]
+    return 0.0, -math.copysign(config.steer_turn, nearest[1])

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from semantic_nav.collision_guard import GuardConfig, guard_velocity, scan_points
+from semantic_nav.collision_guard import GuardConfig, scan_points, steer_around
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
@@ -207,7 +207,7 @@ class DirectionFollower:
                                   self.config.postprocess)
         v = adjust_speed(raw_v, self.config.postprocess)
         w = adjust_speed(raw_w, self.config.postprocess)
-        v = self._guarded(v, w, ranges, laser)
+        v, w = self._guarded(v, w, ranges, laser)
         if self.counter is not None:
             self.counter.advance(v * self.control_period)
         if self.halting.update(v, w):
@@ -225,13 +225,15 @@ class DirectionFollower:
                            self.counter.config.window_deg)[0]
 
     def _guarded(self, v, w, ranges, laser):
-        """collision_guard on the post-processed command; a guarded speed the robot cannot drive
-        (below v_move, §2.2.5.1) becomes a stop, which the halting counter then counts."""
+        """collision_guard on the post-processed command -> (v, ω); a guarded speed the robot
+        cannot drive (below v_move, §2.2.5.1) becomes a stop, which the halting counter then
+        counts, unless the guard can steer round the wall (GuardConfig.steer)."""
         guard = self.config.guard
         if not guard.enabled or v == 0.0:
-            return v
-        guarded = guard_velocity(v, w, scan_points(ranges, laser, guard.laser_x), guard)
-        return guarded if abs(guarded) >= self.config.postprocess.v_move else 0.0
+            return v, w
+        v_move = self.config.postprocess.v_move
+        guarded, w = steer_around(v, w, scan_points(ranges, laser, guard.laser_x), v_move, guard)
+        return (guarded if abs(guarded) >= v_move else 0.0), w
 
     def _command(self, v, w, corners=None):
         current = min(self.index, len(self.instructions) - 1)
