@@ -2,7 +2,7 @@
 velocity so that the robot's circular footprint never reaches a laser return.
 
 The seed names drifting into side walls and accumulated small errors as its failure modes
-(thesis 002 §4.2.2); most failed evaluation episodes end in a wall. The guard keeps the
+(thesis 002 §4.2.2); most failed evaluation episodes end in a wall. guard_velocity keeps the
 network's rotating velocity and only limits v: the robot is a circle, so turning in place
 cannot touch a wall, and the network sees the next scan and can steer out. It rolls the
 commanded arc (v, ω) forward over `horizon` seconds, finds the free path length s before the
