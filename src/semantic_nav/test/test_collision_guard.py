@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from semantic_nav.collision_guard import (GuardConfig, arc_positions, guard_velocity,
-                                          scan_points, steer_around)
+                                          ramped_arc_positions, scan_points, steer_around)
 from semantic_nav.laser_layer import model_from_scan
 
 UTM = model_from_scan("utm", math.radians(-135), math.radians(0.25), 1081, 0.1, 30.0)
@@ -129,3 +129,28 @@ def test_with_every_arc_blocked_the_robot_turns_in_place():
     corner = np.array([[0.36, -0.05], [0.36, -0.5], [0.36, -1.0]])   # returns ahead-right
     assert steer_around(0.3, 0.0, corner, V_MOVE) == (0.0, 0.5)    # away from the nearest
     assert steer_around(0.3, 0.0, corner * [1, -1], V_MOVE) == (0.0, -0.5)
+
+
+def test_ramped_path_follows_the_omega_ramp():
+    """ω from 0 to 1 rad/s at 2 rad/s²: θ(t) = t² up to 0.5 s, then 0.25 + (t - 0.5); the end
+    point at 1 s against a fine trapezoid integration of that heading."""
+    times = np.linspace(0.0, 1.0, 21)
+    got = ramped_arc_positions(0.4, 1.0, 0.0, 2.0, times)[-1]
+    t = np.linspace(0.0, 1.0, 100001)
+    theta = np.where(t <= 0.5, t ** 2, 0.25 + (t - 0.5))
+    expected = [np.trapz(0.4 * np.cos(theta), t), np.trapz(0.4 * np.sin(theta), t)]
+    np.testing.assert_allclose(got, expected, atol=1e-4)
+    instant = ramped_arc_positions(0.5, math.pi / 2, 0.0, 1e9, times)
+    np.testing.assert_allclose(instant, arc_positions(0.5, math.pi / 2, times), atol=1e-3)
+
+
+def test_guard_checks_the_path_the_base_drives_while_omega_changes():
+    """Turning right away from a wall 0.45 m to the left is free on the commanded arc. A base
+    still turning left at 1 rad/s that changes ω at 1 rad/s² first swings towards the wall: its
+    heading peaks at 0.5 rad after 1 s, about 0.12 m nearer the wall, inside the 0.35 m reach."""
+    wall = points(left=0.45, right=2.0)
+    slow = GuardConfig(angular_accel=1.0)
+    assert guard_velocity(0.4, -1.0, wall, slow) == 0.4
+    assert guard_velocity(0.4, -1.0, wall, slow, w_now=-1.0) == 0.4
+    assert guard_velocity(0.4, -1.0, wall, slow, w_now=1.0) < 0.4
+    assert guard_velocity(0.4, -1.0, wall, GuardConfig(angular_accel=0.0), w_now=1.0) == 0.4

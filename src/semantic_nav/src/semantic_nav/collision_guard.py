@@ -7,7 +7,10 @@ network's rotating velocity and only limits v: the robot is a circle, so turning
 cannot touch a wall, and the network sees the next scan and can steer out. It rolls the
 commanded arc (v, ω) forward over `horizon` seconds, finds the free path length s before the
 footprint plus `margin` would touch a return, and sends v' = sgn(v) · min(|v|, s / horizon):
-full speed in the open, a smooth approach to a wall, and a stop at the margin.
+full speed in the open, a smooth approach to a wall, and a stop at the margin. Given the ω the
+base is turning at (the last command sent), the path checked is the one the base drives while
+its ω moves to the new one at `angular_accel`, not the commanded arc: a base that still turns
+the other way first swings towards what the new arc avoids.
 
 Reversing is blocked unless `allow_reverse`: the Penguin's lasers do not see behind it (UTM-30LX
 270°, URG-04LX 240°), and the expert never reverses, so a negative v is a regression artefact
@@ -38,6 +41,8 @@ class GuardConfig:
     resolution: float = 0.05   # time between checked poses on the arc [s]
     laser_x: float = 0.0       # laser ahead of the base centre (Penguin: mounted on it) [m]
     allow_reverse: bool = False   # True only for a laser that sees behind the robot
+    angular_accel: float = 2.0    # the base reaches a new ω at this rate (Penguin's
+    #                               max_angular_accel); 0: at once [rad/s^2]
     steer: bool = True         # a blocked arc: try the nearest ω that lets the robot move
     steer_range: float = 1.0   # largest |ω| tried (the Penguin's max_angular) [rad/s]
     steer_step: float = 0.1    # spacing of the ω tried [rad/s]
@@ -64,9 +69,39 @@ def arc_positions(v, w, times):
     return np.column_stack((v / w * np.sin(w * times), v / w * (1.0 - np.cos(w * times))))
 
 
-def guard_velocity(v, w, points, config=None):
+def ramped_arc_positions(v, w, w_now, accel, times):
+    """Unicycle positions (x, y) after `times` [s] (an even grid from 0) at speed v from the
+    origin facing +x, while ω goes from `w_now` to `w` at `accel` [rad/s^2] and then stays.
+    The heading is integrated at each interval's midpoint."""
+    times = np.asarray(times, dtype=float)
+    dt = times[1] - times[0] if len(times) > 1 else 0.0
+    change = w - w_now
+    ramp = abs(change) / accel           # time to reach w
+
+    def heading(t):
+        t_ramp = np.minimum(t, ramp)
+        return w_now * t + math.copysign(0.5 * accel, change) * t_ramp ** 2 \
+            + change * np.maximum(t - ramp, 0.0)
+
+    mid = heading(times[:-1] + 0.5 * dt)
+    steps = np.column_stack((v * dt * np.cos(mid), v * dt * np.sin(mid)))
+    return np.vstack(([0.0, 0.0], np.cumsum(steps, axis=0)))
+
+
+def _path_positions(v, w, w_now, config, times):
+    """The positions the guard checks: the commanded arc, or with the base's ω lag (w_now
+    known and angular_accel > 0) the path the base really drives."""
+    if w_now is None or config.angular_accel <= 0.0 or abs(w - w_now) < 1e-9:
+        return arc_positions(v, w, times)
+    return ramped_arc_positions(v, w, w_now, config.angular_accel, times)
+
+
+def guard_velocity(v, w, points, config=None, w_now=None):
     """The moving velocity the guard lets through for the command (v, ω) and the scan `points`
-    (base frame, from scan_points). ω is never changed. Returns v' with |v'| <= |v|."""
+    (base frame, from scan_points). ω is never changed. Returns v' with |v'| <= |v|.
+
+    `w_now`: the ω the base is turning at (the last command sent); None checks the commanded
+    arc as if the base reached ω at once."""
     config = config or GuardConfig()
     if not config.enabled or v == 0.0:
         return float(v)
@@ -80,7 +115,7 @@ def guard_velocity(v, w, points, config=None):
         return float(v)
     steps = max(1, int(math.ceil(config.horizon / config.resolution)))
     times = np.linspace(0.0, config.horizon, steps + 1)
-    positions = arc_positions(v, w, times)
+    positions = _path_positions(v, w, w_now, config, times)
     clearance = np.min(np.hypot(positions[:, None, 0] - near[None, :, 0],
                                 positions[:, None, 1] - near[None, :, 1]), axis=1)
     if clearance[0] < reach:
@@ -94,7 +129,7 @@ def guard_velocity(v, w, points, config=None):
     return math.copysign(min(abs(v), free_path / config.horizon), v)
 
 
-def steer_around(v, w, points, blocked_below, config=None):
+def steer_around(v, w, points, blocked_below, config=None, w_now=None):
     """Beyond the seed: the command (v', ω') the guard sends for (v, ω). As guard_velocity, with
     ω kept, unless the guard would stop a robot the network wants to move (guarded |v| below
     `blocked_below`, the slowest real motion, while |v| is not); then, with `steer` on:
@@ -105,18 +140,20 @@ def steer_around(v, w, points, blocked_below, config=None):
     2. If no arc is usable the robot turns in place (v' = 0): at the network's ω if that is
        already `steer_turn` or faster (a turn-around), else at `steer_turn` to the network's
        side, or, if the network barely turns (|ω| < `steer_step`), away from the nearest return
-       ahead. A turn in place cannot touch a wall, and the next step tries the arcs again."""
+       ahead. A turn in place cannot touch a wall, and the next step tries the arcs again.
+
+    `w_now` as in guard_velocity."""
     config = config or GuardConfig()
-    guarded = guard_velocity(v, w, points, config)
+    guarded = guard_velocity(v, w, points, config, w_now)
     if not config.steer or abs(guarded) >= blocked_below or abs(v) < blocked_below:
         return guarded, float(w)
-    steered = _nearest_free_arc(v, w, points, config)
+    steered = _nearest_free_arc(v, w, points, config, w_now)
     if steered is not None:
         return steered
     return _turn_in_place(guarded, w, points, config)
 
 
-def _nearest_free_arc(v, w, points, config):
+def _nearest_free_arc(v, w, points, config, w_now):
     """(v', ω') on the ω grid nearest ω (ties: further to ω's side) that the guard lets through
     at the usable speed, or None."""
     usable = min(abs(v), config.steer_speed)
@@ -126,7 +163,7 @@ def _nearest_free_arc(v, w, points, config):
     for candidate in sorted(grid, key=lambda c: (abs(c - w), -c * side)):
         if abs(candidate - w) < 1e-9:
             continue
-        speed = guard_velocity(v, float(candidate), points, config)
+        speed = guard_velocity(v, float(candidate), points, config, w_now)
         if abs(speed) >= usable:
             return speed, float(candidate)
     return None

@@ -131,6 +131,7 @@ class DirectionFollower:
         # beyond the seed: a network with the count input gets the corners counted so far
         counts = getattr(getattr(self.policy, "config", None), "count_input", False)
         self.counter = CornerCounter() if counts else None
+        self._sent_w = 0.0      # ω of the last command sent (the guard's estimate of the base's)
         self.instructions, self.z_w, self.classes = [], [], []
         self.unknown_words = []
         self.index = 0
@@ -173,6 +174,7 @@ class DirectionFollower:
         self.index = 0
         self._reset_memory()
         self.halting.reset()
+        self._sent_w = 0.0
         return list(self.classes)
 
     def _reset_memory(self):
@@ -208,6 +210,7 @@ class DirectionFollower:
         v = adjust_speed(raw_v, self.config.postprocess)
         w = adjust_speed(raw_w, self.config.postprocess)
         v, w = self._guarded(v, w, ranges, laser)
+        self._sent_w = w                # the base turns towards it at its angular acceleration
         if self.counter is not None:
             self.counter.advance(v * self.control_period)
         if self.halting.update(v, w):
@@ -232,7 +235,8 @@ class DirectionFollower:
         if not guard.enabled or v == 0.0:
             return v, w
         v_move = self.config.postprocess.v_move
-        guarded, w = steer_around(v, w, scan_points(ranges, laser, guard.laser_x), v_move, guard)
+        guarded, w = steer_around(v, w, scan_points(ranges, laser, guard.laser_x), v_move, guard,
+                                  self._sent_w)
         return (guarded if abs(guarded) >= v_move else 0.0), w
 
     def _command(self, v, w, corners=None):
