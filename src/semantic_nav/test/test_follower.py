@@ -153,6 +153,7 @@ def test_collision_guard_stops_v_keeps_omega_and_a_held_robot_halts(words):
     held = [follower.step(ranges, laser) for _ in range(50)]
     assert all((c.v, c.w) == (0.0, 0.0) for c in held)
     assert held[-1].done and not held[-2].done
+    assert follower.guard_actions == {"slowed": 0, "held": 51, "steered": 0, "turned": 0}
     open_space = DirectionFollower(ScriptedPolicy([(0.3, 0.2)]), words)
     open_space.start("go straight to the end")
     assert (open_space.step(np.full(683, 5.0), laser).v) == 0.3
@@ -168,6 +169,24 @@ def test_steering_guard_turns_a_blocked_robot_instead_of_halting_it(words):
     commands = [follower.step(ranges, laser) for _ in range(60)]
     assert all((c.v, c.w) == (0.0, -0.5) for c in commands)
     assert not commands[-1].done
+    assert follower.guard_actions == {"slowed": 0, "held": 0, "steered": 0, "turned": 60}
+    follower.start("go straight to the end")          # counted per sentence
+    assert sum(follower.guard_actions.values()) == 0
+
+
+def test_guard_actions_are_counted_per_kind(words):
+    """A wall 0.6 m ahead slows 0.3 m/s; a wall 0.33 m to the left (inside the margin) makes
+    the guard steer a left turn (ω 0.5) to ω = 0, along the wall (test_collision_guard)."""
+    laser = urg()
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    with np.errstate(divide="ignore"):
+        left_wall = np.minimum(np.where(np.sin(angles) > 1e-9, 0.33 / np.sin(angles), 5.6), 5.6)
+    follower = DirectionFollower(ScriptedPolicy([(0.3, 0.0), (0.1, 0.5)]), words)
+    follower.start("go straight to the end")
+    slowed = follower.step(wall_ahead_ranges(laser, 0.6), laser)
+    steered = follower.step(left_wall, laser)
+    assert 0.0 < slowed.v < 0.3 and (steered.v, steered.w) == (0.1, 0.0)
+    assert follower.guard_actions == {"slowed": 1, "held": 0, "steered": 1, "turned": 0}
 
 
 def test_follower_config_file(tmp_path):

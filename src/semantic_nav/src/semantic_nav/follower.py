@@ -98,6 +98,11 @@ def model_file(model_path=None):
     return path
 
 
+# what the collision guard did to a command: slowed v, held the robot still (v = 0, ω kept),
+# steered to another ω, or turned the robot in place (steer_around)
+GUARD_ACTIONS = ("slowed", "held", "steered", "turned")
+
+
 @dataclass
 class FollowerCommand:
     """What one control step decided."""
@@ -132,6 +137,7 @@ class DirectionFollower:
         counts = getattr(getattr(self.policy, "config", None), "count_input", False)
         self.counter = CornerCounter() if counts else None
         self._sent_w = 0.0      # ω of the last command sent (the guard's estimate of the base's)
+        self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)   # in the current sentence
         self.instructions, self.z_w, self.classes = [], [], []
         self.unknown_words = []
         self.index = 0
@@ -175,6 +181,7 @@ class DirectionFollower:
         self._reset_memory()
         self.halting.reset()
         self._sent_w = 0.0
+        self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)
         return list(self.classes)
 
     def _reset_memory(self):
@@ -235,9 +242,14 @@ class DirectionFollower:
         if not guard.enabled or v == 0.0:
             return v, w
         v_move = self.config.postprocess.v_move
-        guarded, w = steer_around(v, w, scan_points(ranges, laser, guard.laser_x), v_move, guard,
-                                  self._sent_w)
-        return (guarded if abs(guarded) >= v_move else 0.0), w
+        guarded, steered = steer_around(v, w, scan_points(ranges, laser, guard.laser_x), v_move,
+                                        guard, self._sent_w)
+        guarded = guarded if abs(guarded) >= v_move else 0.0
+        action = (("steered" if guarded else "turned") if steered != w else
+                  "held" if not guarded else "slowed" if abs(guarded) < abs(v) else None)
+        if action:
+            self.guard_actions[action] += 1
+        return guarded, steered
 
     def _command(self, v, w, corners=None):
         current = min(self.index, len(self.instructions) - 1)

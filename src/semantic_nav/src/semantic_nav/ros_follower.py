@@ -183,7 +183,10 @@ class FollowerNode:
         status.values = [KeyValue("scan_age_s", f"{age:.2f}"),
                          KeyValue("sentence", session.sentence if session else ""),
                          KeyValue("index", str(session.index) if session else ""),
-                         KeyValue("last_result", self.last_result)]
+                         KeyValue("last_result", self.last_result),
+                         KeyValue("guard", ", ".join(
+                             f"{action} {count}"
+                             for action, count in self.follower.guard_actions.items()))]
         self.diag_pub.publish(DiagnosticArray(header=rospy.Header(stamp=rospy.Time.now()),
                                               status=[status]))
 
