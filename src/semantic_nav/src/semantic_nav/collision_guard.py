@@ -107,12 +107,22 @@ def guard_velocity(v, w, points, config=None, w_now=None):
         return float(v)
     if v < 0.0 and not config.allow_reverse:
         return 0.0
+    return _arc_speed(v, w, _near_points(v, points, config), config, w_now)
+
+
+def _near_points(v, points, config):
+    """The returns an arc at speed v can reach within the horizon (the rest cannot block it)."""
     if len(points) == 0:
-        return float(v)
-    reach = config.radius + config.margin
-    near = points[np.hypot(points[:, 0], points[:, 1]) < abs(v) * config.horizon + reach]
+        return points
+    reach = abs(v) * config.horizon + config.radius + config.margin
+    return points[np.hypot(points[:, 0], points[:, 1]) < reach]
+
+
+def _arc_speed(v, w, near, config, w_now):
+    """guard_velocity's v' for a moving command, given the returns _near_points kept."""
     if len(near) == 0:
         return float(v)
+    reach = config.radius + config.margin
     steps = max(1, int(math.ceil(config.horizon / config.resolution)))
     times = np.linspace(0.0, config.horizon, steps + 1)
     positions = _path_positions(v, w, w_now, config, times)
@@ -155,7 +165,10 @@ def steer_around(v, w, points, blocked_below, config=None, w_now=None):
 
 def _nearest_free_arc(v, w, points, config, w_now):
     """(v', ω') on the ω grid nearest ω (ties: further to ω's side) that the guard lets through
-    at the usable speed, or None."""
+    at the usable speed, or None. The returns in reach depend on v only: selected once."""
+    if v < 0.0 and not config.allow_reverse:
+        return None
+    near = _near_points(v, points, config)
     usable = min(abs(v), config.steer_speed)
     count = int(round(config.steer_range / config.steer_step))
     grid = config.steer_step * np.arange(-count, count + 1)
@@ -163,7 +176,7 @@ def _nearest_free_arc(v, w, points, config, w_now):
     for candidate in sorted(grid, key=lambda c: (abs(c - w), -c * side)):
         if abs(candidate - w) < 1e-9:
             continue
-        speed = guard_velocity(v, float(candidate), points, config, w_now)
+        speed = _arc_speed(v, float(candidate), near, config, w_now)
         if abs(speed) >= usable:
             return speed, float(candidate)
     return None
@@ -180,3 +193,18 @@ def _turn_in_place(guarded, w, points, config):
         return guarded, float(w)
     nearest = ahead[np.argmin(np.hypot(ahead[:, 0], ahead[:, 1]))]
     return 0.0, -math.copysign(config.steer_turn, nearest[1])
+
+
+# what the guard did to a command (guard_action), as the follower counts them
+GUARD_ACTIONS = ("slowed", "held", "steered", "turned")
+
+
+def guard_action(v, w, sent_v, sent_w):
+    """What the guard (with the follower's v_move stop) did to the command (v, ω) it sent as
+    (sent_v, sent_w): "steered" to another ω, "turned" in place, "held" still (ω kept),
+    "slowed", or None (passed unchanged)."""
+    if sent_w != w:
+        return "steered" if sent_v else "turned"
+    if not sent_v:
+        return "held"
+    return "slowed" if abs(sent_v) < abs(v) else None

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from semantic_nav.collision_guard import GuardConfig, scan_points, steer_around
+from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_action,
+                                          scan_points, steer_around)
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
@@ -96,11 +97,6 @@ def model_file(model_path=None):
         raise ModelMissingError(
             f"semantic_nav model {path} not found: run `make train` (or pass a model path)")
     return path
-
-
-# what the collision guard did to a command: slowed v, held the robot still (v = 0, ω kept),
-# steered to another ω, or turned the robot in place (steer_around)
-GUARD_ACTIONS = ("slowed", "held", "steered", "turned")
 
 
 @dataclass
@@ -205,7 +201,6 @@ class DirectionFollower:
         if self.done:
             return self._command(0.0, 0.0)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
-        counts = None
         if self.counter is not None:
             counts = one_hot_counts(self.counter.observe(self._sides(ranges, laser)),
                                     self.counter.config.max_count)
@@ -245,8 +240,7 @@ class DirectionFollower:
         guarded, steered = steer_around(v, w, scan_points(ranges, laser, guard.laser_x), v_move,
                                         guard, self._sent_w)
         guarded = guarded if abs(guarded) >= v_move else 0.0
-        action = (("steered" if guarded else "turned") if steered != w else
-                  "held" if not guarded else "slowed" if abs(guarded) < abs(v) else None)
+        action = guard_action(v, w, guarded, steered)
         if action:
             self.guard_actions[action] += 1
         return guarded, steered
