@@ -75,10 +75,11 @@ def test_openings_in_corridor_walls_are_doors_or_corridor_mouths(seed):
     assert doors > 0
 
 
+@pytest.mark.parametrize("length", [(3.0, 8.0), (3.0, 5.0)])
 @pytest.mark.parametrize("seed", range(4))
-def test_side_branches_leave_one_side_clear_of_other_mouths(seed):
+def test_side_branches_leave_one_side_clear_of_other_mouths(seed, length):
     # a 40 m corridor along y = 10 (walls at 9 and 11) crossed by one at x = 20 (19..21)
-    config = FloorGeneratorConfig(side_branch_rate=0.3)
+    config = FloorGeneratorConfig(side_branch_rate=0.3, side_branch_length=length)
     main, cross = Corridor(True, 10.0, 0.0, 40.0, 2.0), Corridor(False, 20.0, 0.0, 20.0, 2.0)
     branches = side_branches(np.random.default_rng(seed), [main, cross], 40.0, 20.0, config)
     assert branches, "rate 0.3 on 60 m of corridor gave no branch"
@@ -89,7 +90,7 @@ def test_side_branches_leave_one_side_clear_of_other_mouths(seed):
             assert branch.start == 21.0 or branch.end == 19.0
             continue
         assert branch.start == 11.0 or branch.end == 9.0          # one side of the wall only
-        assert 3.0 <= branch.end - branch.start <= 8.0
+        assert length[0] <= branch.end - branch.start <= length[1]
         assert all(high + 1.5 <= a or b + 1.5 <= low for a, b in spans), (branch, spans)
         spans.append((low, high))
 
