@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from semantic_nav.collision_guard import (GuardConfig, arc_positions, guard_velocity,
-                                          ramped_arc_positions, scan_points, steer_around)
+from semantic_nav.collision_guard import (GuardConfig, arc_positions, format_guard_actions,
+                                          guard_velocity, ramped_arc_positions, scan_points,
+                                          steer_around)
 from semantic_nav.laser_layer import model_from_scan
 
 UTM = model_from_scan("utm", math.radians(-135), math.radians(0.25), 1081, 0.1, 30.0)
@@ -154,3 +155,8 @@ def test_guard_checks_the_path_the_base_drives_while_omega_changes():
     assert guard_velocity(0.4, -1.0, wall, slow, w_now=-1.0) == 0.4
     assert guard_velocity(0.4, -1.0, wall, slow, w_now=1.0) < 0.4
     assert guard_velocity(0.4, -1.0, wall, GuardConfig(angular_accel=0.0), w_now=1.0) == 0.4
+
+
+def test_guard_actions_format_for_the_diagnostics():
+    counts = {"turned": 3, "slowed": 1, "steered": 2}
+    assert format_guard_actions(counts) == "slowed 1, held 0, steered 2, turned 3"

@@ -208,3 +208,9 @@ def guard_action(v, w, sent_v, sent_w):
     if not sent_v:
         return "held"
     return "slowed" if abs(sent_v) < abs(v) else None
+
+
+def format_guard_actions(counts):
+    """{action: count} (DirectionFollower.guard_actions) -> "slowed N, held N, steered N,
+    turned N", the node's diagnostics value."""
+    return ", ".join(f"{action} {counts.get(action, 0)}" for action in GUARD_ACTIONS)

@@ -19,6 +19,7 @@ from std_msgs.msg import String
 from tamp_msgs.msg import FollowDirectionsAction
 from visualization_msgs.msg import Marker
 
+from semantic_nav.collision_guard import format_guard_actions
 from semantic_nav.conversions import (feedback_msg, path_marker, result_msg, scan_to_core,
                                       twist)
 from semantic_nav.follow_session import SUCCEEDED, FollowSession, InstructionRefused
@@ -184,9 +185,7 @@ class FollowerNode:
                          KeyValue("sentence", session.sentence if session else ""),
                          KeyValue("index", str(session.index) if session else ""),
                          KeyValue("last_result", self.last_result),
-                         KeyValue("guard", ", ".join(
-                             f"{action} {count}"
-                             for action, count in self.follower.guard_actions.items()))]
+                         KeyValue("guard", format_guard_actions(self.follower.guard_actions))]
         self.diag_pub.publish(DiagnosticArray(header=rospy.Header(stamp=rospy.Time.now()),
                                               status=[status]))
 
