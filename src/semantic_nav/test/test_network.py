@@ -7,7 +7,7 @@ keras = pytest.importorskip("keras")
 from semantic_nav.network import (CORNER_CLASSES, NetworkConfig, StepPolicy,  # noqa: E402
                                   add_count_input, add_heads, build_network,
                                   has_count_input, has_head, has_stop_head,
-                                  load_network, relu, softmax)
+                                  interpolate_weights, load_network, relu, softmax)
 from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
 
 
@@ -147,3 +147,42 @@ def test_count_input_grows_the_network_without_changing_it_and_steps_match():
     np.testing.assert_allclose(steps, np.asarray(out["velocity"])[0], atol=1e-5)
     with pytest.raises(ValueError, match="needs counts"):
         policy.step(z_w, scans[0, 0])
+
+
+def test_interpolate_weights_mixes_every_layer_and_keeps_the_ends():
+    """WiSE-FT (Eq. 1): α = 0 gives the base model's outputs, α = 1 the fine-tune's, and every
+    array in between is (1 − α) base + α tuned; models of different shape are refused by name."""
+    config = NetworkConfig(word_units=4, scan_units=8, fused_units=6, stop_head=True)
+    keras.utils.set_random_seed(3)
+    base = build_network(config)
+    keras.utils.set_random_seed(4)
+    tuned = build_network(config)
+    rng = np.random.default_rng(2)
+    inputs = {"words": rng.normal(size=(2, 3, config.word_dim)).astype(np.float32),
+              "scans": rng.random((2, 12, config.beams)).astype(np.float32)}
+
+    def outputs_with(mixed):
+        model = build_network(config)
+        for name, weights in mixed.items():
+            model.get_layer(name).set_weights(weights)
+        return np.asarray(model.predict_on_batch(inputs)["velocity"])
+
+    for alpha, model in ((0.0, base), (1.0, tuned)):
+        np.testing.assert_allclose(outputs_with(interpolate_weights(base, tuned, alpha)),
+                                   np.asarray(model.predict_on_batch(inputs)["velocity"]),
+                                   atol=1e-6)
+    mixed = interpolate_weights(base, tuned, 0.25)
+    assert set(mixed) == {layer.name for layer in tuned.layers if layer.get_weights()}
+    kernel_b, kernel_t = (m.get_layer("lstm_fused").get_weights()[0] for m in (base, tuned))
+    assert not np.allclose(kernel_b, kernel_t)
+    np.testing.assert_allclose(mixed["lstm_fused"][0], 0.75 * kernel_b + 0.25 * kernel_t,
+                               rtol=1e-6)
+    wider = build_network(NetworkConfig(word_units=4, scan_units=9, fused_units=6,
+                                        stop_head=True))
+    with pytest.raises(ValueError, match="'fc_scan'"):
+        interpolate_weights(base, wider, 0.5)
+    headless = build_network(NetworkConfig(word_units=4, scan_units=8, fused_units=6))
+    with pytest.raises(ValueError, match="'stop' of the fine-tuned model is not in the base"):
+        interpolate_weights(headless, tuned, 0.5)
+    with pytest.raises(ValueError, match="alpha"):
+        interpolate_weights(base, tuned, 1.5)

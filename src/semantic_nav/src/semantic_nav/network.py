@@ -174,6 +174,35 @@ def add_count_input(model, config):
     return grown
 
 
+
+def interpolate_weights(base, tuned, alpha):
+    """Weight-space ensemble of a model and its fine-tune (beyond the seed; WiSE-FT, Wortsman
+    et al., "Robust fine-tuning of zero-shot models", CVPR 2022, Eq. 1):
+    θ_α = (1 − α) θ_base + α θ_tuned, layer by layer. A fine-tune that learns a new kind of floor
+    can lose some of what its starting model did well; models on one fine-tuning path sit in
+    one basin, so the mixture keeps part of both. Returns {layer name: mixed arrays} for every
+    layer with weights (set them into a copy of `tuned`); both models must have the same layers
+    and weight shapes."""
+    if not 0.0 <= alpha <= 1.0:
+        raise ValueError(f"interpolation weight alpha must lie in [0, 1], got {alpha}")
+    mixed = {}
+    for layer in tuned.layers:
+        tuned_weights = layer.get_weights()
+        if not tuned_weights:
+            continue
+        try:
+            base_weights = base.get_layer(layer.name).get_weights()
+        except ValueError:
+            raise ValueError(f"layer {layer.name!r} of the fine-tuned model is not in the base "
+                             "model") from None
+        shapes = [w.shape for w in base_weights], [w.shape for w in tuned_weights]
+        if shapes[0] != shapes[1]:
+            raise ValueError(f"layer {layer.name!r}: weight shapes {shapes[0]} in the base "
+                             f"model, {shapes[1]} in the fine-tuned one")
+        mixed[layer.name] = [((1.0 - alpha) * b + alpha * t).astype(t.dtype)
+                             for b, t in zip(base_weights, tuned_weights)]
+    return mixed
+
 # Optional outputs on LSTM_fused (beyond the seed): name -> (activation, loss)
 HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
 
