@@ -174,7 +174,6 @@ def add_count_input(model, config):
     return grown
 
 
-
 def interpolate_weights(base, tuned, alpha):
     """Weight-space ensemble of a model and its fine-tune (beyond the seed; WiSE-FT, Wortsman
     et al., "Robust fine-tuning of zero-shot models", CVPR 2022, Eq. 1):
@@ -202,6 +201,7 @@ def interpolate_weights(base, tuned, alpha):
         mixed[layer.name] = [((1.0 - alpha) * b + alpha * t).astype(t.dtype)
                              for b, t in zip(base_weights, tuned_weights)]
     return mixed
+
 
 # Optional outputs on LSTM_fused (beyond the seed): name -> (activation, loss)
 HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
