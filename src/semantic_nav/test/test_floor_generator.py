@@ -1,9 +1,10 @@
-"""Random training floors: reproducible, closed, corridors clear, doors narrower than branches."""
+"""Random training floors: reproducible, closed, corridors clear, doors narrower than branches,
+doors straight ahead at corridor ends only where an office lies behind."""
 import numpy as np
 import pytest
 
-from semantic_nav.floor_generator import (Corridor, FloorGeneratorConfig, random_floor,
-                                          side_branches)
+from semantic_nav.floor_generator import (Corridor, FloorGeneratorConfig, end_doors,
+                                          random_floor, side_branches)
 from sim2d.blueprint import rect_cells
 from sim2d.occupancy_map import FREE, OCCUPIED
 
@@ -105,3 +106,38 @@ def test_side_branches_keep_the_floor_closed_and_older_seeds_unchanged():
     for border in (cells[:wall], cells[-wall:], cells[:, :wall], cells[:, -wall:]):
         assert np.all(border == OCCUPIED)
     assert len(corridors) > len(random_floor(4)[1])
+
+
+def test_end_doors_open_straight_ahead_where_an_office_lies_behind():
+    # a dead end at x = 12 (wall 12..12.2, an office beyond) and the map edge behind x = 0.2
+    config = FloorGeneratorConfig(end_door_probability=1.0)
+    shape = (int(10 / RES), int(20 / RES))
+    corridor = Corridor(True, 5.0, 0.2, 12.0, 2.0)
+    free = np.zeros(shape, dtype=bool)
+    free[rect_cells(corridor.rect(), RES, shape)] = True
+    rooms = np.zeros(shape, dtype=bool)
+    rooms[rect_cells([12.2, 0.2, 19.8, 9.8], RES, shape)] = True
+    free |= rooms
+    doors = end_doors(free, rooms, [corridor], np.random.default_rng(3), config, RES)
+    assert len(doors) == 1, doors
+    x0, y0, x1, y1 = doors[0]
+    assert x0 < 12.0 and x1 > 12.2                       # through the end wall
+    assert CONFIG.door_width[0] <= y1 - y0 <= CONFIG.door_width[1]
+    assert 4.0 + 0.1 <= y0 and y1 <= 6.0 - 0.1          # inside the corridor's width
+    wall_column = free[:, int(12.1 / RES)]
+    assert max(_runs(wall_column)) * RES == pytest.approx(y1 - y0, abs=2 * RES)
+    # a crossing-only corridor (no longer than a corridor is wide) has no end of its own
+    short = Corridor(True, 5.0, 10.0, 12.0, 2.0)
+    assert not end_doors(free, rooms, [short], np.random.default_rng(3), config, RES)
+
+
+def test_end_doors_keep_the_floor_closed_and_older_seeds_unchanged():
+    plain, _ = random_floor(5)
+    assert np.array_equal(random_floor(5, FloorGeneratorConfig(end_door_probability=0.0))[0]
+                          .cells, plain.cells)
+    grid, _ = random_floor(5, FloorGeneratorConfig(end_door_probability=1.0))
+    assert not np.array_equal(grid.cells, plain.cells)
+    wall = int(round(CONFIG.wall / RES))
+    cells = grid.cells
+    for border in (cells[:wall], cells[-wall:], cells[:, :wall], cells[:, -wall:]):
+        assert np.all(border == OCCUPIED)

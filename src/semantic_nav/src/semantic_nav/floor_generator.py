@@ -5,9 +5,11 @@ A floor is a grid of axis-aligned corridors (1.8-2.4 m wide) that cross, meet in
 L corners and end in dead ends, rooms filling the space between them (split into offices by
 partition walls) and doors (0.8-1.1 m, narrower than the route oracle's 1.3 m branches) from the
 offices into the corridors, some furniture. Optionally (side_branch_rate) short one-sided branches
-leave corridors between the crossings (staggered corners). The result is an OccupancyMap carved
-cell by cell: everything starts occupied, corridors and rooms are cleared, the walls are what
-remains.
+leave corridors between the crossings (staggered corners), and (end_door_probability) doors open
+straight ahead at a corridor's end: in a dead end's wall, in the outer wall of an L corner or in
+the far wall of a T-junction (the hand-made test floors have them; the walk ends before them).
+The result is an OccupancyMap carved cell by cell: everything starts occupied, corridors and rooms
+are cleared, the walls are what remains.
 Coordinates in metres, origin at the map's lower-left corner.
 """
 from dataclasses import dataclass
@@ -43,6 +45,8 @@ class FloorGeneratorConfig:
     #                                       the crossings (staggered corners) [1/m]
     side_branch_length: tuple = (3.0, 8.0)  # [m]
     side_branch_gap: float = 1.5          # wall left between a side branch and other mouths [m]
+    end_door_probability: float = 0.0     # a corridor end with an office behind it gets a door
+    #                                       in its end wall, straight ahead [1]
     resolution: float = 0.05              # [m/cell]
 
 
@@ -217,6 +221,35 @@ def _doors(free, corridor_mask, rooms, corridors, rng, config, res):
             position += door + float(rng.uniform(*config.door_gap))
 
 
+def end_doors(free, rooms, corridors, rng, config, res):
+    """Doors in the wall straight ahead at either end of a corridor (dead end, L corner, the far
+    wall of a T), across the corridor's width at a random offset, where an office lies behind.
+    -> [(x0, y0, x1, y1)] of the doors carved."""
+    shape, carved = free.shape, []
+    for corridor in corridors:
+        if corridor.end - corridor.start <= config.corridor_width[1] + 0.1:
+            continue                     # no longer than one crossing: no end of its own
+        for direction, end in ((-1, corridor.start), (1, corridor.end)):
+            if rng.random() >= config.end_door_probability:
+                continue
+            door = float(rng.uniform(*config.door_width))
+            slack = max(corridor.width / 2.0 - door / 2.0 - 0.1, 0.0)
+            middle = corridor.centre + float(rng.uniform(-slack, slack))
+            a, b = middle - door / 2.0, middle + door / 2.0
+            through = sorted((end - direction * 0.1, end + direction * (config.wall + 0.1)))
+            beyond = sorted((end + direction * (config.wall + 0.3),
+                             end + direction * (config.wall + 0.5)))
+            if corridor.horizontal:
+                rect, behind = [through[0], a, through[1], b], [beyond[0], a, beyond[1], b]
+            else:
+                rect, behind = [a, through[0], b, through[1]], [a, beyond[0], b, beyond[1]]
+            room = rooms[rect_cells(behind, res, shape)]
+            if room.size and room.all():
+                free[rect_cells(rect, res, shape)] = True
+                carved.append(tuple(rect))
+    return carved
+
+
 def _furniture(free, rooms, rng, config, res):
     """A desk or cupboard in some offices, against the middle of the office, off its walls."""
     count, labels = cv2.connectedComponents(rooms.astype(np.uint8), connectivity=4)
@@ -262,6 +295,8 @@ def random_floor(seed, config=None):
     rooms = _partition(rooms, rng, config, res)
     free = (corridor_mask & inner) | rooms
     _doors(free, corridor_mask, rooms, corridors, rng, config, res)
+    if config.end_door_probability > 0:  # (no draw otherwise: older seeds keep their floors)
+        end_doors(free, rooms, corridors, rng, config, res)
     _furniture(free, rooms, rng, config, res)
     cells = np.where(free, FREE, OCCUPIED).astype(np.int8)
     return OccupancyMap(cells=cells, resolution=res, origin=(0.0, 0.0, 0.0)), corridors
