@@ -211,8 +211,23 @@ def test_failure_places_tell_one_side_counting_from_overshooting():
                                [label], [[18.0, 4.0, 1.57], [x, y, 0.0]])
                 for (x, y), label, ok in ends]
     assert failure_places(outcomes, oracles) == {
+        1: {"short of the corridor's end": 1},
         7: {"opening 3 of 3 on its side (goal: 2)": 2, "past the goal's corner": 1},
         8: {"opening 3 of 3 on its side (goal: 2)": 1}}
+
+
+def test_failure_place_tells_a_door_at_the_corridor_end_from_a_short_stop():
+    from sim2d.occupancy_map import load_map
+    ring = RouteOracle(load_map(ROOT / "maps" / "office_ring.yaml"))
+    # heading south down office_ring's x = 15 corridor: the walk ends at the T's far wall
+    # (y = 4.1), which has a 1.0 m door (x 14.5-15.5) into the office below
+    walk = ring.walk((14.8, 9.5, -1.5))
+    assert walk.front == pytest.approx(9.5 - 4.1, abs=0.1)
+    assert failure_place(walk, 1, (15.1, 2.9)) == "through the wall ahead"
+    assert failure_place(walk, 9, (13.5, 2.5)) == "through the wall ahead"
+    assert failure_place(walk, 1, (15.0, 6.5)) == "short of the corridor's end"
+    assert failure_place(walk, 1, (17.0, 5.0)) == "off to one side"
+    assert failure_place(walk, 10, (15.0, 4.8)) == "past the goal's corner"
 
 
 def test_mcnemar_exact_against_the_binomial_tail_by_hand():

@@ -324,15 +324,24 @@ def counting_breakdown(outcomes, oracles):
 
 
 def failure_place(walk, label, end, margin=0.3):
-    """Where a failed single turn (classes 2, 3, 5-10) ended, against the oracle's walk from its
-    start -> "opening K of N on its side (goal: M)" when the final position `end` (x, y) lies in
-    the K-th of the N openings on the turning side (the goal's is the M-th), "other side",
-    "short of the goal's corner" or "past the goal's corner" (still in the walked corridor).
+    """Where a failed single instruction of class 1, 2, 3 or 5-10 ended, against the oracle's
+    walk from its start -> "through the wall ahead" when the final position `end` (x, y) lies
+    beyond the wall that ends the walked corridor (the robot went through a door there); for
+    class 1 "off to one side" or "short of the corridor's end"; for a turn "opening K of N on
+    its side (goal: M)" when it lies in the K-th of the N openings on the turning side (the
+    goal's is the M-th), "other side", "short of the goal's corner" or "past the goal's corner"
+    (still in the walked corridor).
 
     Beyond the seed: tells a policy that counts the openings of one side only (it reaches
-    opening M' != M) from one that misses or overshoots the turn."""
-    side = SIDE[label]
+    opening M' != M) from one that misses or overshoots the turn, and both from one that takes
+    a door at the corridor's end for more corridor."""
     along, lateral = walk.frame(end)
+    if along > walk.front + margin:
+        return "through the wall ahead"
+    if label == 1:
+        return "off to one side" if abs(lateral) > walk.half_width + margin else \
+            "short of the corridor's end"
+    side = SIDE[label]
     branches = branches_on_side(walk, side)
     goal = goal_branch(walk, label)
     if abs(lateral) > walk.half_width + margin:
@@ -349,11 +358,13 @@ def failure_place(walk, label, end, margin=0.3):
 
 
 def failure_places(outcomes, oracles):
-    """failure_place of every failed single-part turn episode -> {class: {place: count}}."""
+    """failure_place of every failed single-part episode of class 1, 2, 3 or 5-10 ->
+    {class: {place: count}}."""
     places = {}
     for outcome in outcomes:
         labels = outcome.spec.labels
-        if outcome.success or len(labels) != 1 or labels[0] not in SIDE or not outcome.path:
+        if outcome.success or len(labels) != 1 or not (labels[0] in SIDE or labels[0] == 1) \
+                or not outcome.path:
             continue
         walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
         place = failure_place(walk, labels[0], outcome.path[-1][:2])
