@@ -7,6 +7,7 @@ import pytest
 from semantic_nav.follower import (ROOT, DirectionFollower, FollowerCommand, FollowerConfig,
                                    ModelMissingError, UnknownInstructionError)
 from semantic_nav.collision_guard import GuardConfig
+from semantic_nav.doorways import DoorConfig
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.postprocess import PostprocessConfig
 from semantic_nav.word_vectors import WordVectors
@@ -195,12 +196,16 @@ def test_follower_config_file(tmp_path):
     assert shipped == FollowerConfig(laser_config=str(ROOT / "config" / "semnav_laser.yaml"))
     no_guard = load_follower_config(ROOT / "config" / "semnav_follower_no_guard.yaml")
     assert not no_guard.guard.enabled and no_guard.postprocess == PostprocessConfig()
+    assert shipped.doors.width == 1.4 and no_guard.doors.width == 0.0
     bad = tmp_path / "bad.yaml"
     bad.write_text("guard:\n  radius: 0.3\n  margn: 0.1\n")
     with pytest.raises(ValueError, match="margn"):
         load_follower_config(bad)
     bad.write_text("postprocess:\n  halt_steps: many\n")
     with pytest.raises(ValueError, match="halt_steps"):
+        load_follower_config(bad)
+    bad.write_text("doors:\n  wide: 1.0\n")
+    with pytest.raises(ValueError, match="doors: unknown key.*wide"):
         load_follower_config(bad)
     bad.write_text("guard:\n  enabled: 1\n")
     with pytest.raises(ValueError, match="enabled"):
@@ -227,9 +232,10 @@ class CountingPolicy(ScriptedPolicy):
 def test_count_input_network_gets_the_corners_counted_from_the_live_scans(words):
     """Beyond the seed: the left side reads open (4 m) from step 10 to 39; at 0.05 m a step the
     opening is 1 m long at step 30, where the count becomes 1; the next simple instruction
-    starts counting afresh."""
+    starts counting afresh. The opening is only the counter's window wide (0.35 m at 2 m), a
+    door to semantic_nav.doorways, so doorways stay open here."""
     policy = CountingPolicy(60)
-    follower = DirectionFollower(policy, words)
+    follower = DirectionFollower(policy, words, FollowerConfig(doors=DoorConfig(width=0.0)))
     follower.start("go straight to the end then turn left")
     laser = urg()
     angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)

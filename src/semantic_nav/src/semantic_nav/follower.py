@@ -15,6 +15,7 @@ import numpy as np
 
 from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_action,
                                           scan_points, steer_around)
+from semantic_nav.doorways import DoorConfig, close_doorways
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
@@ -41,6 +42,7 @@ class FollowerConfig:
     laser_config: str = str(DEFAULT_LASER_CONFIG)   # canonical scan + preprocessing
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
     guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
+    doors: DoorConfig = field(default_factory=DoorConfig)     # beyond the seed
 
 
 def _section(cls, values, where):
@@ -68,7 +70,7 @@ def _section(cls, values, where):
 
 def load_follower_config(path):
     """A FollowerConfig from a YAML file (config/semnav_follower.yaml lists every key with its
-    default): top-level control_period and laser_config, sections postprocess and guard. Keys
+    default): top-level control_period and laser_config, sections postprocess, guard and doors. Keys
     left out keep their defaults; an unknown key or a wrong type is a ValueError naming it."""
     import yaml
     path = Path(path)
@@ -78,7 +80,7 @@ def load_follower_config(path):
     where = str(path)
     if not isinstance(data, dict):
         raise ValueError(f"{where}: expected a mapping of follower settings")
-    sections = {"postprocess": PostprocessConfig, "guard": GuardConfig}
+    sections = {"postprocess": PostprocessConfig, "guard": GuardConfig, "doors": DoorConfig}
     top = {k: v for k, v in data.items() if k not in sections}
     config = _section(FollowerConfig, top, where)
     if "laser_config" in top:    # relative to the file, like the world files' paths
@@ -200,6 +202,7 @@ class DirectionFollower:
             raise RuntimeError("DirectionFollower.step before start(sentence)")
         if self.done:
             return self._command(0.0, 0.0)
+        ranges = close_doorways(ranges, laser, self.config.doors)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
         if self.counter is not None:
             counts = one_hot_counts(self.counter.observe(self._sides(ranges, laser)),
