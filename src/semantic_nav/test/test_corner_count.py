@@ -130,3 +130,30 @@ def test_record_files_bring_their_side_ranges_and_a_broken_cache_is_rebuilt(tmp_
     np.testing.assert_array_equal(again.sides, first.sides)
     np.testing.assert_array_equal(again.scans, first.scans)
     assert [p.name for p in cache.glob("*.npz")] == [cached.name]   # rebuilt in place
+
+
+def test_record_scans_can_have_their_doorways_closed_in_a_cache_of_their_own(tmp_path):
+    """train_semnav --door-width: the network trains on the scans the follower sees."""
+    from penguin_base.record_format import RecordSequence, Sample, format_records
+    from semantic_nav.doorways import DoorConfig
+    from semantic_nav.laser_layer import load_laser_config, preprocess_scan
+    from semantic_nav.training import load_episodes
+    models, canonical, preprocess = load_laser_config(ROOT / "config" / "semnav_laser.yaml")
+    laser = models["utm30lx"]            # beam 540 is straight ahead
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    with np.errstate(divide="ignore"):
+        wall = np.where(np.cos(angles) > 1e-9, 2.0 / np.cos(angles), 30.0)
+    wall = np.minimum(wall, 30.0)
+    door = wall.copy()
+    door[np.abs(2.0 * np.tan(angles)) < 0.5] = 30.0      # a 1 m door 2 m ahead, no return
+    door[np.cos(angles) <= 1e-9] = 30.0
+    path = tmp_path / "floor.records"
+    path.write_text(format_records([RecordSequence(1, [Sample(0.3, 0.0, tuple(door))])]))
+    cache = tmp_path / "cache"
+    raw = load_episodes([path], laser, canonical, preprocess, cache, rate=10.0)[0]
+    closed = load_episodes([path], laser, canonical, preprocess, cache, rate=10.0,
+                           doors=DoorConfig(width=1.4))[0]
+    plain = preprocess_scan(wall, laser, canonical, preprocess)[0]
+    assert len(list(cache.glob("*.npz"))) == 2
+    assert np.abs(raw.scans[0] - plain).max() > 0.1 * plain.max()
+    np.testing.assert_allclose(closed.scans[0], plain, atol=0.01 * plain.max())

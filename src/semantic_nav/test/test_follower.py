@@ -253,3 +253,37 @@ def test_count_input_network_gets_the_corners_counted_from_the_live_scans(words)
     stops = [follower.step(np.full(laser.beams, 2.0), laser) for _ in range(51)]
     assert [c.index for c in stops[47:50]] == [0, 0, 1]
     assert [c.corners for c in stops[47:50]] == [1, 1, 0] and policy.counts[-1] == 0
+
+
+def door_ahead_ranges(laser, door):
+    """Ranges of `laser` facing a wall 2 m ahead; door=(y0, y1): an open door in it (no return
+    through it), None: no door."""
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    ranges = wall_ahead_ranges(laser, 2.0)
+    if door is not None:
+        y = 2.0 * np.tan(angles)
+        ranges[(np.cos(angles) > 0) & (y > door[0]) & (y < door[1])] = 5.6
+    return ranges
+
+
+@pytest.mark.parametrize("width, closed", [(1.4, True), (0.0, False)])
+def test_the_network_sees_a_door_ahead_as_the_wall(words, width, closed):
+    """Beyond the seed: with doorways closed the network's scan of a wall with a 1 m door is
+    the scan of the plain wall (the jamb beams aside), and the cut beams end on the wall line,
+    where the node draws them."""
+    laser = urg()
+    scans = {}
+    for door in ((-0.5, 0.5), None):
+        policy = ScriptedPolicy([(0.0, 0.0)])
+        follower = DirectionFollower(policy, words, FollowerConfig(doors=DoorConfig(width=width)))
+        follower.start("go straight to the end")
+        follower.step(door_ahead_ranges(laser, door), laser)
+        scans[door] = (policy.scans[0], follower.doorway_points)
+    (with_door, points), (plain, _) = scans[(-0.5, 0.5)], scans[None]
+    differs = np.abs(with_door - plain) > 0.1 * np.abs(plain).max()
+    if closed:
+        assert differs.sum() <= 4 and len(points) > 20
+        np.testing.assert_allclose(points[:, 0], 2.0, atol=1e-6)
+        assert np.all(np.abs(points[:, 1]) < 0.5)
+    else:
+        assert differs.sum() > 20 and len(points) == 0

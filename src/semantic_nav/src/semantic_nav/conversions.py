@@ -37,6 +37,20 @@ def result_msg(outcome_or_error, completed=0):
                                   completed=outcome.completed, message=outcome.message)
 
 
+def doorway_marker(points, frame_id, stamp, size):
+    """Ends of the beams cut at doorways [(x, y)] (laser frame) -> a POINTS marker (orange,
+    `size` m); no points clears it."""
+    marker = Marker()
+    marker.header.frame_id, marker.header.stamp = frame_id, stamp
+    marker.ns, marker.id, marker.type = "semantic_nav_doorways", 0, Marker.POINTS
+    marker.action = Marker.ADD
+    marker.pose.orientation.w = 1.0
+    marker.scale.x = marker.scale.y = size
+    marker.color.r, marker.color.g, marker.color.a = 1.0, 0.5, 1.0
+    marker.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in points]
+    return marker
+
+
 def path_marker(points, frame_id, stamp, width):
     """Driven path [(x, y)] -> a LINE_STRIP marker (red, `width` m)."""
     marker = Marker()

@@ -136,6 +136,7 @@ class DirectionFollower:
         self.counter = CornerCounter() if counts else None
         self._sent_w = 0.0      # ω of the last command sent (the guard's estimate of the base's)
         self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)   # in the current sentence
+        self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
         self.instructions, self.z_w, self.classes = [], [], []
         self.unknown_words = []
         self.index = 0
@@ -202,7 +203,7 @@ class DirectionFollower:
             raise RuntimeError("DirectionFollower.step before start(sentence)")
         if self.done:
             return self._command(0.0, 0.0)
-        ranges = close_doorways(ranges, laser, self.config.doors)
+        ranges = self._close_doorways(ranges, laser)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
         if self.counter is not None:
             counts = one_hot_counts(self.counter.observe(self._sides(ranges, laser)),
@@ -223,6 +224,18 @@ class DirectionFollower:
             self._reset_memory()
         # the count of the instruction the command's index names (0 when one just began)
         return self._command(v, w, None if self.counter is None else self.counter.count)
+
+    def _close_doorways(self, ranges, laser):
+        """doorways.close_doorways on the raw scan; keeps the cut beams' ends (laser frame) in
+        `doorway_points` for the node's marker."""
+        closed = close_doorways(ranges, laser, self.config.doors)
+        if closed is ranges:
+            self.doorway_points = np.zeros((0, 2))
+            return ranges
+        cut = np.flatnonzero(closed < np.nan_to_num(np.asarray(ranges, dtype=float), nan=np.inf))
+        angles = laser.angle_min + laser.angle_increment * cut
+        self.doorway_points = closed[cut, None] * np.column_stack((np.cos(angles), np.sin(angles)))
+        return closed
 
     def _sides(self, ranges, laser):
         """corner_count.side_ranges of one raw scan; invalid readings (NaN, below the laser's

@@ -20,7 +20,7 @@ from tamp_msgs.msg import FollowDirectionsAction
 from visualization_msgs.msg import Marker
 
 from semantic_nav.collision_guard import format_guard_actions
-from semantic_nav.conversions import (feedback_msg, path_marker, result_msg, scan_to_core,
+from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg, scan_to_core,
                                       twist)
 from semantic_nav.follow_session import SUCCEEDED, FollowSession, InstructionRefused
 
@@ -57,6 +57,7 @@ class FollowerNode:
     def setup(self):
         self.cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         self.marker_pub = rospy.Publisher("~path", Marker, queue_size=1, latch=True)
+        self.doorway_pub = rospy.Publisher("~doorways", Marker, queue_size=1)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.server = actionlib.SimpleActionServer("follow_directions", FollowDirectionsAction,
                                                    auto_start=False)
@@ -161,6 +162,9 @@ class FollowerNode:
             self._finish(self.session.outcome)
             return
         self.cmd_pub.publish(twist(v, w))
+        self.doorway_pub.publish(doorway_marker(self.follower.doorway_points,
+                                                scan.header.frame_id, scan.header.stamp,
+                                                self.params.marker_width))
         if self.source == "action":
             self.server.publish_feedback(feedback_msg(feedback))
         if pose is not None and (not self.path or math.dist(self.path[-1], pose) >
@@ -185,7 +189,8 @@ class FollowerNode:
                          KeyValue("sentence", session.sentence if session else ""),
                          KeyValue("index", str(session.index) if session else ""),
                          KeyValue("last_result", self.last_result),
-                         KeyValue("guard", format_guard_actions(self.follower.guard_actions))]
+                         KeyValue("guard", format_guard_actions(self.follower.guard_actions)),
+                         KeyValue("doorway_beams", str(len(self.follower.doorway_points)))]
         self.diag_pub.publish(DiagnosticArray(header=rospy.Header(stamp=rospy.Time.now()),
                                               status=[status]))
 

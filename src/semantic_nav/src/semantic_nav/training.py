@@ -16,6 +16,7 @@ import numpy as np
 import yaml
 
 from semantic_nav.corner_count import CornerCountConfig, count_inputs, one_hot_counts, side_ranges
+from semantic_nav.doorways import close_doorways
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
 from semantic_nav.phrase_sets import CLASSES, sample_sentence
@@ -109,20 +110,25 @@ def preprocess_matrix(ranges, laser, canonical, preprocess):
 
 
 def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0,
-                  window_deg=CornerCountConfig.window_deg):
+                  window_deg=CornerCountConfig.window_deg, doors=None):
     """Episodes of record files (recorded at `rate` [Hz]) with their side ranges
     (corner_count.side_ranges over ±window_deg); preprocessed scans and side ranges cached as
     .npz keyed by file size/mtime (a cache without side ranges for this window gets them
-    added)."""
+    added). `doors` (doorways.DoorConfig with width > 0): every scan with its doorways closed
+    first, as the follower sees it (a cache of its own)."""
+    closing = doors is not None and doors.width > 0
+    suffix = f":doors:{doors.width}:{doors.max_range}:{doors.depth}" if closing else ""
     episodes = []
     for path in map(Path, paths):
         stat = path.stat()
         key = hashlib.sha1(f"{path.resolve()}:{stat.st_size}:{stat.st_mtime_ns}:"
-                           f"{canonical.start}:{canonical.steps}".encode()).hexdigest()[:16]
+                           f"{canonical.start}:{canonical.steps}{suffix}".encode()
+                           ).hexdigest()[:16]
         cache = Path(cache_dir) / f"{path.stem}-{key}.npz" if cache_dir else None
         arrays = _read_cache(cache)
         if arrays is None or float(arrays.get("side_window", np.nan)) != window_deg:
-            arrays = _parse_records(path, laser, canonical, preprocess, window_deg, arrays)
+            arrays = _parse_records(path, laser, canonical, preprocess, window_deg, arrays,
+                                    doors if closing else None)
             if cache and len(arrays["labels"]):
                 cache.parent.mkdir(parents=True, exist_ok=True)
                 partial = cache.with_suffix(".partial.npz")
@@ -148,11 +154,14 @@ def _read_cache(cache):
         return None
 
 
-def _parse_records(path, laser, canonical, preprocess, window_deg, cached=None):
+def _parse_records(path, laser, canonical, preprocess, window_deg, cached=None, doors=None):
     """One record file -> the cache arrays; with `cached` (a cache without side ranges) only
-    the side ranges are computed, the preprocessed scans are kept."""
+    the side ranges are computed, the preprocessed scans are kept; with `doors` the doorways
+    of every scan are closed first."""
     labels, lengths, scans, commands, sides = [], [], [], [], []
     for label, command, ranges in iter_record_arrays(path):
+        if doors is not None:
+            ranges = np.stack([close_doorways(row, laser, doors) for row in ranges])
         labels.append(label)
         lengths.append(len(command))
         commands.append(command.astype(np.float32))
