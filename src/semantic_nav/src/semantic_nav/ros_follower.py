@@ -20,8 +20,8 @@ from tamp_msgs.msg import FollowDirectionsAction
 from visualization_msgs.msg import Marker
 
 from semantic_nav.collision_guard import format_guard_actions
-from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg, scan_to_core,
-                                      twist)
+from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg,
+                                      scan_to_core, twist)
 from semantic_nav.follow_session import SUCCEEDED, FollowSession, InstructionRefused
 
 
