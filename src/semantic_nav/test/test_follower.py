@@ -197,6 +197,8 @@ def test_follower_config_file(tmp_path):
     no_guard = load_follower_config(ROOT / "config" / "semnav_follower_no_guard.yaml")
     assert not no_guard.guard.enabled and no_guard.postprocess == PostprocessConfig()
     assert shipped.doors.width == 1.4 and no_guard.doors.width == 0.0
+    no_doors = load_follower_config(ROOT / "config" / "semnav_follower_no_doors.yaml")
+    assert no_doors == FollowerConfig(doors=DoorConfig(width=0.0))
     bad = tmp_path / "bad.yaml"
     bad.write_text("guard:\n  radius: 0.3\n  margn: 0.1\n")
     with pytest.raises(ValueError, match="margn"):
