@@ -66,3 +66,14 @@ def close_doorways(ranges, laser, config):
         if np.all(reach[i + 1:j] >= cut + config.depth):
             out[i + 1:j] = cut
     return out
+
+
+def cut_beam_ends(ranges, closed, laser):
+    """(M, 2) ends, in the laser frame, of the beams that close_doorways cut: where `closed`
+    reads shorter than the raw `ranges` (NaN readings are never cut)."""
+    if closed is ranges:
+        return np.zeros((0, 2))
+    raw = np.nan_to_num(np.asarray(ranges, dtype=float), nan=np.inf)
+    cut = np.flatnonzero(closed < raw)
+    angles = laser.angle_min + laser.angle_increment * cut
+    return closed[cut, None] * np.column_stack((np.cos(angles), np.sin(angles)))

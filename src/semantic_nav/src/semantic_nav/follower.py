@@ -15,7 +15,7 @@ import numpy as np
 
 from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_action,
                                           scan_points, steer_around)
-from semantic_nav.doorways import DoorConfig, close_doorways
+from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
@@ -229,12 +229,7 @@ class DirectionFollower:
         """doorways.close_doorways on the raw scan; keeps the cut beams' ends (laser frame) in
         `doorway_points` for the node's marker."""
         closed = close_doorways(ranges, laser, self.config.doors)
-        if closed is ranges:
-            self.doorway_points = np.zeros((0, 2))
-            return ranges
-        cut = np.flatnonzero(closed < np.nan_to_num(np.asarray(ranges, dtype=float), nan=np.inf))
-        angles = laser.angle_min + laser.angle_increment * cut
-        self.doorway_points = closed[cut, None] * np.column_stack((np.cos(angles), np.sin(angles)))
+        self.doorway_points = cut_beam_ends(ranges, closed, laser)
         return closed
 
     def _sides(self, ranges, laser):

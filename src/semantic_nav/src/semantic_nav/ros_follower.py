@@ -162,9 +162,10 @@ class FollowerNode:
             self._finish(self.session.outcome)
             return
         self.cmd_pub.publish(twist(v, w))
-        self.doorway_pub.publish(doorway_marker(self.follower.doorway_points,
-                                                scan.header.frame_id, scan.header.stamp,
-                                                self.params.marker_width))
+        if self.doorway_pub.get_num_connections():     # built only for a listener (rviz)
+            self.doorway_pub.publish(doorway_marker(self.follower.doorway_points,
+                                                    scan.header.frame_id, scan.header.stamp,
+                                                    self.params.marker_width))
         if self.source == "action":
             self.server.publish_feedback(feedback_msg(feedback))
         if pose is not None and (not self.path or math.dist(self.path[-1], pose) >
