@@ -4,10 +4,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from semantic_nav.instruction_layer import split_instruction, tokenise
 from semantic_nav.phrase_sets import (CLASSES, Phrase, PhraseSetError, compose,
-                                      enumerate_sentences, load_phrase_sets, sample_sentence)
+                                      enumerate_sentences, load_phrase_sets, sample_sentence,
+                                      score_phrasings)
 from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
 
 CONFIG = Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml"
@@ -74,9 +76,9 @@ def test_every_class_is_generated_with_its_own_label(train_sentences):
 
 def test_enumeration_counts_follow_the_set_sizes(sets, train_sentences):
     # Class 4 = (prefix + none) x class4 x (suffix + none), training phrases only
-    n = Counter(p.set_name for p in (p for v in sets.values() for p in v) if not p.held_out)
+    n = Counter(p.set_name for p in (p for v in sets.values() for p in v) if p.split == "train")
     assert len(train_sentences[4]) == (n["prefix"] + 1) * n["class4"] * (n["suffix"] + 1)
-    turns_right = sum(1 for p in sets["class_turn"] if not p.held_out and p.tag == "right")
+    turns_right = sum(1 for p in sets["class_turn"] if p.split == "train" and p.tag == "right")
     assert len(train_sentences[2]) == ((n["prefix"] + 1) * (n["prefix_turn"] + 1) * turns_right
                                        * (n["suffix_turn_keep"] + 1) * (n["suffix"] + 1))
 
@@ -88,6 +90,34 @@ def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
         assert held and all(any(p.held_out for p in s.phrases) for s in held)
         assert not train & {s.text for s in held}
         assert not any(p.held_out for s in train_sentences[label] for p in s.phrases)
+
+
+def test_validation_phrasings_are_neither_trained_on_nor_tested(sets, train_sentences):
+    rng = np.random.default_rng(2)
+    for label in CLASSES:
+        sentences = [sample_sentence(sets, label, rng, "validation") for _ in range(30)]
+        assert all(s.label == label for s in sentences)
+        assert all(any(p.split == "validation" for p in s.phrases) for s in sentences)
+        assert not any(p.held_out for s in sentences for p in s.phrases)
+        assert not {s.text for s in sentences} & {s.text for s in train_sentences[label]}
+    held = [s for label in CLASSES for s in enumerate_sentences(sets, label, "held_out")]
+    assert not any(p.split == "validation" for s in held for p in s.phrases)
+
+
+def test_held_out_sampling_ignores_validation_phrases(tmp_path):
+    # the held-out test draws the same sentences with or without validation phrases in the file
+    config = yaml.safe_load(CONFIG.read_text())
+    for entry in [config[name] for name in ("prefix", "suffix", "class1", "class_turn",
+                                            "prefix_turn", "suffix_turn_keep", "class4")] + \
+            list(config["suffix_turn_change"].values()):
+        entry.pop("validation", None)
+    plain = tmp_path / "phrases.yaml"
+    plain.write_text(yaml.safe_dump(config))
+    draws = [[sample_sentence(load_phrase_sets(path), label, np.random.default_rng(9),
+                              "held_out").text for label in CLASSES] for path in (CONFIG, plain)]
+    assert draws[0] == draws[1]
+    with pytest.raises(PhraseSetError, match="no validation phrase"):
+        sample_sentence(load_phrase_sets(plain), 4, np.random.default_rng(0), "validation")
 
 
 def test_generated_sentences_are_single_simple_instructions(train_sentences):
@@ -105,12 +135,42 @@ def test_sampling_is_reproducible_and_labelled(sets):
     assert all(s.label == 9 and any(p.held_out for p in s.phrases) for s in held)
 
 
+def test_phrasing_score_counts_misses_per_phrase(sets):
+    # a classifier right on every sentence but those with "veer": it misses exactly them
+    rng = np.random.default_rng(5)
+    sentences = [sample_sentence(sets, i % 10 + 1, rng, "held_out") for i in range(400)]
+    by_text = {s.text: s.label for s in sentences}
+    score = score_phrasings(sets, lambda text: [0 if "veer" in text else by_text[text]], 400,
+                           np.random.default_rng(5))
+    veered = [s for s in sentences if "veer" in s.text]
+    assert veered
+    assert score.hits == 400 - len(veered)
+    assert score.accuracy == pytest.approx(1 - len(veered) / 400)
+    assert score.per_class[4] == [40, 40]          # class 4 has no turn phrase
+    missed = {text: (m, n) for text, m, n in score.missed_phrases()}
+    assert missed["veer right"][0] == missed["veer right"][1] > 0
+    assert missed["veer left"][0] == missed["veer left"][1] > 0
+    assert score.missed_phrases()[0][1] == score.missed_phrases()[0][2]   # 100 % missed first
+    uses = sum(n for m, n in score.per_phrase.values())
+    assert uses == sum(sum(p.held_out for p in s.phrases) for s in sentences)
+
+
 def test_bad_requests_are_clear_errors(sets, tmp_path):
     with pytest.raises(PhraseSetError, match="unknown class 11"):
         list(enumerate_sentences(sets, 11))
     broken = tmp_path / "p.yaml"
     broken.write_text("prefix: {train: [please]}\n")
     with pytest.raises(PhraseSetError, match="missing phrase set"):
+        load_phrase_sets(broken)
+    config = yaml.safe_load(CONFIG.read_text())
+    config["suffix"]["tested"] = ["and halt"]
+    broken.write_text(yaml.safe_dump(config))
+    with pytest.raises(PhraseSetError, match="'suffix' needs the keys train and held_out"):
+        load_phrase_sets(broken)
+    config["suffix"].pop("tested")
+    config["suffix"]["validation"] = ["and halt"]
+    broken.write_text(yaml.safe_dump(config))
+    with pytest.raises(PhraseSetError, match=r"\['and halt'\] both validation and held_out"):
         load_phrase_sets(broken)
     with pytest.raises(PhraseSetError, match="no core phrase"):
         compose([Phrase("prefix", "please", False)])

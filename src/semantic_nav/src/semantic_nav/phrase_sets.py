@@ -20,7 +20,9 @@ TURN_CLASSES = {("right", None): 2, ("left", None): 3, ("right", "second"): 5,
 SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_keep",
         "suffix_turn_change", "class4", "others")
 CHANGE_KINDS = ("second", "third", "end")
-SPLITS = ("train", "held_out")
+# train: the only phrases training sees; validation: phrases that choose between trained
+# classifiers (train_semnav --retrain-classifier's monitor); held_out: the final test (§4.2.1).
+SPLITS = ("train", "validation", "held_out")
 
 
 class PhraseSetError(ValueError):
@@ -33,8 +35,12 @@ class Phrase:
 
     set_name: str
     text: str
-    held_out: bool
+    split: str              # one of SPLITS
     tag: object = None
+
+    @property
+    def held_out(self):
+        return self.split == "held_out"
 
 
 @dataclass(frozen=True)
@@ -47,10 +53,12 @@ class Sentence:
 
 
 def _phrases(entry, set_name, tag=None):
-    if not isinstance(entry, dict) or set(entry) != set(SPLITS):
-        raise PhraseSetError(f"phrase set {set_name!r} needs exactly the keys train and held_out")
-    return [Phrase(set_name, " ".join(str(text).lower().split()), split == "held_out", tag)
-            for split in SPLITS for text in entry[split] or []]
+    if (not isinstance(entry, dict) or not {"train", "held_out"} <= set(entry)
+            or not set(entry) <= set(SPLITS)):
+        raise PhraseSetError(f"phrase set {set_name!r} needs the keys train and held_out "
+                             "(and optionally validation), nothing else")
+    return [Phrase(set_name, " ".join(str(text).lower().split()), split, tag)
+            for split in SPLITS for text in entry.get(split) or []]
 
 
 def load_phrase_sets(path):
@@ -62,15 +70,14 @@ def load_phrase_sets(path):
     sets = {name: _phrases(config[name], name)
             for name in ("prefix", "suffix", "class1", "prefix_turn", "suffix_turn_keep",
                          "class4")}
-    sets["class_turn"] = [Phrase("class_turn", p.text.format(dir=side), p.held_out, side)
+    sets["class_turn"] = [Phrase("class_turn", p.text.format(dir=side), p.split, side)
                           for p in _phrases(config["class_turn"], "class_turn")
                           for side in ("right", "left")]
     sets["suffix_turn_change"] = [p for kind in CHANGE_KINDS for p in _phrases(
         config["suffix_turn_change"][kind], "suffix_turn_change", kind)]
     others = config["others"]
-    sets["others"] = [Phrase("others", " ".join(str(t).lower().split()), split == "held_out",
-                             int(label))
-                      for split in SPLITS for label, texts in (others[split] or {}).items()
+    sets["others"] = [Phrase("others", " ".join(str(t).lower().split()), split, int(label))
+                      for split in SPLITS for label, texts in (others.get(split) or {}).items()
                       for t in texts]
     _check_disjoint(sets)
     return sets
@@ -78,10 +85,11 @@ def load_phrase_sets(path):
 
 def _check_disjoint(sets):
     for name, phrases in sets.items():
-        train = {p.text for p in phrases if not p.held_out}
-        both = train & {p.text for p in phrases if p.held_out}
-        if both:
-            raise PhraseSetError(f"phrase set {name!r}: {sorted(both)} both train and held out")
+        for a, b in itertools.combinations(SPLITS, 2):
+            both = {p.text for p in phrases if p.split == a} & {p.text for p in phrases
+                                                                if p.split == b}
+            if both:
+                raise PhraseSetError(f"phrase set {name!r}: {sorted(both)} both {a} and {b}")
 
 
 def label_of(phrases):
@@ -132,8 +140,9 @@ def recipes(label):
 
 
 def _choices(sets, slot, split):
-    """Phrases a slot may take in a split; None stands for leaving an optional slot out."""
-    pool = [p for p in sets[slot.set_name] if (split == "held_out" or not p.held_out)
+    """Phrases a slot may take in a split (training phrases and the split's own); None stands
+    for leaving an optional slot out."""
+    pool = [p for p in sets[slot.set_name] if p.split in ("train", split)
             and (slot.tag is None or p.tag == slot.tag)]
     return ([None] if slot.optional else []) + pool
 
@@ -141,15 +150,15 @@ def _choices(sets, slot, split):
 def enumerate_sentences(sets, label, split="train"):
     """§3.2: every combination of the sets that generate class `label`, in a fixed order.
 
-    split="train" uses training phrases only; split="held_out" yields only sentences with at
-    least one held-out phrase (never seen in training)."""
+    split="train" uses training phrases only; split="held_out" (or "validation") yields only
+    sentences with at least one phrase of that split (never seen in training)."""
     if label not in CLASSES or split not in SPLITS:
         raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
     for recipe in recipes(label):
         slots = [_choices(sets, slot, split) for slot in recipe]
         for combination in itertools.product(*slots):
             phrases = [p for p in combination if p is not None]
-            if split == "held_out" and not any(p.held_out for p in phrases):
+            if split != "train" and not any(p.split == split for p in phrases):
                 continue
             yield compose(phrases)
 
@@ -163,8 +172,48 @@ def sample_sentence(sets, label, rng, split="train"):
     if not options:
         raise PhraseSetError(f"no phrases for class {label} in split {split!r}")
     pools = options[rng.integers(len(options))]
-    for _ in range(1000):   # held-out: redraw until a held-out phrase is used
+    for _ in range(1000):   # held-out / validation: redraw until a phrase of the split is used
         phrases = [c for c in (pool[rng.integers(len(pool))] for pool in pools) if c]
-        if split == "train" or any(p.held_out for p in phrases):
+        if split == "train" or any(p.split == split for p in phrases):
             return compose(phrases)
-    raise PhraseSetError(f"class {label}: no held-out phrase drawn in 1000 tries")
+    raise PhraseSetError(f"class {label}: no {split} phrase drawn in 1000 tries")
+
+
+@dataclass
+class PhrasingScore:
+    """Z_w on one split's phrasings: hits and sentences per class, misses and uses per phrase
+    of the split (each phrase of a missed sentence is counted)."""
+
+    per_class: dict
+    per_phrase: dict
+
+    @property
+    def hits(self):
+        return sum(hits for hits, _ in self.per_class.values())
+
+    @property
+    def accuracy(self):
+        return self.hits / sum(total for _, total in self.per_class.values())
+
+    def missed_phrases(self):
+        """[(phrase, misses, uses)] of the split's phrases with misses, most missed first."""
+        rows = [(text, missed, used) for text, (missed, used) in self.per_phrase.items() if missed]
+        return sorted(rows, key=lambda row: (-row[1] / row[2], -row[1], row[0]))
+
+
+def score_phrasings(sets, classify, count, rng, split="held_out"):
+    """§4.2.1's "new instructions with similar meanings": `count` sentences of `split`, classes in
+    turn, each classified by `classify(text) -> [class, ...]` (right if it is [label])."""
+    per_class = {label: [0, 0] for label in CLASSES}
+    per_phrase = {}
+    for i in range(count):
+        label = i % len(CLASSES) + 1
+        sentence = sample_sentence(sets, label, rng, split)
+        right = classify(sentence.text) == [label]
+        per_class[label][0] += right
+        per_class[label][1] += 1
+        for phrase in (p for p in sentence.phrases if p.split == split):
+            tally = per_phrase.setdefault(phrase.text, [0, 0])
+            tally[0] += not right
+            tally[1] += 1
+    return PhrasingScore(per_class, per_phrase)

@@ -35,6 +35,9 @@ class TrainingConfig:
     class_batches: int = 4       # extra Z_w-only batches of phrase-set sentences per epoch [1]
     class_batch_size: int = 256  # sentences per Z_w batch [1]
     class_warmup_batches: int = 200  # Z_w-only batches before the first epoch (new model) [1]
+    class_monitor_every: int = 50    # retrain_classifier: batches between validation checks [1]
+    class_monitor_size: int = 1000   # validation-phrasing sentences of each check [1]
+    class_monitor_seed: int = 0      # draws them: the same sentences for every run [1]
     stop_weight: float = 1.0     # loss weight of zero-label steps (standing at the goal) [1]
     turn_weight: float = 1.0     # loss weight of turning steps (beyond the seed, step_weights) [1]
     turn_threshold: float = 0.15  # |ω| of the expert from which a step counts as turning [rad/s]
@@ -382,6 +385,14 @@ def class_batch(sets, word_vectors, rng, size, split="train", noise=0.0):
     return pad_words(vectors, word_vectors.dim), labels - 1
 
 
+def class_hits_and_loss(probabilities, labels):
+    """Z_w (batch, 10) softmax outputs and labels 0..9 -> (argmax hits, mean cross-entropy)."""
+    probabilities = np.asarray(probabilities, dtype=np.float64)
+    picked = probabilities[np.arange(len(labels)), labels]
+    hits = int((np.argmax(probabilities, axis=1) == labels).sum())
+    return hits, float(-np.mean(np.log(np.maximum(picked, 1e-12))))
+
+
 def step_errors(reference, output):
     """Eq. 4.2-1 and 4.2-2: d_i = v_ref - v_out, e_i = ω_ref - ω_out -> (d, e)."""
     reference, output = np.asarray(reference), np.asarray(output)
@@ -474,9 +485,10 @@ class Monitor:
     Loss monitor: lower is better. Validation monitor: [correct, destination] with more
     destinations better, ties broken by more correct outputs. Beyond the seed, the closed-loop
     monitor: episodes that reached their goal on validation floors, more is better (a tie keeps
-    the earlier model)."""
+    the earlier model). The phrasing monitor (Z_w alone): (validation-phrasing sentences
+    classified right, their mean cross-entropy), more right better, ties by lower entropy."""
 
-    KINDS = ("loss", "validation", "closed_loop")
+    KINDS = ("loss", "validation", "closed_loop", "phrasing")
 
     def __init__(self, kind):
         if kind not in self.KINDS:
@@ -490,6 +502,8 @@ class Monitor:
             return value < self.best
         if self.kind == "closed_loop":
             return value > self.best
+        if self.kind == "phrasing":
+            return (value[0], -value[1]) > (self.best[0], -self.best[1])
         return (value[1], value[0]) > (self.best[1], self.best[0])
 
     def update(self, value):
