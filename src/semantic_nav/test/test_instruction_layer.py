@@ -44,8 +44,17 @@ def test_empty_sentence_is_a_clear_error():
 
 def test_tokenise_lower_case_and_clitics():
     assert tokenise("I'd like you to Turn RIGHT at the 2nd corner") == [
-        "i", "'d", "like", "you", "to", "turn", "right", "at", "the", "2nd", "corner"]
+        "i", "'d", "like", "you", "to", "turn", "right", "at", "the", "second", "corner"]
     assert tokenise("don't make a u-turn") == ["do", "n't", "make", "a", "u-turn"]
+
+
+def test_numerals_become_the_words_of_the_phrase_sets():
+    assert tokenise("turn left 2 corners down") == ["turn", "left", "two", "corners", "down"]
+    assert tokenise("at the 1st, 3rd or 10th corner, 0 or 10") == [
+        "at", "the", "first", "third", "or", "tenth", "corner", "zero", "or", "ten"]
+    # beyond ten, and digits inside other words, stay as they are (GloVe has them)
+    assert tokenise("room 101 on the 11th floor, b2 wing") == [
+        "room", "101", "on", "the", "11th", "floor", "b2", "wing"]
 
 
 @pytest.fixture

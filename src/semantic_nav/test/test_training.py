@@ -5,7 +5,8 @@ import pytest
 from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingConfig,
                                    ValidationThresholds, accumulated_errors, batch_rows,
                                    control_rate_sequence, decision_distance, decision_step,
-                                   class_batch, make_batches, mirror_sequence,
+                                   class_batch, class_hits_and_loss, make_batches,
+                                   mirror_sequence,
                                    onset_verdict, step_errors, step_weights, turn_fit_by_class,
                                    turn_onset, validate_sequence, word_noise)
 
@@ -54,8 +55,21 @@ def test_monitors():
     assert [closed.update(v) for v in (120, 118, 131, 131, 140)] == [True, False, True, False,
                                                                     True]
     assert closed.best == 140
+    phrasing = Monitor("phrasing")     # (sentences right, cross-entropy); a tie by the entropy
+    assert [phrasing.update(v) for v in ((931, 0.42), (931, 0.45), (931, 0.40), (978, 0.9),
+                                        (970, 0.1))] == [True, False, True, True, False]
+    assert phrasing.best == (978, 0.9)
     with pytest.raises(ValueError):
         Monitor("accuracy")
+
+
+def test_class_hits_and_loss():
+    probabilities = np.array([[0.7, 0.2, 0.1], [0.5, 0.25, 0.25], [0.0, 1.0, 0.0]])
+    hits, loss = class_hits_and_loss(probabilities, np.array([0, 1, 1]))
+    assert hits == 2                   # the second row's argmax is class 0
+    assert loss == pytest.approx(-(np.log(0.7) + np.log(0.25) + np.log(1.0)) / 3)
+    # a zero probability on the true class is a large but finite loss
+    assert np.isfinite(class_hits_and_loss(probabilities[2:], np.array([0]))[1])
 
 
 def test_control_rate_sequence_subsamples_and_holds_at_the_goal():
@@ -267,7 +281,10 @@ def test_word_noise_reaches_training_sentences_but_not_validation(phrase_words):
     clean_batch, labels = class_batch(sets, words, np.random.default_rng(6), 8)
     noisy_batch, noisy_labels = class_batch(sets, words, np.random.default_rng(6), 8, noise=0.5)
     assert labels.tolist() == noisy_labels.tolist()
-    assert not np.allclose(clean_batch, noisy_batch)
+    # the first sentence is drawn before any noise: the same words, moved by the noise
+    length = int(np.any(clean_batch[0] != 0, axis=1).sum())
+    assert np.any(noisy_batch[0, length - 1] != 0)
+    assert not np.allclose(clean_batch[0, :length], noisy_batch[0, :length])
 
 
 def test_batch_rows_cut_the_padding_whatever_the_step_weights():
