@@ -55,6 +55,29 @@ def test_start_splits_and_classifies(words):
     assert follower.control_period == pytest.approx(0.1)
 
 
+class UnsurePolicy(ScriptedPolicy):
+    """Z_w 0.7 on class 3 and 0.3 on class 2; records the Z_w each step gets."""
+
+    def classify(self, vectors):
+        z = np.zeros(10)
+        z[1], z[2] = 0.3, 0.7
+        return z
+
+    def step(self, z_w, scan):
+        self.z_seen = np.array(z_w)
+        return super().step(z_w, scan)
+
+
+def test_lstm_fused_gets_the_class_one_hot_unless_configured_otherwise(words):
+    scan = np.full(683, 3.0)
+    for one_hot, expected in ((True, [0, 0, 1.0]), (False, [0, 0.3, 0.7])):
+        policy = UnsurePolicy([(0.2, 0.0)])
+        follower = DirectionFollower(policy, words, FollowerConfig(one_hot_class=one_hot))
+        assert follower.start("turn left") == [3]
+        follower.step(scan, urg())
+        np.testing.assert_allclose(policy.z_seen, expected + [0] * 7)
+
+
 def test_halting_counter_advances_to_the_next_instruction(words):
     policy = ScriptedPolicy([(0.3, 0.0), (0.0005, -0.0004), (0.01, 0.0)] + [(0.0, 0.0)] * 49)
     follower = DirectionFollower(policy, words)
@@ -197,8 +220,9 @@ def test_follower_config_file(tmp_path):
     no_guard = load_follower_config(ROOT / "config" / "semnav_follower_no_guard.yaml")
     assert not no_guard.guard.enabled and no_guard.postprocess == PostprocessConfig()
     assert shipped.doors.width == 1.4 and no_guard.doors.width == 0.0
+    assert shipped.one_hot_class and not no_guard.one_hot_class     # the seed feeds the softmax
     no_doors = load_follower_config(ROOT / "config" / "semnav_follower_no_doors.yaml")
-    assert no_doors == FollowerConfig(doors=DoorConfig(width=0.0))
+    assert no_doors == FollowerConfig(doors=DoorConfig(width=0.0), one_hot_class=False)
     bad = tmp_path / "bad.yaml"
     bad.write_text("guard:\n  radius: 0.3\n  margn: 0.1\n")
     with pytest.raises(ValueError, match="margn"):
@@ -289,3 +313,17 @@ def test_the_network_sees_a_door_ahead_as_the_wall(words, width, closed):
         assert np.all(np.abs(points[:, 1]) < 0.5)
     else:
         assert differs.sum() > 20 and len(points) == 0
+
+
+def test_default_model_counts_corners_in_words_and_numerals():
+    """The committed default with Stanford's vectors: the counting phrasings of the phrase sets
+    and numerals written as digits ("2nd" is read as "second")."""
+    from semantic_nav.word_vectors import WordVectorsError
+    try:
+        follower = DirectionFollower.from_files()
+    except (ModelMissingError, WordVectorsError) as error:
+        pytest.skip(str(error))
+    assert follower.start("turn left at the 2nd corner") == [6]
+    assert follower.start("make a right two corners down") == [5]
+    assert follower.start("take a left turn at corner number three") == [8]
+    assert follower.start("go straight to the end, then turn right at the 3rd corner") == [1, 7]
