@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 from semantic_nav.instruction_layer import split_instruction, tokenise
-from semantic_nav.phrase_sets import (CLASSES, Phrase, PhraseSetError, compose,
+from semantic_nav.phrase_sets import (CLASSES, SETS, Phrase, PhraseSetError, compose,
                                       enumerate_sentences, load_phrase_sets, sample_sentence,
                                       score_phrasings)
 from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
@@ -107,9 +107,8 @@ def test_validation_phrasings_are_neither_trained_on_nor_tested(sets, train_sent
 def test_held_out_sampling_ignores_validation_phrases(tmp_path):
     # the held-out test draws the same sentences with or without validation phrases in the file
     config = yaml.safe_load(CONFIG.read_text())
-    for entry in [config[name] for name in ("prefix", "suffix", "class1", "class_turn",
-                                            "prefix_turn", "suffix_turn_keep", "class4")] + \
-            list(config["suffix_turn_change"].values()):
+    entries = [config[name] for name in SETS if name not in ("suffix_turn_change", "others")]
+    for entry in entries + list(config["suffix_turn_change"].values()):
         entry.pop("validation", None)
     plain = tmp_path / "phrases.yaml"
     plain.write_text(yaml.safe_dump(config))
@@ -173,7 +172,7 @@ def test_bad_requests_are_clear_errors(sets, tmp_path):
     with pytest.raises(PhraseSetError, match=r"\['and halt'\] both validation and held_out"):
         load_phrase_sets(broken)
     with pytest.raises(PhraseSetError, match="no core phrase"):
-        compose([Phrase("prefix", "please", False)])
+        compose([Phrase("prefix", "please", "train")])
 
 
 def test_every_phrase_word_has_a_glove_vector(sets):

@@ -119,9 +119,7 @@ def class_one_hot(z_w):
     Z_w of training phrasings, one-hot to about 1e-7; a classifier trained with noise on the word
     vectors is less sure of some phrasings (zw61 on office_wings' counting phrasings: median 0.94
     to 0.96 on the right class), and LSTM_fused then drives differently for the same class."""
-    one_hot = np.zeros_like(np.asarray(z_w, dtype=float))
-    one_hot[int(np.argmax(z_w))] = 1.0
-    return one_hot
+    return np.eye(len(z_w))[int(np.argmax(z_w))]
 
 
 def _step_policy(model):
