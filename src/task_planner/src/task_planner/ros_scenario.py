@@ -1,15 +1,16 @@
 """Node `scenario`: plays a scenario file (task_planner.scenario) against the running household and
 records what happened.
 
-At start it tells human_db where everyone is (the world's initial poses, source "scenario": the
-household's presence sensing, which the robot's camera cannot replace for rooms it does not see).
-Then, on simulated time: each request is sent as the phone app does (`tamp_msgs/Utterance` on
-/voice_message), or, when `spoken`, synthesised with espeak-ng and sent as audio on
-/audio_utterance for the STT node; each of the world's timed moves (the schedule deviations) is
-recorded in human_db when the person sets off. It keeps the robot's ground-truth trajectory and
-what the robot said, and ends when every request has produced an instruction and the task buffer
-holds no open instruction (or after the scenario's timeout), writing the record JSON
-(`~record`) read by scenario_report. Exit status 0 when the scenario finished, 1 on timeout.
+It tells the robot nothing about the people: the world moves them (sim2d) and the robot finds
+them with its own perception. On simulated time each request is sent as the phone app does
+(`tamp_msgs/Utterance` on /voice_message: the text and the phone's address, never where the
+speaker is), or, when `spoken`, synthesised with espeak-ng and sent as audio on /audio_utterance
+for the STT node; the world's timed moves are only noted in the record. For grading alone it
+keeps ground truth (the robot's trajectory, the people's true places from sim2d's markers) next
+to what the robot believed (/humans/known), and what the robot said. It ends when every request
+has produced an instruction and the task buffer holds no open instruction (or after the
+scenario's timeout), writing the record JSON (`~record`) read by scenario_report. Exit status 0
+when the scenario finished, 1 on timeout.
 """
 import datetime
 import json
@@ -21,14 +22,21 @@ from pathlib import Path
 
 import numpy as np
 import rospy
+import yaml
 from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
-from tamp_msgs.srv import UpdateHuman
+from visualization_msgs.msg import MarkerArray
 
-from task_planner.scenario import load_scenario, timeline
+from task_planner.scenario import load_scenario, place_of, timeline
 
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
+
+
+def _changed(changes, now, place):
+    """Append (now, place) to a person's [[t, place], ...] when the place differs from the last."""
+    if not changes or changes[-1][1] != place:
+        changes.append([now, place])
 
 
 def _wav_samples(path):
@@ -45,6 +53,8 @@ class ScenarioNode:
         self.lock = threading.Lock()
         self.trajectory, self.said, self.state, self.events = [], [], None, []
         self.pose = None
+        self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
+        self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
 
     # ---- callbacks: cache only ----
 
@@ -61,17 +71,35 @@ class ScenarioNode:
         with self.lock:
             self.state = msg
 
+    def _on_markers(self, msg):
+        """Ground truth of the people's places (sim2d's labels), for grading only."""
+        now = rospy.get_time()
+        with self.lock:
+            for marker in msg.markers:
+                if marker.ns == "people_labels":
+                    name = marker.text.split(":")[0]
+                    place = place_of(self.graph_spec, marker.pose.position.x,
+                                     marker.pose.position.y)
+                    _changed(self.truth.setdefault(name, []), now, place)
+
+    def _on_known(self, msg):
+        """What the robot believes (human_db's table), to grade it against the truth."""
+        now = rospy.get_time()
+        with self.lock:
+            for human in msg.humans:
+                _changed(self.belief.setdefault(human.name, []), now, human.location)
+
     # ---- the run ----
 
     def setup(self, timeout):
         rospy.Subscriber("/base_pose_ground_truth", Odometry, self._on_pose, queue_size=1)
         rospy.Subscriber("/robot/say", String, self._on_say, queue_size=20)
         rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
+        rospy.Subscriber("/sim2d/markers", MarkerArray, self._on_markers, queue_size=2)
+        rospy.Subscriber("/humans/known", HumanArray, self._on_known, queue_size=5)
         self.voice = rospy.Publisher("/voice_message", Utterance, queue_size=10)
         self.audio = rospy.Publisher("/audio_utterance", AudioUtterance, queue_size=2)
-        for service in ("/human_db/update", "/task_planner/get_buffer"):
-            rospy.wait_for_service(service, timeout)
-        self.update = rospy.ServiceProxy("/human_db/update", UpdateHuman)
+        rospy.wait_for_service("/task_planner/get_buffer", timeout)
         self.spoken = {}
         workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
         if any(r.spoken for r in self.scenario.requests):
@@ -84,20 +112,15 @@ class ScenarioNode:
                 self.voice.get_num_connections() == 0
                 or (self.spoken and self.audio.get_num_connections() == 0)):
             time.sleep(0.1)
-        for name, (place, activity) in self.scenario.initial.items():
-            reply = self.update(name=name, location=place, activity=activity, source="scenario")
-            if not reply.success:
-                rospy.logerr("scenario: human_db refused %s: %s", name, reply.message)
-                return False
         # verbal perception identifies speakers from the latched table: wait until it is there
         table_deadline = time.monotonic() + timeout
+        speakers = {r.person for r in self.scenario.requests}
         while time.monotonic() < table_deadline:
             table = rospy.wait_for_message("/humans/known", HumanArray, timeout)
-            if all(any(h.name == n and h.location == p for h in table.humans)
-                   for n, (p, _) in self.scenario.initial.items()):
+            if speakers <= {h.name for h in table.humans}:
                 return True
             time.sleep(0.2)
-        rospy.logerr("scenario: human_db never showed the initial places")
+        rospy.logerr("scenario: human_db never listed %s", ", ".join(sorted(speakers)))
         return False
 
     def _send(self, index, request):
@@ -117,11 +140,8 @@ class ScenarioNode:
         self._event(stamp.to_sec(), what)
 
     def _move(self, move):
-        reply = self.update(name=move.person, location=move.place, activity=move.activity,
-                            source="scenario")
         self._event(rospy.get_time(), f"{move.person} sets off to the {move.place} "
-                                      f"({move.activity}) - schedule deviation"
-                    + ("" if reply.success else f"; human_db refused: {reply.message}"))
+                                      f"({move.activity}), unannounced")
 
     def _event(self, now, what):
         self.events.append(dict(time=now - self.t0, what=what))
@@ -191,7 +211,9 @@ class ScenarioNode:
             wall_s=wall_s, finished=finished, events=self.events, trajectory=self.trajectory,
             requests=[dict(time=r.time_s, person=r.person, text=r.text, spoken=r.spoken)
                       for r in self.scenario.requests],
-            said=[[t - self.t0, text] for t, text in self.said])
+            said=[[t - self.t0, text] for t, text in self.said],
+            truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
+            belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()})
         self.record_path.parent.mkdir(parents=True, exist_ok=True)
         self.record_path.write_text(json.dumps(record, indent=1))
         rospy.loginfo("scenario: record written to %s", self.record_path)

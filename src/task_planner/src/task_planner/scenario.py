@@ -39,6 +39,7 @@ class Move:
 class Scenario:
     name: str
     world: Path          # sim2d world file
+    graph: Path          # semantic graph of the world's map (places by region)
     requests: tuple      # Request, in time order
     moves: tuple         # Move, in time order (schedule deviations, from the world)
     initial: dict        # person -> (place, activity) at t = 0, from the world
@@ -84,7 +85,8 @@ def load_scenario(path):
     base = path.parent
     world_path = (base / spec["world"]).resolve()
     world = yaml.safe_load(world_path.read_text())
-    graph_spec = yaml.safe_load((base / spec["graph"]).read_text())
+    graph_path = (base / spec["graph"]).resolve()
+    graph_spec = yaml.safe_load(graph_path.read_text())
     household = yaml.safe_load((base / spec["household"]).read_text())
     ips = {h["name"]: str(h["ip"]) for h in household["humans"]}
     requests = []
@@ -110,7 +112,7 @@ def load_scenario(path):
     timeout_s = float(spec.get("timeout_s", 600.0))
     if timeout_s <= 0:
         raise ScenarioError(f"{path}: timeout_s must be > 0, got {timeout_s}")
-    return Scenario(name=str(spec.get("name", path.stem)), world=world_path,
+    return Scenario(name=str(spec.get("name", path.stem)), world=world_path, graph=graph_path,
                     requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
                     initial=initial, timeout_s=timeout_s,
                     planner=str(spec.get("planner", "seed")))
