@@ -55,6 +55,7 @@ def test_function_codes_match_config(keywords):
     ("I fell asleep on the sofa", ()),
     ("I don't have a headache anymore", ()),
     ("No, I have a headache", ("headache",)),  # the negation is 4 words before: outside window
+    ("I have no headache", ()),                # the YAML negation "no" read as a word, not False
     ("The painting is beautiful", ()),         # whole words only: "pain" is not in "painting"
 ])
 def test_physical_terms(keywords, text, terms):
@@ -126,3 +127,29 @@ def test_missing_config_file_names_the_file(tmp_path):
     missing = tmp_path / "keywords.yaml"
     with pytest.raises(KeywordConfigError, match=str(missing)):
         load_keyword_config(missing)
+
+
+@pytest.mark.parametrize("field, entry", [
+    ("negations", False), ("english_words", True), ("sentiment_neutral_words", False),
+    ("physical_terms", 3)])
+def test_config_entry_that_is_not_a_string_is_refused(field, entry):
+    """YAML 1.1 reads an unquoted no/yes/on/off as a boolean: the loader must say so."""
+    data = raw_config()
+    data[field] = [*data[field], entry]
+    with pytest.raises(KeywordConfigError, match=rf"{field}: entry {entry!r} is a "
+                                                 rf"{type(entry).__name__}, not a word"):
+        keyword_config_from_dict(data)
+
+
+def test_unquoted_no_in_a_keyword_file_is_refused(tmp_path):
+    path = tmp_path / "keywords.yaml"
+    path.write_text(KEYWORDS.read_text().replace('negations: [not, "no",', "negations: [not, no,"))
+    with pytest.raises(KeywordConfigError, match=r"negations: entry False is a bool.*quote it"):
+        load_keyword_config(path)
+
+
+def test_function_keyword_that_is_not_a_string_is_refused():
+    data = raw_config()
+    data["functions"]["chat"]["keywords"].append(True)
+    with pytest.raises(KeywordConfigError, match=r"functions.chat: entry True is a bool"):
+        keyword_config_from_dict(data)

@@ -83,8 +83,22 @@ def tokenize(text):
     return [Token(m.group(0), m.group(0).lower().replace("’", "'")) for m in _WORD.finditer(text)]
 
 
+def _text_of(entry, where):
+    """A word or phrase entry of the configuration, refused unless it is a string.
+
+    YAML 1.1 reads the unquoted words no, yes, on, off, true, false, y, n as booleans: a negation
+    `no` would become False and then the phrase "false", silently.
+    """
+    if not isinstance(entry, str):
+        raise KeywordConfigError(f"{where}: entry {entry!r} is a {type(entry).__name__}, not a "
+                                 f"word or phrase (YAML reads unquoted no/yes/on/off as booleans:"
+                                 f" quote it)")
+    return entry
+
+
 def phrase_of(entry, where):
-    words = tuple(w.lower().replace("’", "'") for w in _WORD.findall(str(entry)))
+    """A configuration phrase as a tuple of lowercase words; raises KeywordConfigError."""
+    words = tuple(w.lower().replace("’", "'") for w in _WORD.findall(_text_of(entry, where)))
     if not words:
         raise KeywordConfigError(f"{where}: {entry!r} contains no word")
     return words
@@ -250,8 +264,9 @@ def keyword_config_from_dict(data):
                                       for t in data.get("physical_exceptions") or ()),
             negations=tuple(phrase_of(t, "negations") for t in data.get("negations") or ()),
             negation_window=int(data.get("negation_window", 0)),
-            sentiment_neutral_words=frozenset(str(w).lower() for w in
-                                              data.get("sentiment_neutral_words") or ()),
+            sentiment_neutral_words=frozenset(
+                _text_of(w, "sentiment_neutral_words").lower()
+                for w in data.get("sentiment_neutral_words") or ()),
             chains={name: tuple(follow) for name, follow in (data.get("chains") or {}).items()},
             status_codes={k: int(v) for k, v in data["status_codes"].items()},
             caregiver=str(data["caregiver"]),
@@ -260,7 +275,8 @@ def keyword_config_from_dict(data):
                                     for p in data["person_slot_after"]),
             max_text_chars=int(data["max_text_chars"]),
             min_english_share=float(data["min_english_share"]),
-            english_words=frozenset(str(w).lower() for w in data["english_words"]))
+            english_words=frozenset(_text_of(w, "english_words").lower()
+                                    for w in data["english_words"]))
     except (KeyError, TypeError, AttributeError) as error:
         raise KeywordConfigError(f"keyword configuration: missing or malformed {error}") from error
     _validate(config)
