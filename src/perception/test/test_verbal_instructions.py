@@ -1,6 +1,6 @@
 """Utterances to Table 4-1 instructions: priorities of Table 5-5, destinations, chains (§4.2.1)."""
 import pytest
-from verbal_test_support import TABLE_5_5
+from verbal_test_support import TABLE_5_5, WS
 
 from perception.id_counter import IdCounter
 from perception.requests import RejectedUtterance
@@ -8,6 +8,7 @@ from perception.verbal_instructions import (DictPeopleDirectory, InstructionBuil
                                             priority_level)
 from task_planner.instruction import HUMAN
 from task_planner.reward import Priority
+from task_planner.robot_functions import function_for, load_robot_functions
 
 ALEX, ALICE, BOB, DAVID = "192.168.1.110", "192.168.1.101", "192.168.1.102", "192.168.1.104"
 LIVING_ROOM, WELCOME, DINING_ROOM, OFFICE, BEDROOM = 2, 3, 4, 5, 6  # maps/household.graph.yaml
@@ -36,6 +37,19 @@ def test_seed_chain_check_bob_status(pipeline):
         (7, "Alice", OFFICE, check.id)
     assert {check.source, report.source} == {"Alice"}
     assert (check.gamma, check.beta) == (report.gamma, report.beta) == (3, 0.94)  # neutral
+    assert (check.text, report.text) == ("check Bob status", "[about Bob] check Bob status")
+
+
+def test_report_after_a_check_names_the_person_checked_on(pipeline):
+    """Issue 32: David's "Please check on Alice" ended in "David, here is my report on David."."""
+    _, result = pipeline.process("Please check on Alice", DAVID, 0.0)
+    check, report = result.instructions
+    assert (check.target, report.source, report.target) == ("Alice", "David", "David")
+    functions = load_robot_functions(WS / "config" / "robot_functions.yaml")
+    assert function_for(functions, check).speech(check, "office") == \
+        "Alice, how are you feeling right now?"
+    assert function_for(functions, report).speech(report, "dining_room") == \
+        "David, here is my report on Alice."
 
 
 def test_checking_oneself_is_not_chained(pipeline):
@@ -51,6 +65,17 @@ def test_physical_terms_outrank_vader_neutral(pipeline):
     (help_,) = result.instructions
     assert (help_.function, help_.gamma, help_.beta, help_.status, help_.destination) == \
         (4, 8, 0.98, 1, BEDROOM)
+
+
+def test_negated_physical_term_is_not_a_physical_request(pipeline):
+    """Issue 32: YAML read the negation `no` as False, so this became priority physical (8)."""
+    with pytest.raises(RejectedUtterance, match="no robot function requested"):
+        pipeline.process("I have no headache", BOB, 0.0)
+    interpretation, result = pipeline.process("I have no headache, chat with me", BOB, 0.0)
+    # VADER reads "no headache" as negative: the negative level of Table 5-5, not physical (8).
+    assert interpretation.physical_terms == () and interpretation.level == "negative"
+    (chat,) = result.instructions
+    assert (chat.function, chat.status, chat.gamma, chat.beta) == (1, 2, 5, 0.96)
 
 
 def test_positive_request_gets_positive_priority(pipeline):

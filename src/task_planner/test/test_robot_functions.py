@@ -5,8 +5,8 @@ import pytest
 import yaml
 from planner_factories import make_instruction
 
-from task_planner.robot_functions import (RobotFunctionError, function_for,
-                                          load_robot_functions)
+from task_planner.robot_functions import (RobotFunctionError, about_text, function_for,
+                                          load_robot_functions, subject_of)
 
 CONFIG = Path(__file__).resolve().parents[3] / "config"
 
@@ -27,6 +27,24 @@ def test_speech_fills_in_the_instruction():
         "Alice, here is my report on Bob."
     with pytest.raises(RobotFunctionError, match="instruction 3: unknown robot function code 9"):
         function_for(functions, make_instruction(3, 0, function=9))
+
+
+def test_chained_report_names_the_person_checked_on():
+    """§4.2.1: David asks to check on Alice; the report served to David is on Alice."""
+    functions = load_robot_functions(CONFIG / "robot_functions.yaml")
+    report = make_instruction(5, 0, previous_id=4, function=7, source="David", target="David",
+                              text=about_text("Alice", "Please check on Alice"))
+    assert report.text == "[about Alice] Please check on Alice"
+    assert subject_of(report) == "Alice"
+    assert function_for(functions, report).speech(report, "dining_room") == \
+        "David, here is my report on Alice."
+
+
+@pytest.mark.parametrize("text, subject", [
+    ("Tell the nurse I fell", "Bob"), ("", "Bob"), ("[about] x", "Bob"),
+    ("I said [about Carol] later", "Bob"), ("[about Mary Ann] check Mary Ann", "Mary Ann")])
+def test_subject_is_the_about_prefix_else_the_source(text, subject):
+    assert subject_of(make_instruction(1, 0, source="Bob", text=text)) == subject
 
 
 @pytest.mark.parametrize("text, message", [

@@ -10,6 +10,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
 from task_planner.instruction import HUMAN, Instruction
+from task_planner.robot_functions import about_text
 
 from perception.id_counter import IdCounter
 from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, check_text,
@@ -147,14 +148,16 @@ class InstructionBuilder:
             target = self.keywords.caregiver
         else:
             target = interpretation.target_name or speaker.name
-        steps = [(function, target)]
+        steps = [(function, target, interpretation.text)]
         if target != speaker.name:
+            # A follow-up ("report to the care giver") is about the person the head served.
             follow_ups = self.keywords.chains.get(function.name, ())
-            steps += [(self.keywords.functions[name], speaker.name) for name in follow_ups]
+            steps += [(self.keywords.functions[name], speaker.name,
+                       about_text(target, interpretation.text)) for name in follow_ups]
         instructions, previous_id = [], 0
-        for step_function, person in steps:
+        for step_function, person, text in steps:
             instruction = self._instruction(interpretation, step_function, speaker.name, person,
-                                            previous_id, start_time, notes)
+                                            previous_id, start_time, text, notes)
             instructions.append(instruction)
             previous_id = instruction.id
         return BuildResult(tuple(instructions), tuple(notes))
@@ -170,7 +173,7 @@ class InstructionBuilder:
         return self.keywords.default_place
 
     def _instruction(self, interpretation, function, source, person, previous_id, start_time,
-                     notes):
+                     text, notes):
         priority = self.priorities[interpretation.level]
         place = self._place_of(person, notes)
         instruction = Instruction(
@@ -178,7 +181,7 @@ class InstructionBuilder:
             type=HUMAN, start_time=start_time, duration=function.duration_s, source=source,
             target=person, status=self.keywords.status_codes[interpretation.level],
             function=function.code, destination=self.place_ids[place], destination_name=place,
-            text=interpretation.text)
+            text=text)
         return instruction
 
 

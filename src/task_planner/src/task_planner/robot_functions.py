@@ -1,8 +1,18 @@
-"""Robot functions of thesis 000 Table 4-1 (`function`): what the robot says and does on arrival."""
+"""Robot functions of thesis 000 Table 4-1 (`function`): what the robot says and does on arrival.
+
+A chained follow-up (§4.2.1: "check Bob" then "report to the care giver") is about the person its
+predecessor served, not about whoever launched it. Table 4-1 has no field for that person, so the
+follow-up's text carries them in a leading "[about NAME] " (about_text), which speech reads back
+(subject_of) for the `{about}` placeholder.
+"""
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
+
+
+_ABOUT = re.compile(r"\[about ([^\]]+)\] ")
 
 
 class RobotFunctionError(ValueError):
@@ -16,12 +26,25 @@ class RobotFunction:
     code: int          # tamp_msgs/Instruction.function
     name: str
     duration_s: float  # execution time for self-generated instructions [s]
-    say: str           # spoken on start; {target}, {source}, {place} are filled in
+    say: str           # spoken on start; {target}, {source}, {about}, {place} are filled in
 
     def speech(self, instruction, place):
         """The sentence the robot speaks when it starts this function for `instruction`."""
         return self.say.format(target=instruction.target or "everyone",
-                               source=instruction.source or "the household", place=place)
+                               source=instruction.source or "the household",
+                               about=subject_of(instruction) or "the household", place=place)
+
+
+def about_text(person, text):
+    """Text of a chained instruction about `person` (its predecessor's target)."""
+    return f"[about {person}] {text}"
+
+
+def subject_of(instruction):
+    """Whom an instruction is about: the person of a leading "[about NAME] " in its text (a
+    chained report on the person checked), else its source ("tell the nurse I fell")."""
+    match = _ABOUT.match(instruction.text or "")
+    return match.group(1) if match else instruction.source
 
 
 def load_robot_functions(path):
