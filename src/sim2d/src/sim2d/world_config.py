@@ -11,7 +11,9 @@ import yaml
 from sim2d.camera import CameraConfig, DetectionConfig
 from sim2d.kinematics import DIFFERENTIAL, HOLONOMIC, DriveLimits, WheelConfig
 from sim2d.laser import LaserModelError, find_laser_model
+from sim2d.occupancy_map import load_map
 from sim2d.odometry import OdometryConfig
+from sim2d.passage_check import PassageCheck, PassageConfig, blockage_message, resting_poses
 from sim2d.people import POSTURES, Person, ScheduleEntry
 from sim2d.semantic_graph import load_graph
 
@@ -257,6 +259,7 @@ class _Parser:
                 for ref in (entry.holding, entry.looking_at):
                     if ref and ref not in object_names:
                         self.fail(f"person {person.name!r} refers to unknown object {ref!r}")
+        self.check_passages(map_path, robots, people)
         return WorldConfig(self.path, map_path, graph_path, robots, people, objects,
                            [list(map(float, r)) for r in data.get("camera_transparent", [])],
                            self.doors(data.get("doors", [])))
@@ -283,6 +286,22 @@ class _Parser:
         if not isinstance(door.closed, bool):
             self.fail(f"{where}: closed must be true or false, got {door.closed!r}")
         return door
+
+    def check_passages(self, map_path, robots, people):
+        """Refuse a resting pose that cuts two graph places apart (sim2d.passage_check)."""
+        if self.graph is None or not robots or not people:
+            return
+        grid = load_map(map_path)
+        check = PassageCheck(grid, self.graph.places, self.graph.edges,
+                             max(r.radius for r in robots), PassageConfig())
+        for person in people:
+            for label, (x, y, _) in resting_poses(person):
+                if not grid.inside(*grid.world_to_cell(x, y)):
+                    self.fail(f"person {person.name!r} {label} ({x:.2f}, {y:.2f}) lies outside "
+                              f"the map {map_path}")
+                blockage = check.blockage(x, y)
+                if blockage is not None:
+                    self.fail(blockage_message(person.name, label, blockage, check))
 
 
 def load_world_config(path, laser_dir=None):
