@@ -25,8 +25,8 @@ def test_speech_fills_in_the_instruction():
     report = make_instruction(3, 0, function=7, source="Bob", target="Alice")
     assert function_for(functions, report).speech(report, "office") == \
         "Alice, here is my report on Bob."
-    with pytest.raises(RobotFunctionError, match="instruction 3: unknown robot function code 9"):
-        function_for(functions, make_instruction(3, 0, function=9))
+    with pytest.raises(RobotFunctionError, match="instruction 3: unknown robot function code 99"):
+        function_for(functions, make_instruction(3, 0, function=99))
 
 
 def test_chained_report_names_the_person_checked_on():

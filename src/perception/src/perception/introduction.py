@@ -1,0 +1,224 @@
+"""Meeting a new person: the Initialization phase of thesis 000 §3.2.3.
+
+"During the Initialization phase, the robot will approach an unknown person and greet to him or
+her, asking the name, gender, and age. [...] The system then extracts and stores the RGB values on
+chest, left shoulder, and right shoulder, which are joint 1, joint 2, and joint 5."
+
+Two parts, both ROS-free:
+- `NewcomerWatch` decides from visual perception's unidentified people that someone is new and
+  worth meeting: all three shirt joints seen, no registered person and no stranger already being
+  met within the identification threshold (Eq. 3-10, mean over joints 1, 2, 5 below 200), seen in
+  `min_sightings` frames. It then gives the robot a robot-type `introduce` instruction (Table 4-1)
+  at the place the stranger was seen, with the self-generated priority and no target (the
+  executor serves it at the place without looking for a known person).
+- `IntroductionDialogue` runs the questions once the robot is there: the `introduce` function's
+  greeting asks the name, then the dialogue asks the gender and the age, re-asks (boundedly) what
+  it cannot read, and produces the human_db `Human` with the stranger's shirt colours and the
+  phone address the answers came from.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+from human_db.colour import mean_shirt_distance, shirt_colours
+from human_db.model import Human
+from task_planner.instruction import ROBOT, Instruction
+
+from perception.answers import AnswerError, parse_age, parse_gender, parse_name
+from perception.id_counter import IdCounter
+
+# Dialogue states: the question being waited for, then the end states.
+NAME, GENDER, AGE, COMPLETE, FAILED = "name", "gender", "age", "complete", "failed"
+
+
+@dataclass(frozen=True)
+class IntroductionConfig:
+    threshold: float = 200.0       # mean ΔC (Eq. 3-10) below which two shirts are one person
+    min_sightings: int = 3         # frames a stranger is seen in before the robot goes to meet
+    max_retries: int = 2           # re-asks of one question before the dialogue is given up
+    answer_timeout: float = 20.0   # [s] without an answer before a question is asked again
+    retry_after: float = 300.0     # [s] a stranger not met (dialogue or trip failed) is left alone
+    name_question: str = "What is your name?"
+    thanks: str = "Thank you, {name}."      # said before the next question after the name
+    gender_question: str = "Are you a man or a woman?"
+    age_question: str = "How old are you?"
+    welcome: str = "Nice to meet you, {name}."
+    give_up: str = "I am sorry, I could not understand you. Let us try again later."
+
+
+@dataclass
+class Stranger:
+    """An unidentified person as the robot has seen them."""
+
+    colours: np.ndarray        # (3, 3) shirt RGB at joints 1, 2, 5 of the latest sighting
+    place: str                 # semantic place of the latest sighting
+    first_seen: float          # [s]
+    last_seen: float           # [s]
+    sightings: int = 1
+    instruction_id: int = 0    # the introduce instruction given for them; 0 = none yet
+    left_until: float = 0.0    # [s] not met again before this (after a failed meeting)
+    name: str = ""             # set once registered
+
+
+def seen_shirt(values):
+    """9 uint8 (r1 g1 b1 r2 g2 b2 r5 g5 b5) -> (3, 3) array, or None when a joint was not seen
+    (visual perception sends zeros then); InvalidColour names a malformed value."""
+    colours = shirt_colours([int(v) for v in values], "observed shirt colour")
+    return None if not colours.any() else colours
+
+
+class NewcomerWatch:
+    """Unidentified people -> `introduce` instructions, one stranger at a time.
+
+    Args:
+        config: IntroductionConfig.
+        function: (code, duration_s) of the robot function `introduce`.
+        priority: task_planner.reward.Priority of the self-generated level.
+        place_ids: {place name: graph node id}.
+        ids: IdCounter handing out instruction ids.
+    """
+
+    def __init__(self, config, function, priority, place_ids, ids=None):
+        self.config, self.function, self.priority = config, function, priority
+        self.place_ids = place_ids
+        self.ids = ids if ids is not None else IdCounter(1)
+        self.strangers = []    # Stranger, in the order first seen
+
+    def _matching(self, colours):
+        """The stranger whose shirt is closest to `colours` within the threshold, or None."""
+        best, best_distance = None, self.config.threshold
+        for stranger in self.strangers:
+            distance = mean_shirt_distance(colours, stranger.colours)
+            if distance < best_distance:
+                best, best_distance = stranger, distance
+        return best
+
+    def open_stranger(self):
+        """The stranger whose introduce instruction is open, or None."""
+        return next((s for s in self.strangers if s.instruction_id and not s.name), None)
+
+    def observe(self, colours, place, stamp, known):
+        """One sighting of an unidentified person; returns an introduce Instruction or None.
+
+        Args:
+            colours: (3, 3) shirt RGB at joints 1, 2, 5 (seen_shirt), None when not all seen.
+            place: semantic place of the sighting ("" = outside every place).
+            stamp: [s] time of the sighting.
+            known: iterable of (3, 3) shirt colours of the registered people.
+        """
+        if colours is None or not place:
+            return None
+        if any(mean_shirt_distance(colours, c) < self.config.threshold for c in known):
+            return None   # identified since visual perception asked human_db
+        stranger = self._matching(colours)
+        if stranger is None:
+            self.strangers.append(Stranger(np.array(colours), place, stamp, stamp))
+            stranger = self.strangers[-1]
+        else:
+            stranger.colours, stranger.place, stranger.last_seen = np.array(colours), place, stamp
+            if stamp < stranger.left_until:
+                return None   # left alone: sightings count again after retry_after
+            stranger.sightings += 1
+        if stranger.name or stranger.instruction_id:
+            return None
+        if stranger.sightings < self.config.min_sightings or self.open_stranger() is not None:
+            return None
+        return self._introduce(stranger, stamp)
+
+    def _introduce(self, stranger, stamp):
+        if stranger.place not in self.place_ids:
+            return None
+        code, duration = self.function
+        stranger.instruction_id, stranger.left_until = self.ids.take(), 0.0
+        rgb = " ".join(str(tuple(int(c) for c in joint)) for joint in stranger.colours)
+        return Instruction(
+            id=stranger.instruction_id, gamma=self.priority.gamma, beta=self.priority.beta,
+            destination=self.place_ids[stranger.place], type=ROBOT, start_time=stamp,
+            duration=int(duration), source="robot", target="", function=code,
+            destination_name=stranger.place,
+            text=f"meet the unknown person in {stranger.place} (shirt {rgb})")
+
+    def by_instruction(self, instruction_id):
+        return next((s for s in self.strangers if s.instruction_id == instruction_id), None)
+
+    def registered(self, stranger, name):
+        """The stranger is now `name` in human_db: never introduced again."""
+        stranger.name = name
+
+    def not_met(self, stranger, now):
+        """The meeting failed (no answers, trip failed): leave them alone for `retry_after`."""
+        stranger.instruction_id, stranger.sightings = 0, 0
+        stranger.left_until = now + self.config.retry_after
+
+
+@dataclass(frozen=True)
+class Turn:
+    """What the dialogue does after an answer or a tick."""
+
+    say: str = ""        # sentence for /robot/say ("" = nothing)
+    state: str = NAME    # dialogue state afterwards
+
+
+class IntroductionDialogue:
+    """Name, gender and age of one stranger (§3.2.3); the greeting has already asked the name."""
+
+    QUESTIONS = (NAME, GENDER, AGE)
+
+    def __init__(self, config, colours, started):
+        self.config, self.colours = config, np.array(colours)
+        self.state, self.retries, self.asked_at = NAME, 0, started
+        self.started = started
+        self.answers = {}     # question -> parsed value
+        self.ip = ""          # phone of the first answer; "" = the robot's microphone
+
+    @property
+    def open(self):
+        return self.state not in (COMPLETE, FAILED)
+
+    def _question(self):
+        return {NAME: self.config.name_question, GENDER: self.config.gender_question,
+                AGE: self.config.age_question}[self.state]
+
+    def hear(self, text, ip, now):
+        """One answer from the person; returns the Turn (next question, re-ask or the end)."""
+        if not self.open:
+            raise RuntimeError(f"dialogue is {self.state}; no answer expected")
+        reader = {NAME: parse_name, GENDER: parse_gender, AGE: parse_age}[self.state]
+        try:
+            value = reader(text)
+        except AnswerError as error:
+            return self._ask_again(f"Sorry, {error}.", now)
+        self.ip = self.ip or ip
+        self.answers[self.state] = value
+        self.state = self.QUESTIONS[self.QUESTIONS.index(self.state) + 1] \
+            if self.state != AGE else COMPLETE
+        self.retries, self.asked_at = 0, now
+        if not self.open:
+            return Turn("", self.state)
+        if self.state == GENDER:
+            return Turn(f"{self.config.thanks.format(name=value)} {self._question()}", GENDER)
+        return Turn(self._question(), self.state)
+
+    def tick(self, now):
+        """Ask again after `answer_timeout` without an answer; Turn() when nothing is due."""
+        if not self.open or now - self.asked_at < self.config.answer_timeout:
+            return Turn("", self.state)
+        return self._ask_again("Sorry, I did not hear you.", now)
+
+    def _ask_again(self, apology, now):
+        self.asked_at = now
+        if self.retries >= self.config.max_retries:
+            self.state = FAILED
+            return Turn(f"{apology} {self.config.give_up}", FAILED)
+        self.retries += 1
+        return Turn(f"{apology} {self._question()}", self.state)
+
+    def human(self):
+        """The human_db Human to register (raises InvalidHuman naming a bad field)."""
+        if self.state != COMPLETE:
+            raise RuntimeError(f"dialogue is {self.state}, not complete")
+        return Human(name=self.answers[NAME], gender=self.answers[GENDER], age=self.answers[AGE],
+                     shirt_colour=tuple(tuple(int(c) for c in j) for j in self.colours),
+                     ip=self.ip)
+
+    def welcome(self):
+        return self.config.welcome.format(name=self.answers[NAME])
