@@ -204,3 +204,82 @@ def test_affordance_table_rejects_unknown_activity(tmp_path):
                     "looking_at_hands: {}\n")
     with pytest.raises(ValueError, match="drnk"):
         load_affordances(str(path))
+
+
+def _probabilities(near, seen, table, looking=False):
+    return activity_probabilities(activity_scores(near, seen, looking, table, ActivityConfig()))
+
+
+def test_table_5_3_sofa_and_remote_give_watch_tv_085():
+    """Table 5-3: O_h = {sofa, remote}, O_e = {chair, chair, sofa, remote} -> watch TV 0.85.
+
+    P(o) of the sofa and remote are not printed; p(TV|O_h) = 0.7 = (c_r + c_s/6) / (c_r + c_s)
+    fixes c_s / (c_r + c_s) = 0.36, e.g. remote 0.80, sofa 0.45 (COCO's sofa is 'couch').
+    """
+    table = load_affordances(AFFORDANCES)
+    remote, sofa = SeenObject("remote", 0.80, 0, 0), SeenObject("couch", 0.45, 0, 0)
+    chairs = [SeenObject("chair", 0.70, 0, 0), SeenObject("chair", 0.60, 0, 0)]
+    hands = _probabilities([sofa, remote], [], table)
+    assert {a: round(p, 2) for a, p in hands.items()} == {
+        "watch TV": 0.7, "chat": 0.06, "call": 0.06, "read": 0.06, "work": 0.06, "sleep": 0.06}
+    assert _probabilities([], chairs + [sofa, remote], table) == pytest.approx({"watch TV": 1.0})
+    both = _probabilities([sofa, remote], chairs + [sofa, remote], table)
+    assert both["watch TV"] == pytest.approx(0.85, abs=1e-4)
+    assert {a: round(p, 2) for a, p in both.items() if a != "watch TV"} == dict.fromkeys(
+        ("chat", "call", "read", "work", "sleep"), 0.03)
+
+
+def test_table_5_4_chair_and_person_give_chat_062():
+    """Table 5-4: O_h = {chair}, O_e = {person} -> chat 0.62, the other seated activities 0.076.
+
+    p(a|O_h) = 1/6 = 0.17 each; 0.076 = (c_c/6) / (c_c + c_p) fixes c_c / (c_c + c_p) = 0.456,
+    e.g. chair 0.71, person 0.85.
+    """
+    table = load_affordances(AFFORDANCES)
+    chair, person = SeenObject("chair", 0.71, 0, 0), SeenObject("person", 0.85, 0, 0)
+    hands = _probabilities([chair], [], table)
+    assert {a: round(p, 2) for a, p in hands.items()} == dict.fromkeys(
+        ("watch TV", "chat", "call", "read", "work", "sleep"), 0.17)
+    both = _probabilities([chair], [person], table)
+    assert round(both["chat"], 2) == 0.62
+    assert {a: round(p, 3) for a, p in both.items() if a != "chat"} == dict.fromkeys(
+        ("watch TV", "call", "read", "work", "sleep"), 0.076)
+    result = recognise_activity(profile_worker(), [], table, ActivityConfig())
+    assert result.activity == "sitting"
+
+
+def test_reach_is_measured_to_the_box():
+    """A hand on a fridge door: 100 px from the box centre, 0 px from the box (forearm 50 px)."""
+    fridge = SeenObject("refrigerator", 0.9, 230, 230, 200, 400)
+    near, _, _ = hand_object_eyesight_sets(profile_worker(), [fridge], ActivityConfig())
+    assert [o.label for o in near] == ["refrigerator"]
+    near, _, _ = hand_object_eyesight_sets(profile_worker(), [fridge], ActivityConfig(to_box=False))
+    assert near == []
+
+
+def test_lying_on_a_bed_is_sleeping_lying_elsewhere_is_lying():
+    table = load_affordances(AFFORDANCES)
+    lying = _front((100, 300), [(200, 295), (200, 305)], [(290, 295), (290, 305)],
+                   [(380, 295), (380, 305)])
+    bed = SeenObject("bed", 0.8, 220, 320, 400, 120)
+    result = recognise_activity(lying, [bed], table, ActivityConfig())
+    assert (result.posture, result.resting_on, result.activity) == ("lying", ["bed"], "sleep")
+    assert result.probabilities == pytest.approx({"sleep": 1.0})
+    far_bed = SeenObject("bed", 0.8, 220, 600, 400, 120)   # 240 px below the hips: not under them
+    assert recognise_activity(lying, [far_bed], table, ActivityConfig()).activity == "lying"
+    off = ActivityConfig(weight_support=0.0)
+    assert recognise_activity(lying, [bed], table, off).activity == "lying"
+
+
+def test_posture_without_neck_uses_shoulders():
+    lying = _front((100, 300), [(200, 295), (200, 305)], [(290, 295), (290, 305)],
+                   [(380, 295), (380, 305)])
+    lying[NECK] = np.nan
+    lying[R_SHOULDER], lying[L_SHOULDER] = (110, 290), (110, 310)
+    assert posture_from_skeleton(lying, ActivityConfig()) == "lying"
+
+
+def test_furniture_without_affordance_is_known():
+    table = load_affordances(AFFORDANCES)
+    assert table.known("dining table") and table.known("chair") and table.known("couch")
+    assert not table.known("zeppelin")

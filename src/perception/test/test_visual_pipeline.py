@@ -16,7 +16,7 @@ from perception.requests import load_keyword_config
 from perception.self_instructions import (
     Observation, SelfInstructionConfig, SelfInstructionGenerator)
 from perception.sim_activity_set import SCENES, make_camera, scene_frame
-from perception.visual_pipeline import StackedCameras, analyse_frame
+from perception.visual_pipeline import ObjectBox, StackedCameras, analyse_frame, unknown_classes
 
 CONFIG = os.path.join(os.path.dirname(__file__), "..", "..", "..", "config")
 TABLE = load_affordances(os.path.join(CONFIG, "affordances.yaml"))
@@ -98,3 +98,10 @@ def test_schedule_deviation_gives_a_reminder(generator):
     made = gen.generate(Observation("Bob", "work", "office", 10.0), check)
     assert [m.function for m in made] == [functions["remind"][0]]
     assert "watch TV" in made[0].text and made[0].destination_name == "office"
+
+
+def test_only_really_unknown_classes_are_named():
+    """Issue 32: "unknown object classes ignored: ['chair', 'dining table']" every 10 s."""
+    objects = [ObjectBox(label, 0.9, 0, 0, 10, 10) for label in
+               ("chair", "dining table", "couch", "person", "zeppelin", "zeppelin", "airship")]
+    assert unknown_classes(objects, TABLE) == ["airship", "zeppelin"]

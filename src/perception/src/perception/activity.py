@@ -4,6 +4,14 @@ Detailed activities come from objects near the hands (O_h), objects in the eyesi
 whether the person looks at their hands (E_h,e), scored through an affordance table
 (Algorithm 3-2, Eqs. 3-11 ... 3-13); when no detailed activity is probable enough the result falls
 back to the posture read from the skeleton (sitting, standing, lying).
+
+Beyond the seed (each switchable in ActivityConfig, documented in docs/perception/visual.md):
+reach and gaze are measured to an object's box rather than its centre (a hand on a fridge door, a
+face at the top of a person's box); the furniture a sitting or lying person rests on (O_s: boxes
+containing the hips) adds a posture-conditioned term w_s P_s(a|o, posture) P(o) (§2: a sofa "can
+be a sitting tool for human to watch television ... a furniture for people to take a nap", so
+lying on a bed is sleeping); the top of the torso falls back from the neck to the shoulders and
+head so a lying person whose neck is out of the frame still has a posture.
 """
 import math
 from dataclasses import dataclass, field
@@ -12,10 +20,14 @@ import numpy as np
 import yaml
 
 from perception.keypoints import (
-    ANKLES, EARS, EYES, FOREARMS, HANDS, HIPS, KNEES, NECK, NOSE, mean_of, present)
+    ANKLES, EARS, EYES, FOREARMS, HANDS, HIPS, KNEES, L_SHOULDER, NECK, NOSE, R_SHOULDER, mean_of,
+    present)
 
 POSTURES = ("sitting", "standing", "lying")
 UNKNOWN_POSTURE = "unknown"
+SHOULDERS = (R_SHOULDER, L_SHOULDER)
+HEAD = (NOSE,) + EYES + EARS
+BOX_GRID = 7   # points per side where the angle to a box is sampled
 
 
 @dataclass
@@ -31,6 +43,9 @@ class ActivityConfig:
     lying_ratio: float = 1.0           # [-] torso |dx|/|dy| above this -> lying
     sitting_thigh_ratio: float = 0.5   # [-] hip->knee drop / torso length below this -> sitting
     sitting_leg_ratio: float = 1.1     # [-] hip->ankle drop / torso length below this -> sitting
+    to_box: bool = True                # reach and gaze to the object's box (False: box centre)
+    weight_support: float = 0.5        # [-] w_s of the furniture the person rests on (0: off)
+    support_margin: float = 0.25       # [-] hips within this x torso length of the box: on it
 
 
 @dataclass
@@ -41,9 +56,13 @@ class AffordanceTable:
     hands: dict = field(default_factory=dict)     # label -> {activity: P_h(a|o)}
     eyes: dict = field(default_factory=dict)      # label -> {activity: P_e(a|o)}
     looking_at_hands: dict = field(default_factory=dict)   # {activity: P_E(a|E)}
+    support: dict = field(default_factory=dict)   # posture -> label -> {activity: P_s(a|o,pose)}
+    no_affordance: frozenset = frozenset()        # labels known to say nothing of the activity
 
     def known(self, label):
-        return label in self.hands or label in self.eyes
+        """True for a class the table has an entry for (or knows to carry no affordance)."""
+        return (label in self.hands or label in self.eyes or label in self.no_affordance
+                or any(label in row for row in self.support.values()))
 
 
 @dataclass
@@ -54,6 +73,22 @@ class SeenObject:
     confidence: float
     cx: float
     cy: float
+    width: float = 0.0   # [px] box size; 0 = a point at the centre
+    height: float = 0.0
+
+    def box_points(self):
+        """A BOX_GRID x BOX_GRID grid over the box, (n, 2) [px]; the centre for a point."""
+        if self.width <= 0 and self.height <= 0:
+            return np.array([[self.cx, self.cy]])
+        u = np.linspace(self.cx - self.width / 2, self.cx + self.width / 2, BOX_GRID)
+        v = np.linspace(self.cy - self.height / 2, self.cy + self.height / 2, BOX_GRID)
+        return np.stack(np.meshgrid(u, v), axis=-1).reshape(-1, 2)
+
+    def distance_to(self, point):
+        """[px] from `point` to the nearest point of the box (0 inside)."""
+        dx = max(abs(point[0] - self.cx) - self.width / 2, 0.0)
+        dy = max(abs(point[1] - self.cy) - self.height / 2, 0.0)
+        return math.hypot(dx, dy)
 
 
 @dataclass
@@ -64,6 +99,7 @@ class ActivityResult:
     near_hands: list              # labels in O_h
     in_eyesight: list             # labels in O_e
     looking_at_hands: bool
+    resting_on: list = field(default_factory=list)   # labels in O_s (furniture under the hips)
 
 
 def _check_probabilities(where, table, activities):
@@ -87,25 +123,35 @@ def load_affordances(path):
     hands = {k: {a: float(p) for a, p in v.items()} for k, v in doc["hands"].items()}
     eyes = {k: {a: float(p) for a, p in v.items()} for k, v in doc["eyes"].items()}
     looking = {a: float(p) for a, p in doc["looking_at_hands"].items()}
+    support = {posture: {k: {a: float(p) for a, p in v.items()} for k, v in rows.items()}
+               for posture, rows in (doc.get("support") or {}).items()}
     _check_probabilities(f"{path} hands", hands, activities)
     _check_probabilities(f"{path} eyes", eyes, activities)
     _check_probabilities(f"{path} looking_at_hands", {"E": looking}, activities)
-    return AffordanceTable(activities, hands, eyes, looking)
+    for posture, rows in support.items():
+        if posture not in POSTURES:
+            raise ValueError(f"{path} support: unknown posture '{posture}' (one of {POSTURES})")
+        _check_probabilities(f"{path} support.{posture}", rows, activities)
+    no_affordance = frozenset(doc.get("no_affordance") or ())
+    return AffordanceTable(activities, hands, eyes, looking, support, no_affordance)
 
 
-def _min_angle(skeleton, target):
-    """Smallest angle [rad] between ear->eye and ear->target over the detected ears and eyes."""
+def _min_angle(skeleton, targets):
+    """Smallest angle [rad] between ear->eye and ear->target over the detected ears and eyes and
+    the target points (one point, shape (2,), or several, shape (n, 2))."""
     best = math.inf
     gaze = present(skeleton, EYES) or present(skeleton, (NOSE,))
+    points = np.atleast_2d(np.asarray(targets, dtype=float))
     for ear in present(skeleton, EARS):
         origin = skeleton[ear]
-        to_target = np.asarray(target, dtype=float) - origin
+        to_targets = points - origin
         for eye in gaze:
             to_eye = skeleton[eye] - origin
-            norm = np.linalg.norm(to_eye) * np.linalg.norm(to_target)
-            if norm > 0:
-                cos = float(np.clip(np.dot(to_eye, to_target) / norm, -1.0, 1.0))
-                best = min(best, math.acos(cos))
+            norms = np.linalg.norm(to_eye) * np.linalg.norm(to_targets, axis=1)
+            ok = norms > 0
+            if ok.any():
+                cos = np.clip(to_targets[ok] @ to_eye / norms[ok], -1.0, 1.0)
+                best = min(best, float(np.arccos(cos).min()))
     return best
 
 
@@ -142,19 +188,44 @@ def hand_object_eyesight_sets(skeleton, objects, config):
     reach = config.range_factor * forearm_length(skeleton)
     near, seen = [], []
     for obj in objects:
-        centre = np.array([obj.cx, obj.cy])
-        d_hand = min((float(np.linalg.norm(skeleton[h] - centre)) for h in hands), default=math.inf)
+        shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
+        d_hand = min((shape.distance_to(skeleton[h]) for h in hands), default=math.inf)
         if d_hand < reach:
             near.append(obj)
-        if watching and abs(_min_angle(skeleton, centre)) < config.eyesight_angle:
+        if watching and abs(_min_angle(skeleton, shape.box_points())) < config.eyesight_angle:
             seen.append(obj)
     return near, seen, looking
 
 
-def activity_scores(near, seen, looking, table, config):
-    """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E.
+def torso_top(skeleton):
+    """Top of the torso [px]: the neck, else the mid-shoulders, else the head joints; or None."""
+    for joints in ((NECK,), SHOULDERS, HEAD):
+        point = mean_of(skeleton, joints)
+        if point is not None:
+            return point
+    return None
+
+
+def support_objects(skeleton, objects, posture, table, config):
+    """O_s: furniture a sitting or lying person rests on -- boxes of the posture's support table
+    that hold the hip midpoint, within support_margin x torso length."""
+    rows = table.support.get(posture, {})
+    hip, top = mean_of(skeleton, HIPS), torso_top(skeleton)
+    if not rows or hip is None:
+        return []
+    margin = config.support_margin * (float(np.linalg.norm(hip - top)) if top is not None else 0.0)
+    return [obj for obj in objects
+            if obj.label in rows and obj.width > 0 and obj.distance_to(hip) <= margin]
+
+
+def activity_scores(near, seen, looking, table, config, resting_on=(), posture=""):
+    """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E,
+    plus our support term w_s sum_Os P_s(a|o, posture)P(o) for the furniture rested on.
     """
     score = dict.fromkeys(table.activities, 0.0)
+    for obj in resting_on:
+        for a, p in table.support.get(posture, {}).get(obj.label, {}).items():
+            score[a] += config.weight_support * p * obj.confidence
     for obj in near:                                           # Eq. 3-12
         for a, p in table.hands.get(obj.label, {}).items():
             score[a] += config.weight_hands * p * obj.confidence
@@ -177,7 +248,7 @@ def activity_probabilities(score):
 
 def posture_from_skeleton(skeleton, config):
     """General activity from the skeleton geometry: lying, sitting or standing (Sec. 3.2.4)."""
-    neck = mean_of(skeleton, (NECK,))
+    neck = torso_top(skeleton)
     hip = mean_of(skeleton, HIPS)
     if neck is None or hip is None:
         return UNKNOWN_POSTURE
@@ -197,12 +268,15 @@ def posture_from_skeleton(skeleton, config):
 def recognise_activity(skeleton, objects, table, config):
     """Algorithm 3-3 with the hierarchical fallback: detailed activity or posture."""
     near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config)
-    probabilities = activity_probabilities(activity_scores(near, seen, looking, table, config))
     posture = posture_from_skeleton(skeleton, config)
+    resting = (support_objects(skeleton, objects, posture, table, config)
+               if config.weight_support > 0 else [])
+    probabilities = activity_probabilities(
+        activity_scores(near, seen, looking, table, config, resting, posture))
     activity = posture
     if probabilities:
         best = max(probabilities, key=probabilities.get)
         if probabilities[best] >= config.probability_threshold:
             activity = best
     return ActivityResult(activity, probabilities, posture, [o.label for o in near],
-                          [o.label for o in seen], looking)
+                          [o.label for o in seen], looking, [o.label for o in resting])

@@ -28,7 +28,7 @@ from perception.requests import keyword_config_from_dict
 from perception.self_instructions import (
     Observation, SelfInstructionConfig, SelfInstructionGenerator)
 from perception.conversions import frame_from_msg, observed_to_msg
-from perception.visual_pipeline import StackedCameras, analyse_frame
+from perception.visual_pipeline import StackedCameras, analyse_frame, unknown_classes
 
 PEPPER_TOP = {"fx": 583.9, "fy": 588.5, "cx": 320.0, "cy": 240.0, "width": 640, "height": 480,
               "mount_x": 0.09, "mount_height": 1.15, "tilt": 0.1}
@@ -88,6 +88,7 @@ class VisualNode:
         self._frame = None
         self._humans = {}
         self._latencies = []
+        self._unknown_classes = set()   # object classes already warned about (once each)
         self._counts = {"frames": 0, "people": 0, "bad_frames": 0, "identified": 0,
                         "instructions": 0}
         self._timers = []
@@ -156,6 +157,14 @@ class VisualNode:
                               {"top": top[0], "bottom": bottom[0]},
                               {"top": top[1], "bottom": bottom[1]})
 
+    def _warn_unknown_classes(self, objects):
+        """Warn once per object class that config/affordances.yaml does not know."""
+        new = [label for label in unknown_classes(objects, self.table)
+               if label not in self._unknown_classes]
+        if new:
+            self._unknown_classes.update(new)
+            rospy.logwarn("visual: object classes not in the affordance table, ignored: %s", new)
+
     def _on_work(self, _event):
         with self._lock:
             msg, self._frame = self._frame, None
@@ -163,13 +172,14 @@ class VisualNode:
             return
         started = time.perf_counter()
         try:
-            results = analyse_frame(frame_from_msg(msg), self.table, self.config, self._cameras(),
-                                    self.graph)
+            frame = frame_from_msg(msg)
+            results = analyse_frame(frame, self.table, self.config, self._cameras(), self.graph)
         except ValueError as error:
             with self._lock:
                 self._counts["bad_frames"] += 1
             rospy.logwarn_throttle(5.0, "visual: frame refused: %s", error)
             return
+        self._warn_unknown_classes(frame.objects)
         out = ObservedHumanArray(header=msg.header)
         for result in results:
             for problem in result.problems:

@@ -10,8 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from perception.activity import SeenObject, recognise_activity
-from perception.keypoints import HIPS, NECK, R_SHOULDER, L_SHOULDER, as_skeleton, present
+from perception.activity import SeenObject, recognise_activity, torso_top
+from perception.keypoints import HIPS, L_SHOULDER, NECK, R_SHOULDER, as_skeleton, present
 from perception.localisation import pixel_to_camera, semantic_place, stitched_pixel, transform_point
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
@@ -71,16 +71,22 @@ def body_depth(person, min_depth):
 
 
 def objects_for(skeleton, objects):
-    """Candidate objects for one person: everything except the person box around their neck."""
+    """Candidate objects for one person: everything except the person box around their neck (else
+    the top of their torso: shoulders or head)."""
     keep = []
-    neck = skeleton[NECK]
+    neck = torso_top(skeleton)
     for obj in objects:
-        own = obj.label == "person" and np.isfinite(neck).all() and (
+        own = obj.label == "person" and neck is not None and (
             obj.x <= neck[0] <= obj.x + obj.width and obj.y <= neck[1] <= obj.y + obj.height)
         if not own:
-            keep.append(SeenObject(obj.label, float(obj.confidence),
-                                   obj.x + obj.width / 2.0, obj.y + obj.height / 2.0))
+            keep.append(SeenObject(obj.label, float(obj.confidence), obj.x + obj.width / 2.0,
+                                   obj.y + obj.height / 2.0, float(obj.width), float(obj.height)))
     return keep
+
+
+def unknown_classes(objects, table):
+    """Sorted labels of the objects the affordance table has no entry for (people excepted)."""
+    return sorted({o.label for o in objects if o.label != "person" and not table.known(o.label)})
 
 
 def locate(skeleton, depth, cameras):
@@ -99,9 +105,6 @@ def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3
     skeleton = as_skeleton(person.points, person.confidence)
     result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects), table,
                                              config))
-    unknown = [o.label for o in objects if not table.known(o.label) and o.label != "person"]
-    if unknown:
-        result.problems.append(f"unknown object classes ignored: {sorted(set(unknown))}")
     if len(present(skeleton, range(len(skeleton)))) < len(skeleton):
         result.problems.append("skeleton has missing joints")
     if cameras is not None:
