@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from perception.detectors import DarknetConfig, DarknetDetector, MediapipePose
-from perception.image_frontend import FrontEndConfig, build_frame, joint_depths
+from perception.image_frontend import FrontEndConfig, build_frame, joint_depths, person_crop
+from perception.keypoints import NECK
 
 MODELS = Path(os.environ.get("TAMP_MODEL_CACHE",
                              Path.home() / ".cache" / "tamp_ws" / "models")) / "yolov3_tiny"
@@ -46,6 +47,38 @@ def test_missing_depth_gives_nan_not_errors(backends):
     frame = build_frame(image, None, None, None, *backends, FrontEndConfig())
     assert all(np.isnan(o.depth) for o in frame.objects)
     assert np.isnan(frame.people[0].depth).all()
+
+
+def two_people_photo(yolo):
+    """person.jpg's person (padded crop) pasted twice side by side, the second mirrored."""
+    image = cv2.imread(PHOTO)
+    person = next(d for d in yolo.detect(image) if d.label == "person")
+    x0, y0, x1, y1 = person_crop((person.x, person.y, person.width, person.height), image.shape,
+                                 0.2)
+    crop = image[y0:y1, x0:x1]
+    return np.hstack([crop, crop[:, ::-1]]), crop.shape[1]
+
+
+def test_two_people_give_two_skeletons_top_down(backends):
+    """Issue 32: mediapipe finds one person per image; pose per YOLO person box finds both."""
+    image, half = two_people_photo(backends[0])
+    frame = build_frame(image, None, None, None, *backends, FrontEndConfig())
+    boxes = [o for o in frame.objects if o.label == "person"]
+    assert len(boxes) == 2
+    assert len(frame.people) == 2
+    necks = sorted(float(view.points[NECK][0]) for view in frame.people)
+    assert necks[0] < half < necks[1]                      # one skeleton on each person
+    for view, box in zip(sorted(frame.people, key=lambda v: v.points[NECK][0]),
+                         sorted(boxes, key=lambda b: b.x)):
+        x, y = view.points[NECK]
+        assert box.x <= x <= box.x + box.width and box.y <= y <= box.y + box.height
+    whole = build_frame(image, None, None, None, *backends, FrontEndConfig(top_down=False))
+    assert len(whole.people) == 1                          # the whole-image pose of before
+
+
+def test_person_crop_is_padded_and_clipped():
+    assert person_crop((10, 20, 100, 200), (300, 400, 3), 0.1) == (0, 0, 120, 240)
+    assert person_crop((350, 250, 100, 100), (300, 400, 3), 0.0) == (350, 250, 400, 300)
 
 
 def test_empty_and_mismatched_images_are_refused(backends):

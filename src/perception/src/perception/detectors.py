@@ -135,7 +135,8 @@ def coco18_from_mediapipe(landmarks_xyv, width, height, min_visibility):
 
 
 class MediapipePose:
-    """Human pose with mediapipe 0.10.21 solutions.pose (bundled model, one person per image)."""
+    """Human pose with mediapipe 0.10.21 solutions.pose (bundled model, one person per image;
+    image_frontend runs it on each person box for several people)."""
 
     def __init__(self, model_complexity=1, min_detection_confidence=0.5, min_visibility=0.5):
         import mediapipe as mp

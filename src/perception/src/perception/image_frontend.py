@@ -2,6 +2,9 @@
 one camera-level FrameView, as the simulator publishes it (thesis 000 Fig. 3-7): stitching
 (Sec. 3.2.1), object boxes from YOLO, COCO-18 skeletons from mediapipe, depth per box (adaptive
 rectangle, Sec. 3.2.2) and per joint, shirt colour at joints 1, 2, 5 (Sec. 3.2.3).
+
+Pose is top-down: mediapipe finds one person per image, so it runs on each YOLO 'person' box
+(padded crop) and the keypoints are mapped back, one skeleton per person, as OpenPose gives.
 """
 from dataclasses import dataclass
 
@@ -19,6 +22,9 @@ COLOUR_JOINTS = (NECK, R_SHOULDER, L_SHOULDER)
 class FrontEndConfig:
     colour_patch: int = 5        # [px] side of the square averaged for a joint's shirt colour
     joint_depth_patch: int = 5   # [px] side of the square whose valid median is a joint's depth
+    top_down: bool = True        # pose per YOLO person box (False: mediapipe on the whole image)
+    crop_padding: float = 0.15   # [-] person box grown by this share of its size on each side
+    min_crop: int = 32           # [px] person boxes narrower or lower than this are skipped
     depth: DepthWindowConfig = None
 
     def __post_init__(self):
@@ -59,6 +65,29 @@ def joint_depths(depth, points, confidence, config):
     return out
 
 
+def person_crop(box, shape, padding):
+    """Integer (x0, y0, x1, y1) of a padded (x, y, width, height) box, clipped to the image."""
+    x, y, w, h = box
+    height, width = shape[:2]
+    x0, y0 = max(0, int(x - padding * w)), max(0, int(y - padding * h))
+    x1, y1 = min(width, int(np.ceil(x + w + padding * w))), min(height,
+                                                                 int(np.ceil(y + h + padding * h)))
+    return x0, y0, x1, y1
+
+
+def top_down_skeletons(image, person_boxes, pose, config):
+    """One COCO-18 skeleton per person box: pose on the padded crop, keypoints shifted back to
+    the image [(points (18, 2) [px], confidence (18,))]; a crop with no pose gives none."""
+    skeletons = []
+    for box in person_boxes:
+        x0, y0, x1, y1 = person_crop(box, image.shape, config.crop_padding)
+        if x1 - x0 < config.min_crop or y1 - y0 < config.min_crop:
+            continue
+        for points, confidence in pose.skeletons(np.ascontiguousarray(image[y0:y1, x0:x1]))[:1]:
+            skeletons.append((points + np.array([x0, y0], dtype=float), confidence))
+    return skeletons
+
+
 def build_frame(top, bottom, depth_top, depth_bottom, detector, pose, config):
     """Stitched frame of detections; depth images may be None (then depths are NaN).
 
@@ -78,12 +107,18 @@ def build_frame(top, bottom, depth_top, depth_bottom, detector, pose, config):
             depth = np.vstack([depth, np.full((image.shape[0] - depth.shape[0], depth.shape[1]),
                                               np.nan)])
     frame = FrameView(image.shape[1], image.shape[0])
-    for det in detector.detect(image):
+    detections = detector.detect(image)
+    for det in detections:
         box = (det.x, det.y, det.width, det.height)
         d = box_depth(depth, box, config.depth) if depth is not None else None
         frame.objects.append(ObjectBox(det.label, det.confidence, det.x, det.y, det.width,
                                        det.height, float("nan") if d is None else d))
-    for points, confidence in pose.skeletons(image):
+    if config.top_down:
+        boxes = [(d.x, d.y, d.width, d.height) for d in detections if d.label == "person"]
+        skeletons = top_down_skeletons(image, boxes, pose, config)
+    else:
+        skeletons = pose.skeletons(image)
+    for points, confidence in skeletons:
         frame.people.append(PersonView(points, confidence,
                                        joint_depths(depth, points, confidence, config),
                                        joint_colours(image, points, confidence,

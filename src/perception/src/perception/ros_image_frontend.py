@@ -28,6 +28,7 @@ class ImageFrontEnd:
             input_size=int(rospy.get_param("~input_size", 416)),
             confidence_threshold=float(rospy.get_param("~confidence_threshold", 0.25)))
         self.stitch = bool(rospy.get_param("~stitch", True))
+        self.top_down = bool(rospy.get_param("~top_down", True))   # pose per YOLO person box
         self.period = float(rospy.get_param("~period", 0.2))
         self._lock = threading.Lock()
         self._latest = dict.fromkeys(STREAMS)
@@ -36,7 +37,7 @@ class ImageFrontEnd:
     def setup(self):
         self.detector = DarknetDetector(self.darknet)
         self.pose = MediapipePose()
-        self.config = FrontEndConfig()
+        self.config = FrontEndConfig(top_down=self.top_down)
         self.frames = rospy.Publisher("/camera/detections", PerceptionFrame, queue_size=2)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         topics = {"top": "camera/top/image_raw", "bottom": "camera/bottom/image_raw",
