@@ -13,6 +13,7 @@ from pathlib import Path
 import rospy
 from sim2d.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from std_msgs.msg import Bool
 from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.msg import Utterance
 
@@ -38,6 +39,8 @@ class VerbalParams:
     period: float = 0.05                  # ~period: work timer period [s]
     max_queue: int = 20                   # ~max_queue: utterances kept while busy
     diagnostics_period: float = 1.0       # ~diagnostics_period [s]
+    dialogue_topic: str = "/introduction/dialogue_open"  # ~dialogue_topic: true while the
+                                          # introduction node takes unknown speakers' answers
 
 
 def read_params():
@@ -56,7 +59,8 @@ def read_params():
         period=float(rospy.get_param("~period", VerbalParams.period)),
         max_queue=int(rospy.get_param("~max_queue", VerbalParams.max_queue)),
         diagnostics_period=float(rospy.get_param("~diagnostics_period",
-                                                 VerbalParams.diagnostics_period)))
+                                                 VerbalParams.diagnostics_period)),
+        dialogue_topic=rospy.get_param("~dialogue_topic", VerbalParams.dialogue_topic))
 
 
 class VerbalNode:
@@ -64,7 +68,9 @@ class VerbalNode:
         self.params = params
         self._lock = threading.Lock()
         self._queue = collections.deque()
-        self._counts = {"accepted": 0, "refused": 0, "instructions": 0, "dropped": 0}
+        self._counts = {"accepted": 0, "refused": 0, "instructions": 0, "dropped": 0,
+                        "dialogue_answers": 0}
+        self._dialogue_open = False
         self.pipeline = self._publisher = self._diagnostics = None
         self.directory = HumanTableDirectory(params.humans_topic)
         self._timers = []
@@ -82,6 +88,7 @@ class VerbalNode:
                                           queue_size=20)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         rospy.Subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        rospy.Subscriber(self.params.dialogue_topic, Bool, self._on_dialogue, queue_size=1)
         self._timers = [
             rospy.Timer(rospy.Duration(self.params.period), self._on_work),
             rospy.Timer(rospy.Duration(self.params.diagnostics_period), self._on_diagnostics)]
@@ -95,6 +102,10 @@ class VerbalNode:
                                        "dropping the oldest", self.params.max_queue)
             self._queue.append(msg)
 
+    def _on_dialogue(self, msg):
+        with self._lock:
+            self._dialogue_open = msg.data
+
     def _on_work(self, _event):
         while True:
             with self._lock:
@@ -106,6 +117,14 @@ class VerbalNode:
     def handle(self, msg):
         """Turn one voice message into published instructions, or log why not."""
         sender = msg.ip or "an unknown phone"
+        with self._lock:
+            dialogue = self._dialogue_open
+        if dialogue and self.directory.lookup_by_ip(msg.ip) is None:
+            with self._lock:   # an unknown speaker's answer to the introduction node's question
+                self._counts["dialogue_answers"] += 1
+            rospy.loginfo("verbal: %r from %s answers the introduction dialogue; not a request",
+                          msg.text, sender)
+            return
         if not self.directory.received():
             rospy.logwarn_throttle(10.0, "verbal: no human table on %s yet; speakers cannot be "
                                    "identified", self.directory.topic)

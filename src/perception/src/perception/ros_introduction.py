@@ -1,0 +1,299 @@
+"""The introduction node: meeting a new person (thesis 000 §3.2.3, Initialization phase).
+
+Unidentified people on /humans/observed -> an `introduce` instruction on
+/task_planner/instructions (perception.introduction.NewcomerWatch); while the executor serves it
+(ACTIVE in /task_planner/state, having said the function's greeting, which asks the name) the
+node asks the gender and the age on /robot/say, reads the answers from /voice_message, registers
+the person with /human_db/register and says "Nice to meet you, NAME.".
+
+Which utterances are answers: while a dialogue is open, every utterance whose phone is not a
+registered person's (a stranger's phone, or the robot's own microphone, ip "") is an answer. The
+node says so on the latched ~dialogue_open (std_msgs/Bool), and verbal perception skips exactly
+those utterances then, so an answer never also becomes a refused request.
+"""
+import collections
+import os
+import threading
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from human_db.conversions import colours_from_msg, human_to_msg
+from human_db.errors import HumanDbError
+from sim2d.semantic_graph import load_graph
+from std_msgs.msg import Bool, String
+from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
+from tamp_msgs.msg import Instruction as InstructionMsg
+from tamp_msgs.msg import Utterance
+from tamp_msgs.srv import RegisterHuman
+from task_planner.conversions import instruction_to_msg
+from task_planner.reward import load_priorities
+from task_planner.robot_functions import load_robot_functions
+
+from perception.id_counter import IdCounter
+from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
+                                     NewcomerWatch, seen_shirt)
+
+ENDED = (InstructionState.DONE, InstructionState.FAILED, InstructionState.CANCELLED)
+
+
+@dataclass(frozen=True)
+class IntroductionParams:
+    graph: str                            # ~graph: maps/<map>.graph.yaml
+    priorities_file: str                  # ~priorities_file: config/priorities.yaml
+    robot_functions: str                  # ~robot_functions: config/robot_functions.yaml
+    function: str = "introduce"           # ~function: the robot function that meets people
+    first_id: int = 200000                # ~first_id of the introduce instructions
+    id_file: str = ""                     # ~id_file: last id handed out (a restart goes on after
+                                          # it); "" = $ROS_HOME/perception_introduction_last_id
+    humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
+    period: float = 0.1                   # ~period: work timer period [s]
+    close_linger: float = 3.0             # ~close_linger [s]: ~dialogue_open stays true this
+                                          # long after a dialogue ends (a late last answer)
+    register_timeout: float = 5.0         # ~register_timeout [s] for /human_db/register
+    config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~min_sightings,
+                                          # ~max_retries, ~answer_timeout, ~retry_after
+
+
+def read_params():
+    """Node parameters; KeyError names a missing required one."""
+    values = {}
+    for name in ("graph", "priorities_file", "robot_functions"):
+        if not rospy.has_param("~" + name):
+            raise KeyError(f"parameter ~{name} is not set (see launch/social_household.launch)")
+        values[name] = rospy.get_param("~" + name)
+    defaults = IntroductionParams(**values)
+    for name in ("function", "first_id", "id_file", "humans_topic", "period", "close_linger",
+                 "register_timeout"):
+        values[name] = type(getattr(defaults, name))(
+            rospy.get_param("~" + name, getattr(defaults, name)))
+    values["id_file"] = values["id_file"] or str(
+        Path(os.environ.get("ROS_HOME", Path.home() / ".ros")) / "perception_introduction_last_id")
+    config = {f.name: type(getattr(defaults.config, f.name))(
+        rospy.get_param("~" + f.name, getattr(defaults.config, f.name)))
+        for f in fields(IntroductionConfig)
+        if f.name in ("threshold", "min_sightings", "max_retries", "answer_timeout",
+                      "retry_after")}
+    return IntroductionParams(**values, config=IntroductionConfig(**config))
+
+
+class IntroductionNode:
+    def __init__(self, params):
+        self.params = params
+        self._lock = threading.Lock()
+        self._frames = collections.deque(maxlen=50)
+        self._utterances = collections.deque(maxlen=20)
+        self._state = None
+        self._known = None        # {name: ((r, g, b) x 3, ip)}; None until the first table
+        self.watch = self.dialogue = self.stranger = None
+        self._met_id = 0          # id of the introduce instruction the last dialogue was for
+        self._open_until = None   # ~dialogue_open is true until this time [s]; None = closed
+        self._published_open = None
+        self._counts = {"instructions": 0, "dialogues": 0, "registered": 0, "not_met": 0,
+                        "answers": 0, "refused_answers": 0, "bad_observations": 0}
+        self._last = ""           # last registration or failure, for diagnostics
+        self._timers = []
+
+    def setup(self):
+        """Load the configuration (ValueError names a bad entry) and start the ROS API."""
+        p = self.params
+        functions = {f.name: f for f in load_robot_functions(p.robot_functions).values()}
+        if p.function not in functions:
+            raise ValueError(f"{p.robot_functions}: no robot function '{p.function}' "
+                             f"(known: {', '.join(sorted(functions))})")
+        function = functions[p.function]
+        self.watch = NewcomerWatch(
+            p.config, (function.code, function.duration_s),
+            load_priorities(p.priorities_file)["self_generated"], load_graph(p.graph).place_ids(),
+            ids=IdCounter(p.first_id, p.id_file))
+        self.register = rospy.ServiceProxy("/human_db/register", RegisterHuman)
+        self.instructions = rospy.Publisher("/task_planner/instructions", InstructionMsg,
+                                            queue_size=5)
+        self.say = rospy.Publisher("/robot/say", String, queue_size=5)
+        self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
+        self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        rospy.Subscriber("/humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
+        rospy.Subscriber(p.humans_topic, HumanArray, self._on_known, queue_size=1)
+        rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        rospy.Subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        self._publish_open(False)
+        self._timers = [rospy.Timer(rospy.Duration(p.period), self._on_work),
+                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
+
+    # ---- callbacks: cache only ----
+
+    def _on_observed(self, msg):
+        with self._lock:
+            self._frames.append(msg)
+
+    def _on_known(self, msg):
+        table = {h.name: (colours_from_msg(h.shirt_color), h.ip) for h in msg.humans}
+        with self._lock:
+            self._known = table
+
+    def _on_state(self, msg):
+        with self._lock:
+            self._state = msg
+
+    def _on_utterance(self, msg):
+        with self._lock:
+            self._utterances.append(msg)
+
+    # ---- work ----
+
+    def _on_work(self, _event):
+        with self._lock:
+            frames, self._frames = list(self._frames), collections.deque(maxlen=50)
+            utterances, self._utterances = list(self._utterances), collections.deque(maxlen=20)
+            state, known = self._state, self._known
+        now = rospy.get_time()
+        if known is None:
+            rospy.logwarn_throttle(10.0, "introduction: no human table on %s yet; nobody is met",
+                                   self.params.humans_topic)
+            return
+        for frame in frames:
+            self._look(frame, known)
+        if state is not None:
+            self._follow(state, now)
+        ips = {ip for _, ip in known.values() if ip}
+        for msg in utterances:
+            if self.dialogue is not None and self.dialogue.open and msg.ip not in ips:
+                self._answer(msg, now)
+        if self.dialogue is not None and self.dialogue.open:
+            self._turn(self.dialogue.tick(now), now)
+        self._publish_open(self._open_until is not None and
+                           (self.dialogue is not None and self.dialogue.open
+                            or now < self._open_until))
+
+    def _look(self, frame, known):
+        stamp = frame.header.stamp.to_sec() if not frame.header.stamp.is_zero() \
+            else rospy.get_time()
+        shirts = [colours for colours, _ in known.values()]
+        for person in frame.humans:
+            if person.name:
+                continue
+            try:
+                colours = seen_shirt(person.shirt_color)
+            except HumanDbError as error:
+                self._count("bad_observations")
+                rospy.logwarn_throttle(10.0, "introduction: observation refused: %s", error)
+                continue
+            instruction = self.watch.observe(colours, person.location, stamp, shirts)
+            if instruction is not None:
+                self.instructions.publish(instruction_to_msg(instruction))
+                self._count("instructions")
+                rospy.loginfo("introduction: #%d: %s", instruction.id, instruction.text)
+
+    def _follow(self, state, now):
+        """Start the dialogue when the introduce instruction becomes ACTIVE; give the stranger a
+        rest when it ended without one."""
+        stranger = self.watch.open_stranger()
+        if stranger is None or self.dialogue is not None and self.dialogue.open:
+            return
+        record = next((r for r in state.instructions
+                       if r.instruction.id == stranger.instruction_id), None)
+        if record is None:
+            return
+        if record.state == InstructionState.ACTIVE and self._met_id != stranger.instruction_id:
+            self.stranger, self._met_id = stranger, stranger.instruction_id
+            self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now)
+            self._open_until = now
+            self._count("dialogues")
+            rospy.loginfo("introduction: meeting the stranger of #%d in %s; waiting for a name",
+                          stranger.instruction_id, stranger.place)
+        elif record.state in ENDED and self._met_id != stranger.instruction_id:
+            self._last = f"#{stranger.instruction_id} ended unmet: {record.reason or 'no reason'}"
+            self.watch.not_met(stranger, now)
+            self._count("not_met")
+            rospy.logwarn("introduction: %s", self._last)
+
+    def _answer(self, msg, now):
+        self._count("answers")
+        turn = self.dialogue.hear(msg.text, msg.ip, now)
+        if turn.state == self.dialogue.state and turn.say.startswith("Sorry"):
+            self._count("refused_answers")
+        rospy.loginfo("introduction: heard %r from %s -> %s", msg.text, msg.ip or "microphone",
+                      turn.state)
+        self._turn(turn, now)
+
+    def _turn(self, turn, now):
+        if turn.say:
+            self.say.publish(String(turn.say))
+        if turn.state == COMPLETE:
+            self._register(now)
+        elif turn.state == FAILED:
+            self._end(now, f"no answers understood from the stranger of "
+                           f"#{self.stranger.instruction_id}", met=False)
+
+    def _register(self, now):
+        try:
+            human = self.dialogue.human()
+            reply = self._call_register(human)
+        except (HumanDbError, rospy.ServiceException, rospy.ROSException) as error:
+            reply, human = None, None
+            problem = str(error)
+        if reply is not None and reply.success:
+            self.say.publish(String(self.dialogue.welcome()))
+            self.watch.registered(self.stranger, human.name)
+            self._count("registered")
+            self._end(now, f"registered {human.name} ({human.gender}, {human.age}, phone "
+                           f"{human.ip or 'none'}) after {now - self.dialogue.started:.1f} s",
+                      met=True)
+            return
+        problem = reply.message if reply is not None else problem
+        self.say.publish(String(f"I am sorry, I could not remember you: {problem}"))
+        self._end(now, f"registration refused: {problem}", met=False)
+
+    def _call_register(self, human):
+        rospy.wait_for_service("/human_db/register", self.params.register_timeout)
+        return self.register(human=human_to_msg(human), replace=False)
+
+    def _end(self, now, what, met):
+        if not met:
+            self.watch.not_met(self.stranger, now)
+            self._count("not_met")
+        self._last = what
+        self._open_until = now + self.params.close_linger
+        (rospy.loginfo if met else rospy.logwarn)("introduction: %s", what)
+
+    def _publish_open(self, value):
+        if value != self._published_open:
+            self.dialogue_open.publish(Bool(value))
+            self._published_open = value
+
+    def _count(self, key):
+        with self._lock:
+            self._counts[key] += 1
+
+    def _on_diagnostics(self, _event):
+        with self._lock:
+            counts, table = dict(self._counts), self._known is not None
+        state = self.dialogue.state if self.dialogue is not None and self.dialogue.open \
+            else "idle"
+        failed = self._last and not self._last.startswith("registered")
+        level = DiagnosticStatus.OK if table and not failed else DiagnosticStatus.WARN
+        message = (f"no human table on {self.params.humans_topic}" if not table else
+                   self._last if failed else "ok")
+        status = DiagnosticStatus(
+            name="perception: introduction", hardware_id="introduction", level=level,
+            message=message,
+            values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())]
+            + [KeyValue("dialogue", state), KeyValue("last", self._last),
+               KeyValue("strangers", str(len(self.watch.strangers)))])
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        self.diagnostics.publish(array)
+
+
+def main():
+    rospy.init_node("introduction")
+    try:
+        node = IntroductionNode(read_params())
+        node.setup()
+    except (KeyError, ValueError, OSError) as error:
+        rospy.logfatal("introduction: cannot start: %s", error)
+        return 1
+    rospy.loginfo("introduction: watching /humans/observed for people nobody has met")
+    rospy.spin()
+    return 0
