@@ -5,7 +5,8 @@ from test_executor import FUNCTIONS, NavigationModel, make_executor, run_executo
 
 from task_planner.baselines import PriorityFirst
 from task_planner.battery import BatteryConfig, BatteryModel
-from task_planner.executor import Charging, Executor, ExecutorConfig, PeopleAtPlaces
+from task_planner.executor import Charging, Executor, ExecutorConfig
+from task_planner.people_belief import PeopleAtPlaces
 from task_planner.instruction import ROBOT
 from task_planner.reward import Priority
 from task_planner.task_buffer import DONE, BufferConfig, TaskBuffer

@@ -6,10 +6,11 @@ import pytest
 from planner_factories import make_instruction
 
 from task_planner.baselines import FirstComeFirstServe, PriorityFirst
-from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, PeopleAtPlaces,
-                                   Say, Verify, nearest_node)
+from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, Say, Verify,
+                                   nearest_node)
 from task_planner.executor_sim import NavigationModel, run_executor
 from task_planner.exact import ExactReplanner
+from task_planner.people_belief import PeopleAtPlaces
 from task_planner.problem import Problem, schedule_reward
 from task_planner.ripple_planner import RipplePlanner
 from task_planner.robot_functions import load_robot_functions

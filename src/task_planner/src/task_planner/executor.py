@@ -12,12 +12,18 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   and may turn the robot back mid-edge (§4 "dynamic");
 - a navigation abort is retried `max_goal_attempts` times, then the instruction the move was for
   fails with the reason and the robot decides again;
-- on arrival the target person must be at the place (`people.is_at`): if not, the robot looks
-  for them there for `verify_wait_s` (perception updates the people meanwhile), then searches
-  their last known places in turn (the instruction is served where they are found) and fails
-  when none is left. A person nobody has located is not at the place either: once the wait is
-  over there is nowhere else to look, and the instruction fails ("<name> not found").
+- on arrival the target person must have been seen at the place (`people.is_at`, a sighting
+  at most `fresh_s` old): if not, the robot looks around (`look_headings` turns in place; or,
+  with none, stands for `verify_wait_s`) while perception updates the people, then searches on
+  (`people_belief.search_order`: last seen place, the schedule's place, then every other place
+  stalest first; with `search_all_places` off only their last known places) and serves the
+  instruction where they are found; it fails when no place is left ("<name> not found");
+- a navigation abort may be a person in the way: with `pass_wait_s` the robot asks to pass,
+  waits, and only then retries;
+- with `patrol` on, an idle robot looks at the stalest, most likely occupied place
+  (`people_belief.patrol_target`) and drops the patrol as soon as an instruction arrives.
 """
+import math
 import time
 from collections import deque
 from dataclasses import dataclass, replace
@@ -25,11 +31,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from task_planner.battery import charge_instruction
+from task_planner.people_belief import patrol_target, search_order
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
 
-IDLE, MOVING, EXECUTING, VERIFYING = "idle", "moving", "executing", "verifying"
+IDLE, MOVING, EXECUTING, VERIFYING, LOOKING = "idle", "moving", "executing", "verifying", "looking"
 BATTERY_KEY = "battery_level_wh"   # robot_state entry of the journal
 
 
@@ -40,6 +47,13 @@ class ExecutorConfig:
     latency_window: int = 1000    # decisions whose wall time is kept (decision_s)
     battery_save_wh: float = 0.5  # journal the battery level when it moved this much [Wh]
     verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
+    look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
+    fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
+    search_all_places: bool = False  # search every place, not only the last known ones
+    pass_wait_s: float = 0.0      # after an abort ask to pass and wait this long [s] (0: no)
+    pass_request: str = "Excuse me, may I pass?"
+    patrol: bool = False          # look at stale places while idle
+    patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
 
 
 @dataclass(frozen=True)
@@ -54,10 +68,24 @@ class Charging:
 
 @dataclass(frozen=True)
 class Navigate:
-    """Send the robot to graph node `node` (a neighbour of where it is, or the node just left)."""
+    """Send the robot to graph node `node` (a neighbour of where it is, or the node just left),
+    or, with `yaw`, turn in place on its own node to that heading [rad] (a look around)."""
 
     node: int
     instruction_id: int  # the instruction this move is for (0 when none)
+    yaw: float = None
+
+
+@dataclass(frozen=True)
+class StopMotion:
+    """Cancel the current navigation goal (a look ended early)."""
+
+
+@dataclass(frozen=True)
+class Wait:
+    """Nothing to do before `until_s` [s] (asked to pass; the retry follows)."""
+
+    until_s: float
 
 
 @dataclass(frozen=True)
@@ -79,6 +107,18 @@ class Verify:
 
 
 @dataclass(frozen=True)
+class Search:
+    """A finished search for an instruction's person (journalled in the task buffer)."""
+
+    instruction_id: int
+    target: str
+    start_s: float       # first miss [s]
+    end_s: float         # found or given up [s]
+    found: bool
+    places: tuple        # place names looked at, in order (the last one found them if found)
+
+
+@dataclass(frozen=True)
 class Say:
     text: str
 
@@ -95,39 +135,6 @@ def nearest_node(graph, x, y):
     """The graph node whose pose is closest to (x, y) [m]: where a restarted robot stands."""
     poses = np.asarray(graph.poses, dtype=float)  # (V, 3) x, y, yaw [m, m, rad]
     return int(np.argmin(np.hypot(poses[:, 0] - x, poses[:, 1] - y)))
-
-
-class PeopleAtPlaces:
-    """Where each person is now (graph node, or None when out of sight) and was before.
-
-    The executor node fills it from human_db (/humans/known and its history); the in-process model
-    fills it from its scenario.
-    """
-
-    def __init__(self, now=None, before=None):
-        self.now = dict(now or {})        # name -> node the person is at now, None = not seen
-        self.before = {name: list(places) for name, places in (before or {}).items()}
-        # name -> earlier nodes, most recent first
-
-    def knows(self, name):
-        """True once the person has been seen anywhere (or reported out of sight)."""
-        return name in self.now or bool(self.before.get(name))
-
-    def is_at(self, name, node):
-        return self.now.get(name) == node
-
-    def last_known_places(self, name):
-        """Current place first, then earlier ones, each once."""
-        places = [self.now.get(name)] + self.before.get(name, [])
-        return list(dict.fromkeys(p for p in places if p is not None))
-
-    def seen(self, name, node):
-        """`name` is now at `node` (None: out of sight); the previous place becomes history."""
-        previous = self.now.get(name)
-        if previous is not None and previous != node:
-            self.before[name] = [previous] + [p for p in self.before.get(name, [])
-                                              if p != previous]
-        self.now[name] = node
 
 
 class Executor:
@@ -148,6 +155,10 @@ class Executor:
         self.verifying = None            # (instruction id, give-up time [s]) while VERIFYING
         self.search = {}                 # instruction id -> places still to search, next first
         self.searched = {}               # instruction id -> places already searched
+        self.looking = None              # [instruction id (0: patrol), headings left, since]
+        self.looked_s = {}               # node -> when the robot last looked around it [s]
+        self.retry_at = None             # when to retry an aborted goal after asking to pass
+        self._search_start = {}          # instruction id -> when its search began [s]
         self.log = []                    # (time [s], event text): why each move was made
         self._problem_key, self._problem = None, None
         self._target = None              # (problem, index) a target planner is driving to
@@ -156,6 +167,7 @@ class Executor:
         self.decision_s = deque(maxlen=self.config.latency_window)
         self.decision_cpu_s = deque(maxlen=self.config.latency_window)
         self._saved_wh = None            # battery level last journalled [Wh]
+        self._patrol_goal = None         # place an idle patrol is driving to
         if charging is not None:         # a restarted executor resumes the journalled level
             battery = charging.battery
             battery.level_wh = min(battery.config.capacity_wh,
@@ -190,6 +202,11 @@ class Executor:
             self.mode, self.executing = IDLE, None
         if self.mode == VERIFYING:
             commands += self._verify(now)
+        if self.mode == LOOKING:
+            commands += self._look_found(now)
+        if self.mode == MOVING and self.retry_at is not None and now >= self.retry_at:
+            self.retry_at = None
+            commands.append(Navigate(self.goal, self.goal_for))
         if self.mode == IDLE:
             return commands + self._decide(now)
         return commands
@@ -200,7 +217,7 @@ class Executor:
             return
         busy_charging = self.mode == EXECUTING and self.buffer.get(
             self.executing[0]).instruction.function == self.charging.function_code
-        mode = IDLE if self.mode == VERIFYING else self.mode   # looking around: standing still
+        mode = IDLE if self.mode in (VERIFYING, LOOKING) else self.mode  # about on the spot
         self.charging.battery.drain("charging" if busy_charging else mode, now)
         self._save_battery()
 
@@ -233,25 +250,37 @@ class Executor:
         return self.receive([instruction], now)[1]
 
     def arrived(self, now):
-        """The navigation goal was reached."""
+        """The navigation goal was reached (or, while looking around, the heading)."""
+        self._drain(now)
+        if self.mode == LOOKING:
+            return self._look_step(now)
         if self.mode != MOVING:
             raise RuntimeError(f"arrival reported while {self.mode}")
-        self._drain(now)
         self.node, self.mode, self.goal = self.goal, IDLE, None
         self.log.append((now, f"at {self.graph.names[self.node]}"))
         commands = self._check_battery(now)
+        if self.mode == IDLE and self.goal_for == 0 and self._patrol_goal == self.node:
+            return commands + self._start_look(0, now)
         return commands + (self._decide(now) if self.mode == IDLE else [])
 
     def aborted(self, now, reason):
-        """Navigation gave up on the goal: retry it, then fail the instruction it was for."""
+        """Navigation gave up on the goal: ask to pass and retry it, then fail the instruction
+        it was for (a turn of a look around is skipped)."""
+        self._drain(now)
+        if self.mode == LOOKING:
+            return self._look_step(now)
         if self.mode != MOVING:
             raise RuntimeError(f"abort reported while {self.mode}")
-        self._drain(now)
         if self.attempts < self.config.max_goal_attempts:
             self.attempts += 1
             self.log.append((now, f"retry {self.attempts} to {self.graph.names[self.goal]}"))
+            if self.config.pass_wait_s > 0:  # perhaps someone stands in the way
+                self.retry_at = now + self.config.pass_wait_s
+                return [Say(self.config.pass_request), Wait(self.retry_at)]
             return [Navigate(self.goal, self.goal_for)]
         goal, self.mode, self.goal = self.goal, IDLE, None
+        if not self.goal_for and self._patrol_goal is not None:  # patrol elsewhere for now
+            self.looked_s[self._patrol_goal], self._patrol_goal = now, None
         if self.goal_for and self.buffer.get(self.goal_for).is_open:
             self._fail(self.goal_for, now,
                        f"navigation to {self.graph.names[goal]} aborted "
@@ -266,23 +295,32 @@ class Executor:
             self.mode, self.executing = IDLE, None
         if self.mode == VERIFYING and self.verifying[0] == instruction_id:
             self.mode, self.verifying = IDLE, None
+        stop = []
+        if self.mode == LOOKING and self.looking[0] == instruction_id:
+            self.mode, self.looking, stop = IDLE, None, [StopMotion()]
         self.log.append((now, f"cancelled {instruction_id}"))
-        return record, self._redecide(now)
+        return record, stop + self._redecide(now)
 
     # ---- decision ----
 
     def _redecide(self, now):
+        if self.mode == LOOKING and self.looking[0] == 0:  # a patrol gives way at once
+            self.mode, self.looking = IDLE, None
+            return [StopMotion()] + self._decide(now)
         if self.mode == IDLE:
             return self._decide(now)
-        if self.mode != MOVING:
-            return []  # a robot function (or the look for its person) is not interrupted
+        if self.mode != MOVING or self.retry_at is not None:
+            return []  # a robot function, the look for its person, a wait to pass go on
         decision = self._timed_decision(now)
         if decision is None:
             return []
         problem, index, step = decision
         if step == self.goal:
+            if not self.goal_for:  # a patrol's move now serves the instruction
+                self.goal_for, self._patrol_goal = int(problem.ids[index]), None
             return []
         # Any other decision goes through the node just left: turn back to it mid-edge.
+        self._patrol_goal = None
         self.node, self.goal = self.goal, self.node
         self.goal_for, self.attempts = int(problem.ids[index]), 1
         self.log.append((now, f"turn back to {self.graph.names[self.goal]} for {self.goal_for}"))
@@ -294,15 +332,16 @@ class Executor:
         while True:
             decision = self._timed_decision(now)
             if decision is None:
-                return commands
+                return commands + (self._patrol(now) if self.config.patrol else [])
             problem, index, step = decision
             instruction_id = int(problem.ids[index])
             if step is None:
                 commands += self._serve(instruction_id, now)
-                if self.mode in (EXECUTING, VERIFYING):
+                if self.mode in (EXECUTING, VERIFYING, LOOKING):
                     return commands
                 continue  # failed, or the person is searched elsewhere: decide again
             self.mode, self.goal, self.goal_for, self.attempts = MOVING, step, instruction_id, 1
+            self._patrol_goal = None
             self.log.append((now, f"move {self.graph.names[self.node]} -> "
                                   f"{self.graph.names[step]} for {instruction_id}"))
             return commands + [Navigate(step, instruction_id)]
@@ -376,7 +415,9 @@ class Executor:
         except RobotFunctionError as error:
             return self._fail(instruction_id, now, str(error))
         target = instruction.target
-        if target and not self.people.is_at(target, self.node):
+        if target and not self.people.is_at(target, self.node, now - self.config.fresh_s):
+            if self.config.look_headings > 0:
+                return self._start_look(instruction_id, now)
             if self.config.verify_wait_s > 0:
                 until = now + self.config.verify_wait_s
                 self.mode, self.verifying = VERIFYING, (instruction_id, until)
@@ -401,6 +442,7 @@ class Executor:
     def _execute(self, instruction, function, now):
         """Start the robot function of `instruction` here (PENDING -> ACTIVE)."""
         instruction_id = instruction.id
+        self._end_search(instruction, now, found=True)
         self.buffer.start(instruction_id, now)
         self.mode, self.executing = EXECUTING, (instruction_id, now + instruction.duration)
         place = self.graph.names[self.node]
@@ -411,19 +453,94 @@ class Executor:
     def _search_next(self, instruction, now):
         """Person not here: go on to their next last known place, or fail having searched all."""
         searched = self.searched.setdefault(instruction.id, [])
+        if not searched:
+            self._search_start[instruction.id] = now
         searched.append(self.node)
-        queue = self.search.get(instruction.id)
-        if queue is None:  # first miss, at the instruction's own destination
-            queue = self.people.last_known_places(instruction.target)
-        queue = [p for p in queue if p not in searched]
+        self.people.missed(instruction.target, self.node)
+        if self.config.search_all_places:
+            queue = search_order(instruction.target, self.people, self.looked_s,
+                                 range(self.graph.size), searched)
+        else:
+            queue = self.search.get(instruction.id)
+            if queue is None:  # first miss, at the instruction's own destination
+                queue = self.people.last_known_places(instruction.target)
+            queue = [p for p in queue if p not in searched]
         if queue:
             self.search[instruction.id] = queue
             self.log.append((now, f"{instruction.target} not at {self.graph.names[self.node]}; "
                                   f"search {self.graph.names[queue[0]]}"))
             return []
         looked = ", ".join(self.graph.names[n] for n in searched)
+        self._end_search(instruction, now, found=False)
         return self._fail(instruction.id, now,
                           f"{instruction.target} not found (searched {looked})")
+
+    def _end_search(self, instruction, now, found):
+        """Keep a finished search (one that missed the person at least once) for the report."""
+        places = self.searched.get(instruction.id)
+        if not places:
+            return
+        names = [self.graph.names[n] for n in places]
+        self.buffer.store_search(Search(
+            instruction.id, instruction.target, self._search_start.pop(instruction.id, now), now,
+            found, tuple(names + [self.graph.names[self.node]] if found else names)))
+
+    # ---- looking around, patrol ----
+
+    def _start_look(self, instruction_id, now):
+        """Turn through `look_headings` headings on this node, perception watching meanwhile."""
+        count = max(1, self.config.look_headings)
+        yaw = float(self.graph.poses[self.node][2])
+        headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
+        self.mode, self.looking = LOOKING, [instruction_id, headings[1:], now]
+        what = (f"for {self.buffer.get(instruction_id).instruction.target}" if instruction_id
+                else "(patrol)")
+        self.log.append((now, f"look around {self.graph.names[self.node]} {what}"))
+        return [Navigate(self.node, instruction_id, yaw=headings[0])]
+
+    def _look_step(self, now):
+        """A heading of the look was reached: turn to the next one, or end the look."""
+        instruction_id, headings, _ = self.looking
+        if headings:
+            self.looking[1] = headings[1:]
+            return [Navigate(self.node, instruction_id, yaw=headings[0])]
+        self.looked_s[self.node] = now
+        self.mode, self.looking = IDLE, None
+        if not instruction_id:
+            self._patrol_goal = None
+            return self._decide(now)
+        record = self.buffer.get(instruction_id)
+        if not record.is_open:
+            return self._decide(now)
+        return self._search_next(record.instruction, now) + self._decide(now)
+
+    def _look_found(self, now):
+        """While looking for an instruction's person: serve them once perception sees them."""
+        instruction_id, _, since = self.looking
+        if not instruction_id:
+            return []
+        instruction = self.buffer.get(instruction_id).instruction
+        if not self.people.is_at(instruction.target, self.node, since):
+            return []
+        self.mode, self.looking = IDLE, None
+        self.looked_s[self.node] = now
+        return [StopMotion()] + self._execute(instruction,
+                                              function_for(self.functions, instruction), now)
+
+    def _patrol(self, now):
+        """Idle: drive to the stalest, likeliest occupied place and look around it."""
+        target = patrol_target(range(self.graph.size), self.people, self.looked_s, now,
+                               self.config.patrol_interval_s)
+        if target is None:
+            return []
+        if target == self.node:
+            return self._start_look(0, now)
+        step = int(self.graph.next_hop[self.node, target])
+        if self._patrol_goal != target:
+            self.log.append((now, f"patrol to {self.graph.names[target]}"))
+        self._patrol_goal = target
+        self.mode, self.goal, self.goal_for, self.attempts = MOVING, step, 0, 1
+        return [Navigate(step, 0)]
 
     def _fail(self, instruction_id, now, reason):
         self.buffer.fail(instruction_id, now, reason)

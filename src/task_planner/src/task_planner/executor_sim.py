@@ -7,7 +7,7 @@ on that edge. Instructions arrive at their given times.
 """
 from dataclasses import dataclass, field
 
-from task_planner.executor import Execute, Navigate, Say, Verify
+from task_planner.executor import Execute, Navigate, Say, StopMotion, Verify, Wait
 
 
 @dataclass
@@ -16,6 +16,7 @@ class NavigationModel:
     speed_mps: float = 0.5         # driving speed [m/s]
     blocked: set = field(default_factory=set)  # frozenset({a, b}) edges that cannot be driven
     abort_after_s: float = 2.0     # time move_base takes to give up on a blocked goal [s]
+    turn_s: float = 2.0            # time one turn of a look around takes [s]
 
 
 @dataclass
@@ -44,18 +45,7 @@ def run_executor(executor, arrivals, navigation, until_s=float("inf"), start_s=0
     trace, state = Trace(), {"drive": None, "execution_end": None}
 
     def carry_out(commands, clock):
-        for command in commands:
-            if isinstance(command, Navigate):
-                state["drive"] = _start_drive(navigation, state["drive"], executor.node,
-                                              command.node, clock)
-                trace.goals.append((clock, command.node))
-            elif isinstance(command, Execute):
-                state["execution_end"] = clock + command.duration_s
-                trace.executed.append((clock, command.instruction_id, command.function))
-            elif isinstance(command, Verify):   # wake up when the look-around is over
-                state["execution_end"] = command.until_s
-            elif isinstance(command, Say):
-                trace.said.append((clock, command.text))
+        _carry_out(commands, clock, executor, navigation, state, trace)
 
     clock = start_s
     carry_out(executor.tick(clock), clock)
@@ -79,6 +69,27 @@ def run_executor(executor, arrivals, navigation, until_s=float("inf"), start_s=0
         else:
             state["execution_end"] = None
             carry_out(executor.tick(clock), clock)
+
+
+def _carry_out(commands, clock, executor, navigation, state, trace):
+    """Start what the executor's commands ask for in the model; note them in the trace."""
+    for command in commands:
+        if isinstance(command, Navigate) and command.yaw is not None:  # turn in place
+            state["drive"] = _Drive(command.node, command.node, clock + navigation.turn_s,
+                                    0.0, False)
+        elif isinstance(command, Navigate):
+            state["drive"] = _start_drive(navigation, state["drive"], executor.node,
+                                          command.node, clock)
+            trace.goals.append((clock, command.node))
+        elif isinstance(command, StopMotion):
+            state["drive"] = None
+        elif isinstance(command, Execute):
+            state["execution_end"] = clock + command.duration_s
+            trace.executed.append((clock, command.instruction_id, command.function))
+        elif isinstance(command, (Verify, Wait)):   # wake up when the wait is over
+            state["execution_end"] = command.until_s
+        elif isinstance(command, Say):
+            trace.said.append((clock, command.text))
 
 
 def _start_drive(navigation, current, node, goal, clock):

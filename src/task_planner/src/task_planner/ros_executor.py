@@ -29,9 +29,10 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
 
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.conversions import buffer_to_msg, instruction_from_msg
-from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate,
-                                   PeopleAtPlaces, Say, Verify, latency_ms, nearest_node)
+from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate, Say,
+                                   StopMotion, Verify, Wait, latency_ms, nearest_node)
 from task_planner.graph import load_graph
+from task_planner.people_belief import PeopleAtPlaces, scheduled_place
 from task_planner.instruction import InvalidInstruction
 from task_planner.plan_view import plan_view
 from task_planner.planner_choice import make_planner
@@ -58,7 +59,15 @@ class NodeParams:
     charging_place: str = "charging_place"  # graph node name of the charger
     priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
     latency_warn_ms: float = 10.0  # diagnostics WARN when the median decision takes longer [ms]
-    verify_wait: float = 2.0       # look for an absent target person this long on arrival [s]
+    verify_wait: float = 2.0       # without look_headings: stand and look this long [s]
+    look_headings: int = 3         # turns in place to look around a place for a person
+    fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
+    search_all_places: bool = True  # search every place (else only the last known ones)
+    pass_wait: float = 4.0         # after an abort ask to pass and wait this long [s]; 0 = no
+    patrol: bool = False           # look at stale places while idle
+    patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
+    utc_offset: float = 0.0        # added to ROS time for the time of day of the schedules'
+                                   # predicted places [s] (simulated time: the day's start)
     marker_period: float = 0.5     # least time between two /task_planner/markers updates [s]
     plan_view_max: int = 40        # markers show the plan only up to this many open instructions
 
@@ -88,12 +97,16 @@ class ExecutorNode:
             buffer, self.graph, make_planner(params.planner, settings), self.people,
             self.executor_functions,
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
-                           verify_wait_s=params.verify_wait),
+                           verify_wait_s=params.verify_wait, look_headings=params.look_headings,
+                           fresh_s=params.fresh, search_all_places=params.search_all_places,
+                           pass_wait_s=params.pass_wait, patrol=params.patrol,
+                           patrol_interval_s=params.patrol_interval),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None)
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans, self.results = [], None, []
-        self.refused, self.nav_goal = 0, None
+        self._last_humans = []
+        self.refused, self.nav_goal, self.goal_seq = 0, None, 0
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
         self.settings = settings
         self.view_planner = make_planner(params.planner, settings)  # plays the plan forward
@@ -155,10 +168,10 @@ class ExecutorNode:
         with self.lock:
             self.humans = msg
 
-    def _on_goal_done(self, goal_node, state, result):
+    def _on_goal_done(self, goal_seq, state, result):
         del result
         with self.lock:
-            self.results.append((goal_node, state, self.move_base.get_goal_status_text()))
+            self.results.append((goal_seq, state, self.move_base.get_goal_status_text()))
 
     # ---- services: journal before answering ----
 
@@ -193,7 +206,7 @@ class ExecutorNode:
     def _tick(self, _event):
         with self.lock:
             now = rospy.get_time()
-            self._update_people()
+            self._update_people(now)
             version, decisions = self.executor.buffer.version, len(self.executor.decision_s)
             started = time.perf_counter()
             commands = self._receive(now) + self._navigation_results(now)
@@ -228,8 +241,8 @@ class ExecutorNode:
     def _navigation_results(self, now):
         results, self.results = self.results, []
         commands = []
-        for goal_node, state, text in results:
-            if goal_node != self.nav_goal or self.executor.mode != "moving":
+        for goal_seq, state, text in results:
+            if goal_seq != self.nav_goal or self.executor.mode not in ("moving", "looking"):
                 continue  # a goal we replaced (preempted) or no longer follow
             self.nav_goal = None
             if state == GoalStatus.SUCCEEDED:
@@ -238,19 +251,33 @@ class ExecutorNode:
                 commands += self.executor.aborted(now, text or GoalStatus.to_string(state))
         return commands
 
-    def _update_people(self):
-        if self.humans is None:
-            return
-        for human in self.humans.humans:
-            node = self.graph.names.index(human.location) \
-                if human.location in self.graph.names else None
-            self.people.seen(human.name, node)
-        self.humans = None
+    def _update_people(self, now):
+        """Belief from human_db's table (places perception wrote) and the schedules."""
+        humans = self.humans.humans if self.humans is not None else self._last_humans
+        if self.humans is not None:
+            for human in humans:
+                if human.last_seen.is_zero():
+                    continue   # never seen: the robot does not know where they are
+                self.people.seen(human.name, self._node_of(human.location),
+                                 human.last_seen.to_sec())
+            self._last_humans, self.humans = humans, None
+        day_s = self.params.utc_offset + now
+        for human in humans:
+            place = scheduled_place([(e.start, e.end, e.place) for e in human.schedules], day_s)
+            self.people.predicted[human.name] = self._node_of(place)
+
+    def _node_of(self, place):
+        return self.graph.names.index(place) if place in self.graph.names else None
 
     def _carry_out(self, commands):
         for command in commands:
             if isinstance(command, Navigate):
-                self._send_goal(command.node)
+                self._send_goal(command.node, command.yaw)
+            elif isinstance(command, StopMotion):
+                self.nav_goal = None
+                self.move_base.cancel_all_goals()
+            elif isinstance(command, Wait):
+                rospy.loginfo("task_planner: waiting until %.1f s", command.until_s)
             elif isinstance(command, Say):
                 self.say_pub.publish(String(command.text))
                 rospy.loginfo("task_planner says: %s", command.text)
@@ -261,18 +288,21 @@ class ExecutorNode:
                 rospy.loginfo("task_planner: %s for instruction %d (%.0f s)", command.function,
                               command.instruction_id, command.duration_s)
 
-    def _send_goal(self, node):
+    def _send_goal(self, node, heading=None):
         x, y, yaw = self.graph.poses[node]
+        yaw = yaw if heading is None else heading
         goal = MoveBaseGoal()
         goal.target_pose.header.frame_id = self.params.frame_id
         goal.target_pose.header.stamp = rospy.Time.now()
         goal.target_pose.pose.position.x, goal.target_pose.pose.position.y = x, y
         goal.target_pose.pose.orientation.z = math.sin(yaw / 2.0)
         goal.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
-        self.nav_goal = node
-        self.move_base.send_goal(goal, done_cb=lambda state, result, n=node:
+        self.goal_seq += 1
+        self.nav_goal = self.goal_seq   # results of earlier (replaced) goals are ignored
+        self.move_base.send_goal(goal, done_cb=lambda state, result, n=self.goal_seq:
                                  self._on_goal_done(n, state, result))
-        rospy.loginfo("task_planner: move_base goal %s", self.graph.names[node])
+        rospy.loginfo("task_planner: move_base goal %s%s", self.graph.names[node],
+                      "" if heading is None else f" (look, heading {heading:.2f} rad)")
 
     def _publish_view(self):
         """Markers of the ripple, next node and plan, when something they show has changed."""

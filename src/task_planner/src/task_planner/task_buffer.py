@@ -80,6 +80,10 @@ class TaskBuffer:
         # robot state that must survive a restart besides the instructions (e.g. battery level)
         self._db.execute("CREATE TABLE IF NOT EXISTS robot_state "
                          "(name TEXT PRIMARY KEY, value REAL NOT NULL)")
+        # searches for people not where they were believed (executor), for reports
+        self._db.execute("CREATE TABLE IF NOT EXISTS searches (instruction_id INTEGER NOT NULL, "
+                         "target TEXT NOT NULL, start_s REAL NOT NULL, end_s REAL NOT NULL, "
+                         "found INTEGER NOT NULL, places TEXT NOT NULL)")
         self.resumed = self._db.execute(
             "UPDATE instructions SET state=?, started_time=0 WHERE state=?",
             (PENDING, ACTIVE)).rowcount
@@ -199,6 +203,19 @@ class TaskBuffer:
         """Keep `value` under `name` across restarts (written without a disk sync of its own:
         the next durable commit carries it; a power cut may lose the latest value)."""
         self._lazy_write("INSERT OR REPLACE INTO robot_state VALUES (?, ?)", (name, float(value)))
+
+    def store_search(self, search):
+        """Journal a finished search: Search (task_planner.executor)."""
+        self._lazy_write("INSERT INTO searches VALUES (?, ?, ?, ?, ?, ?)",
+                         (search.instruction_id, search.target, search.start_s, search.end_s,
+                          int(search.found), ",".join(search.places)))
+
+    def searches(self):
+        """Every journalled search, oldest first, as (instruction_id, target, start_s, end_s,
+        found, [place names]) tuples."""
+        rows = self._db.execute("SELECT * FROM searches ORDER BY rowid").fetchall()
+        return [(i, target, start, end, bool(found), places.split(",") if places else [])
+                for i, target, start, end, found, places in rows]
 
     # ---- write back (executor -> task buffer) ----
 

@@ -1,0 +1,97 @@
+"""What the robot believes about the people (ROS-free): where each was last seen, where their
+schedule puts them, which places it looked at when; and the two choices built on that belief,
+where to search for a person and where to patrol when idle (thesis 000 §4.2.1: the robot
+observes the home to keep the human database fresh).
+
+The belief is filled only from perception (human_db's table, whose locations perception writes)
+and from the robot's own looks: a look that did not find a person believed at that place moves
+the person out of it.
+"""
+import math
+
+DAY_S = 86400.0   # [s]
+
+
+class PeopleAtPlaces:
+    """Where each person is now (graph node, or None when not known) and was before."""
+
+    def __init__(self, now=None, before=None):
+        self.now = dict(now or {})        # name -> node the person is at now, None = not known
+        self.before = {name: list(places) for name, places in (before or {}).items()}
+        # name -> earlier nodes, most recent first
+        self.seen_s = {}                  # name -> when perception last saw them [s]
+        self.predicted = {}               # name -> node their schedule puts them at now
+
+    def knows(self, name):
+        """True once the person has been seen anywhere (or reported out of sight)."""
+        return name in self.now or bool(self.before.get(name))
+
+    def is_at(self, name, node, since=-math.inf):
+        """Believed at `node`, seen there at or after `since` [s] (no stamp: any time)."""
+        return self.now.get(name) == node and self.seen_s.get(name, math.inf) >= since
+
+    def last_known_places(self, name):
+        """Current place first, then earlier ones, each once."""
+        places = [self.now.get(name)] + self.before.get(name, [])
+        return list(dict.fromkeys(p for p in places if p is not None))
+
+    def seen(self, name, node, stamp=None):
+        """`name` seen at `node` (None: out of sight) at `stamp` [s]; an older report than the
+        last one taken is ignored. The previous place becomes history."""
+        if stamp is not None:
+            if stamp <= self.seen_s.get(name, -math.inf):
+                return
+            self.seen_s[name] = stamp
+        self._move(name, node)
+
+    def missed(self, name, node):
+        """A look at `node` did not find `name`: they are no longer believed there."""
+        if self.now.get(name) == node:
+            self._move(name, None)
+
+    def expected_at(self, node):
+        """How many people the belief or their schedule put at `node`."""
+        names = set(self.now) | set(self.predicted)
+        return sum(self.now.get(n) == node or self.predicted.get(n) == node for n in names)
+
+    def _move(self, name, node):
+        previous = self.now.get(name)
+        if previous is not None and previous != node:
+            self.before[name] = [previous] + [p for p in self.before.get(name, [])
+                                              if p != previous]
+        self.now[name] = node
+
+
+def scheduled_place(entries, seconds_since_midnight):
+    """The place of the schedule entry covering the time of day, or None.
+
+    entries: (start, end, place) [s since midnight]; an entry whose end is before its start runs
+    past midnight (as human_db's schedules).
+    """
+    t = seconds_since_midnight % DAY_S
+    for start, end, place in entries:
+        inside = start <= t < end if start <= end else (t >= start or t < end)
+        if inside and place:
+            return place
+    return None
+
+
+def search_order(name, people, looked_s, places, searched):
+    """Where to look for `name` next: the last place they were seen, then the place their
+    schedule predicts, then every other place, the longest unlooked-at first; places already
+    searched for this instruction are left out."""
+    first = people.last_known_places(name)[:1] + [people.predicted.get(name)]
+    rest = sorted(places, key=lambda n: (looked_s.get(n, -math.inf), n))
+    return [n for n in dict.fromkeys(first + rest) if n is not None and n not in searched]
+
+
+def patrol_target(places, people, looked_s, now, min_interval_s):
+    """The place an idle robot should look at: the stalest, weighted by how many people the
+    belief or the schedules put there; None when every place was looked at within
+    `min_interval_s` [s]."""
+    def score(node):
+        staleness = now - looked_s.get(node, now - 10.0 * min_interval_s)
+        return staleness * (1 + people.expected_at(node)), -node
+
+    stale = [n for n in places if now - looked_s.get(n, -math.inf) >= min_interval_s]
+    return max(stale, key=score) if stale else None

@@ -1,0 +1,141 @@
+"""The robot's belief about people: search order, idle patrol, looking around, asking to pass."""
+import math
+from pathlib import Path
+
+import pytest
+from planner_factories import make_instruction
+
+from task_planner.baselines import FirstComeFirstServe
+from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, Say, StopMotion,
+                                   Wait)
+from task_planner.executor_sim import NavigationModel, run_executor
+from task_planner.graph import graph_from_edges
+from task_planner.people_belief import (PeopleAtPlaces, patrol_target, scheduled_place,
+                                        search_order)
+from task_planner.robot_functions import load_robot_functions
+from task_planner.task_buffer import FAILED, BufferConfig, TaskBuffer
+
+FUNCTIONS = load_robot_functions(
+    Path(__file__).resolve().parents[3] / "config" / "robot_functions.yaml")
+A, B, C, D = range(4)
+
+
+@pytest.fixture
+def graph():
+    """A -1- B -2- C -3- D (metres), every place facing east."""
+    return graph_from_edges("ABCD", [("A", "B", 1.0), ("B", "C", 2.0), ("C", "D", 3.0)],
+                            poses=[(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (3.0, 0.0, 0.0),
+                                   (6.0, 0.0, 0.0)])
+
+
+def executor_for(graph, tmp_path, people, start=A, **config):
+    buffer = TaskBuffer(tmp_path / "buffer.sqlite", BufferConfig(node_count=graph.size))
+    settings = dict(speed_mps=0.5, look_headings=3, search_all_places=True)
+    settings.update(config)
+    return Executor(buffer, graph, FirstComeFirstServe(), people, FUNCTIONS,
+                    ExecutorConfig(**settings), start_node=start)
+
+
+def test_search_order_is_last_seen_then_schedule_then_stalest():
+    people = PeopleAtPlaces()
+    people.seen("Bob", C, stamp=5.0)
+    people.predicted["Bob"] = A
+    looked = {B: 50.0, D: 10.0}              # A and C never looked at; D before B
+    assert search_order("Bob", people, looked, range(4), searched=[]) == [C, A, D, B]
+    assert search_order("Bob", people, looked, range(4), searched=[C]) == [A, D, B]
+
+
+def test_an_older_sighting_does_not_undo_a_missed_look():
+    people = PeopleAtPlaces()
+    people.seen("Bob", C, stamp=5.0)
+    people.missed("Bob", C)                  # the robot looked at C and did not see him
+    people.seen("Bob", C, stamp=5.0)         # the same database row published again
+    assert people.now["Bob"] is None and people.last_known_places("Bob") == [C]
+    people.seen("Bob", C, stamp=9.0)         # a new sighting counts
+    assert people.is_at("Bob", C) and not people.is_at("Bob", C, since=9.5)
+
+
+def test_scheduled_place_wraps_past_midnight():
+    entries = [(8 * 3600.0, 9 * 3600.0, "kitchen"), (22 * 3600.0, 6 * 3600.0, "bedroom")]
+    assert [scheduled_place(entries, h * 3600.0) for h in (8.5, 23, 3, 12)] == \
+        ["kitchen", "bedroom", "bedroom", None]
+
+
+def test_patrol_prefers_stale_occupied_places_and_rests_when_all_are_fresh():
+    people = PeopleAtPlaces()
+    people.predicted["Carol"] = D
+    looked = {A: 90.0, B: 0.0, C: 0.0, D: 0.0}
+    # B, C, D are equally stale (100 s); D's expected person doubles its score
+    assert patrol_target(range(4), people, looked, 100.0, min_interval_s=30.0) == D
+    assert patrol_target(range(4), people, {n: 90.0 for n in range(4)}, 100.0, 30.0) is None
+
+
+def test_person_moved_unseen_is_found_by_search_and_served_there(graph, tmp_path):
+    """Bob was last seen at B and has moved to D: the robot looks around B, then C (never
+    looked at), then finds him at D."""
+    people = PeopleAtPlaces()
+    people.seen("Bob", B, stamp=0.0)
+    executor = executor_for(graph, tmp_path, people, fresh_s=1.0)
+    executor.looked_s[A] = 0.0
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]
+    # A->B 2 s; three 1 s turns at B; B->C 4 s; three turns at C; C->D 6 s
+    commands = executor.arrived(2.0)
+    for clock in (3.0, 4.0, 5.0):
+        assert commands[0].yaw is not None
+        commands = executor.arrived(clock)
+    assert commands == [Navigate(C, 1)] and executor.searched[1] == [B]
+    commands = executor.arrived(9.0)
+    for clock in (10.0, 11.0, 12.0):
+        commands = executor.arrived(clock)
+    assert commands == [Navigate(D, 1)]
+    people.seen("Bob", D, stamp=17.5)        # perception sees him as the robot comes in
+    commands = executor.arrived(18.0)
+    assert commands[0] == Execute(1, "check_status", 4.0)
+    assert executor.buffer.searches() == [(1, "Bob", 5.0, 18.0, True, ["B", "C", "D"])]
+
+
+def test_search_fails_only_when_every_place_was_looked_at(graph, tmp_path):
+    executor = executor_for(graph, tmp_path, PeopleAtPlaces())
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Zoe")
+    run_executor(executor, [(0.0, visit)], NavigationModel(graph, 0.5, turn_s=1.0))
+    record = executor.buffer.get(1)
+    assert record.state == FAILED
+    assert record.reason.startswith("Zoe not found (searched B, ")
+    (_, _, _, _, found, places), = executor.buffer.searches()
+    assert not found and sorted(places) == ["A", "B", "C", "D"]
+
+
+def test_look_stops_as_soon_as_the_person_is_seen(graph, tmp_path):
+    people = PeopleAtPlaces()
+    executor = executor_for(graph, tmp_path, people, start=B)
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
+    _, commands = executor.receive([visit], 0.0)
+    assert commands == [Navigate(B, 1, yaw=math.pi / 2)] and executor.mode == "looking"
+    assert executor.arrived(1.0) == [Navigate(B, 1, yaw=math.pi)]
+    people.seen("Bob", B, stamp=1.5)
+    commands = executor.tick(1.6)
+    assert commands[:2] == [StopMotion(), Execute(1, "check_status", 4.0)]
+
+
+def test_idle_robot_patrols_and_drops_the_patrol_for_an_instruction(graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.predicted["Carol"] = C
+    executor = executor_for(graph, tmp_path, people, patrol=True, patrol_interval_s=30.0)
+    executor.looked_s.update({A: 0.0, B: 0.0, C: 0.0, D: 0.0})
+    assert executor.tick(100.0) == [Navigate(B, 0)]          # on the way to C
+    assert executor.arrived(102.0) == [Navigate(C, 0)]
+    assert executor.arrived(106.0) == [Navigate(C, 0, yaw=math.pi / 2)]
+    visit = make_instruction(1, A, gamma=2.0, beta=0.9, duration=4, function=1,
+                             start_time=107.0)
+    _, commands = executor.receive([visit], 107.0)
+    assert commands == [StopMotion(), Navigate(B, 1)] and executor.mode == "moving"
+
+
+def test_blocked_robot_asks_to_pass_waits_then_retries(graph, tmp_path):
+    executor = executor_for(graph, tmp_path, PeopleAtPlaces(), pass_wait_s=5.0)
+    visit = make_instruction(1, C, gamma=2.0, beta=0.9, duration=4, function=1)
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]
+    assert executor.aborted(1.0, "blocked") == [Say("Excuse me, may I pass?"), Wait(6.0)]
+    assert executor.tick(5.9) == []
+    assert executor.tick(6.0) == [Navigate(B, 1)]
