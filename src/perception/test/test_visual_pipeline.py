@@ -105,3 +105,37 @@ def test_only_really_unknown_classes_are_named():
     objects = [ObjectBox(label, 0.9, 0, 0, 10, 10) for label in
                ("chair", "dining table", "couch", "person", "zeppelin", "zeppelin", "airship")]
     assert unknown_classes(objects, TABLE) == ["airship", "zeppelin"]
+
+
+def test_deviation_may_check_on_the_person_instead(generator):
+    _, functions = generator
+    priority = load_priorities(os.path.join(CONFIG, "priorities.yaml"))["self_generated"]
+    graph = load_graph(os.path.join(CONFIG, "..", "maps", "household.graph.yaml"))
+    gen = SelfInstructionGenerator(SelfInstructionConfig(deviation_function="check_status"),
+                                   functions, priority, graph.place_ids(), {})
+    entry = ScheduleEntry(start=18.5 * 3600, end=19 * 3600, place="dining_room", activity="eat")
+
+    class David:
+        location, activity, schedules = "", "", (entry,)
+    check = check_schedule(David(), 18.6 * 3600, location="bedroom", activity="read")
+    [made] = gen.generate(Observation("David", "read", "bedroom", 10.0), check)
+    assert made.function == functions["check_status"][0] and made.target == "David"
+    assert made.text == ("check status David: schedule says 'eat' in dining_room, observed "
+                         "'read' in bedroom")
+
+
+def test_reminder_when_a_schedule_entry_starts(generator):
+    gen, functions = generator
+    eat = ScheduleEntry(start=18.5 * 3600, end=19 * 3600, place="dining_room", activity="eat")
+    sleep = ScheduleEntry(start=23 * 3600, end=6 * 3600, place="bedroom", activity="sleep")
+
+    class Bob:
+        name, location, schedules = "Bob", "living_room", (eat, sleep)
+    assert gen.due_reminders([Bob()], 18.4 * 3600, 18.49 * 3600, 5.0) == []
+    [made] = gen.due_reminders([Bob()], 18.49 * 3600, 18.5 * 3600, 6.0)
+    assert made.function == functions["remind"][0] and made.target == "Bob"
+    assert made.destination_name == "living_room"      # where he was last seen
+    assert made.text == "remind Bob: time to eat in the dining_room"
+    # across midnight: 23:00 lies in (22:59:59, 00:00:01]
+    [late] = gen.due_reminders([Bob()], 23 * 3600 - 1, 1.0, 700.0)
+    assert late.text == "remind Bob: time to sleep in the bedroom"

@@ -47,6 +47,8 @@ class VisualParams:
     base_frame: str = "base_link"         # ~base_frame
     period: float = 0.2                   # ~period: analysis timer period [s]
     recommendations: dict = field(default_factory=lambda: {"read": "play_music"})
+    deviation_function: str = "remind"    # ~deviation_function on a schedule deviation (seed)
+    timed_reminders: bool = True          # ~timed_reminders when schedule entries start
     repeat_after: float = 600.0           # ~repeat_after [s] between equal self-instructions
     self_instructions: bool = True        # ~self_instructions
     idle_only: bool = True                # ~idle_only: only while no human instruction is open
@@ -67,7 +69,8 @@ def read_params():
         values[name] = rospy.get_param("~" + name)
     defaults = VisualParams(**values)
     for name in ("top_camera", "bottom_camera", "map_frame", "base_frame", "period",
-                 "recommendations", "repeat_after", "self_instructions", "idle_only", "first_id",
+                 "recommendations", "deviation_function", "timed_reminders", "repeat_after",
+                 "self_instructions", "idle_only", "first_id",
                  "id_file", "utc_offset",
                  "slow_latency"):
         values[name] = rospy.get_param("~" + name, getattr(defaults, name))
@@ -93,6 +96,7 @@ class VisualNode:
                         "instructions": 0}
         self._timers = []
         self._busy = False   # a human instruction is pending or active (/task_planner/state)
+        self._day_s = None   # time of day of the last reminder tick [s since midnight]
 
     def setup(self):
         p = self.params
@@ -103,7 +107,10 @@ class VisualNode:
         priority = load_priorities(p.priorities_file)["self_generated"]
         codes = {a: i + 1 for i, a in enumerate(self.table.activities)}
         self.generator = SelfInstructionGenerator(
-            SelfInstructionConfig(dict(p.recommendations), repeat_after=float(p.repeat_after)),
+            SelfInstructionConfig(dict(p.recommendations),
+                                  deviation_function=str(p.deviation_function),
+                                  timed_reminders=bool(p.timed_reminders),
+                                  repeat_after=float(p.repeat_after)),
             functions, priority, self.graph.place_ids(), codes,
             ids=IdCounter(int(p.first_id), p.id_file or str(
                 Path(os.environ.get("ROS_HOME", Path.home() / ".ros"))
@@ -121,7 +128,8 @@ class VisualNode:
         rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
         rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
         self._timers = [rospy.Timer(rospy.Duration(float(p.period)), self._on_work),
-                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
+                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics),
+                        rospy.Timer(rospy.Duration(1.0), self._on_clock)]
 
     def _on_frame(self, msg):
         with self._lock:
@@ -224,10 +232,25 @@ class VisualNode:
             activity=activity)
         for instruction in self.generator.generate(Observation(name, activity, result.place, now),
                                                    check):
-            self.instructions.publish(instruction_to_msg(instruction))
-            rospy.loginfo("visual: self-generated #%d: %s", instruction.id, instruction.text)
-            with self._lock:
-                self._counts["instructions"] += 1
+            self._publish_instruction(instruction)
+
+    def _on_clock(self, _event):
+        """Reminders of the schedule entries that started since the last tick."""
+        now = rospy.get_time()
+        day_s = time_of_day(now, self.params.utc_offset)
+        previous, self._day_s = self._day_s, day_s
+        if previous is None or not self.params.self_instructions:
+            return
+        with self._lock:
+            humans = list(self._humans.values())
+        for instruction in self.generator.due_reminders(humans, previous, day_s, now):
+            self._publish_instruction(instruction)
+
+    def _publish_instruction(self, instruction):
+        self.instructions.publish(instruction_to_msg(instruction))
+        rospy.loginfo("visual: self-generated #%d: %s", instruction.id, instruction.text)
+        with self._lock:
+            self._counts["instructions"] += 1
 
     def _on_diagnostics(self, _event):
         with self._lock:

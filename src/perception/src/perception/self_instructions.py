@@ -1,7 +1,9 @@
 """Self-generated instructions (thesis 000 Sec. 4.2.1): while idle the robot observes people and
 gives itself robot-type instructions -- a recommendation for an activity ("play piano music for a
-person who is reading") and a schedule reminder when the observed activity or place differs
-from the person's schedule. Priority: the self-generated level of config/priorities.yaml.
+person who is reading") and, when the observed activity or place differs from the person's
+schedule, a reminder (the seed's `deviation_function`; a deployment may check on the person
+instead). Beyond the seed, a reminder when a schedule entry starts. Priority: the self-generated
+level of config/priorities.yaml.
 """
 from dataclasses import dataclass, field
 
@@ -13,7 +15,9 @@ from perception.id_counter import IdCounter
 @dataclass
 class SelfInstructionConfig:
     recommendations: dict = field(default_factory=dict)   # activity -> robot function name
-    remind_function: str = "remind"
+    deviation_function: str = "remind"   # on a schedule deviation (the seed: a reminder)
+    remind_function: str = "remind"      # when a schedule entry starts
+    timed_reminders: bool = True         # remind people when their schedule entries start
     repeat_after: float = 600.0   # [s] same (person, function) is not generated again before this
 
 
@@ -37,7 +41,8 @@ class SelfInstructionGenerator:
 
     def __init__(self, config, functions, priority, place_ids, activity_codes, first_id=1,
                  ids=None):
-        for name in list(config.recommendations.values()) + [config.remind_function]:
+        for name in list(config.recommendations.values()) + [config.remind_function,
+                                                             config.deviation_function]:
             if name not in functions:
                 raise ValueError(f"self-instruction function '{name}' is not a robot function "
                                  f"(known: {sorted(functions)})")
@@ -46,8 +51,8 @@ class SelfInstructionGenerator:
         self.ids = ids if ids is not None else IdCounter(first_id)  # id_counter.IdCounter
         self._last = {}          # (person, function) -> stamp
 
-    def _make(self, function, obs, text):
-        key = (obs.person, function)
+    def _make(self, function, obs, text, why="observed"):
+        key = (obs.person, function, why)
         if key in self._last and obs.stamp - self._last[key] < self.config.repeat_after:
             return None
         if obs.place not in self.place_ids:
@@ -72,7 +77,39 @@ class SelfInstructionGenerator:
                                    f"doing '{obs.activity}' in {obs.place}"))
         if schedule_check is not None and schedule_check.deviates:
             entry = schedule_check.entry
-            made.append(self._make(self.config.remind_function, obs,
-                                   f"remind {obs.person}: schedule says '{entry.activity}' in "
-                                   f"{entry.place}, observed '{obs.activity}' in {obs.place}"))
+            function = self.config.deviation_function
+            made.append(self._make(function, obs,
+                                   f"{function.replace('_', ' ')} {obs.person}: schedule says "
+                                   f"'{entry.activity}' in {entry.place}, observed "
+                                   f"'{obs.activity}' in {obs.place}", why="deviation"))
         return [m for m in made if m is not None]
+
+    def due_reminders(self, humans, previous_s, now_s, stamp):
+        """Reminders of the schedule entries that started in (previous_s, now_s] [s since
+        midnight], served where the person was last seen (else where the entry is).
+
+        Args:
+            humans: human_db Humans (name, location, schedules).
+            stamp: the instructions' start time [s].
+        """
+        if not self.config.timed_reminders:
+            return []
+        made = []
+        for human in humans:
+            for entry in human.schedules:
+                if not started_between(entry.start, previous_s, now_s):
+                    continue
+                place = human.location if human.location in self.place_ids else entry.place
+                what = " ".join(w for w in (entry.activity, "in the " + entry.place
+                                            if entry.place else "") if w)
+                made.append(self._make(self.config.remind_function,
+                                       Observation(human.name, "", place, stamp),
+                                       f"remind {human.name}: time to {what}", why="timed"))
+        return [m for m in made if m is not None]
+
+
+def started_between(start_s, previous_s, now_s):
+    """True when a time of day `start_s` lies in (previous_s, now_s], across midnight too."""
+    if previous_s <= now_s:
+        return previous_s < start_s <= now_s
+    return start_s > previous_s or start_s <= now_s
