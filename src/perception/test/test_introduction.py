@@ -153,7 +153,8 @@ def test_a_stranger_not_met_is_left_alone_for_retry_after(watch):
 # ---- the dialogue --------------------------------------------------------------------------
 
 def dialogue(**config):
-    return IntroductionDialogue(IntroductionConfig(**config), WHITE, started=100.0)
+    return IntroductionDialogue(IntroductionConfig(**config), WHITE, started=100.0,
+                                place="welcome")
 
 
 def test_dialogue_registers_the_name_gender_age_and_shirt_from_stt_text():
@@ -165,8 +166,8 @@ def test_dialogue_registers_the_name_gender_age_and_shirt_from_stt_text():
     turn = talk.hear("I am 72 years old.", "192.168.1.150", 112.0)
     assert (turn.say, turn.state) == ("", COMPLETE)
     human = talk.human()
-    assert (human.name, human.gender, human.age, human.ip) == ("Frank", "male", 72,
-                                                               "192.168.1.150")
+    assert (human.name, human.gender, human.age, human.ip, human.location) == (
+        "Frank", "male", 72, "192.168.1.150", "welcome")
     assert human.shirt_colour == ((236, 236, 230), (222, 222, 216), (226, 226, 220))
     assert talk.welcome() == "Nice to meet you, Frank."
 

@@ -14,7 +14,7 @@ Two parts, both ROS-free:
 - `IntroductionDialogue` runs the questions once the robot is there: the `introduce` function's
   greeting asks the name, then the dialogue asks the gender and the age, re-asks (boundedly) what
   it cannot read, and produces the human_db `Human` with the stranger's shirt colours and the
-  phone address the answers came from.
+  phone address the answers came from, in the place where the robot met them.
 """
 from dataclasses import dataclass
 
@@ -163,8 +163,8 @@ class IntroductionDialogue:
 
     QUESTIONS = (NAME, GENDER, AGE)
 
-    def __init__(self, config, colours, started):
-        self.config, self.colours = config, np.array(colours)
+    def __init__(self, config, colours, started, place=""):
+        self.config, self.colours, self.place = config, np.array(colours), place
         self.state, self.retries, self.asked_at = NAME, 0, started
         self.started = started
         self.answers = {}     # question -> parsed value
@@ -213,12 +213,13 @@ class IntroductionDialogue:
         return Turn(f"{apology} {self._question()}", self.state)
 
     def human(self):
-        """The human_db Human to register (raises InvalidHuman naming a bad field)."""
+        """The human_db Human to register, in the place the robot met them (raises InvalidHuman
+        naming a bad field)."""
         if self.state != COMPLETE:
             raise RuntimeError(f"dialogue is {self.state}, not complete")
         return Human(name=self.answers[NAME], gender=self.answers[GENDER], age=self.answers[AGE],
                      shirt_colour=tuple(tuple(int(c) for c in j) for j in self.colours),
-                     ip=self.ip)
+                     ip=self.ip, location=self.place)
 
     def welcome(self):
         return self.config.welcome.format(name=self.answers[NAME])

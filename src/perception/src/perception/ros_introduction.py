@@ -197,7 +197,8 @@ class IntroductionNode:
             return
         if record.state == InstructionState.ACTIVE and self._met_id != stranger.instruction_id:
             self.stranger, self._met_id = stranger, stranger.instruction_id
-            self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now)
+            self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
+                                                 stranger.place)
             self._open_until = now
             self._count("dialogues")
             rospy.loginfo("introduction: meeting the stranger of #%d in %s; waiting for a name",
