@@ -3,7 +3,8 @@ from pathlib import Path
 
 import pytest
 
-from task_planner.scenario import ScenarioError, load_scenario, place_of, timeline
+from task_planner.scenario import (ScenarioError, Visitor, load_scenario, place_of, timeline,
+                                   visitor_answer)
 
 ROOT = Path(__file__).resolve().parents[3]
 GRAPH_SPEC = {"nodes": [{"name": "west", "region": [[0, 0], [2, 0], [2, 2], [0, 2]]},
@@ -18,6 +19,17 @@ def write_scenario(tmp_path, requests, extra=""):
     return path
 
 
+FRANK = ("visitors:\n  - {name: Frank, gender: male, age: 72, ip: 192.168.1.150, answers: "
+         "{name: My name is Frank., gender: I am a man., age: I am 72.}}\n")
+
+
+def write_with_frank(tmp_path, requests, extra=""):
+    """household_day's world has the visitor Frank, whom every scenario on it must declare."""
+    path = write_scenario(tmp_path, requests, extra)
+    path.write_text(FRANK + path.read_text())
+    return path
+
+
 def test_place_of_regions():
     assert place_of(GRAPH_SPEC, 1.0, 1.0) == "west"
     assert place_of(GRAPH_SPEC, 3.0, 0.5) == "east"
@@ -27,26 +39,32 @@ def test_place_of_regions():
 def test_the_demo_scenario(tmp_path):
     scenario = load_scenario(ROOT / "config/scenarios/household_day.yaml")
     assert scenario.name == "household_day" and scenario.planner == "rollout"
-    assert [(r.time_s, r.person, r.spoken) for r in scenario.requests] == [
-        (10.0, "Bob", False), (14.0, "David", True), (25.0, "Alice", False),
-        (70.0, "Carol", False), (100.0, "Bob", False), (140.0, "David", False)]
+    assert [(r.time_s, r.person, r.spoken, r.visitor) for r in scenario.requests] == [
+        (10.0, "Bob", False, False), (14.0, "David", True, False), (25.0, "Alice", False, False),
+        (30.0, "Frank", False, True), (70.0, "Carol", False, False), (100.0, "Bob", False, False),
+        (140.0, "David", False, False)]
+    # Frank stands at (5.9, 1.7): the welcome hall; his requests come from his phone
+    (frank,) = scenario.visitors
+    assert (frank.name, frank.gender, frank.age, frank.ip, frank.place) == (
+        "Frank", "male", 72, "192.168.1.150", "welcome")
+    assert scenario.requests[3].ip == "192.168.1.150"
     assert scenario.requests[0].ip == "192.168.1.102"  # Bob's phone, config/household.yaml
     # world poses: Alice (0.85, 10.3) office, Bob (1.2, 1.35) and Carol (2.6, 2.9) living room,
     # David (5.0, 7.6) bedroom
     assert scenario.initial == {"Alice": ("office", "work"), "Bob": ("living_room", "watch TV"),
                                 "Carol": ("living_room", "read"),
-                                "David": ("bedroom", "read")}
+                                "David": ("bedroom", "read"), "Frank": ("welcome", "standing")}
     # moves: Carol to (0.5, 5.8) at 45 s, Bob to (1.4, 4.95) at 60 s, Alice to (5.95, 10.9) at
     # 150 s
     assert [(m.time_s, m.person, m.place) for m in scenario.moves] == [
         (45.0, "Carol", "dining_room"), (60.0, "Bob", "dining_room"), (150.0, "Alice", "bedroom")]
     kinds = [kind for _, kind, _ in timeline(scenario)]
-    # 10, 14, 25 requests; 45, 60 moves; 70, 100, 140 requests; 150 move
-    assert kinds == ["request"] * 3 + ["move"] * 2 + ["request"] * 3 + ["move"]
+    # 10, 14, 25, 30 requests; 45, 60 moves; 70, 100, 140 requests; 150 move
+    assert kinds == ["request"] * 4 + ["move"] * 2 + ["request"] * 3 + ["move"]
 
 
 def test_requests_are_sorted_and_the_timeout_read(tmp_path):
-    path = write_scenario(tmp_path, '  - {time: 9, person: Bob, text: "b"}\n'
+    path = write_with_frank(tmp_path, '  - {time: 9, person: Bob, text: "b"}\n'
                                     '  - {time: 3, person: Alice, text: "a", spoken: true}\n',
                           "timeout_s: 50\nplanner: seed\n")
     scenario = load_scenario(path)
@@ -63,7 +81,7 @@ def test_requests_are_sorted_and_the_timeout_read(tmp_path):
 ])
 def test_bad_scenarios_are_named(tmp_path, requests, message):
     with pytest.raises(ScenarioError, match=message):
-        load_scenario(write_scenario(tmp_path, requests))
+        load_scenario(write_with_frank(tmp_path, requests))
 
 
 def test_missing_key_and_file(tmp_path):
@@ -73,3 +91,31 @@ def test_missing_key_and_file(tmp_path):
         load_scenario(path)
     with pytest.raises(ScenarioError, match="cannot read"):
         load_scenario(tmp_path / "none.yaml")
+
+
+def test_a_visitor_answers_the_robots_introduction_questions():
+    frank = Visitor("Frank", "male", 72, "192.168.1.150", "welcome",
+                    {"name": "My name is Frank.", "gender": "I am a man.", "age": "I am 72."})
+    asked = {  # the introduce greeting (config/robot_functions.yaml) and perception's questions
+        "Hello, I do not think we have met. What is your name?": "My name is Frank.",
+        "Sorry, I did not catch a name in 'Hi.'. What is your name?": "My name is Frank.",
+        "Thank you, Frank. Are you a man or a woman?": "I am a man.",
+        "How old are you?": "I am 72.", "Nice to meet you, Frank.": "",
+        "Frank, here is some music for you.": ""}
+    assert {said: visitor_answer(frank, said) for said in asked} == asked
+
+
+@pytest.mark.parametrize("visitors, message", [
+    ("visitors:\n  - {name: Zed, gender: male, age: 3, ip: 10.0.0.1, answers: {}}\n",
+     "'Zed' is not a person of the world"),
+    ("visitors:\n  - {name: Bob, gender: male, age: 3, ip: 10.0.0.1, answers: {}}\n",
+     "Bob is in the household"),
+    (FRANK.replace("gender: male", "gender: robot"), "gender must be female or male"),
+    (FRANK.replace("age: I am 72.", "years: 72"), "answers must give a sentence for each"),
+    ("", "people neither in the household nor visitors: Frank"),
+])
+def test_bad_visitors_are_named(tmp_path, visitors, message):
+    path = write_scenario(tmp_path, '  - {time: 1, person: Bob, text: "hi"}\n')
+    path.write_text(visitors + path.read_text())
+    with pytest.raises(ScenarioError, match=message):
+        load_scenario(path)

@@ -11,6 +11,13 @@ to what the robot believed (/humans/known), and what the robot said. It ends whe
 has produced an instruction and the task buffer holds no open instruction (or after the
 scenario's timeout), writing the record JSON (`~record`) read by scenario_report. Exit status 0
 when the scenario finished, 1 on timeout.
+
+Visitors (people of the world the household does not know) answer the robot's introduction
+questions (thesis 000 §3.2.3): a sentence on /robot/say that asks them something
+(scenario.visitor_answer) while the robot is in their place (ground truth, used only to drive the
+scripted person) is answered with espeak-ng speech on /audio_utterance from their phone, so the
+answer goes through the STT node and perception. Their requests are held until human_db lists
+them (/humans/known); each registration (time, name, how long the dialogue took) is recorded.
 """
 import datetime
 import json
@@ -28,7 +35,7 @@ from std_msgs.msg import String
 from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
 from visualization_msgs.msg import MarkerArray
 
-from task_planner.scenario import load_scenario, place_of, timeline
+from task_planner.scenario import load_scenario, place_of, timeline, visitor_answer
 
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
 
@@ -54,6 +61,12 @@ class ScenarioNode:
         self.trajectory, self.said, self.state, self.events = [], [], None, []
         self.pose = None
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
+        self.table = {}                    # human_db's table: name -> phone ip
+        self.heard = 0                     # sentences of self.said the visitors have heard
+        self.sent = {}                     # request index -> when it was sent [s]
+        self.held = []                     # (index, request) of visitors not registered yet
+        self.registrations = []            # dict(time, visitor, name, dialogue_s, answers)
+        self.dialogues = {}                # visitor name -> dict(start, answers) while met
         self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
 
     # ---- callbacks: cache only ----
@@ -86,6 +99,7 @@ class ScenarioNode:
         """What the robot believes (human_db's table), to grade it against the truth."""
         now = rospy.get_time()
         with self.lock:
+            self.table = {human.name: human.ip for human in msg.humans}
             for human in msg.humans:
                 _changed(self.belief.setdefault(human.name, []), now, human.location)
 
@@ -102,11 +116,16 @@ class ScenarioNode:
         rospy.wait_for_service("/task_planner/get_buffer", timeout)
         self.spoken = {}
         workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
-        if any(r.spoken for r in self.scenario.requests):
+        self.answers = {}   # (visitor name, answer text) -> (rate, samples)
+        if any(r.spoken for r in self.scenario.requests) or self.scenario.visitors:
             from perception.speech_synthesis import synthesise
             for k, request in enumerate(self.scenario.requests):
                 if request.spoken:
                     self.spoken[k] = _wav_samples(synthesise(request.text, workdir / f"{k}.wav"))
+            for visitor in self.scenario.visitors:
+                for question, text in visitor.answers.items():
+                    self.answers[visitor.name, text] = _wav_samples(synthesise(
+                        text, workdir / f"{visitor.name}_{question}.wav"))
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline and not rospy.is_shutdown() and (
                 self.voice.get_num_connections() == 0
@@ -114,7 +133,7 @@ class ScenarioNode:
             time.sleep(0.1)
         # verbal perception identifies speakers from the latched table: wait until it is there
         table_deadline = time.monotonic() + timeout
-        speakers = {r.person for r in self.scenario.requests}
+        speakers = {r.person for r in self.scenario.requests if not r.visitor}
         while time.monotonic() < table_deadline:
             table = rospy.wait_for_message("/humans/known", HumanArray, timeout)
             if speakers <= {h.name for h in table.humans}:
@@ -124,7 +143,11 @@ class ScenarioNode:
         return False
 
     def _send(self, index, request):
+        if request.visitor and self._registered(request.person) is None:
+            self.held.append((index, request))   # sent once the robot has met them
+            return
         stamp = rospy.Time.now()
+        self.sent[index] = stamp.to_sec()
         if request.spoken:
             rate, samples = self.spoken[index]
             msg = AudioUtterance(ip=request.ip, sample_rate=rate, samples=samples.tolist())
@@ -138,6 +161,62 @@ class ScenarioNode:
             self.voice.publish(msg)
             what = f"{request.person} (phone {request.ip}) sends: \"{request.text}\""
         self._event(stamp.to_sec(), what)
+
+    def _visitor(self, name):
+        return next(v for v in self.scenario.visitors if v.name == name)
+
+    def _registered(self, person):
+        """The name human_db lists the visitor under (their phone, else their name), or None."""
+        visitor = self._visitor(person)
+        with self.lock:
+            table = dict(self.table)
+        return next((n for n, ip in table.items() if ip == visitor.ip),
+                    visitor.name if visitor.name in table else None)
+
+    def _answer_questions(self):
+        """Visitors in the robot's place answer what it asked them, as speech from their phone."""
+        with self.lock:
+            said, pose = self.said[self.heard:], self.pose
+            self.heard = len(self.said)
+        if pose is None:
+            return
+        here = place_of(self.graph_spec, pose[1], pose[2])
+        for _, text in said:
+            for visitor in self.scenario.visitors:
+                answer = visitor_answer(visitor, text)
+                if visitor.place != here or not answer or visitor.name in {
+                        r["visitor"] for r in self.registrations}:
+                    continue
+                dialogue = self.dialogues.setdefault(visitor.name, dict(start=rospy.get_time(),
+                                                                        answers=[]))
+                dialogue["answers"].append([text, answer])
+                rate, samples = self.answers[visitor.name, answer]
+                msg = AudioUtterance(ip=visitor.ip, sample_rate=rate, samples=samples.tolist())
+                msg.header.stamp = rospy.Time.now()
+                self.audio.publish(msg)
+                self._event(msg.header.stamp.to_sec(), f"{visitor.name} (visitor, phone "
+                            f"{visitor.ip}) answers \"{answer}\" to \"{text}\" (audio -> STT)")
+
+    def _meet_visitors(self):
+        """Record registrations; send the requests held for visitors now registered."""
+        for visitor in self.scenario.visitors:
+            if visitor.name in {r["visitor"] for r in self.registrations}:
+                continue
+            name = self._registered(visitor.name)
+            if name is None:
+                continue
+            now = rospy.get_time()
+            dialogue = self.dialogues.get(visitor.name, dict(start=now, answers=[]))
+            self.registrations.append(dict(
+                time=now - self.t0, visitor=visitor.name, name=name,
+                dialogue_s=now - dialogue["start"], answers=dialogue["answers"]))
+            self._event(now, f"the robot registered {visitor.name} (visitor) as {name} after a "
+                             f"{now - dialogue['start']:.1f} s dialogue "
+                             f"({len(dialogue['answers'])} answers)")
+        ready = [(k, r) for k, r in self.held if self._registered(r.person) is not None]
+        self.held = [h for h in self.held if h not in ready]
+        for index, request in ready:
+            self._send(index, request)
 
     def _move(self, move):
         self._event(rospy.get_time(), f"{move.person} sets off to the {move.place} "
@@ -163,9 +242,12 @@ class ScenarioNode:
             return False
         records = list(state.instructions)
         unmatched = list(records)
-        for request in self.scenario.requests:
-            match = next((r for r in unmatched if r.instruction.source == request.person
-                          and r.instruction.start_time >= self.t0 + request.time_s - 0.5), None)
+        for index, request in enumerate(self.scenario.requests):
+            if index not in self.sent:
+                return False   # a visitor's request waits for their registration
+            source = self._registered(request.person) if request.visitor else request.person
+            match = next((r for r in unmatched if r.instruction.source == source
+                          and r.instruction.start_time >= self.sent[index] - 0.5), None)
             if match is None:
                 return False
             unmatched.remove(match)
@@ -189,6 +271,9 @@ class ScenarioNode:
                     self._send(index[id(event)], event)
                 else:
                     self._move(event)
+            if self.scenario.visitors:
+                self._answer_questions()
+                self._meet_visitors()
             last_pose = self._record_pose(last_pose)
             if now > last_request and self._finished():
                 finished = True
@@ -209,8 +294,11 @@ class ScenarioNode:
             planner=rospy.get_param("/task_planner/planner", "seed"),
             start_place=start_place, t0=self.t0, sim_s=rospy.get_time() - self.t0,
             wall_s=wall_s, finished=finished, events=self.events, trajectory=self.trajectory,
-            requests=[dict(time=r.time_s, person=r.person, text=r.text, spoken=r.spoken)
-                      for r in self.scenario.requests],
+            requests=[dict(time=r.time_s, person=r.person, text=r.text, spoken=r.spoken,
+                           visitor=r.visitor, sent=self.sent[k] - self.t0 if k in self.sent
+                           else None)
+                      for k, r in enumerate(self.scenario.requests)],
+            registrations=self.registrations,
             said=[[t - self.t0, text] for t, text in self.said],
             truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
             belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()})

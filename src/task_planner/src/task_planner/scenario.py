@@ -4,14 +4,23 @@ A scenario file (config/scenarios/*.yaml) names the sim2d world whose people's t
 schedule deviations of the run (config/household.yaml holds their daily schedules; the world moves
 them at other times), the household (phone IPs), and the requests: at `time` seconds of simulated
 time, `person` says `text` into their phone; `spoken: true` sends it as synthesised audio through
-the speech-to-text node instead of as text. `ros_scenario.py` plays it; `scenario_report.py`
-writes what happened.
+the speech-to-text node instead of as text. `visitors` are people of the world who are not in
+the household: the robot meets them (thesis 000 §3.2.3, perception's introduction node) and they
+answer its questions through the speech path; their requests are sent only once they are
+registered. `ros_scenario.py` plays it; `scenario_report.py` writes what happened.
 """
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
 from matplotlib.path import Path as Polygon
+
+
+# What a visitor answers: the question is recognised by a phrase of perception's introduction
+# dialogue (perception.introduction.IntroductionConfig; the `introduce` greeting of
+# config/robot_functions.yaml asks the name), checked in this order.
+QUESTION_PHRASES = (("name", "your name"), ("gender", "a man or a woman"), ("age", "how old"))
+GENDERS = ("female", "male")
 
 
 class ScenarioError(ValueError):
@@ -25,6 +34,19 @@ class Request:
     ip: str              # their phone IP
     text: str            # what they say
     spoken: bool = False  # True: synthesised audio through the STT node
+    visitor: bool = False  # True: sent only once the person is registered (a visitor)
+
+
+@dataclass(frozen=True)
+class Visitor:
+    """A person of the world the household does not know; the robot meets them (§3.2.3)."""
+
+    name: str            # the name they give
+    gender: str          # "female" | "male"
+    age: int             # [years]
+    ip: str              # their phone, which their answers and requests come from
+    place: str           # graph place of their pose in the world
+    answers: dict        # "name" | "gender" | "age" -> the sentence they say
 
 
 @dataclass(frozen=True)
@@ -45,6 +67,7 @@ class Scenario:
     initial: dict        # person -> (place, activity) at t = 0, from the world
     timeout_s: float     # give up this long after the last request [s of simulated time]
     planner: str         # task planner of the executor (planner_choice.PLANNER_NAMES)
+    visitors: tuple = ()  # Visitor
 
 
 def place_of(graph_spec, x, y):
@@ -72,6 +95,58 @@ def _people_places(world, graph_spec, where):
     return initial, tuple(sorted(moves, key=lambda m: (m.time_s, m.person)))
 
 
+def visitor_answer(visitor, said):
+    """What `visitor` answers when the robot says `said`: the answer to the first question
+    (QUESTION_PHRASES) the sentence asks, "" when it asks them nothing."""
+    lowered = said.lower()
+    for question, phrase in QUESTION_PHRASES:
+        if phrase in lowered:
+            return visitor.answers[question]
+    return ""
+
+
+def _visitors(spec, world, graph_spec, household_names, where):
+    poses = {p["name"]: p["pose"] for p in world.get("people", [])}
+    visitors = []
+    for k, entry in enumerate(spec.get("visitors") or []):
+        what = f"{where}: visitor {k + 1}"
+        if not isinstance(entry, dict):
+            raise ScenarioError(f"{what}: expected a mapping, got {entry!r}")
+        name = entry.get("name")
+        if name not in poses:
+            raise ScenarioError(f"{what}: {name!r} is not a person of the world")
+        if name in household_names:
+            raise ScenarioError(f"{what}: {name} is in the household; a visitor is someone the "
+                                f"robot has not met")
+        answers = entry.get("answers")
+        if not isinstance(answers, dict) or sorted(answers) != ["age", "gender", "name"] or \
+                not all(isinstance(a, str) and a.strip() for a in answers.values()):
+            raise ScenarioError(f"{what}: answers must give a sentence for each of name, gender "
+                                f"and age, got {answers!r}")
+        if entry.get("gender") not in GENDERS or not isinstance(entry.get("age"), int):
+            raise ScenarioError(f"{what}: gender must be female or male and age an integer, got "
+                                f"{entry.get('gender')!r}, {entry.get('age')!r}")
+        if not entry.get("ip"):
+            raise ScenarioError(f"{what}: {name} needs the ip of their phone")
+        visitors.append(Visitor(name, entry["gender"], entry["age"], str(entry["ip"]),
+                                place_of(graph_spec, *poses[name][:2]), dict(answers)))
+    return tuple(visitors)
+
+
+def _request(entry, ips, visitors, where):
+    person, text, time_s = entry.get("person"), str(entry.get("text", "")).strip(), \
+        entry.get("time")
+    if person not in ips:
+        raise ScenarioError(f"{where}: unknown person {person!r} (household and visitors: "
+                            f"{', '.join(sorted(ips))})")
+    if not text:
+        raise ScenarioError(f"{where}: empty text")
+    if not isinstance(time_s, (int, float)) or time_s < 0:
+        raise ScenarioError(f"{where}: time must be a number of seconds >= 0, got {time_s!r}")
+    return Request(float(time_s), person, ips[person], text, bool(entry.get("spoken", False)),
+                   visitor=person in visitors)
+
+
 def load_scenario(path):
     """Read and check a scenario file; paths in it are relative to the file."""
     path = Path(path)
@@ -89,33 +164,24 @@ def load_scenario(path):
     graph_spec = yaml.safe_load(graph_path.read_text())
     household = yaml.safe_load((base / spec["household"]).read_text())
     ips = {h["name"]: str(h["ip"]) for h in household["humans"]}
-    requests = []
-    for k, entry in enumerate(spec["requests"]):
-        where = f"{path}: request {k + 1}"
-        person, text, time_s = entry.get("person"), str(entry.get("text", "")).strip(), \
-            entry.get("time")
-        if person not in ips:
-            raise ScenarioError(f"{where}: unknown person {person!r} (household: "
-                                f"{', '.join(sorted(ips))})")
-        if not text:
-            raise ScenarioError(f"{where}: empty text")
-        if not isinstance(time_s, (int, float)) or time_s < 0:
-            raise ScenarioError(f"{where}: time must be a number of seconds >= 0, got {time_s!r}")
-        requests.append(Request(float(time_s), person, ips[person], text,
-                                bool(entry.get("spoken", False))))
+    visitors = _visitors(spec, world, graph_spec, set(ips), path)
+    ips.update({v.name: v.ip for v in visitors})
+    requests = [_request(entry, ips, {v.name for v in visitors}, f"{path}: request {k + 1}")
+                for k, entry in enumerate(spec["requests"])]
     if not requests:
         raise ScenarioError(f"{path}: no requests")
     initial, moves = _people_places(world, graph_spec, world_path)
     unknown = sorted(set(initial) - set(ips))
     if unknown:
-        raise ScenarioError(f"{world_path}: people not in the household: {', '.join(unknown)}")
+        raise ScenarioError(f"{world_path}: people neither in the household nor visitors: "
+                            f"{', '.join(unknown)}")
     timeout_s = float(spec.get("timeout_s", 600.0))
     if timeout_s <= 0:
         raise ScenarioError(f"{path}: timeout_s must be > 0, got {timeout_s}")
     return Scenario(name=str(spec.get("name", path.stem)), world=world_path, graph=graph_path,
                     requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
                     initial=initial, timeout_s=timeout_s,
-                    planner=str(spec.get("planner", "seed")))
+                    planner=str(spec.get("planner", "seed")), visitors=visitors)
 
 
 def timeline(scenario):
