@@ -139,3 +139,18 @@ def test_blocked_robot_asks_to_pass_waits_then_retries(graph, tmp_path):
     assert executor.aborted(1.0, "blocked") == [Say("Excuse me, may I pass?"), Wait(6.0)]
     assert executor.tick(5.9) == []
     assert executor.tick(6.0) == [Navigate(B, 1)]
+
+
+def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
+    people = PeopleAtPlaces()
+    executor = executor_for(graph, tmp_path, people, follow_belief=True)
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Bob")
+    executor.looked_s.update({A: 0.0, B: 0.0, C: 0.0})
+    assert executor._where(visit) == D         # never seen, no schedule: the stalest place
+    people.predicted["Bob"] = C                # his schedule's place comes first
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]   # on the way to C
+    assert executor._where(visit) == C
+    people.seen("Bob", D, stamp=0.5)           # then perception sees him at D
+    assert executor._where(visit) == D
+    people.missed("Bob", D)                    # a look at D misses him: schedule again
+    assert executor._where(visit) == C

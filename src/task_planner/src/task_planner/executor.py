@@ -50,6 +50,8 @@ class ExecutorConfig:
     look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
     fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
     search_all_places: bool = False  # search every place, not only the last known ones
+    follow_belief: bool = False   # serve a person where the robot believes them (else: where
+                                  # the instruction says, until a search begins)
     pass_wait_s: float = 0.0      # after an abort ask to pass and wait this long [s] (0: no)
     pass_request: str = "Excuse me, may I pass?"
     patrol: bool = False          # look at stale places while idle
@@ -366,8 +368,7 @@ class Executor:
         only when the instruction set changes, so its per-set memory (the loop guard) holds.
         """
         pending = [r for r in self.buffer.open_records() if r.state == PENDING]
-        instructions = tuple(replace(r.instruction, destination=self.search[r.instruction.id][0])
-                             if r.instruction.id in self.search else r.instruction
+        instructions = tuple(replace(r.instruction, destination=self._where(r.instruction))
                              for r in pending)
         if instructions != self._problem_key:
             self._problem = Problem(self.graph, instructions, self.config.speed_mps, self.node)
@@ -377,6 +378,17 @@ class Executor:
         available = np.array([k for k, r in enumerate(pending) if r.instruction.previous_id == 0
                               or r.instruction.previous_id in done], dtype=int)
         return self._problem, available
+
+    def _where(self, instruction):
+        """Where to serve an instruction: the place being searched, else (following the belief)
+        the first place a search would look, else its destination."""
+        if instruction.id in self.search:
+            return self.search[instruction.id][0]
+        if self.config.follow_belief and instruction.target:
+            order = search_order(instruction.target, self.people, self.looked_s,
+                                 range(self.graph.size), ())
+            return order[0] if order else instruction.destination
+        return instruction.destination
 
     def _ask_planner(self, problem, node, now, available):
         """(instruction index, next node), next node None when the decision is to serve here."""

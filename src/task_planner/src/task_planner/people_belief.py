@@ -77,10 +77,10 @@ def scheduled_place(entries, seconds_since_midnight):
 
 
 def search_order(name, people, looked_s, places, searched):
-    """Where to look for `name` next: the last place they were seen, then the place their
-    schedule predicts, then every other place, the longest unlooked-at first; places already
-    searched for this instruction are left out."""
-    first = people.last_known_places(name)[:1] + [people.predicted.get(name)]
+    """Where to look for `name` next: the place they were last seen (unless a look there has
+    missed them since), then the place their schedule predicts, then every other place, the
+    longest unlooked-at first; places already searched for this instruction are left out."""
+    first = [people.now.get(name), people.predicted.get(name)]
     rest = sorted(places, key=lambda n: (looked_s.get(n, -math.inf), n))
     return [n for n in dict.fromkeys(first + rest) if n is not None and n not in searched]
 

@@ -63,6 +63,8 @@ class NodeParams:
     look_headings: int = 3         # turns in place to look around a place for a person
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
     search_all_places: bool = True  # search every place (else only the last known ones)
+    follow_belief: bool = True     # serve people where perception last saw them (or their
+                                   # schedule puts them), not where the request said
     pass_wait: float = 4.0         # after an abort ask to pass and wait this long [s]; 0 = no
     patrol: bool = False           # look at stale places while idle
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
@@ -99,6 +101,7 @@ class ExecutorNode:
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
                            verify_wait_s=params.verify_wait, look_headings=params.look_headings,
                            fresh_s=params.fresh, search_all_places=params.search_all_places,
+                           follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
                            patrol_interval_s=params.patrol_interval),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
