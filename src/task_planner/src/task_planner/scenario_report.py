@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from task_planner.baselines import PlannerTooLarge
+from task_planner.belief_report import belief_markdown, people_accuracy, read_searches
 from task_planner.exact import SolverTimeout, exact_optimum
 from task_planner.instruction import HUMAN, Instruction
 from task_planner.metrics import reward_curve
@@ -203,8 +204,8 @@ def _cell(value, digits=1):
     return "-" if value is None else f"{value:.{digits}f}"
 
 
-def report_markdown(record, entries, figures, run, order_problems, files):
-    """REPORT.md text of one run."""
+def report_markdown(record, entries, figures, run, order_problems, files, belief_lines=()):
+    """REPORT.md text of one run; belief_lines: belief_report.belief_markdown's section."""
     t0 = float(record["t0"])
     stats = summary(entries)
     lines = [f"# Scenario `{record['scenario']}`: what happened", "",
@@ -224,6 +225,7 @@ def report_markdown(record, entries, figures, run, order_problems, files):
              f"- accumulated reward earned (Eq. 4-2 at each completion): {stats['reward']:.3f}",
              "- order: " + ("respects chains (`previous_id`) and, at each place, priorities"
                             if not order_problems else "; ".join(order_problems)), "",
+             *belief_lines,
              "## Accumulated reward", "",
              f"![reward]({files['rewards']})", "",
              "The black curve is this run, measured in the simulator (rewards from the "
@@ -288,7 +290,10 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
     plot_trajectory(out_dir / files["trajectory"], map_path, graph_path, record["trajectory"],
                     f"Robot trajectory, scenario {record['scenario']}")
     problems = check_order(entries)
+    searches = read_searches(journal_path)
     (out_dir / "REPORT.md").write_text(
-        report_markdown(record, entries, figures, run, problems, files))
+        report_markdown(record, entries, figures, run, problems, files,
+                        belief_markdown(record, entries, searches, t0)))
     return dict(summary(entries), order_problems=problems,
-                model={f.name: f.reward for f in figures})
+                model={f.name: f.reward for f in figures}, belief=people_accuracy(record),
+                searches=len(searches))

@@ -1,0 +1,92 @@
+"""How well the robot knew the people during a scenario run (ROS-free): belief accuracy against
+the simulator's ground truth, the searches, the people it met, and its own instructions.
+
+Ground truth is used here only to grade the run; the robot never saw it.
+"""
+import sqlite3
+from pathlib import Path
+
+from task_planner.instruction import ROBOT
+
+
+def place_at(changes, t):
+    """The place of a [[t, place], ...] change list at time t [s]; "" before the first entry."""
+    place = ""
+    for when, where in changes:
+        if when > t:
+            break
+        place = where
+    return place
+
+
+def belief_accuracy(truth, belief, start_s, end_s, step_s=0.5):
+    """Share of [start_s, end_s] in which the believed place equals the true place, sampled
+    every step_s [s]; an unknown belief ("") is wrong. Returns 0.0 for an empty interval."""
+    samples = [start_s + k * step_s for k in range(int((end_s - start_s) / step_s) + 1)]
+    if not samples or end_s <= start_s:
+        return 0.0
+    hits = sum(place_at(belief, t) == place_at(truth, t) != "" for t in samples)
+    return hits / len(samples)
+
+
+def people_accuracy(record):
+    """{name: belief accuracy} over the run, for everyone the robot knew (a person met during the
+    run counts from their registration)."""
+    registered = {r["name"]: r["time"] for r in record.get("registrations", [])}
+    end_s = float(record["sim_s"])
+    figures = {}
+    for name, truth in sorted(record.get("truth", {}).items()):
+        belief = record.get("belief", {}).get(name)
+        if belief is None:
+            continue
+        start = registered.get(name, max(0.0, truth[0][0]))
+        figures[name] = belief_accuracy(truth, belief, start, end_s)
+    return figures
+
+
+def read_searches(journal_path):
+    """The executor's journalled searches: (instruction id, target, start, end, found, places)."""
+    uri = f"file:{Path(journal_path).resolve()}?mode=ro"
+    with sqlite3.connect(uri, uri=True) as db:
+        try:
+            rows = db.execute("SELECT instruction_id, target, start_s, end_s, found, places "
+                              "FROM searches ORDER BY rowid").fetchall()
+        except sqlite3.OperationalError:  # a journal written before searches were journalled
+            return []
+    return [(i, target, start, end, bool(found), places.split(",") if places else [])
+            for i, target, start, end, found, places in rows]
+
+
+def belief_markdown(record, entries, searches, t0):
+    """The report's section on what the robot knew of the people."""
+    accuracy = people_accuracy(record)
+    mean = sum(accuracy.values()) / len(accuracy) if accuracy else 0.0
+    lines = ["## What the robot knew of the people", "",
+             "Belief accuracy: the share of the run in which the place human_db held for a "
+             "person (written only by the robot's perception and registration) was the place "
+             "the simulator had them in (ground truth, used for this report only; sampled every "
+             f"0.5 s, an unknown place counts as wrong). Mean **{mean:.2f}**.", "",
+             "| person | belief accuracy |", "|---|---|"]
+    lines += [f"| {name} | {value:.2f} |" for name, value in accuracy.items()]
+    lines += ["", "Searches (a person not where the robot believed them):", ""]
+    if searches:
+        lines += ["| instruction | person | began [s] | took [s] | places looked at | outcome |",
+                  "|---|---|---|---|---|---|"]
+        lines += [f"| {i} | {target} | {start - t0:.1f} | {end - start:.1f} | "
+                  f"{', '.join(places)} | {'found' if found else 'not found'} |"
+                  for i, target, start, end, found, places in searches]
+    else:
+        lines.append("none: every person was where the robot looked first.")
+    lines += ["", "People met (registered through the introduction dialogue):", ""]
+    met = record.get("registrations", [])
+    lines += [f"- {r['name']} at {r['time']:.1f} s (dialogue {r.get('dialogue_s', 0.0):.1f} s)"
+              for r in met] or ["- nobody"]
+    own = [e for e in entries if e.instruction.type == ROBOT]
+    lines += ["", f"The robot's own instructions: {len(own)} "
+              f"({sum(e.state == 'done' for e in own)} served).", ""]
+    if own:
+        lines += ["| id | instruction | place | state | reward |", "|---|---|---|---|---|"]
+        lines += [f"| {e.instruction.id} | {e.instruction.text.replace('|', '/')} | "
+                  f"{e.instruction.destination_name} | {e.state} | {e.reward:.3f} |"
+                  for e in own]
+    return lines + [""]
