@@ -43,6 +43,8 @@ def test_search_order_is_last_seen_then_schedule_then_stalest():
     looked = {B: 50.0, D: 10.0}              # A and C never looked at; D before B
     assert search_order("Bob", people, looked, range(4), searched=[]) == [C, A, D, B]
     assert search_order("Bob", people, looked, range(4), searched=[C]) == [A, D, B]
+    # equally stale places: the nearest first (distances from the robot at D)
+    assert search_order("Zoe", people, {}, range(4), [], distance_m=[6, 5, 3, 0]) == [D, C, B, A]
 
 
 def test_an_older_sighting_does_not_undo_a_missed_look():

@@ -386,7 +386,7 @@ class Executor:
             return self.search[instruction.id][0]
         if self.config.follow_belief and instruction.target:
             order = search_order(instruction.target, self.people, self.looked_s,
-                                 range(self.graph.size), ())
+                                 range(self.graph.size), (), self.graph.shortest[self.node])
             return order[0] if order else instruction.destination
         return instruction.destination
 
@@ -471,7 +471,7 @@ class Executor:
         self.people.missed(instruction.target, self.node)
         if self.config.search_all_places:
             queue = search_order(instruction.target, self.people, self.looked_s,
-                                 range(self.graph.size), searched)
+                                 range(self.graph.size), searched, self.graph.shortest[self.node])
         else:
             queue = self.search.get(instruction.id)
             if queue is None:  # first miss, at the instruction's own destination

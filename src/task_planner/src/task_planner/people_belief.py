@@ -76,12 +76,14 @@ def scheduled_place(entries, seconds_since_midnight):
     return None
 
 
-def search_order(name, people, looked_s, places, searched):
+def search_order(name, people, looked_s, places, searched, distance_m=None):
     """Where to look for `name` next: the place they were last seen (unless a look there has
     missed them since), then the place their schedule predicts, then every other place, the
-    longest unlooked-at first; places already searched for this instruction are left out."""
+    longest unlooked-at first, the nearest first among equally stale ones (`distance_m[n]`: from
+    the robot [m]); places already searched for this instruction are left out."""
     first = [people.now.get(name), people.predicted.get(name)]
-    rest = sorted(places, key=lambda n: (looked_s.get(n, -math.inf), n))
+    rest = sorted(places, key=lambda n: (looked_s.get(n, -math.inf),
+                                         0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys(first + rest) if n is not None and n not in searched]
 
 
