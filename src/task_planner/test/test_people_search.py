@@ -156,3 +156,14 @@ def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
     assert executor._where(visit) == D
     people.missed("Bob", D)                    # a look at D misses him: schedule again
     assert executor._where(visit) == C
+
+
+def test_look_dwells_on_the_last_heading_before_it_gives_up(graph, tmp_path):
+    people = PeopleAtPlaces()
+    executor = executor_for(graph, tmp_path, people, start=B, look_headings=1, look_dwell_s=2.0)
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1, yaw=math.pi)]
+    assert executor.arrived(1.0) == [Wait(3.0)]
+    assert executor.tick(2.9) == [] and executor.mode == "looking"
+    people.seen("Bob", B, stamp=2.95)          # perception catches up while it dwells
+    assert executor.tick(3.0)[:2] == [StopMotion(), Execute(1, "check_status", 4.0)]

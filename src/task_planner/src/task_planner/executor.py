@@ -48,6 +48,7 @@ class ExecutorConfig:
     battery_save_wh: float = 0.5  # journal the battery level when it moved this much [Wh]
     verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
     look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
+    look_dwell_s: float = 0.0     # stay on the last heading this long, perception catching up [s]
     fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
     search_all_places: bool = False  # search every place, not only the last known ones
     follow_belief: bool = False   # serve a person where the robot believes them (else: where
@@ -157,7 +158,8 @@ class Executor:
         self.verifying = None            # (instruction id, give-up time [s]) while VERIFYING
         self.search = {}                 # instruction id -> places still to search, next first
         self.searched = {}               # instruction id -> places already searched
-        self.looking = None              # [instruction id (0: patrol), headings left, since]
+        self.looking = None              # [instruction id (0: patrol), headings left, since,
+                                         #  end of the last heading's dwell (None: turning)]
         self.looked_s = {}               # node -> when the robot last looked around it [s]
         self.retry_at = None             # when to retry an aborted goal after asking to pass
         self._search_start = {}          # instruction id -> when its search began [s]
@@ -206,6 +208,8 @@ class Executor:
             commands += self._verify(now)
         if self.mode == LOOKING:
             commands += self._look_found(now)
+        if self.mode == LOOKING and self.looking[3] is not None and now >= self.looking[3]:
+            commands += self._end_look(now)
         if self.mode == MOVING and self.retry_at is not None and now >= self.retry_at:
             self.retry_at = None
             commands.append(Navigate(self.goal, self.goal_for))
@@ -504,18 +508,26 @@ class Executor:
         count = max(1, self.config.look_headings)
         yaw = float(self.graph.poses[self.node][2])
         headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
-        self.mode, self.looking = LOOKING, [instruction_id, headings[1:], now]
+        self.mode, self.looking = LOOKING, [instruction_id, headings[1:], now, None]
         what = (f"for {self.buffer.get(instruction_id).instruction.target}" if instruction_id
                 else "(patrol)")
         self.log.append((now, f"look around {self.graph.names[self.node]} {what}"))
         return [Navigate(self.node, instruction_id, yaw=headings[0])]
 
     def _look_step(self, now):
-        """A heading of the look was reached: turn to the next one, or end the look."""
-        instruction_id, headings, _ = self.looking
+        """A heading of the look was reached: turn to the next one, dwell, or end the look."""
+        instruction_id, headings = self.looking[:2]
         if headings:
             self.looking[1] = headings[1:]
             return [Navigate(self.node, instruction_id, yaw=headings[0])]
+        if self.config.look_dwell_s > 0 and self.looking[3] is None:
+            self.looking[3] = now + self.config.look_dwell_s
+            return [Wait(self.looking[3])]
+        return self._end_look(now)
+
+    def _end_look(self, now):
+        """The look is over without finding an instruction's person: search on (or decide)."""
+        instruction_id = self.looking[0]
         self.looked_s[self.node] = now
         self.mode, self.looking = IDLE, None
         if not instruction_id:
@@ -528,7 +540,7 @@ class Executor:
 
     def _look_found(self, now):
         """While looking for an instruction's person: serve them once perception sees them."""
-        instruction_id, _, since = self.looking
+        instruction_id, _, since, _ = self.looking
         if not instruction_id:
             return []
         instruction = self.buffer.get(instruction_id).instruction

@@ -61,6 +61,7 @@ class NodeParams:
     latency_warn_ms: float = 10.0  # diagnostics WARN when the median decision takes longer [ms]
     verify_wait: float = 2.0       # without look_headings: stand and look this long [s]
     look_headings: int = 3         # turns in place to look around a place for a person
+    look_dwell: float = 1.5        # stay on the last heading this long before moving on [s]
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
     search_all_places: bool = True  # search every place (else only the last known ones)
     follow_belief: bool = True     # serve people where perception last saw them (or their
@@ -100,6 +101,7 @@ class ExecutorNode:
             self.executor_functions,
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
                            verify_wait_s=params.verify_wait, look_headings=params.look_headings,
+                           look_dwell_s=params.look_dwell,
                            fresh_s=params.fresh, search_all_places=params.search_all_places,
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
