@@ -3,6 +3,9 @@
 Two identical cameras stacked vertically as on Pepper (thesis 000 Sec. 3.2.1, image stitching):
 the top camera's image lies above the bottom camera's, so the stitched frame is width x 2*height.
 Projection is the inverse of the thesis' Eqs. 3-3..3-5: u = fx * x / z + cx, v = fy * y / z + cy.
+An object's box is the bounding box of its visible projection, as a detector run on the stitched
+frame reports it: the object's 3D box is cut at the near plane, projected, cut to each camera's
+image, and the parts seen by the top and the bottom camera are joined across the seam.
 """
 import math
 from dataclasses import dataclass, field
@@ -10,9 +13,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sim2d.raycast import segments_clear
-from sim2d.skeleton import L_SHOULDER, NECK, NUM_KEYPOINTS, R_SHOULDER
+from sim2d.skeleton import (
+    L_EAR, L_EYE, L_SHOULDER, NECK, NOSE, NUM_KEYPOINTS, R_EAR, R_EYE, R_SHOULDER)
 
 COLOUR_JOINTS = (NECK, R_SHOULDER, L_SHOULDER)   # shirt colour sampled here (thesis 000 Sec. 3.2.3)
+FACE_AWAY = math.radians(100.0)   # [rad] head-to-robot angle beyond which the face is unseen
+FACE_KEYPOINTS = (NOSE, R_EYE, L_EYE)
+NEAR_PLANE = 0.05   # [m] optical z below which nothing projects (as in `project`)
+# The 12 edges of an object's box: index pairs into SimObject.corners() (index 4 ix + 2 iy + iz).
+BOX_EDGES = tuple((i, i | bit) for bit in (1, 2, 4) for i in range(8) if not i & bit)
 
 
 @dataclass
@@ -115,6 +124,104 @@ def project_stacked(points, robot_pose, top, bottom):
     return u, v, visible, depth
 
 
+def hidden_face(keypoints, robot_pose):
+    """Nose and eyes when the head (18, 3 map-frame keypoints) faces away from the robot by more
+    than FACE_AWAY: what a person seen from behind hides from the pose detector."""
+    head = keypoints[[R_EAR, L_EAR]].mean(axis=0)
+    facing = keypoints[NOSE, :2] - head[:2]
+    to_robot = np.array(robot_pose[:2]) - head[:2]
+    cos = float(facing @ to_robot) / (np.linalg.norm(facing) * np.linalg.norm(to_robot) + 1e-12)
+    return FACE_KEYPOINTS if cos < math.cos(FACE_AWAY) else ()
+
+
+def clip_to_near_plane(points_cam, edges=BOX_EDGES, near=NEAR_PLANE):
+    """Vertices (n, 3) of a convex solid cut at optical z = near: its corners in front of the
+    plane plus the points where its edges cross it (empty when wholly behind)."""
+    z = points_cam[:, 2]
+    kept = list(points_cam[z >= near])
+    for i, j in edges:
+        if (z[i] - near) * (z[j] - near) < 0:
+            t = (near - z[i]) / (z[j] - z[i])
+            kept.append(points_cam[i] + t * (points_cam[j] - points_cam[i]))
+    return np.array(kept).reshape(-1, 3)
+
+
+def convex_hull(points):
+    """Counter-clockwise convex hull (m, 2) of 2D points (Andrew's monotone chain)."""
+    pts = sorted(set(map(tuple, np.asarray(points, dtype=float))))
+    if len(pts) < 3:
+        return np.array(pts).reshape(-1, 2)
+
+    def turns_left(a, b, c):
+        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0
+
+    def half(seq):
+        chain = []
+        for p in seq:
+            while len(chain) >= 2 and not turns_left(chain[-2], chain[-1], p):
+                chain.pop()
+            chain.append(p)
+        return chain
+
+    lower, upper = half(pts), half(reversed(pts))
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def clip_polygon(polygon, width, height):
+    """Sutherland-Hodgman: the convex polygon (m, 2) cut to the image [0, width] x [0, height]."""
+    poly = [tuple(p) for p in polygon]
+    for axis, bound, keep_below in ((0, 0.0, False), (0, width, True),
+                                    (1, 0.0, False), (1, height, True)):
+        def inside(p):
+            return p[axis] <= bound if keep_below else p[axis] >= bound
+        out = []
+        for k, p in enumerate(poly):
+            q = poly[k - 1]
+            if inside(p) != inside(q):
+                t = (bound - q[axis]) / (p[axis] - q[axis])
+                out.append((q[0] + t * (p[0] - q[0]), q[1] + t * (p[1] - q[1])))
+            if inside(p):
+                out.append(p)
+        poly = out
+        if not poly:
+            break
+    return np.array(poly).reshape(-1, 2)
+
+
+def visible_extent(corners, robot_pose, camera):
+    """(u0, v0, u1, v1) [px] bounding the part of the object's box (8 map-frame corners) that one
+    camera's image shows, or None when none of it is in the image."""
+    pc = clip_to_near_plane(camera_points(corners, robot_pose, camera))
+    if len(pc) < 3:
+        return None
+    uv = np.column_stack([camera.fx * pc[:, 0] / pc[:, 2] + camera.cx,
+                          camera.fy * pc[:, 1] / pc[:, 2] + camera.cy])
+    hull = convex_hull(uv)
+    if len(hull) < 3:
+        return None
+    seen = clip_polygon(hull, camera.width, camera.height)
+    if len(seen) < 3:
+        return None
+    (u0, v0), (u1, v1) = seen.min(axis=0), seen.max(axis=0)
+    if u1 - u0 <= 0.0 or v1 - v0 <= 0.0:
+        return None
+    return u0, v0, u1, v1
+
+
+def stitched_extent(corners, robot_pose, top, bottom):
+    """Visible extent of an object in the stitched frame: the top and bottom cameras' parts
+    (bottom rows offset by the top image's height) joined into one box, or None."""
+    parts = []
+    for camera, row_offset in ((top, 0.0), (bottom, float(top.height))):
+        part = visible_extent(corners, robot_pose, camera)
+        if part is not None:
+            parts.append((part[0], part[1] + row_offset, part[2], part[3] + row_offset))
+    if not parts:
+        return None
+    parts = np.array(parts)
+    return (*parts[:, :2].min(axis=0), *parts[:, 2:].max(axis=0))
+
+
 class Camera:
     """The robot's stacked cameras plus the detector models that read them."""
 
@@ -154,20 +261,20 @@ class Camera:
         return x0, y0, x1 - x0, y1 - y0
 
     def detect_objects(self, objects, robot_pose):
-        """YOLO-like boxes of the objects [(name, label, corners (8, 3), centre (3,))] whose
-        3D box projects into the frame (all objects projected in one call)."""
+        """YOLO-like boxes of the objects [(name, label, corners (8, 3), centre (3,))]: the box of
+        each object's visible projection in the stitched frame (see `stitched_extent`)."""
         if not objects:
             return []
-        corners = np.concatenate([o[2] for o in objects])
         centres = np.array([o[3] for o in objects])
-        u, v, visible, _ = project_stacked(corners, robot_pose, self.top, self.bottom)
         depth = camera_points(centres, robot_pose, self.top)[:, 2]
         detections = []
-        for i, (name, label, _, _) in enumerate(objects):
-            seen = visible[8 * i:8 * i + 8]
-            if not seen.any():
+        for i, (name, label, corners, _) in enumerate(objects):
+            extent = stitched_extent(np.asarray(corners, dtype=float), robot_pose,
+                                     self.top, self.bottom)
+            if extent is None:
                 continue
-            x, y, w, h = self._box(u[8 * i:8 * i + 8][seen], v[8 * i:8 * i + 8][seen])
+            u0, v0, u1, v1 = extent
+            x, y, w, h = self._box(np.array([u0, u1]), np.array([v0, v1]))
             d = float(depth[i])
             detections.append(ObjectDetection(label, self._confidence(), x, y, w, h,
                                               d + self._depth_noise(d), truth=name))

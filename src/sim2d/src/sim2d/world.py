@@ -13,18 +13,16 @@ from pathlib import Path
 
 import numpy as np
 
-from sim2d.camera import Camera, CameraFrame
+from sim2d.camera import Camera, CameraFrame, hidden_face
 from sim2d.kinematics import DIFFERENTIAL, RobotState, step_robot, wheels_to_twist
 from sim2d.laser import LaserSensor
 from sim2d.occupancy_map import load_map
 from sim2d.odometry import Odometry
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
-from sim2d.skeleton import L_EAR, L_EYE, NOSE, R_EAR, R_EYE, person_keypoints
+from sim2d.skeleton import person_keypoints
 from sim2d.world_config import WorldError, load_world_config
 
 CACHE_DIR = Path(os.environ.get("SIM2D_CACHE", Path.home() / ".cache" / "sim2d"))
-FACE_AWAY = math.radians(100.0)   # [rad] head-to-robot angle beyond which the face is unseen
-FACE_KEYPOINTS = (NOSE, R_EYE, L_EYE)
 TABLE_MARGIN = 0.05     # [m] extra clearance given up so the table covers every reachable pose
 
 
@@ -278,15 +276,6 @@ class World:
                     robot.next_scan[j] += laser.model.scan_time
 
     # --- camera ---------------------------------------------------------------------------
-    @staticmethod
-    def _hidden_face(person, keypoints, robot_pose):
-        """Nose and eyes when the head faces away from the robot (more than FACE_AWAY)."""
-        head = keypoints[[R_EAR, L_EAR]].mean(axis=0)
-        facing = keypoints[NOSE, :2] - head[:2]
-        to_robot = np.array(robot_pose[:2]) - head[:2]
-        cos = float(facing @ to_robot) / (np.linalg.norm(facing) * np.linalg.norm(to_robot) + 1e-12)
-        return FACE_KEYPOINTS if cos < math.cos(FACE_AWAY) else ()
-
     def camera_frame(self, name):
         """Detections of robot `name`'s camera at the current time (CameraFrame)."""
         robot = self.robot(name)
@@ -307,7 +296,7 @@ class World:
             keypoints, _ = person_keypoints(person.posture, person.pose,
                                             holding=bool(person.holding), look_target=look)
             skeleton, box = camera.detect_person(person.name, keypoints, person.shirt_colour, pose,
-                                                 hidden=self._hidden_face(person, keypoints, pose))
+                                                 hidden=hidden_face(keypoints, pose))
             if skeleton is not None:
                 frame.skeletons.append(skeleton)
                 frame.objects.append(box)
