@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from perception.activity import (
-    ActivityConfig, AffordanceTable, SeenObject, activity_probabilities, activity_scores,
-    forearm_length, hand_object_eyesight_sets, load_affordances, posture_from_skeleton,
-    recognise_activity)
+    ActivityConfig, AffordanceTable, BodyView, SeenObject, activity_probabilities, activity_scores,
+    body_heading, chat_partners, forearm_length, hand_object_eyesight_sets, load_affordances,
+    posture_from_skeleton, recognise_activity)
 from perception.keypoints import (
     L_ANKLE, L_EAR, L_ELBOW, L_EYE, L_HIP, L_KNEE, L_SHOULDER, L_WRIST, NECK, NOSE, NUM_KEYPOINTS,
     R_ANKLE, R_EAR, R_ELBOW, R_EYE, R_HIP, R_KNEE, R_SHOULDER, R_WRIST, as_skeleton)
@@ -283,3 +283,68 @@ def test_furniture_without_affordance_is_known():
     table = load_affordances(AFFORDANCES)
     assert table.known("dining table") and table.known("chair") and table.known("couch")
     assert not table.known("zeppelin")
+
+
+def frontal_person(x=300.0):
+    """A standing person facing the camera, torso (neck -> hip midpoint) 100 px long."""
+    return skeleton(**{
+        str(R_EAR): (x - 10, 100), str(L_EAR): (x + 10, 100), str(R_EYE): (x - 4, 98),
+        str(L_EYE): (x + 4, 98), str(NOSE): (x, 104), str(NECK): (x, 130),
+        str(R_SHOULDER): (x - 19, 135), str(L_SHOULDER): (x + 19, 135),
+        str(R_HIP): (x - 10, 230), str(L_HIP): (x + 10, 230), str(R_KNEE): (x - 10, 320),
+        str(L_KNEE): (x + 10, 320), str(R_ANKLE): (x - 10, 400), str(L_ANKLE): (x + 10, 400)})
+
+
+def profile_partner(x, depth, facing_left=True):
+    """A standing person seen side-on at column x and depth [m]; facing left (-x) their right
+    shoulder is 0.19 m farther from the camera than their left."""
+    body = frontal_person(x)
+    body[[R_SHOULDER, L_SHOULDER], 0] = x
+    d = np.full(NUM_KEYPOINTS, float(depth))
+    d[R_SHOULDER], d[L_SHOULDER] = (depth + 0.19, depth - 0.19) if facing_left else (
+        depth - 0.19, depth + 0.19)
+    return BodyView(body, d, 0.85)
+
+
+def test_body_heading_from_shoulder_depths():
+    """Facing the camera: right shoulder on the image's left at equal depth -> heading -z;
+    side-on facing left: right shoulder 0.38 m deeper -> heading -x."""
+    front = frontal_person()
+    assert body_heading(front, np.full(NUM_KEYPOINTS, 3.0), 0.005) == pytest.approx([0.0, -1.0])
+    left = profile_partner(540, 3.0)
+    assert body_heading(left.skeleton, left.depth, 0.005) == pytest.approx([-1.0, 0.0])
+
+
+def test_partner_near_and_facing_the_person_is_a_chat_partner():
+    """Torso 100 px = 0.5 m, so 240 px across at equal depth is 1.2 m: within 2.1 m."""
+    depth = np.full(NUM_KEYPOINTS, 3.0)
+    config = ActivityConfig()
+    near = profile_partner(540, 3.0)
+    assert chat_partners(frontal_person(), depth, [near], config) == [near]
+    turned_away = profile_partner(540, 3.0, facing_left=False)
+    assert chat_partners(frontal_person(), depth, [turned_away], config) == []
+    far_across = profile_partner(300 + 500, 3.0)        # 500 px = 2.5 m away
+    assert chat_partners(frontal_person(), depth, [far_across], config) == []
+    behind = profile_partner(540, 5.5)                   # 1.2 m across, 2.5 m deeper: 2.77 m
+    assert chat_partners(frontal_person(), depth, [behind], config) == []
+
+
+def test_table_5_4_with_the_partner_from_a_skeleton():
+    """The person faces the camera (Fig. 3-12 (a): no box is in the eyesight), yet the partner
+    facing them is the person of Table 5-4's O_e: chair 0.71 near the hands, partner 0.85 ->
+    chat 0.62, the other seated activities 0.076. Without the switch: the posture."""
+    table = load_affordances(AFFORDANCES)
+    chair = SeenObject("chair", 0.71, 300, 232, 120, 160)       # the hands rest on it
+    person = frontal_person()
+    person[[R_WRIST, L_WRIST]] = [(285, 220), (315, 220)]
+    person[[R_ELBOW, L_ELBOW]] = [(280, 180), (320, 180)]
+    depth = np.full(NUM_KEYPOINTS, 3.0)
+    result = recognise_activity(person, [chair], table, ActivityConfig(), depth,
+                                [profile_partner(540, 3.0)])
+    assert result.in_eyesight == ["person"]
+    assert round(result.probabilities["chat"], 2) == 0.62
+    assert round(result.probabilities["read"], 3) == 0.076
+    assert result.activity == "chat"
+    off = ActivityConfig(partners_from_skeletons=False)
+    result = recognise_activity(person, [chair], table, off, depth, [profile_partner(540, 3.0)])
+    assert result.in_eyesight == [] and result.activity == "standing"

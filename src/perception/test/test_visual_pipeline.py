@@ -65,6 +65,20 @@ def test_own_person_box_is_not_a_chat_partner():
     assert "person" not in result.activity.in_eyesight + result.activity.near_hands
 
 
+def test_conversation_turned_toward_the_robot_is_chat():
+    """The chat scene turned 0.8 rad from side-on: the person faces the robot (no box in their
+    eyesight, Fig. 3-12 (a)); the partner's skeleton, 1.2 m away and facing them, is the person
+    in O_e, counted once. Each person is the other's partner."""
+    camera = make_camera(NO_NOISE, seed=1)
+    frame = scene_frame(scene("chat"), camera, distance=2.5, bearing=0.0, facing=0.8)
+    assert len(frame.people) == 2
+    first, second = analyse_frame(frame, TABLE, ActivityConfig())
+    assert first.activity.in_eyesight == ["person"]
+    assert first.activity.activity == "chat" and second.activity.activity == "chat"
+    [alone] = analyse_frame(frame, TABLE, ActivityConfig(partners_from_skeletons=False))[:1]
+    assert alone.activity.activity == "standing"
+
+
 @pytest.fixture
 def generator():
     keywords = load_keyword_config(os.path.join(CONFIG, "keywords.yaml"))

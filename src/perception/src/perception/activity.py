@@ -11,7 +11,10 @@ face at the top of a person's box); the furniture a sitting or lying person rest
 containing the hips) adds a posture-conditioned term w_s P_s(a|o, posture) P(o) (§2: a sofa "can
 be a sitting tool for human to watch television ... a furniture for people to take a nap", so
 lying on a bed is sleeping); the top of the torso falls back from the neck to the shoulders and
-head so a lying person whose neck is out of the frame still has a posture.
+head so a lying person whose neck is out of the frame still has a posture; another person's
+skeleton standing near the person and facing them is a person in the eyesight (a chat partner,
+Table 5-4) even when no 'person' box lies in the gaze cone, e.g. when the person faces the camera
+or turns away from it (the body's heading is read from the shoulders' depths).
 """
 import math
 from dataclasses import dataclass, field
@@ -46,6 +49,13 @@ class ActivityConfig:
     to_box: bool = True                # reach and gaze to the object's box (False: box centre)
     weight_support: float = 0.5        # [-] w_s of the furniture the person rests on (0: off)
     support_margin: float = 0.25       # [-] hips within this x torso length of the box: on it
+    # Chat partners from skeletons (False: only 'person' boxes in the gaze cone, as in the seed).
+    partners_from_skeletons: bool = True
+    torso_length: float = 0.5          # [m] neck to hip midpoint of an adult: metres per pixel
+    partner_distance: float = 2.1      # [m] farther apart is no conversation (Hall's social
+    #                                    distance, near phase, ends at 2.1 m)
+    partner_facing_angle: float = 0.785  # [rad] partner's body within this of the person (45 deg:
+    #                                      Kendon's L-shaped F-formation)
 
 
 @dataclass
@@ -89,6 +99,15 @@ class SeenObject:
         dx = max(abs(point[0] - self.cx) - self.width / 2, 0.0)
         dy = max(abs(point[1] - self.cy) - self.height / 2, 0.0)
         return math.hypot(dx, dy)
+
+
+@dataclass
+class BodyView:
+    """Another person in the frame, as the chat-partner test needs them."""
+
+    skeleton: np.ndarray      # (18, 2) [px], NaN rows for missing joints
+    depth: np.ndarray         # (18,) [m], NaN where unknown
+    confidence: float         # [-] P(o) of the person detection
 
 
 @dataclass
@@ -218,6 +237,79 @@ def support_objects(skeleton, objects, posture, table, config):
             if obj.label in rows and obj.width > 0 and obj.distance_to(hip) <= margin]
 
 
+def metres_per_pixel(skeleton, config):
+    """Image scale at a body [m/px]: torso_length over the torso's length in pixels, or None."""
+    top, hip = torso_top(skeleton), mean_of(skeleton, HIPS)
+    if top is None or hip is None:
+        return None
+    torso = float(np.linalg.norm(hip - top))
+    return config.torso_length / torso if torso > 0.0 else None
+
+
+def body_depth_of(skeleton, depth):
+    """Median depth [m] of the detected torso joints (neck, shoulders, hips), or None."""
+    joints = present(skeleton, (NECK,) + SHOULDERS + HIPS)
+    d = np.asarray(depth, dtype=float)[joints] if joints else np.zeros(0)
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else None
+
+
+def body_heading(skeleton, depth, scale):
+    """Unit vector (x right, z away from the camera) the body faces, from the shoulders: the
+    right-to-left-shoulder line turned by 90 deg; None without both shoulders and their depths."""
+    if len(present(skeleton, SHOULDERS)) < 2:
+        return None
+    d = np.asarray(depth, dtype=float)[list(SHOULDERS)]
+    if not np.isfinite(d).all():
+        return None
+    right_x = (skeleton[R_SHOULDER, 0] - skeleton[L_SHOULDER, 0]) * scale
+    right_z = d[0] - d[1]
+    norm = math.hypot(right_x, right_z)
+    return None if norm == 0.0 else np.array([-right_z, right_x]) / norm
+
+
+def chat_partners(skeleton, depth, others, config):
+    """Table 5-4's person in the eyesight, read from skeletons: the other bodies (BodyView) within
+    partner_distance of the person whose heading points at the person within
+    partner_facing_angle (distances in the ground plane: pixels x metres_per_pixel across,
+    depth along the optical axis)."""
+    scale, z = metres_per_pixel(skeleton, config), body_depth_of(skeleton, depth)
+    top = torso_top(skeleton)
+    if scale is None or z is None or top is None:
+        return []
+    partners = []
+    for other in others:
+        o_scale, o_z = metres_per_pixel(other.skeleton, config), body_depth_of(other.skeleton,
+                                                                               other.depth)
+        o_top = torso_top(other.skeleton)
+        if o_scale is None or o_z is None or o_top is None:
+            continue
+        to_person = np.array([(top[0] - o_top[0]) * (scale + o_scale) / 2.0, z - o_z])
+        gap = float(np.linalg.norm(to_person))
+        heading = body_heading(other.skeleton, other.depth, o_scale)
+        if heading is None or gap == 0.0 or gap > config.partner_distance:
+            continue
+        if math.acos(max(-1.0, min(1.0, float(heading @ to_person) / gap))) <= \
+                config.partner_facing_angle:
+            partners.append(other)
+    return partners
+
+
+def partner_objects(partners, seen):
+    """SeenObject 'person' boxes (around the detected joints) of the chat partners that O_e does
+    not already hold as a 'person' box around their torso."""
+    added = []
+    for partner in partners:
+        top = torso_top(partner.skeleton)
+        if any(o.label == "person" and o.width > 0 and o.distance_to(top) == 0.0 for o in seen):
+            continue
+        pts = partner.skeleton[np.isfinite(partner.skeleton).all(axis=1)]
+        (u0, v0), (u1, v1) = pts.min(axis=0), pts.max(axis=0)
+        added.append(SeenObject("person", partner.confidence, (u0 + u1) / 2.0, (v0 + v1) / 2.0,
+                                float(u1 - u0), float(v1 - v0)))
+    return added
+
+
 def activity_scores(near, seen, looking, table, config, resting_on=(), posture=""):
     """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E,
     plus our support term w_s sum_Os P_s(a|o, posture)P(o) for the furniture rested on.
@@ -265,9 +357,16 @@ def posture_from_skeleton(skeleton, config):
     return UNKNOWN_POSTURE
 
 
-def recognise_activity(skeleton, objects, table, config):
-    """Algorithm 3-3 with the hierarchical fallback: detailed activity or posture."""
+def recognise_activity(skeleton, objects, table, config, depth=None, others=()):
+    """Algorithm 3-3 with the hierarchical fallback: detailed activity or posture.
+
+    Args:
+        depth: (18,) joint depths [m] of the person (None: no chat partners from skeletons).
+        others: [BodyView] the other people of the frame.
+    """
     near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config)
+    if config.partners_from_skeletons and depth is not None and others:
+        seen = seen + partner_objects(chat_partners(skeleton, depth, others, config), seen)
     posture = posture_from_skeleton(skeleton, config)
     resting = (support_objects(skeleton, objects, posture, table, config)
                if config.weight_support > 0 else [])

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from perception.activity import SeenObject, recognise_activity, torso_top
+from perception.activity import BodyView, SeenObject, recognise_activity, torso_top
 from perception.keypoints import HIPS, L_SHOULDER, NECK, R_SHOULDER, as_skeleton, present
 from perception.localisation import pixel_to_camera, semantic_place, stitched_pixel, transform_point
 
@@ -84,6 +84,22 @@ def objects_for(skeleton, objects):
     return keep
 
 
+def body_view(person, objects):
+    """A PersonView as another body of the frame: P(o) of the 'person' box around its torso top,
+    else the mean confidence of its detected joints."""
+    skeleton = as_skeleton(person.points, person.confidence)
+    top = torso_top(skeleton)
+    conf = np.asarray(person.confidence, dtype=float)
+    confidence = float(conf[conf > 0].mean()) if (conf > 0).any() else 0.0
+    if top is not None:
+        for obj in objects:
+            if obj.label == "person" and (obj.x <= top[0] <= obj.x + obj.width
+                                          and obj.y <= top[1] <= obj.y + obj.height):
+                confidence = float(obj.confidence)
+                break
+    return BodyView(skeleton, np.asarray(person.depth, dtype=float), confidence)
+
+
 def unknown_classes(objects, table):
     """Sorted labels of the objects the affordance table has no entry for (people excepted)."""
     return sorted({o.label for o in objects if o.label != "person" and not table.known(o.label)})
@@ -100,11 +116,13 @@ def locate(skeleton, depth, cameras):
     return tuple(transform_point(cameras.to_map[which], point)[:2])
 
 
-def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3):
-    """Activity, map position, semantic place and shirt colours of one person."""
+def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3, others=()):
+    """Activity, map position, semantic place and shirt colours of one person (`others`: the
+    frame's other people as BodyView, possible chat partners)."""
     skeleton = as_skeleton(person.points, person.confidence)
     result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects), table,
-                                             config))
+                                             config, np.asarray(person.depth, dtype=float),
+                                             others))
     if len(present(skeleton, range(len(skeleton)))) < len(skeleton):
         result.problems.append("skeleton has missing joints")
     if cameras is not None:
@@ -121,4 +139,7 @@ def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3
 
 def analyse_frame(frame, table, config, cameras=None, graph=None):
     """Every person of a frame -> [PersonResult] in the frame's order."""
-    return [analyse_person(p, frame.objects, table, config, cameras, graph) for p in frame.people]
+    bodies = [body_view(p, frame.objects) for p in frame.people]
+    return [analyse_person(p, frame.objects, table, config, cameras, graph,
+                           others=bodies[:i] + bodies[i + 1:])
+            for i, p in enumerate(frame.people)]
