@@ -54,6 +54,17 @@ def test_lower_priority_first_at_the_same_place_is_reported(tmp_path, line_graph
         "1 (gamma 2.0) started at 1.0 s while 2 (gamma 4.0) waited at the same place"]
 
 
+def test_people_served_where_found_are_not_compared_by_place(tmp_path, line_graph):
+    path = tmp_path / "people.sqlite"
+    buffer = TaskBuffer(path, BufferConfig(node_count=line_graph.size))
+    buffer.submit_many([make_instruction(1, 1, 2.0, 0.5, 1, source="Bob", target="Bob"),
+                        make_instruction(2, 1, 4.0, 0.5, 1, source="Ann", target="Ann")], 0.0)
+    buffer.start(1, 1.0)     # Bob found first; Ann, believed at the same place, was elsewhere
+    buffer.finish(1, 2.0)
+    buffer.close()
+    assert check_order(read_journal(path)) == []
+
+
 def test_model_figures_on_the_same_arrivals(tmp_path, line_graph):
     entries = read_journal(journal(tmp_path, line_graph, first_served=2))
     problem = arrivals_problem(line_graph, entries, speed_mps=1.0, start_node=0, t0=0.0)

@@ -127,6 +127,8 @@ def timeline_rows(entries, t0):
 def check_order(entries):
     """Problems with the service order: a successor started before its predecessor was done, or
     an instruction started while a higher-priority one was waiting, eligible, at the same place.
+    An instruction for a person is served where the robot finds them, which the journal does not
+    hold, so only instructions without a target person are compared by place.
     Returns a list of sentences (empty = the order respects chains and priorities)."""
     by_id = {e.instruction.id: e for e in entries}
     problems = []
@@ -146,7 +148,8 @@ def check_order(entries):
             eligible = o.previous_id == 0 or (o.previous_id in by_id and by_id[
                 o.previous_id].state == "done" and by_id[o.previous_id].completion_s
                 <= e.started_s)
-            if (o.id != i.id and waiting and eligible and o.destination == i.destination
+            same_place = not (o.target or i.target) and o.destination == i.destination
+            if (o.id != i.id and waiting and eligible and same_place
                     and o.gamma > i.gamma and other.state not in ("failed", "cancelled")):
                 problems.append(f"{i.id} (gamma {i.gamma}) started at {e.started_s:.1f} s while "
                                 f"{o.id} (gamma {o.gamma}) waited at the same place")
