@@ -35,7 +35,7 @@ class IntroductionConfig:
     threshold: float = 200.0       # mean ΔC (Eq. 3-10) below which two shirts are one person
     min_sightings: int = 3         # frames a stranger is seen in before the robot goes to meet
     max_retries: int = 2           # re-asks of one question before the dialogue is given up
-    answer_timeout: float = 20.0   # [s] without an answer before a question is asked again
+    answer_timeout: float = 45.0   # [s] without an answer before a question is asked again
     retry_after: float = 300.0     # [s] a stranger not met (dialogue or trip failed) is left alone
     name_question: str = "What is your name?"
     thanks: str = "Thank you, {name}."      # said before the next question after the name
