@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 from planner_factories import make_instruction
 
-from task_planner.baselines import FirstComeFirstServe
+from task_planner.baselines import FirstComeFirstServe, PriorityFirst
 from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, Say, StopMotion,
                                    Wait)
 from task_planner.executor_sim import NavigationModel, run_executor
@@ -13,7 +13,8 @@ from task_planner.graph import graph_from_edges
 from task_planner.people_belief import (PeopleAtPlaces, patrol_target, scheduled_place,
                                         search_order)
 from task_planner.robot_functions import load_robot_functions
-from task_planner.task_buffer import FAILED, BufferConfig, TaskBuffer
+from task_planner.instruction import ROBOT
+from task_planner.task_buffer import FAILED, PENDING, BufferConfig, TaskBuffer
 
 FUNCTIONS = load_robot_functions(
     Path(__file__).resolve().parents[3] / "config" / "robot_functions.yaml")
@@ -28,12 +29,12 @@ def graph():
                                    (6.0, 0.0, 0.0)])
 
 
-def executor_for(graph, tmp_path, people, start=A, **config):
+def executor_for(graph, tmp_path, people, start=A, planner=FirstComeFirstServe, **config):
     buffer = TaskBuffer(tmp_path / "buffer.sqlite", BufferConfig(node_count=graph.size))
     settings = dict(speed_mps=0.5, look_headings=3, search_all_places=True)
     settings.update(config)
-    return Executor(buffer, graph, FirstComeFirstServe(), people, FUNCTIONS,
-                    ExecutorConfig(**settings), start_node=start)
+    return Executor(buffer, graph, planner(), people, FUNCTIONS, ExecutorConfig(**settings),
+                    start_node=start)
 
 
 def test_search_order_is_last_seen_then_schedule_then_stalest():
@@ -167,3 +168,16 @@ def test_look_dwells_on_the_last_heading_before_it_gives_up(graph, tmp_path):
     assert executor.tick(2.9) == [] and executor.mode == "looking"
     people.seen("Bob", B, stamp=2.95)          # perception catches up while it dwells
     assert executor.tick(3.0)[:2] == [StopMotion(), Execute(1, "check_status", 4.0)]
+
+
+def test_a_persons_request_interrupts_the_robots_own_instruction(graph, tmp_path):
+    executor = executor_for(graph, tmp_path, PeopleAtPlaces(), planner=PriorityFirst,
+                            own_yields=True)
+    music = make_instruction(100000, A, gamma=1.0, beta=0.9, duration=120, function=6,
+                             type=ROBOT)
+    assert executor.receive([music], 0.0)[1][0] == Execute(100000, "play_music", 120.0)
+    chat = make_instruction(1, B, gamma=5.0, beta=0.9, duration=60, function=1, start_time=10.0)
+    commands = executor.receive([chat], 10.0)[1]
+    assert commands[:2] == [StopMotion(), Say("Excuse me, I am needed elsewhere. I will be back.")]
+    assert commands[2] == Navigate(B, 1)
+    assert executor.buffer.get(100000).state == PENDING     # served later

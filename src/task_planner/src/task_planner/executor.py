@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from task_planner.battery import charge_instruction
+from task_planner.instruction import HUMAN, ROBOT
 from task_planner.people_belief import patrol_target, search_order
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
@@ -56,6 +57,8 @@ class ExecutorConfig:
     pass_wait_s: float = 0.0      # after an abort ask to pass and wait this long [s] (0: no)
     pass_request: str = "Excuse me, may I pass?"
     patrol: bool = False          # look at stale places while idle
+    own_yields: bool = False      # a person's request interrupts the robot's own instruction
+    yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
 
 
@@ -189,7 +192,28 @@ class Executor:
                              f"received {record.instruction.id}"))
         if not any(record is not None for record, _ in results):
             return results, []
-        return results, self._redecide(now)
+        from_people = any(r is not None and r.instruction.type == HUMAN for r, _ in results)
+        commands = self._yield_own(now) if from_people else []
+        return results, commands + self._redecide(now)
+
+    def _yield_own(self, now):
+        """With `own_yields`, a person's request interrupts what the robot does for an
+        instruction it gave itself (not a charge): back to pending, served later."""
+        if not self.config.own_yields or self.mode not in (EXECUTING, LOOKING):
+            return []
+        instruction_id = self.executing[0] if self.mode == EXECUTING else self.looking[0]
+        if not instruction_id:
+            return []
+        record = self.buffer.get(instruction_id)
+        charge = self.charging is not None and \
+            record.instruction.function == self.charging.function_code
+        if record.instruction.type != ROBOT or charge:
+            return []
+        if self.mode == EXECUTING:
+            self.buffer.requeue(instruction_id)
+        self.mode, self.executing, self.looking = IDLE, None, None
+        self.log.append((now, f"{instruction_id} waits: a person asked for something"))
+        return [StopMotion(), Say(self.config.yield_notice)]
 
     def tick(self, now):
         """Periodic step: finish an execution whose time is up, or decide when idle."""

@@ -68,6 +68,7 @@ class NodeParams:
                                    # schedule puts them), not where the request said
     pass_wait: float = 4.0         # after an abort ask to pass and wait this long [s]; 0 = no
     patrol: bool = False           # look at stale places while idle
+    own_yields: bool = True        # a person's request interrupts the robot's own instruction
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
     utc_offset: float = 0.0        # added to ROS time for the time of day of the schedules'
                                    # predicted places [s] (simulated time: the day's start)
@@ -105,6 +106,7 @@ class ExecutorNode:
                            fresh_s=params.fresh, search_all_places=params.search_all_places,
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
+                           own_yields=params.own_yields,
                            patrol_interval_s=params.patrol_interval),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None)
@@ -252,7 +254,7 @@ class ExecutorNode:
             self.nav_goal = None
             if state == GoalStatus.SUCCEEDED:
                 commands += self.executor.arrived(now)
-            elif state in (GoalStatus.ABORTED, GoalStatus.REJECTED):
+            else:  # aborted, rejected, or preempted / recalled / lost by someone else
                 commands += self.executor.aborted(now, text or GoalStatus.to_string(state))
         return commands
 
@@ -280,7 +282,7 @@ class ExecutorNode:
                 self._send_goal(command.node, command.yaw)
             elif isinstance(command, StopMotion):
                 self.nav_goal = None
-                self.move_base.cancel_all_goals()
+                self.move_base.cancel_goal()   # this goal only: a new one may follow at once
             elif isinstance(command, Wait):
                 rospy.loginfo("task_planner: waiting until %.1f s", command.until_s)
             elif isinstance(command, Say):
