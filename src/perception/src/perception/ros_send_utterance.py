@@ -4,6 +4,8 @@ import argparse
 import rospy
 from tamp_msgs.msg import Utterance
 
+from task_planner.ros_oneshot import publish_when_heard
+
 from perception.conversions import utterance_to_msg
 
 
@@ -12,7 +14,7 @@ def parse_args(argv):
     parser.add_argument("text", help="the sentence, e.g. 'Chat with me, I feel bad.'")
     parser.add_argument("--ip", default="", help="IP of the sender's phone (identifies them)")
     parser.add_argument("--wait", type=float, default=5.0,
-                        help="seconds to wait for a subscriber before giving up")
+                        help="wall-clock seconds to wait for a subscriber before giving up")
     return parser.parse_args(argv)
 
 
@@ -20,13 +22,8 @@ def main(argv):
     args = parse_args(argv)
     rospy.init_node("send_utterance", anonymous=True)
     publisher = rospy.Publisher("/voice_message", Utterance, queue_size=1, latch=True)
-    deadline = rospy.get_time() + args.wait
-    while publisher.get_num_connections() == 0 and rospy.get_time() < deadline:
-        rospy.sleep(0.05)
-    if publisher.get_num_connections() == 0:
+    if not publish_when_heard(publisher, utterance_to_msg(args.text, args.ip), args.wait):
         rospy.logerr("not sent: nobody subscribes to /voice_message after %.1f s", args.wait)
         return 1
-    publisher.publish(utterance_to_msg(args.text, args.ip))
     rospy.loginfo("sent %d characters from %s", len(args.text), args.ip or "no IP")
-    rospy.sleep(0.5)  # let the latched message reach the subscriber before the node exits
     return 0

@@ -6,6 +6,7 @@ from tamp_msgs.msg import Instruction as InstructionMsg
 
 from task_planner.conversions import instruction_to_msg
 from task_planner.instruction import HUMAN, ROBOT, Instruction, InvalidInstruction
+from task_planner.ros_oneshot import publish_when_heard
 
 
 def parse_args(argv):
@@ -26,7 +27,7 @@ def parse_args(argv):
     parser.add_argument("--function", type=int, default=0)
     parser.add_argument("--text", default="")
     parser.add_argument("--wait", type=float, default=5.0,
-                        help="seconds to wait for a subscriber before giving up")
+                        help="wall-clock seconds to wait for a subscriber before giving up")
     return parser.parse_args(argv)
 
 
@@ -49,14 +50,9 @@ def main(argv):
         return 2
     publisher = rospy.Publisher("/task_planner/instructions", InstructionMsg,
                                 queue_size=1, latch=True)
-    deadline = rospy.get_time() + args.wait
-    while publisher.get_num_connections() == 0 and rospy.get_time() < deadline:
-        rospy.sleep(0.05)
-    if publisher.get_num_connections() == 0:
+    if not publish_when_heard(publisher, instruction_to_msg(instruction), args.wait):
         rospy.logerr("not sent: nobody subscribes to /task_planner/instructions after %.1f s",
                      args.wait)
         return 1
-    publisher.publish(instruction_to_msg(instruction))
     rospy.loginfo("sent instruction %d to node %d", instruction.id, instruction.destination)
-    rospy.sleep(0.5)  # let the latched message reach the subscriber before the node exits
     return 0
