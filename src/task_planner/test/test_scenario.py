@@ -40,9 +40,10 @@ def test_the_demo_scenario(tmp_path):
     scenario = load_scenario(ROOT / "config/scenarios/household_day.yaml")
     assert scenario.name == "household_day" and scenario.planner == "rollout"
     assert [(r.time_s, r.person, r.spoken, r.visitor) for r in scenario.requests] == [
-        (10.0, "Bob", False, False), (14.0, "David", True, False), (25.0, "Alice", False, False),
-        (30.0, "Frank", False, True), (70.0, "Carol", False, False), (100.0, "Bob", False, False),
-        (140.0, "David", False, False)]
+        (70.0, "Bob", False, False), (74.0, "David", True, False), (85.0, "Alice", False, False),
+        (90.0, "Frank", False, True), (130.0, "Carol", False, False), (160.0, "Bob", False, False),
+        (200.0, "David", False, False)]
+    assert scenario.day_start_s == 18 * 3600 + 28 * 60 and scenario.timeout_s == 900.0
     # Frank stands at (5.9, 1.7): the welcome hall; his requests come from his phone
     (frank,) = scenario.visitors
     assert (frank.name, frank.gender, frank.age, frank.ip, frank.place) == (
@@ -54,12 +55,13 @@ def test_the_demo_scenario(tmp_path):
     assert scenario.initial == {"Alice": ("office", "work"), "Bob": ("living_room", "watch TV"),
                                 "Carol": ("living_room", "read"),
                                 "David": ("bedroom", "read"), "Frank": ("welcome", "standing")}
-    # moves: Carol to (0.5, 5.8) at 45 s, Bob to (1.4, 4.95) at 60 s, Alice to (5.95, 10.9) at
-    # 150 s
+    # moves: Carol to (0.5, 5.8) at 105 s, Bob to (1.4, 4.95) at 120 s, Alice to (5.95, 10.9)
+    # at 210 s
     assert [(m.time_s, m.person, m.place) for m in scenario.moves] == [
-        (45.0, "Carol", "dining_room"), (60.0, "Bob", "dining_room"), (150.0, "Alice", "bedroom")]
+        (105.0, "Carol", "dining_room"), (120.0, "Bob", "dining_room"),
+        (210.0, "Alice", "bedroom")]
     kinds = [kind for _, kind, _ in timeline(scenario)]
-    # 10, 14, 25, 30 requests; 45, 60 moves; 70, 100, 140 requests; 150 move
+    # 70, 74, 85, 90 requests; 105, 120 moves; 130, 160, 200 requests; 210 move
     assert kinds == ["request"] * 4 + ["move"] * 2 + ["request"] * 3 + ["move"]
 
 
@@ -119,3 +121,11 @@ def test_bad_visitors_are_named(tmp_path, visitors, message):
     path.write_text(visitors + path.read_text())
     with pytest.raises(ScenarioError, match=message):
         load_scenario(path)
+
+
+def test_day_start_is_a_time_of_day():
+    from task_planner.scenario import ScenarioError, clock_seconds
+    assert clock_seconds("18:28:10", "day_start") == 18 * 3600 + 28 * 60 + 10
+    assert clock_seconds("07:05", "day_start") == 7 * 3600 + 5 * 60
+    with pytest.raises(ScenarioError, match="day_start: expected a quoted time of day"):
+        clock_seconds(1105, "day_start")       # unquoted 18:25 is a base-60 number in YAML

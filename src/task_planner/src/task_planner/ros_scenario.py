@@ -38,6 +38,7 @@ from visualization_msgs.msg import MarkerArray
 from task_planner.scenario import load_scenario, place_of, timeline, visitor_answer
 
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
+ACTIVE, HUMAN = 1, 0  # tamp_msgs/InstructionState ACTIVE, tamp_msgs/Instruction HUMAN
 
 
 def _changed(changes, now, place):
@@ -235,7 +236,8 @@ class ScenarioNode:
         return last
 
     def _finished(self):
-        """Every request answered by an instruction from its person and nothing open."""
+        """Every request answered by an instruction from its person, every person's instruction
+        closed and nothing active (the robot's own pending instructions do not hold the run)."""
         with self.lock:
             state = self.state
         if state is None:
@@ -251,7 +253,8 @@ class ScenarioNode:
             if match is None:
                 return False
             unmatched.remove(match)
-        return not any(r.state in OPEN for r in records)
+        return not any(r.state == ACTIVE or (r.state in OPEN and r.instruction.type == HUMAN)
+                       for r in records)
 
     def run(self, start_place):
         while rospy.get_time() <= 0 and not rospy.is_shutdown():

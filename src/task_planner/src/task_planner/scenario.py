@@ -9,6 +9,7 @@ the household: the robot meets them (thesis 000 §3.2.3, perception's introducti
 answer its questions through the speech path; their requests are sent only once they are
 registered. `ros_scenario.py` plays it; `scenario_report.py` writes what happened.
 """
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -68,6 +69,7 @@ class Scenario:
     timeout_s: float     # give up this long after the last request [s of simulated time]
     planner: str         # task planner of the executor (planner_choice.PLANNER_NAMES)
     visitors: tuple = ()  # Visitor
+    day_start_s: float = 0.0  # time of day at simulated time 0 [s since midnight] (schedules)
 
 
 def place_of(graph_spec, x, y):
@@ -178,10 +180,21 @@ def load_scenario(path):
     timeout_s = float(spec.get("timeout_s", 600.0))
     if timeout_s <= 0:
         raise ScenarioError(f"{path}: timeout_s must be > 0, got {timeout_s}")
+    day_start_s = clock_seconds(spec.get("day_start", "00:00"), f"{path}: day_start")
     return Scenario(name=str(spec.get("name", path.stem)), world=world_path, graph=graph_path,
                     requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
                     initial=initial, timeout_s=timeout_s,
-                    planner=str(spec.get("planner", "seed")), visitors=visitors)
+                    planner=str(spec.get("planner", "seed")), visitors=visitors,
+                    day_start_s=day_start_s)
+
+
+def clock_seconds(text, where):
+    """'HH:MM' or 'HH:MM:SS' -> seconds since midnight; ScenarioError names `where` otherwise."""
+    match = re.fullmatch(r"(\d{1,2}):(\d{2})(?::(\d{2}))?", str(text))
+    hours, minutes, seconds = (int(g or 0) for g in match.groups()) if match else (99, 0, 0)
+    if hours > 23 or minutes > 59 or seconds > 59:
+        raise ScenarioError(f"{where}: expected a quoted time of day 'HH:MM[:SS]', got {text!r}")
+    return float(hours * 3600 + minutes * 60 + seconds)
 
 
 def timeline(scenario):
