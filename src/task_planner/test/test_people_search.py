@@ -181,3 +181,13 @@ def test_a_persons_request_interrupts_the_robots_own_instruction(graph, tmp_path
     assert commands[:2] == [StopMotion(), Say("Excuse me, I am needed elsewhere. I will be back.")]
     assert commands[2] == Navigate(B, 1)
     assert executor.buffer.get(100000).state == PENDING     # served later
+
+
+def test_introductions_and_charging_are_not_interrupted(graph, tmp_path):
+    executor = executor_for(graph, tmp_path, PeopleAtPlaces(), planner=PriorityFirst,
+                            own_yields=True)
+    meet = make_instruction(200000, A, gamma=1.0, beta=0.9, duration=60, function=9,
+                            type=ROBOT)
+    assert executor.receive([meet], 0.0)[1][0] == Execute(200000, "introduce", 60.0)
+    chat = make_instruction(1, B, gamma=5.0, beta=0.9, duration=60, function=1, start_time=10.0)
+    assert executor.receive([chat], 10.0)[1] == [] and executor.mode == "executing"

@@ -58,6 +58,7 @@ class ExecutorConfig:
     pass_request: str = "Excuse me, may I pass?"
     patrol: bool = False          # look at stale places while idle
     own_yields: bool = False      # a person's request interrupts the robot's own instruction
+    own_kept: tuple = ("charge", "introduce")  # own functions that are never interrupted
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
 
@@ -198,16 +199,16 @@ class Executor:
 
     def _yield_own(self, now):
         """With `own_yields`, a person's request interrupts what the robot does for an
-        instruction it gave itself (not a charge): back to pending, served later."""
+        instruction it gave itself (unless its function is in `own_kept`): back to pending,
+        served later."""
         if not self.config.own_yields or self.mode not in (EXECUTING, LOOKING):
             return []
         instruction_id = self.executing[0] if self.mode == EXECUTING else self.looking[0]
         if not instruction_id:
             return []
-        record = self.buffer.get(instruction_id)
-        charge = self.charging is not None and \
-            record.instruction.function == self.charging.function_code
-        if record.instruction.type != ROBOT or charge:
+        instruction = self.buffer.get(instruction_id).instruction
+        function = self.functions.get(instruction.function)
+        if instruction.type != ROBOT or function is None or function.name in self.config.own_kept:
             return []
         if self.mode == EXECUTING:
             self.buffer.requeue(instruction_id)
