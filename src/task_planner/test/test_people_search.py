@@ -149,14 +149,18 @@ def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
     executor = executor_for(graph, tmp_path, people, follow_belief=True)
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Bob")
     executor.looked_s.update({A: 0.0, B: 0.0, C: 0.0})
-    assert executor._where(visit) == D         # never seen, no schedule: the stalest place
-    people.predicted["Bob"] = C                # his schedule's place comes first
-    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]   # on the way to C
-    assert executor._where(visit) == C
-    people.seen("Bob", D, stamp=0.5)           # then perception sees him at D
+    # never seen, no schedule: his search is planned once, stalest place first (D)
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]   # on the way to D
+    assert executor.search[1] == [D, A, B, C]
+    executor.node = B                          # the plan does not change as the robot moves
     assert executor._where(visit) == D
-    people.missed("Bob", D)                    # a look at D misses him: schedule again
+    people.seen("Bob", C, stamp=0.5)           # perception sees him at C
     assert executor._where(visit) == C
+    people.missed("Bob", C)                    # a look at C misses him: the search again
+    assert executor._where(visit) == D
+    chat = make_instruction(2, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Ann")
+    people.predicted["Ann"] = C                # her schedule's place comes first
+    assert executor._where(chat) == C
 
 
 def test_look_dwells_on_the_last_heading_before_it_gives_up(graph, tmp_path):

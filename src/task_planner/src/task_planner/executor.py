@@ -409,15 +409,22 @@ class Executor:
         return self._problem, available
 
     def _where(self, instruction):
-        """Where to serve an instruction: the place being searched, else (following the belief)
-        the first place a search would look, else its destination."""
-        if instruction.id in self.search:
-            return self.search[instruction.id][0]
-        if self.config.follow_belief and instruction.target:
-            order = search_order(instruction.target, self.people, self.looked_s,
-                                 range(self.graph.size), (), self.graph.shortest[self.node])
-            return order[0] if order else instruction.destination
-        return instruction.destination
+        """Where to serve an instruction. Following the belief: where its person was last seen,
+        else the next place of their search (planned once, from where the robot is, so the goal
+        does not change as the robot moves). Otherwise: the place being searched, else its
+        destination."""
+        target, key = instruction.target, instruction.id
+        if self.config.follow_belief and target:
+            seen = self.people.now.get(target)
+            if seen is not None:
+                return seen
+            if key not in self.search:
+                self.search[key] = search_order(target, self.people, self.looked_s,
+                                                range(self.graph.size),
+                                                self.searched.get(key, ()),
+                                                self.graph.shortest[self.node])
+        queue = self.search.get(key)
+        return queue[0] if queue else instruction.destination
 
     def _ask_planner(self, problem, node, now, available):
         """(instruction index, next node), next node None when the decision is to serve here."""
