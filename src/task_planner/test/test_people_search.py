@@ -71,6 +71,8 @@ def test_patrol_prefers_stale_occupied_places_and_rests_when_all_are_fresh():
     # B, C, D are equally stale (100 s); D's expected person doubles its score
     assert patrol_target(range(4), people, looked, 100.0, min_interval_s=30.0) == D
     assert patrol_target(range(4), people, {n: 90.0 for n in range(4)}, 100.0, 30.0) is None
+    # never looked at, nobody expected: the nearest first (the robot at C)
+    assert patrol_target(range(4), PeopleAtPlaces(), {}, 100.0, 30.0, [3, 2, 0, 3]) == C
 
 
 def test_person_moved_unseen_is_found_by_search_and_served_there(graph, tmp_path):

@@ -586,7 +586,7 @@ class Executor:
     def _patrol(self, now):
         """Idle: drive to the stalest, likeliest occupied place and look around it."""
         target = patrol_target(range(self.graph.size), self.people, self.looked_s, now,
-                               self.config.patrol_interval_s)
+                               self.config.patrol_interval_s, self.graph.shortest[self.node])
         if target is None:
             return []
         if target == self.node:

@@ -87,13 +87,14 @@ def search_order(name, people, looked_s, places, searched, distance_m=None):
     return [n for n in dict.fromkeys(first + rest) if n is not None and n not in searched]
 
 
-def patrol_target(places, people, looked_s, now, min_interval_s):
+def patrol_target(places, people, looked_s, now, min_interval_s, distance_m=None):
     """The place an idle robot should look at: the stalest, weighted by how many people the
-    belief or the schedules put there; None when every place was looked at within
-    `min_interval_s` [s]."""
+    belief or the schedules put there, the nearest first among equals (`distance_m[n]`: from the
+    robot [m]); None when every place was looked at within `min_interval_s` [s]."""
     def score(node):
         staleness = now - looked_s.get(node, now - 10.0 * min_interval_s)
-        return staleness * (1 + people.expected_at(node)), -node
+        near = 0.0 if distance_m is None else distance_m[node]
+        return staleness * (1 + people.expected_at(node)), -near, -node
 
     stale = [n for n in places if now - looked_s.get(n, -math.inf) >= min_interval_s]
     return max(stale, key=score) if stale else None
