@@ -197,3 +197,16 @@ def test_introductions_and_charging_are_not_interrupted(graph, tmp_path):
     assert executor.receive([meet], 0.0)[1][0] == Execute(200000, "introduce", 60.0)
     chat = make_instruction(1, B, gamma=5.0, beta=0.9, duration=60, function=1, start_time=10.0)
     assert executor.receive([chat], 10.0)[1] == [] and executor.mode == "executing"
+
+
+def test_an_interrupted_own_instruction_waits_until_people_are_served(graph, tmp_path):
+    """FCFS would pick the interrupted music again (it came first): it waits for the chat."""
+    executor = executor_for(graph, tmp_path, PeopleAtPlaces(), own_yields=True)
+    music = make_instruction(100000, A, gamma=1.0, beta=0.9, duration=120, function=6,
+                             type=ROBOT)
+    executor.receive([music], 0.0)
+    chat = make_instruction(1, B, gamma=5.0, beta=0.9, duration=60, function=1, start_time=10.0)
+    assert executor.receive([chat], 10.0)[1][2] == Navigate(B, 1)
+    assert executor.arrived(12.0)[0] == Execute(1, "chat", 60.0)
+    executor.tick(72.0)                        # the chat is done: the music comes back
+    assert executor.goal == A and executor.goal_for == 100000

@@ -24,9 +24,8 @@ from human_db.errors import HumanDbError
 from sim2d.semantic_graph import load_graph
 from std_msgs.msg import Bool, String
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
-from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.msg import Utterance
-from tamp_msgs.srv import RegisterHuman
+from tamp_msgs.srv import RegisterHuman, SubmitInstruction
 from task_planner.conversions import instruction_to_msg
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
@@ -90,7 +89,8 @@ class IntroductionNode:
         self._met_id = 0          # id of the introduce instruction the last dialogue was for
         self._open_until = None   # ~dialogue_open is true until this time [s]; None = closed
         self._published_open = None
-        self._counts = {"instructions": 0, "dialogues": 0, "registered": 0, "not_met": 0,
+        self._counts = {"instructions": 0, "not_submitted": 0, "dialogues": 0, "registered": 0,
+                        "not_met": 0,
                         "answers": 0, "refused_answers": 0, "bad_observations": 0}
         self._last = ""           # last registration or failure, for diagnostics
         self._timers = []
@@ -108,8 +108,8 @@ class IntroductionNode:
             load_priorities(p.priorities_file)["self_generated"], load_graph(p.graph).place_ids(),
             ids=IdCounter(p.first_id, p.id_file))
         self.register = rospy.ServiceProxy("/human_db/register", RegisterHuman)
-        self.instructions = rospy.Publisher("/task_planner/instructions", InstructionMsg,
-                                            queue_size=5)
+        # acknowledged: a lost or refused introduce instruction must not block later meetings
+        self.submit = rospy.ServiceProxy("/task_planner/submit", SubmitInstruction)
         self.say = rospy.Publisher("/robot/say", String, queue_size=5)
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
@@ -181,9 +181,25 @@ class IntroductionNode:
                 continue
             instruction = self.watch.observe(colours, person.location, stamp, shirts)
             if instruction is not None:
-                self.instructions.publish(instruction_to_msg(instruction))
-                self._count("instructions")
-                rospy.loginfo("introduction: #%d: %s", instruction.id, instruction.text)
+                self._submit(instruction, stamp)
+
+    def _submit(self, instruction, now):
+        """Hand the introduce instruction to the executor; leave the stranger for later if the
+        executor does not take it."""
+        try:
+            rospy.wait_for_service("/task_planner/submit", self.params.register_timeout)
+            reply = self.submit(instruction=instruction_to_msg(instruction))
+            problem = "" if reply.accepted else reply.message
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            problem = str(error)
+        if problem:
+            self.watch.not_met(self.watch.by_instruction(instruction.id), now)
+            self._count("not_submitted")
+            self._last = f"#{instruction.id} not taken by the executor: {problem}"
+            rospy.logwarn("introduction: %s", self._last)
+            return
+        self._count("instructions")
+        rospy.loginfo("introduction: #%d: %s", instruction.id, instruction.text)
 
     def _follow(self, state, now):
         """Start the dialogue when the introduce instruction becomes ACTIVE; give the stranger a

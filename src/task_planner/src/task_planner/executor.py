@@ -167,6 +167,7 @@ class Executor:
         self.looked_s = {}               # node -> when the robot last looked around it [s]
         self.retry_at = None             # when to retry an aborted goal after asking to pass
         self._search_start = {}          # instruction id -> when its search began [s]
+        self._deferred = set()           # own instructions waiting while people's are open
         self.log = []                    # (time [s], event text): why each move was made
         self._problem_key, self._problem = None, None
         self._target = None              # (problem, index) a target planner is driving to
@@ -212,6 +213,7 @@ class Executor:
             return []
         if self.mode == EXECUTING:
             self.buffer.requeue(instruction_id)
+        self._deferred.add(instruction_id)
         self.mode, self.executing, self.looking = IDLE, None, None
         self.log.append((now, f"{instruction_id} waits: a person asked for something"))
         return [StopMotion(), Say(self.config.yield_notice)]
@@ -329,6 +331,8 @@ class Executor:
         stop = []
         if self.mode == LOOKING and self.looking[0] == instruction_id:
             self.mode, self.looking, stop = IDLE, None, [StopMotion()]
+        self.search.pop(instruction_id, None)
+        self.searched.pop(instruction_id, None)
         self.log.append((now, f"cancelled {instruction_id}"))
         return record, stop + self._redecide(now)
 
@@ -394,9 +398,12 @@ class Executor:
         """Fig. 4-14 fetch + decode: the open instructions as a Problem, and the eligible indices.
 
         A searched instruction's destination is the place being searched. The planner is reset
-        only when the instruction set changes, so its per-set memory (the loop guard) holds.
+        only when the instruction set changes, so its per-set memory (the loop guard) holds. An
+        own instruction that gave way to a person waits until no person's instruction is open.
         """
         pending = [r for r in self.buffer.open_records() if r.state == PENDING]
+        if not any(r.instruction.type == HUMAN for r in pending):
+            self._deferred.clear()
         instructions = tuple(replace(r.instruction, destination=self._where(r.instruction))
                              for r in pending)
         if instructions != self._problem_key:
@@ -404,8 +411,10 @@ class Executor:
             self._problem_key = instructions
             self.planner.reset(self._problem)
         done = self.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
-        available = np.array([k for k, r in enumerate(pending) if r.instruction.previous_id == 0
-                              or r.instruction.previous_id in done], dtype=int)
+        available = np.array([k for k, r in enumerate(pending)
+                              if (r.instruction.previous_id == 0
+                                  or r.instruction.previous_id in done)
+                              and r.instruction.id not in self._deferred], dtype=int)
         return self._problem, available
 
     def _where(self, instruction):
@@ -418,7 +427,7 @@ class Executor:
             seen = self.people.now.get(target)
             if seen is not None:
                 return seen
-            if key not in self.search:
+            if key not in self.search and self.config.search_all_places:
                 self.search[key] = search_order(target, self.people, self.looked_s,
                                                 range(self.graph.size),
                                                 self.searched.get(key, ()),

@@ -7,6 +7,7 @@ journals before it answers, so its acknowledgement is durable.
 """
 import math
 import os
+import queue
 import threading
 import time
 from collections import deque
@@ -111,7 +112,10 @@ class ExecutorNode:
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None)
         self.lock = threading.Lock()  # guards the caches below and the executor
-        self.inbox, self.humans, self.results = [], None, []
+        self.inbox, self.humans = [], None
+        # move_base results: a lock-free queue, because actionlib calls done callbacks holding
+        # its goal mutex, which cancel_goal (called under self.lock) takes too
+        self.results = queue.SimpleQueue()
         self._last_humans = []
         self.refused, self.nav_goal, self.goal_seq = 0, None, 0
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
@@ -177,8 +181,7 @@ class ExecutorNode:
 
     def _on_goal_done(self, goal_seq, state, result):
         del result
-        with self.lock:
-            self.results.append((goal_seq, state, self.move_base.get_goal_status_text()))
+        self.results.put((goal_seq, state, self.move_base.get_goal_status_text()))
 
     # ---- services: journal before answering ----
 
@@ -246,7 +249,9 @@ class ExecutorNode:
         return commands
 
     def _navigation_results(self, now):
-        results, self.results = self.results, []
+        results = []
+        while not self.results.empty():
+            results.append(self.results.get())
         commands = []
         for goal_seq, state, text in results:
             if goal_seq != self.nav_goal or self.executor.mode not in ("moving", "looking"):
