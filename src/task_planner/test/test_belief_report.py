@@ -25,10 +25,11 @@ def test_accuracy_counts_unknown_and_stale_beliefs_as_wrong():
 
 
 def test_a_person_met_during_the_run_counts_from_the_registration():
-    record = dict(sim_s=100.0, registrations=[dict(name="Frank", time=50.0)],
+    record = dict(sim_s=100.0, registrations=[dict(visitor="Frank", name="Frans", time=50.0)],
                   truth={"Frank": [[0.0, "welcome"]], "Bob": [[0.0, "living_room"]]},
-                  belief={"Frank": [[50.0, "welcome"]], "Bob": [[0.0, ""]]})
-    assert people_accuracy(record) == {"Bob": 0.0, "Frank": 1.0}
+                  belief={"Frans": [[50.0, "welcome"]], "Bob": [[0.0, ""]]})
+    # Frank, registered under the name the robot heard, counts from his registration
+    assert people_accuracy(record) == {"Bob": 0.0, "Frans": 1.0}
 
 
 def test_section_lists_searches_meetings_and_own_instructions(tmp_path, line_graph):
@@ -42,7 +43,8 @@ def test_section_lists_searches_meetings_and_own_instructions(tmp_path, line_gra
     buffer.finish(100000, 7.0)
     buffer.close()
     record = dict(sim_s=40.0, truth={"Bob": [[0.0, "B"]]}, belief={"Bob": [[20.0, "B"]]},
-                  registrations=[dict(name="Frank", time=20.0, dialogue_s=14.5)])
+                  registrations=[dict(visitor="Frank", name="Frank", time=20.0,
+                                      dialogue_s=14.5)])
     text = "\n".join(belief_markdown(record, read_journal(path), read_searches(path), t0=2.0))
     assert "| Bob | 0.51 |" in text          # 41 of the 81 samples of [0, 40] from 20 s on
     assert "| 1 | Bob | 10.0 | 18.5 | B, C | found |" in text

@@ -7,6 +7,7 @@ import sqlite3
 from pathlib import Path
 
 from task_planner.instruction import ROBOT
+from task_planner.task_buffer import journalled_searches
 
 
 def place_at(changes, t):
@@ -30,31 +31,26 @@ def belief_accuracy(truth, belief, start_s, end_s, step_s=0.5):
 
 
 def people_accuracy(record):
-    """{name: belief accuracy} over the run, for everyone the robot knew (a person met during the
-    run counts from their registration)."""
-    registered = {r["name"]: r["time"] for r in record.get("registrations", [])}
+    """{name: belief accuracy} over the run, for everyone the robot knew; a visitor met during
+    the run counts from their registration, under the name the robot registered them by."""
+    met = {r["visitor"]: r for r in record.get("registrations", [])}
     end_s = float(record["sim_s"])
     figures = {}
-    for name, truth in sorted(record.get("truth", {}).items()):
+    for person, truth in sorted(record.get("truth", {}).items()):
+        name = met[person]["name"] if person in met else person
         belief = record.get("belief", {}).get(name)
         if belief is None:
             continue
-        start = registered.get(name, max(0.0, truth[0][0]))
+        start = met[person]["time"] if person in met else max(0.0, truth[0][0])
         figures[name] = belief_accuracy(truth, belief, start, end_s)
     return figures
 
 
 def read_searches(journal_path):
-    """The executor's journalled searches: (instruction id, target, start, end, found, places)."""
+    """The executor's journalled searches, read without changing the file."""
     uri = f"file:{Path(journal_path).resolve()}?mode=ro"
     with sqlite3.connect(uri, uri=True) as db:
-        try:
-            rows = db.execute("SELECT instruction_id, target, start_s, end_s, found, places "
-                              "FROM searches ORDER BY rowid").fetchall()
-        except sqlite3.OperationalError:  # a journal written before searches were journalled
-            return []
-    return [(i, target, start, end, bool(found), places.split(",") if places else [])
-            for i, target, start, end, found, places in rows]
+        return journalled_searches(db)
 
 
 def belief_markdown(record, entries, searches, t0):

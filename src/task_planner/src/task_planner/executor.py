@@ -61,6 +61,7 @@ class ExecutorConfig:
     own_kept: tuple = ("charge", "introduce")  # own functions that are never interrupted
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
+    never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]
 
 
 @dataclass(frozen=True)
@@ -595,7 +596,8 @@ class Executor:
     def _patrol(self, now):
         """Idle: drive to the stalest, likeliest occupied place and look around it."""
         target = patrol_target(range(self.graph.size), self.people, self.looked_s, now,
-                               self.config.patrol_interval_s, self.graph.shortest[self.node])
+                               self.config.patrol_interval_s, self.graph.shortest[self.node],
+                               self.config.never_looked_s)
         if target is None:
             return []
         if target == self.node:

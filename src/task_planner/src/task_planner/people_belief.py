@@ -87,12 +87,14 @@ def search_order(name, people, looked_s, places, searched, distance_m=None):
     return [n for n in dict.fromkeys(first + rest) if n is not None and n not in searched]
 
 
-def patrol_target(places, people, looked_s, now, min_interval_s, distance_m=None):
-    """The place an idle robot should look at: the stalest, weighted by how many people the
-    belief or the schedules put there, the nearest first among equals (`distance_m[n]`: from the
-    robot [m]); None when every place was looked at within `min_interval_s` [s]."""
+def patrol_target(places, people, looked_s, now, min_interval_s, distance_m=None,
+                  never_looked_s=600.0):
+    """The place an idle robot should look at: the stalest (a place never looked at counts as
+    `never_looked_s` [s] stale), weighted by how many people the belief or the schedules put
+    there, the nearest first among equals (`distance_m[n]`: from the robot [m]); None when every
+    place was looked at within `min_interval_s` [s]."""
     def score(node):
-        staleness = now - looked_s.get(node, now - 10.0 * min_interval_s)
+        staleness = now - looked_s.get(node, now - never_looked_s)
         near = 0.0 if distance_m is None else distance_m[node]
         return staleness * (1 + people.expected_at(node)), -near, -node
 

@@ -69,6 +69,7 @@ class ScenarioNode:
         self.registrations = []            # dict(time, visitor, name, dialogue_s, answers)
         self.dialogues = {}                # visitor name -> dict(start, answers) while met
         self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
+        self.inbox = []                    # (time, "truth" | "belief", message) to grade
 
     # ---- callbacks: cache only ----
 
@@ -86,23 +87,30 @@ class ScenarioNode:
             self.state = msg
 
     def _on_markers(self, msg):
-        """Ground truth of the people's places (sim2d's labels), for grading only."""
-        now = rospy.get_time()
         with self.lock:
-            for marker in msg.markers:
-                if marker.ns == "people_labels":
-                    name = marker.text.split(":")[0]
-                    place = place_of(self.graph_spec, marker.pose.position.x,
-                                     marker.pose.position.y)
-                    _changed(self.truth.setdefault(name, []), now, place)
+            self.inbox.append((rospy.get_time(), "truth", msg))
 
     def _on_known(self, msg):
-        """What the robot believes (human_db's table), to grade it against the truth."""
-        now = rospy.get_time()
         with self.lock:
-            self.table = {human.name: human.ip for human in msg.humans}
-            for human in msg.humans:
-                _changed(self.belief.setdefault(human.name, []), now, human.location)
+            self.inbox.append((rospy.get_time(), "belief", msg))
+
+    def _grade(self):
+        """Ground truth of the people's places (sim2d's labels) next to what the robot believes
+        (human_db's table), for grading only."""
+        with self.lock:
+            inbox, self.inbox = self.inbox, []
+        for now, kind, msg in inbox:
+            if kind == "belief":
+                with self.lock:
+                    self.table = {human.name: human.ip for human in msg.humans}
+                for human in msg.humans:
+                    _changed(self.belief.setdefault(human.name, []), now, human.location)
+                continue
+            for marker in msg.markers:
+                if marker.ns == "people_labels":
+                    place = place_of(self.graph_spec, marker.pose.position.x,
+                                     marker.pose.position.y)
+                    _changed(self.truth.setdefault(marker.text.split(":")[0], []), now, place)
 
     # ---- the run ----
 
@@ -274,6 +282,7 @@ class ScenarioNode:
                     self._send(index[id(event)], event)
                 else:
                     self._move(event)
+            self._grade()
             if self.scenario.visitors:
                 self._answer_questions()
                 self._meet_visitors()

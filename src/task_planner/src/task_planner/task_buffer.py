@@ -211,11 +211,8 @@ class TaskBuffer:
                           int(search.found), ",".join(search.places)))
 
     def searches(self):
-        """Every journalled search, oldest first, as (instruction_id, target, start_s, end_s,
-        found, [place names]) tuples."""
-        rows = self._db.execute("SELECT * FROM searches ORDER BY rowid").fetchall()
-        return [(i, target, start, end, bool(found), places.split(",") if places else [])
-                for i, target, start, end, found, places in rows]
+        """Every journalled search (see `journalled_searches`)."""
+        return journalled_searches(self._db)
 
     # ---- write back (executor -> task buffer) ----
 
@@ -356,3 +353,15 @@ def _replace(record, **changes):
 
 def _close(record, state, now, reason):
     return _replace(record, state=state, completion_time=float(now), reason=reason)
+
+
+def journalled_searches(db):
+    """Every search journalled in an open journal connection, oldest first, as (instruction_id,
+    target, start_s, end_s, found, [place names]) tuples; none in a journal without the table."""
+    try:
+        rows = db.execute("SELECT instruction_id, target, start_s, end_s, found, places "
+                          "FROM searches ORDER BY rowid").fetchall()
+    except sqlite3.OperationalError:  # written before searches were journalled
+        return []
+    return [(i, target, start, end, bool(found), places.split(",") if places else [])
+            for i, target, start, end, found, places in rows]
