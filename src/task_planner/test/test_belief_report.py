@@ -4,7 +4,7 @@ from planner_factories import make_instruction
 
 from task_planner.belief_report import (belief_accuracy, belief_markdown, people_accuracy,
                                         place_at, read_searches)
-from task_planner.executor import Search
+from task_planner.executor_commands import Search
 from task_planner.instruction import ROBOT
 from task_planner.scenario_report import read_journal
 from task_planner.task_buffer import BufferConfig, TaskBuffer

@@ -6,8 +6,8 @@ import pytest
 from planner_factories import make_instruction
 
 from task_planner.baselines import FirstComeFirstServe, PriorityFirst
-from task_planner.executor import (Execute, Executor, ExecutorConfig, Navigate, Say, StopMotion,
-                                   Wait)
+from task_planner.executor import Executor, ExecutorConfig
+from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Wait
 from task_planner.executor_sim import NavigationModel, run_executor
 from task_planner.graph import graph_from_edges
 from task_planner.people_belief import (PeopleAtPlaces, patrol_target, scheduled_place,

@@ -31,13 +31,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from task_planner.battery import charge_instruction
-from task_planner.instruction import HUMAN, ROBOT
-from task_planner.people_belief import patrol_target, search_order
+from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, Execute,
+                                            Navigate, Say, StopMotion, Verify, Wait)
+from task_planner.finding_people import FindingPeople
+from task_planner.instruction import HUMAN
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
 
-IDLE, MOVING, EXECUTING, VERIFYING, LOOKING = "idle", "moving", "executing", "verifying", "looking"
 BATTERY_KEY = "battery_level_wh"   # robot_state entry of the journal
 
 
@@ -74,63 +75,6 @@ class Charging:
     priority: object       # reward.Priority of self-generated instructions (Table 5-5)
 
 
-@dataclass(frozen=True)
-class Navigate:
-    """Send the robot to graph node `node` (a neighbour of where it is, or the node just left),
-    or, with `yaw`, turn in place on its own node to that heading [rad] (a look around)."""
-
-    node: int
-    instruction_id: int  # the instruction this move is for (0 when none)
-    yaw: float = None
-
-
-@dataclass(frozen=True)
-class StopMotion:
-    """Cancel the current navigation goal (a look ended early)."""
-
-
-@dataclass(frozen=True)
-class Wait:
-    """Nothing to do before `until_s` [s] (asked to pass; the retry follows)."""
-
-    until_s: float
-
-
-@dataclass(frozen=True)
-class Execute:
-    """Run robot function `function` for `instruction_id` for `duration_s` seconds."""
-
-    instruction_id: int
-    function: str
-    duration_s: float
-
-
-@dataclass(frozen=True)
-class Verify:
-    """Look for person `target` at the robot's place until `until_s` [s], then decide again."""
-
-    instruction_id: int
-    target: str
-    until_s: float
-
-
-@dataclass(frozen=True)
-class Search:
-    """A finished search for an instruction's person (journalled in the task buffer)."""
-
-    instruction_id: int
-    target: str
-    start_s: float       # first miss [s]
-    end_s: float         # found or given up [s]
-    found: bool
-    places: tuple        # place names looked at, in order (the last one found them if found)
-
-
-@dataclass(frozen=True)
-class Say:
-    text: str
-
-
 def latency_ms(samples_s):
     """(median, 95th percentile, max) [ms] of wall times [s]; zeros when there are none."""
     if not len(samples_s):
@@ -145,7 +89,7 @@ def nearest_node(graph, x, y):
     return int(np.argmin(np.hypot(poses[:, 0] - x, poses[:, 1] - y)))
 
 
-class Executor:
+class Executor(FindingPeople):
     """Fetch → decode → decide → navigate → verify → execute → write back (Fig. 4-14)."""
 
     def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0,
@@ -198,26 +142,6 @@ class Executor:
         from_people = any(r is not None and r.instruction.type == HUMAN for r, _ in results)
         commands = self._yield_own(now) if from_people else []
         return results, commands + self._redecide(now)
-
-    def _yield_own(self, now):
-        """With `own_yields`, a person's request interrupts what the robot does for an
-        instruction it gave itself (unless its function is in `own_kept`): back to pending,
-        served later."""
-        if not self.config.own_yields or self.mode not in (EXECUTING, LOOKING):
-            return []
-        instruction_id = self.executing[0] if self.mode == EXECUTING else self.looking[0]
-        if not instruction_id:
-            return []
-        instruction = self.buffer.get(instruction_id).instruction
-        function = self.functions.get(instruction.function)
-        if instruction.type != ROBOT or function is None or function.name in self.config.own_kept:
-            return []
-        if self.mode == EXECUTING:
-            self.buffer.requeue(instruction_id)
-        self._deferred.add(instruction_id)
-        self.mode, self.executing, self.looking = IDLE, None, None
-        self.log.append((now, f"{instruction_id} waits: a person asked for something"))
-        return [StopMotion(), Say(self.config.yield_notice)]
 
     def tick(self, now):
         """Periodic step: finish an execution whose time is up, or decide when idle."""
@@ -418,24 +342,6 @@ class Executor:
                               and r.instruction.id not in self._deferred], dtype=int)
         return self._problem, available
 
-    def _where(self, instruction):
-        """Where to serve an instruction. Following the belief: where its person was last seen,
-        else the next place of their search (planned once, from where the robot is, so the goal
-        does not change as the robot moves). Otherwise: the place being searched, else its
-        destination."""
-        target, key = instruction.target, instruction.id
-        if self.config.follow_belief and target:
-            seen = self.people.now.get(target)
-            if seen is not None:
-                return seen
-            if key not in self.search and self.config.search_all_places:
-                self.search[key] = search_order(target, self.people, self.looked_s,
-                                                range(self.graph.size),
-                                                self.searched.get(key, ()),
-                                                self.graph.shortest[self.node])
-        queue = self.search.get(key)
-        return queue[0] if queue else instruction.destination
-
     def _ask_planner(self, problem, node, now, available):
         """(instruction index, next node), next node None when the decision is to serve here."""
         if hasattr(self.planner, "decide"):  # node planner (the seed's, Algorithm 4-2)
@@ -507,107 +413,6 @@ class Executor:
         self.log.append((now, f"execute {function.name} for {instruction_id} at {place}"))
         return [Execute(instruction_id, function.name, float(instruction.duration)),
                 Say(function.speech(instruction, place))]
-
-    def _search_next(self, instruction, now):
-        """Person not here: go on to their next last known place, or fail having searched all."""
-        searched = self.searched.setdefault(instruction.id, [])
-        if not searched:
-            self._search_start[instruction.id] = now
-        searched.append(self.node)
-        self.people.missed(instruction.target, self.node)
-        if self.config.search_all_places:
-            queue = search_order(instruction.target, self.people, self.looked_s,
-                                 range(self.graph.size), searched, self.graph.shortest[self.node])
-        else:
-            queue = self.search.get(instruction.id)
-            if queue is None:  # first miss, at the instruction's own destination
-                queue = self.people.last_known_places(instruction.target)
-            queue = [p for p in queue if p not in searched]
-        if queue:
-            self.search[instruction.id] = queue
-            self.log.append((now, f"{instruction.target} not at {self.graph.names[self.node]}; "
-                                  f"search {self.graph.names[queue[0]]}"))
-            return []
-        looked = ", ".join(self.graph.names[n] for n in searched)
-        self._end_search(instruction, now, found=False)
-        return self._fail(instruction.id, now,
-                          f"{instruction.target} not found (searched {looked})")
-
-    def _end_search(self, instruction, now, found):
-        """Keep a finished search (one that missed the person at least once) for the report."""
-        places = self.searched.get(instruction.id)
-        if not places:
-            return
-        names = [self.graph.names[n] for n in places]
-        self.buffer.store_search(Search(
-            instruction.id, instruction.target, self._search_start.pop(instruction.id, now), now,
-            found, tuple(names + [self.graph.names[self.node]] if found else names)))
-
-    # ---- looking around, patrol ----
-
-    def _start_look(self, instruction_id, now):
-        """Turn through `look_headings` headings on this node, perception watching meanwhile."""
-        count = max(1, self.config.look_headings)
-        yaw = float(self.graph.poses[self.node][2])
-        headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
-        self.mode, self.looking = LOOKING, [instruction_id, headings[1:], now, None]
-        what = (f"for {self.buffer.get(instruction_id).instruction.target}" if instruction_id
-                else "(patrol)")
-        self.log.append((now, f"look around {self.graph.names[self.node]} {what}"))
-        return [Navigate(self.node, instruction_id, yaw=headings[0])]
-
-    def _look_step(self, now):
-        """A heading of the look was reached: turn to the next one, dwell, or end the look."""
-        instruction_id, headings = self.looking[:2]
-        if headings:
-            self.looking[1] = headings[1:]
-            return [Navigate(self.node, instruction_id, yaw=headings[0])]
-        if self.config.look_dwell_s > 0 and self.looking[3] is None:
-            self.looking[3] = now + self.config.look_dwell_s
-            return [Wait(self.looking[3])]
-        return self._end_look(now)
-
-    def _end_look(self, now):
-        """The look is over without finding an instruction's person: search on (or decide)."""
-        instruction_id = self.looking[0]
-        self.looked_s[self.node] = now
-        self.mode, self.looking = IDLE, None
-        if not instruction_id:
-            self._patrol_goal = None
-            return self._decide(now)
-        record = self.buffer.get(instruction_id)
-        if not record.is_open:
-            return self._decide(now)
-        return self._search_next(record.instruction, now) + self._decide(now)
-
-    def _look_found(self, now):
-        """While looking for an instruction's person: serve them once perception sees them."""
-        instruction_id, _, since, _ = self.looking
-        if not instruction_id:
-            return []
-        instruction = self.buffer.get(instruction_id).instruction
-        if not self.people.is_at(instruction.target, self.node, since):
-            return []
-        self.mode, self.looking = IDLE, None
-        self.looked_s[self.node] = now
-        return [StopMotion()] + self._execute(instruction,
-                                              function_for(self.functions, instruction), now)
-
-    def _patrol(self, now):
-        """Idle: drive to the stalest, likeliest occupied place and look around it."""
-        target = patrol_target(range(self.graph.size), self.people, self.looked_s, now,
-                               self.config.patrol_interval_s, self.graph.shortest[self.node],
-                               self.config.never_looked_s)
-        if target is None:
-            return []
-        if target == self.node:
-            return self._start_look(0, now)
-        step = int(self.graph.next_hop[self.node, target])
-        if self._patrol_goal != target:
-            self.log.append((now, f"patrol to {self.graph.names[target]}"))
-        self._patrol_goal = target
-        self.mode, self.goal, self.goal_for, self.attempts = MOVING, step, 0, 1
-        return [Navigate(step, 0)]
 
     def _fail(self, instruction_id, now, reason):
         self.buffer.fail(instruction_id, now, reason)

@@ -7,7 +7,7 @@ on that edge. Instructions arrive at their given times.
 """
 from dataclasses import dataclass, field
 
-from task_planner.executor import Execute, Navigate, Say, StopMotion, Verify, Wait
+from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
 
 
 @dataclass

@@ -30,8 +30,9 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
 
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.conversions import buffer_to_msg, instruction_from_msg
-from task_planner.executor import (Charging, Execute, Executor, ExecutorConfig, Navigate, Say,
-                                   StopMotion, Verify, Wait, latency_ms, nearest_node)
+from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_ms,
+                                   nearest_node)
+from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
 from task_planner.graph import load_graph
 from task_planner.people_belief import PeopleAtPlaces, scheduled_place
 from task_planner.instruction import InvalidInstruction
