@@ -1,8 +1,9 @@
 """A scripted household scenario (ROS-free): timed phone requests and the people's moves.
 
-A scenario file (config/scenarios/*.yaml) names the sim2d world whose people's timed moves are the
-schedule deviations of the run (config/household.yaml holds their daily schedules; the world moves
-them at other times), the household (phone IPs), and the requests: at `time` seconds of simulated
+A scenario file (config/scenarios/*.yaml) names the sim2d world whose people move at their own
+times, unannounced to the robot (config/household.yaml holds their daily schedules, which the
+robot knows; `day_start` sets the time of day at simulated time 0), the household (phone IPs),
+and the requests: at `time` seconds of simulated
 time, `person` says `text` into their phone; `spoken: true` sends it as synthesised audio through
 the speech-to-text node instead of as text. `visitors` are people of the world who are not in
 the household: the robot meets them (thesis 000 §3.2.3, perception's introduction node) and they
@@ -64,7 +65,7 @@ class Scenario:
     world: Path          # sim2d world file
     graph: Path          # semantic graph of the world's map (places by region)
     requests: tuple      # Request, in time order
-    moves: tuple         # Move, in time order (schedule deviations, from the world)
+    moves: tuple         # Move, in time order (the world's timed moves, unannounced)
     initial: dict        # person -> (place, activity) at t = 0, from the world
     timeout_s: float     # give up this long after the last request [s of simulated time]
     planner: str         # task planner of the executor (planner_choice.PLANNER_NAMES)

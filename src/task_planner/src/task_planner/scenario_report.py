@@ -266,7 +266,7 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
                      f"{_cell(row['launch'])} | {_cell(row['start'])} | {_cell(row['end'])} | "
                      f"{state} | {row['reward']:.3f} |")
     lines += ["", "Scripted events (the requests as the phones sent them; the people's moves "
-              "are the schedule deviations of the world file):", "",
+              "are the world file's timed moves, unannounced to the robot):", "",
               "| time [s] | event |", "|---|---|"]
     for event in sorted(record["events"], key=lambda e: e["time"]):
         lines.append(f"| {event['time']:.1f} | {event['what']} |")
