@@ -43,6 +43,8 @@ class IntroductionParams:
     priorities_file: str                  # ~priorities_file: config/priorities.yaml
     robot_functions: str                  # ~robot_functions: config/robot_functions.yaml
     function: str = "introduce"           # ~function: the robot function that meets people
+    priority: str = "self_generated"      # ~priority: Table 5-5 level of the introduce
+                                          # instruction (config/priorities.yaml)
     first_id: int = 200000                # ~first_id of the introduce instructions
     id_file: str = ""                     # ~id_file: last id handed out (a restart goes on after
                                           # it); "" = $ROS_HOME/perception_introduction_last_id
@@ -63,8 +65,8 @@ def read_params():
             raise KeyError(f"parameter ~{name} is not set (see launch/social_household.launch)")
         values[name] = rospy.get_param("~" + name)
     defaults = IntroductionParams(**values)
-    for name in ("function", "first_id", "id_file", "humans_topic", "period", "close_linger",
-                 "register_timeout"):
+    for name in ("function", "priority", "first_id", "id_file", "humans_topic", "period",
+                 "close_linger", "register_timeout"):
         values[name] = type(getattr(defaults, name))(
             rospy.get_param("~" + name, getattr(defaults, name)))
     values["id_file"] = values["id_file"] or str(
@@ -105,7 +107,7 @@ class IntroductionNode:
         function = functions[p.function]
         self.watch = NewcomerWatch(
             p.config, (function.code, function.duration_s),
-            load_priorities(p.priorities_file)["self_generated"], load_graph(p.graph).place_ids(),
+            self._priority(p), load_graph(p.graph).place_ids(),
             ids=IdCounter(p.first_id, p.id_file))
         self.register = rospy.ServiceProxy("/human_db/register", RegisterHuman)
         # acknowledged: a lost or refused introduce instruction must not block later meetings
@@ -120,6 +122,15 @@ class IntroductionNode:
         self._publish_open(False)
         self._timers = [rospy.Timer(rospy.Duration(p.period), self._on_work),
                         rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
+
+    @staticmethod
+    def _priority(params):
+        """The Table 5-5 priority of the introduce instructions; ValueError names a bad level."""
+        levels = load_priorities(params.priorities_file)
+        if params.priority not in levels:
+            raise ValueError(f"~priority {params.priority!r} is not a level of "
+                             f"{params.priorities_file} ({', '.join(levels)})")
+        return levels[params.priority]
 
     # ---- callbacks: cache only ----
 
