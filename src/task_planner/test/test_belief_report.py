@@ -2,8 +2,8 @@
 import pytest
 from planner_factories import make_instruction
 
-from task_planner.belief_report import (belief_accuracy, belief_markdown, people_accuracy,
-                                        place_at, read_searches)
+from task_planner.belief_report import (belief_accuracy, belief_markdown, history_sources,
+                                        people_accuracy, place_at, read_searches)
 from task_planner.executor_commands import Search
 from task_planner.instruction import ROBOT
 from task_planner.scenario_report import read_journal
@@ -51,3 +51,17 @@ def test_section_lists_searches_meetings_and_own_instructions(tmp_path, line_gra
     assert "- Frank at 20.0 s (dialogue 14.5 s)" in text
     assert "own instructions: 1 (1 served)" in text
     assert f"| 100000 | remind Bob: time to eat |  | done | {0.9 ** 7:.3f} |" in text
+
+
+def test_history_rows_are_counted_by_source(tmp_path):
+    import sqlite3
+    path = tmp_path / "humans.sqlite"
+    with sqlite3.connect(path) as db:
+        db.execute("CREATE TABLE history (human_id, time, location, activity, source)")
+        db.executemany("INSERT INTO history VALUES (1, 0, 'a', 'b', ?)",
+                       [("perception",), ("register",), ("perception",)])
+    sources = history_sources(path)
+    assert sources == {"perception": 2, "register": 1}
+    record = dict(sim_s=1.0, truth={}, belief={})
+    text = "\n".join(belief_markdown(record, [], [], 0.0, sources))
+    assert "nothing came from the scenario): perception 2, register 1." in text

@@ -53,8 +53,17 @@ def read_searches(journal_path):
         return journalled_searches(db)
 
 
-def belief_markdown(record, entries, searches, t0):
-    """The report's section on what the robot knew of the people."""
+def history_sources(humans_path):
+    """{source: rows} of a human database's history, read without changing the file."""
+    uri = f"file:{Path(humans_path).resolve()}?mode=ro"
+    with sqlite3.connect(uri, uri=True) as db:
+        return dict(db.execute("SELECT source, COUNT(*) FROM history GROUP BY source "
+                               "ORDER BY source").fetchall())
+
+
+def belief_markdown(record, entries, searches, t0, sources=None):
+    """The report's section on what the robot knew of the people; `sources`: history_sources
+    of the run's human database."""
     accuracy = people_accuracy(record)
     mean = sum(accuracy.values()) / len(accuracy) if accuracy else 0.0
     lines = ["## What the robot knew of the people", "",
@@ -64,6 +73,10 @@ def belief_markdown(record, entries, searches, t0):
              f"0.5 s, an unknown place counts as wrong). Mean **{mean:.2f}**.", "",
              "| person | belief accuracy |", "|---|---|"]
     lines += [f"| {name} | {value:.2f} |" for name, value in accuracy.items()]
+    if sources:
+        lines += ["", "human_db's history rows by who wrote them (perception and registration "
+                  "only: nothing came from the scenario): "
+                  + ", ".join(f"{source} {count}" for source, count in sources.items()) + "."]
     lines += ["", "Searches (a person not where the robot believed them):", ""]
     if searches:
         lines += ["| instruction | person | began [s] | took [s] | places looked at | outcome |",

@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from task_planner.baselines import PlannerTooLarge
-from task_planner.belief_report import belief_markdown, people_accuracy, read_searches
+from task_planner.belief_report import (belief_markdown, history_sources, people_accuracy,
+                                        read_searches)
 from task_planner.exact import SolverTimeout, exact_optimum
 from task_planner.instruction import HUMAN, Instruction
 from task_planner.metrics import reward_curve
@@ -277,7 +278,7 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
 
 
 def write_report(record_path, journal_path, graph, settings, map_path, graph_path, out_dir,
-                 exact_time_limit_s=60.0):
+                 exact_time_limit_s=60.0, humans_path=None):
     """Write REPORT.md, rewards.png and trajectory.png into `out_dir`; returns the summary."""
     record = load_record(record_path)
     entries = read_journal(journal_path)
@@ -294,9 +295,10 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
                     f"Robot trajectory, scenario {record['scenario']}")
     problems = check_order(entries)
     searches = read_searches(journal_path)
+    sources = history_sources(humans_path) if humans_path else {}
     (out_dir / "REPORT.md").write_text(
         report_markdown(record, entries, figures, run, problems, files,
-                        belief_markdown(record, entries, searches, t0)))
+                        belief_markdown(record, entries, searches, t0, sources)))
     return dict(summary(entries), order_problems=problems,
                 model={f.name: f.reward for f in figures}, belief=people_accuracy(record),
-                searches=len(searches))
+                searches=len(searches), sources=sources)
