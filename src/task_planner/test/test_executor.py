@@ -257,3 +257,15 @@ def test_dynamic_fcfs_matches_the_offline_simulation_and_planners_beat_it(tmp_pa
     assert earned["fcfs"] == pytest.approx(schedule_reward(
         problem, run_planner(problem, FirstComeFirstServe())))
     assert earned["rollout"] > earned["fcfs"] and earned["seed"] > earned["fcfs"]
+
+
+def test_successor_whose_predecessor_never_arrives_fails_and_is_said(line_graph, tmp_path):
+    report = make_instruction(2, A, gamma=5.0, beta=0.9, duration=1, function=7, previous_id=1)
+    executor = make_executor(line_graph, PriorityFirst(), tmp_path)
+    assert executor.receive([report], now=0.0)[1] == []   # waits for 1, nothing to do
+    assert executor.tick(299.0) == [] and executor.buffer.get(2).state == PENDING
+    assert executor.tick(300.0) == [Say("Sorry, I could not complete request 2.")]
+    assert executor.buffer.get(2).reason == "predecessor 1 never arrived (300 s after " \
+                                            "instruction 2)"
+    assert executor.log[-1] == (300.0, "failed 2: predecessor 1 never arrived (300 s after "
+                                       "instruction 2)")

@@ -195,3 +195,61 @@ def test_robot_state_values_survive_reopening(journal):
     buffer.store_robot_value("battery_level_wh", 600.25)
     buffer.close()
     assert TaskBuffer(journal).robot_value("battery_level_wh") == 600.25
+
+
+HOUSEHOLD_PLACES = ("charging_place", "alley", "living_room", "welcome", "dining_room", "office",
+                    "bedroom")  # maps/household.graph.yaml, index = node id
+
+
+def test_start_time_in_the_future_beyond_the_tolerance_is_refused(journal):
+    buffer = TaskBuffer(journal)  # tolerance 5 s
+    assert buffer.config.future_tolerance_s == 5.0
+    assert buffer.submit(make_instruction(1, 0, start_time=105.0), now=100.0).state == PENDING
+    with pytest.raises(TaskBufferError, match=r"instruction 2: start_time 105\.500 s is 5\.500 s "
+                                              r"in the future \(received at 100\.000 s; "
+                                              r"tolerance 5 s\)"):
+        buffer.submit(make_instruction(2, 0, start_time=105.5), now=100.0)
+    # issue 35: far in the future, the reward would never decay
+    results = buffer.submit_many([make_instruction(3, 0, start_time=4.0e9),
+                                  make_instruction(4, 0, start_time=99.0)], now=100.0)
+    assert results[0][0] is None and "instruction 3: start_time 4000000000.000 s is " \
+        "3999999900.000 s in the future" in results[0][1]
+    assert results[1][0].state == PENDING and results[1][1] == ""
+    assert [r.instruction.id for r in buffer.records()] == [1, 4]
+
+
+def test_destination_name_of_another_node_is_refused(journal):
+    buffer = TaskBuffer(journal, BufferConfig(node_count=7, place_names=HOUSEHOLD_PLACES))
+    buffer.submit(make_instruction(1, 5, destination_name="office"), now=0.0)
+    buffer.submit(make_instruction(2, 5), now=0.0)  # no name: nothing to contradict
+    with pytest.raises(TaskBufferError, match="instruction 3: destination_name 'bedroom' names "
+                                              "node 6, not destination node 5"):
+        buffer.submit(make_instruction(3, 5, destination_name="bedroom"), now=0.0)
+    with pytest.raises(TaskBufferError, match="instruction 4: destination_name 'kitchen' names "
+                                              "no node of the graph, not destination node 5"):
+        buffer.submit(make_instruction(4, 5, destination_name="kitchen"), now=0.0)
+    assert [r.instruction.id for r in buffer.records()] == [1, 2]
+
+
+def test_successor_whose_predecessor_never_arrives_fails_naming_it(journal):
+    buffer = TaskBuffer(journal)  # waits 300 s
+    buffer.submit(make_instruction(4, 1, previous_id=99), now=10.0)
+    buffer.submit(make_instruction(5, 1, previous_id=4), now=20.0)
+    buffer.submit(make_instruction(7, 1, previous_id=6), now=10.0)
+    buffer.submit(make_instruction(6, 2), now=200.0)  # 7's predecessor arrives in time
+    assert buffer.fail_missing_predecessors(now=309.9) == []
+    failed = buffer.fail_missing_predecessors(now=310.0)
+    assert [r.instruction.id for r in failed] == [4]
+    assert failed[0].state == FAILED and failed[0].completion_time == 310.0
+    assert failed[0].reason == "predecessor 99 never arrived (300 s after instruction 4)"
+    assert buffer.get(5).state == FAILED and buffer.get(5).reason == "predecessor 4 failed"
+    assert buffer.get(7).state == PENDING and buffer.fail_missing_predecessors(now=1e4) == []
+
+
+def test_wait_for_a_missing_predecessor_survives_a_restart(journal):
+    TaskBuffer(journal, BufferConfig(predecessor_wait_s=60.0)).submit(
+        make_instruction(2, 0, previous_id=1), now=0.0)
+    again = TaskBuffer(journal, BufferConfig(predecessor_wait_s=60.0))
+    assert again.fail_missing_predecessors(now=59.0) == []
+    assert again.fail_missing_predecessors(now=60.0)[0].reason == \
+        "predecessor 1 never arrived (60 s after instruction 2)"

@@ -20,6 +20,8 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   instruction where they are found; it fails when no place is left ("<name> not found");
 - a navigation abort may be a person in the way: with `pass_wait_s` the robot asks to pass,
   waits, and only then retries;
+- a successor whose predecessor has not arrived `predecessor_wait_s` (task buffer) after it
+  fails with a reason naming the predecessor, and the robot says it could not complete it;
 - with `patrol` on, an idle robot looks at the stalest, most likely occupied place
   (`people_belief.patrol_target`) and drops the patrol as soon as an instruction arrives.
 """
@@ -145,7 +147,7 @@ class Executor(FindingPeople):
 
     def tick(self, now):
         """Periodic step: finish an execution whose time is up, or decide when idle."""
-        commands = self._check_battery(now)
+        commands = self._check_battery(now) + self._give_up_waiting(now)
         if self.mode == EXECUTING and now >= self.executing[1]:
             instruction_id = self.executing[0]
             record = self.buffer.finish(instruction_id, now)
@@ -167,6 +169,14 @@ class Executor(FindingPeople):
             commands.append(Navigate(self.goal, self.goal_for))
         if self.mode == IDLE:
             return commands + self._decide(now)
+        return commands
+
+    def _give_up_waiting(self, now):
+        """Fail successors whose predecessor never arrived (BufferConfig.predecessor_wait_s)."""
+        commands = []
+        for record in self.buffer.fail_missing_predecessors(now):
+            self.log.append((now, f"failed {record.instruction.id}: {record.reason}"))
+            commands.append(Say(f"Sorry, I could not complete request {record.instruction.id}."))
         return commands
 
     def _drain(self, now):

@@ -96,7 +96,8 @@ class ExecutorNode:
         settings = yaml.safe_load(Path(params.settings).read_text())
         self.graph = load_graph(params.graph, float(settings["robot_radius_m"]))
         Path(params.journal).parent.mkdir(parents=True, exist_ok=True)
-        buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size))
+        buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size,
+                                                         place_names=tuple(self.graph.names)))
         self.people = PeopleAtPlaces()
         self.executor_functions = load_robot_functions(params.robot_functions)
         self.executor = Executor(

@@ -13,8 +13,15 @@ passed in by the caller (ROS time in the node, simulated time in tests) [s].
 
 Chains (Table 4-1 `previous_id`): a successor is eligible once its predecessor is DONE. The buffer
 keeps every instruction it ever journalled, so a predecessor it does not hold has not arrived yet
-(a chain's messages may arrive in any order): the successor waits for it. When a predecessor fails
-or is cancelled its open successors fail too, with a reason naming it. `version` counts changes.
+(a chain's messages may arrive in any order): the successor waits for it, at most
+`predecessor_wait_s` after it was received; then `fail_missing_predecessors` fails it with a reason
+naming the missing predecessor. When a predecessor fails or is cancelled its open successors fail
+too, with a reason naming it. `version` counts changes.
+
+At the door `submit` refuses (TaskBufferError naming the instruction) besides a reused id and a
+chain cycle: a destination outside the graph, a destination_name that names another node than
+`destination` (with `place_names`), and a start_time more than `future_tolerance_s` after `now`.
+The instruction's own fields are checked by Instruction (finite numbers, bounds).
 """
 import sqlite3
 from dataclasses import dataclass, fields
@@ -45,6 +52,12 @@ class BufferConfig:
 
     synchronous: str = "FULL"  # SQLite PRAGMA synchronous: FULL survives power loss in WAL mode
     node_count: int = 0        # graph size for destination checks; 0 = do not check
+    place_names: tuple = ()    # graph place names, index = node id, for destination_name
+                               # checks; () = do not check
+    future_tolerance_s: float = 5.0    # a start_time this far after the receiving clock is
+                                       # still accepted (clocks of two machines) [s]
+    predecessor_wait_s: float = 300.0  # a successor whose predecessor has not arrived this long
+                                       # after it was received fails [s]
 
 
 @dataclass(frozen=True)
@@ -91,6 +104,8 @@ class TaskBuffer:
         self._open = {i: r for i, r in self._records.items() if r.is_open}   # in seq order
         self._done = {i for i, r in self._records.items() if r.state == DONE}
         self._next_seq = max((r.seq for r in self._records.values()), default=0) + 1
+        # open successors whose predecessor had not arrived when last looked at (id -> record)
+        self._awaiting = {i: r for i, r in self._open.items() if self._missing_predecessor(r)}
         self.version = 0  # incremented by every change (for publishing snapshots on change)
 
     def close(self):
@@ -102,8 +117,9 @@ class TaskBuffer:
         """Journal `instruction` (committed on return); returns its Record.
 
         Re-submitting an identical instruction returns the stored record unchanged. Raises
-        TaskBufferError for an id reused with other content, an unknown destination, or a
-        `previous_id` chain that would form a cycle.
+        TaskBufferError for an id reused with other content, an unknown destination, a
+        destination_name of another node, a start_time in the future (beyond
+        `future_tolerance_s` of `now` [s]), or a `previous_id` chain that would form a cycle.
         """
         with self._db:
             self._db.execute("BEGIN")
@@ -131,7 +147,7 @@ class TaskBuffer:
                 return known
             raise TaskBufferError(f"instruction {instruction.id}: id already used by a different "
                                   f"instruction ({STATE_NAMES[known.state]})")
-        self._check(instruction)
+        self._check(instruction, now)
         record = Record(instruction, PENDING, float(now), 0.0, 0.0, 0.0, "", self._next_seq)
         predecessor = self._records.get(instruction.previous_id)
         if predecessor is not None and predecessor.state in (FAILED, CANCELLED):
@@ -140,16 +156,31 @@ class TaskBuffer:
         self._db.execute("INSERT INTO instructions VALUES (" + ",".join("?" * 21) + ")",
                          _row(record))
         self._index(record)
+        if record.is_open and self._missing_predecessor(record):
+            self._awaiting[instruction.id] = record
         self._next_seq += 1
         self.version += 1
         return record
 
-    def _check(self, instruction):
+    def _check(self, instruction, now):
         nodes = self.config.node_count
         if nodes and not 0 <= instruction.destination < nodes:
             raise TaskBufferError(f"instruction {instruction.id}: destination node "
                                   f"{instruction.destination} is not in the graph "
                                   f"(nodes 0..{nodes - 1})")
+        names, name = self.config.place_names, instruction.destination_name
+        if name and names and (not 0 <= instruction.destination < len(names)
+                               or names[instruction.destination] != name):
+            where = (f"node {names.index(name)}" if name in names else "no node of the graph")
+            raise TaskBufferError(f"instruction {instruction.id}: destination_name {name!r} "
+                                  f"names {where}, not destination node "
+                                  f"{instruction.destination}")
+        ahead = instruction.start_time - now
+        if ahead > self.config.future_tolerance_s:
+            raise TaskBufferError(f"instruction {instruction.id}: start_time "
+                                  f"{instruction.start_time:.3f} s is {ahead:.3f} s in the future "
+                                  f"(received at {now:.3f} s; tolerance "
+                                  f"{self.config.future_tolerance_s:g} s)")
         chain, current = [instruction.id], instruction.previous_id
         while current in self._records:
             if current in chain:  # only reachable through a corrupt journal
@@ -260,6 +291,26 @@ class TaskBuffer:
                 self._store(_close(successor, FAILED, now, f"predecessor {parent} "
                                                            f"{STATE_NAMES[self.get(parent).state]}"))
         return closed
+
+    def fail_missing_predecessors(self, now):
+        """Fail each open successor still waiting for a predecessor that has not arrived
+        `predecessor_wait_s` after the successor was received; returns the failed records."""
+        failed = []
+        for instruction_id in list(self._awaiting):
+            record = self._records[instruction_id]
+            if not record.is_open or not self._missing_predecessor(record):
+                del self._awaiting[instruction_id]
+            elif now - record.received_time >= self.config.predecessor_wait_s:
+                del self._awaiting[instruction_id]
+                failed.append(self.fail(
+                    instruction_id, now, f"predecessor {record.instruction.previous_id} never "
+                    f"arrived ({self.config.predecessor_wait_s:g} s after instruction "
+                    f"{instruction_id})"))
+        return failed
+
+    def _missing_predecessor(self, record):
+        previous = record.instruction.previous_id
+        return previous != 0 and previous not in self._records
 
     def _open_successors(self, instruction_id):
         """[(open successor, its predecessor id)], breadth first down the chains."""
