@@ -3,6 +3,7 @@ import pytest
 from human_factories import make_human
 
 from human_db.errors import InvalidColour, InvalidHuman
+from human_db.model import check_observation_time
 
 
 def test_a_valid_human_is_normalised():
@@ -27,3 +28,15 @@ def test_a_valid_human_is_normalised():
 def test_bad_fields_are_refused_naming_the_field(fields, error, needle):
     with pytest.raises(error, match=needle):
         make_human(**fields)
+
+
+def test_an_observation_stamped_in_the_future_beyond_the_tolerance_is_refused():
+    assert check_observation_time(105.0, now=100.0, tolerance_s=5.0, name="Alice") == 105.0
+    assert check_observation_time(3.0, now=100.0, tolerance_s=5.0, name="Alice") == 3.0
+    # issue 35: an update stamped 4e9 pinned the person's location for good
+    with pytest.raises(InvalidHuman, match=r"update of 'Alice': stamp 4000000000\.000 s is "
+                                           r"3999999900\.000 s after the present 100\.000 s "
+                                           r"\(tolerance 5 s\)"):
+        check_observation_time(4.0e9, now=100.0, tolerance_s=5.0, name="Alice")
+    with pytest.raises(InvalidHuman, match="stamp 105.010 s is 5.010 s after the present"):
+        check_observation_time(105.01, now=100.0, tolerance_s=5.0, name="Alice")

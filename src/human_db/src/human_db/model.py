@@ -106,3 +106,15 @@ def check_schedules(entries, where="schedules"):
             if entry.overlaps(other):
                 raise InvalidHuman(f"{where}: schedule entries {entry} and {other} overlap")
     return entries
+
+
+def check_observation_time(stamp, now, tolerance_s, name):
+    """Return `stamp` [s]; raise InvalidHuman when it lies more than `tolerance_s` after `now`.
+
+    The store keeps the newest observation as a person's current state, so one stamped far ahead
+    (4e9 s) would hold their location until the clock caught up; only the caller knows `now`.
+    """
+    if stamp - now > tolerance_s:
+        raise InvalidHuman(f"update of {name!r}: stamp {stamp:.3f} s is {stamp - now:.3f} s after "
+                           f"the present {now:.3f} s (tolerance {tolerance_s:g} s)")
+    return stamp

@@ -18,6 +18,7 @@ from human_db.conversions import (colours_from_msg, human_from_msg, human_to_msg
                                   schedule_from_msg)
 from human_db.errors import HumanDbError, InvalidHuman, StoreBusy
 from human_db.household import import_household
+from human_db.model import check_observation_time
 from human_db.store import HumanStore, StoreConfig
 
 
@@ -31,6 +32,8 @@ class NodeParams:
     busy_timeout: float = 5.0       # [s] SQLite busy timeout per statement
     retry_timeout: float = 30.0     # [s] total retry budget of one operation
     synchronous: str = "FULL"       # SQLite synchronous level
+    future_tolerance: float = 5.0   # [s] an update stamped further after the node's clock is
+                                    # refused (it would pin the person's current state)
 
 
 def read_params():
@@ -45,7 +48,9 @@ def read_params():
                                                  NodeParams.diagnostics_period)),
         busy_timeout=float(rospy.get_param("~busy_timeout", NodeParams.busy_timeout)),
         retry_timeout=float(rospy.get_param("~retry_timeout", NodeParams.retry_timeout)),
-        synchronous=str(rospy.get_param("~synchronous", NodeParams.synchronous)))
+        synchronous=str(rospy.get_param("~synchronous", NodeParams.synchronous)),
+        future_tolerance=float(rospy.get_param("~future_tolerance",
+                                               NodeParams.future_tolerance)))
 
 
 class HumanDbNode:
@@ -152,7 +157,10 @@ class HumanDbNode:
             colours = colours_from_msg(request.shirt_color) if request.set_shirt_color else None
             schedules = ([schedule_from_msg(s) for s in request.schedules]
                          if request.set_schedules else None)
-            now = rospy.get_time() if request.stamp.is_zero() else request.stamp.to_sec()
+            present = rospy.get_time()
+            now = check_observation_time(
+                present if request.stamp.is_zero() else request.stamp.to_sec(), present,
+                self.params.future_tolerance, request.name)
             self._timed_write(lambda: self.store.update(
                 request.name, now=now, location=request.location, activity=request.activity,
                 source=request.source, shirt_colour=colours, schedules=schedules))
