@@ -165,15 +165,27 @@ def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
     assert executor._where(chat) == C
 
 
-def test_look_dwells_on_the_last_heading_before_it_gives_up(graph, tmp_path):
+def test_look_dwells_on_each_heading_before_it_turns_on(graph, tmp_path):
     people = PeopleAtPlaces()
-    executor = executor_for(graph, tmp_path, people, start=B, look_headings=1, look_dwell_s=2.0)
+    executor = executor_for(graph, tmp_path, people, start=B, look_headings=2, look_dwell_s=2.0)
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
-    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1, yaw=math.pi)]
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1, yaw=2 * math.pi / 3)]
     assert executor.arrived(1.0) == [Wait(3.0)]
     assert executor.tick(2.9) == [] and executor.mode == "looking"
-    people.seen("Bob", B, stamp=2.95)          # perception catches up while it dwells
-    assert executor.tick(3.0)[:2] == [StopMotion(), Execute(1, "check_status", 4.0)]
+    assert executor.tick(3.0) == [Navigate(B, 1, yaw=4 * math.pi / 3)]
+    assert executor.arrived(4.0) == [Wait(6.0)]
+    people.seen("Bob", B, stamp=5.5)          # perception catches up while it dwells
+    assert executor.tick(5.6)[:2] == [StopMotion(), Execute(1, "check_status", 4.0)]
+
+
+def test_a_look_that_sees_nobody_ends_after_the_last_dwell(graph, tmp_path):
+    executor = executor_for(graph, tmp_path, PeopleAtPlaces(), start=B, look_headings=1,
+                            look_dwell_s=2.0)
+    visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
+    executor.receive([visit], 0.0)
+    assert executor.arrived(1.0) == [Wait(3.0)]
+    assert executor.tick(3.0) == [Navigate(A, 1)]       # on to the next place of the search
+    assert executor.searched[1] == [B] and executor.looked_s[B] == 3.0
 
 
 def test_a_persons_request_interrupts_the_robots_own_instruction(graph, tmp_path):

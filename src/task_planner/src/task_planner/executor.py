@@ -52,7 +52,7 @@ class ExecutorConfig:
     battery_save_wh: float = 0.5  # journal the battery level when it moved this much [Wh]
     verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
     look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
-    look_dwell_s: float = 0.0     # stay on the last heading this long, perception catching up [s]
+    look_dwell_s: float = 0.0     # stay on each heading this long, perception catching up [s]
     fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
     search_all_places: bool = False  # search every place, not only the last known ones
     follow_belief: bool = False   # serve a person where the robot believes them (else: where
@@ -163,7 +163,7 @@ class Executor(FindingPeople):
         if self.mode == LOOKING:
             commands += self._look_found(now)
         if self.mode == LOOKING and self.looking[3] is not None and now >= self.looking[3]:
-            commands += self._end_look(now)
+            commands += self._look_step(now)
         if self.mode == MOVING and self.retry_at is not None and now >= self.retry_at:
             self.retry_at = None
             commands.append(Navigate(self.goal, self.goal_for))

@@ -92,7 +92,8 @@ class FindingPeople:
             found, tuple(names + [self.graph.names[self.node]] if found else names)))
 
     def _start_look(self, instruction_id, now):
-        """Turn through `look_headings` headings on this node, perception watching meanwhile."""
+        """Turn through `look_headings` headings on this node (evenly spaced after the one the
+        robot arrived with), perception watching meanwhile."""
         count = max(1, self.config.look_headings)
         yaw = float(self.graph.poses[self.node][2])
         headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
@@ -103,14 +104,16 @@ class FindingPeople:
         return [Navigate(self.node, instruction_id, yaw=headings[0])]
 
     def _look_step(self, now):
-        """A heading of the look was reached: turn to the next one, dwell, or end the look."""
+        """A heading of the look was reached: dwell on it while perception catches up (the
+        camera sees little while turning), then turn to the next one or end the look."""
+        if self.config.look_dwell_s > 0 and self.looking[3] is None:
+            self.looking[3] = now + self.config.look_dwell_s
+            return [Wait(self.looking[3])]
+        self.looking[3] = None
         instruction_id, headings = self.looking[:2]
         if headings:
             self.looking[1] = headings[1:]
             return [Navigate(self.node, instruction_id, yaw=headings[0])]
-        if self.config.look_dwell_s > 0 and self.looking[3] is None:
-            self.looking[3] = now + self.config.look_dwell_s
-            return [Wait(self.looking[3])]
         return self._end_look(now)
 
     def _end_look(self, now):

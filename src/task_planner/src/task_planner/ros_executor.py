@@ -62,8 +62,9 @@ class NodeParams:
     priorities: str = str(ROOT / "config/priorities.yaml")  # Table 5-5 (self_generated row)
     latency_warn_ms: float = 10.0  # diagnostics WARN when the median decision takes longer [ms]
     verify_wait: float = 2.0       # without look_headings: stand and look this long [s]
-    look_headings: int = 3         # turns in place to look around a place for a person
-    look_dwell: float = 1.5        # stay on the last heading this long before moving on [s]
+    look_headings: int = 6         # turns in place to look around a place: 6 steps of 51°, each
+                                   # within the camera's 57° field of view
+    look_dwell: float = 0.6        # stay on each heading this long (3 camera frames) [s]
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
     search_all_places: bool = True  # search every place (else only the last known ones)
     follow_belief: bool = True     # serve people where perception last saw them (or their
