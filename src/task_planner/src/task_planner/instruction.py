@@ -41,6 +41,19 @@ class Instruction:
     text: str = ""             # originating utterance or observation (at most TEXT_MAX_CHARS)
 
     def __post_init__(self):
+        # one expression first: an instruction is built for every planner decision, and the
+        # rules below are only read to name the broken one (range checks exclude inf and NaN)
+        if (self.id > 0 and 0 <= self.previous_id != self.id and 0 < self.gamma <= GAMMA_MAX
+                and BETA_MIN <= self.beta < 1 and self.type in (HUMAN, ROBOT)
+                and 0 <= self.duration <= DURATION_MAX_S and 0 <= self.start_time < math.inf
+                and len(self.text) <= TEXT_MAX_CHARS and len(self.source) <= NAME_MAX_CHARS
+                and len(self.target) <= NAME_MAX_CHARS
+                and len(self.destination_name) <= NAME_MAX_CHARS):
+            return
+        self._refuse()
+
+    def _refuse(self):
+        """Raise InvalidInstruction naming the first broken rule and the offending value."""
         checks = (
             (self.id > 0, "id", "id must be > 0"),
             (self.previous_id >= 0, "previous_id", "previous_id must be >= 0 (0 = none)"),
@@ -63,6 +76,7 @@ class Instruction:
             if not ok:
                 raise InvalidInstruction(f"instruction {self.id}: {rule}; got {name} = "
                                          f"{_shown(getattr(self, name))}")
+        raise InvalidInstruction(f"instruction {self.id}: breaks a rule of Table 4-1")
 
 
 def _shown(value):
