@@ -2,7 +2,7 @@
 # Screenshot of rviz (config/rviz/social_household.rviz) watching the running household_day
 # scenario, headless under Xvfb: docs/demo/rviz_scenario.png.
 #   bash docs/demo/record_rviz.sh [SIM_SECONDS]   (default 30: not before this simulated time,
-#   and not before rviz has been up for 15 s)
+#   and not before rviz has been up for 15 s). utc_offset is the scenario's day_start (18:28).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$ROOT"
@@ -25,6 +25,7 @@ trap cleanup EXIT
 DISPLAY="$display" LIBGL_ALWAYS_SOFTWARE=1 roslaunch -p "$port" launch/social_household.launch \
   rviz:=true speed:=2 run_dir:="$run_dir" world:="$ROOT/config/worlds/household_day.yaml" \
   scenario:="$ROOT/config/scenarios/household_day.yaml" record:="$run_dir/record.json" \
+  utc_offset:=66480 \
   >"$run_dir/launch.log" 2>&1 &
 launch_pid=$!
 shot_at="$(python3 - "$at" <<'PY'
