@@ -44,7 +44,7 @@ def test_the_demo_scenario(tmp_path):
         (90.0, "Frank", False, True), (130.0, "Carol", False, False), (160.0, "Bob", False, False),
         (200.0, "David", False, False)]
     assert scenario.day_start_s == 18 * 3600 + 28 * 60 and scenario.timeout_s == 900.0
-    # Frank stands at (5.9, 1.7): the welcome hall; his requests come from his phone
+    # Frank stands at (5.8, 3.3): the welcome hall; his requests come from his phone
     (frank,) = scenario.visitors
     assert (frank.name, frank.gender, frank.age, frank.ip, frank.place) == (
         "Frank", "male", 72, "192.168.1.150", "welcome")
