@@ -44,17 +44,17 @@ def test_the_demo_scenario(tmp_path):
         (90.0, "Frank", False, True), (130.0, "Carol", False, False), (160.0, "Bob", False, False),
         (200.0, "David", False, False)]
     assert scenario.day_start_s == 18 * 3600 + 28 * 60 and scenario.timeout_s == 900.0
-    # Frank stands at (5.8, 3.3): the welcome hall; his requests come from his phone
+    # Frank stands at (2.9, 0.7): the living room; his requests come from his phone
     (frank,) = scenario.visitors
     assert (frank.name, frank.gender, frank.age, frank.ip, frank.place) == (
-        "Frank", "male", 72, "192.168.1.150", "welcome")
+        "Frank", "male", 72, "192.168.1.150", "living_room")
     assert scenario.requests[3].ip == "192.168.1.150"
     assert scenario.requests[0].ip == "192.168.1.102"  # Bob's phone, config/household.yaml
     # world poses: Alice (0.85, 10.3) office, Bob (1.2, 1.35) and Carol (2.6, 2.9) living room,
     # David (5.0, 7.6) bedroom
     assert scenario.initial == {"Alice": ("office", "work"), "Bob": ("living_room", "watch TV"),
                                 "Carol": ("living_room", "read"),
-                                "David": ("bedroom", "read"), "Frank": ("welcome", "standing")}
+                                "David": ("bedroom", "read"), "Frank": ("living_room", "standing")}
     # moves: Carol to (0.5, 5.8) at 105 s, Bob to (1.4, 4.95) at 120 s, Alice to (5.95, 10.9)
     # at 210 s
     assert [(m.time_s, m.person, m.place) for m in scenario.moves] == [
