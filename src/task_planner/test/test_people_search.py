@@ -188,27 +188,28 @@ def test_a_look_that_sees_nobody_ends_after_the_last_dwell(graph, tmp_path):
     assert executor.searched[1] == [B] and executor.looked_s[B] == 3.0
 
 
-def test_a_persons_request_interrupts_the_robots_own_instruction(graph, tmp_path):
+def own_then_chat(graph, tmp_path, function, name, duration):
+    """The robot starts an instruction of its own at A; at 10 s Bob asks for a chat at B.
+    Returns the executor and the commands of the chat's arrival."""
     executor = executor_for(graph, tmp_path, PeopleAtPlaces(), planner=PriorityFirst,
                             own_yields=True)
-    music = make_instruction(100000, A, gamma=1.0, beta=0.9, duration=120, function=6,
-                             type=ROBOT)
-    assert executor.receive([music], 0.0)[1][0] == Execute(100000, "play_music", 120.0)
+    own = make_instruction(100000, A, gamma=1.0, beta=0.9, duration=duration, function=function,
+                           type=ROBOT)
+    assert executor.receive([own], 0.0)[1][0] == Execute(100000, name, float(duration))
     chat = make_instruction(1, B, gamma=5.0, beta=0.9, duration=60, function=1, start_time=10.0)
-    commands = executor.receive([chat], 10.0)[1]
+    return executor, executor.receive([chat], 10.0)[1]
+
+
+def test_a_persons_request_interrupts_the_robots_own_instruction(graph, tmp_path):
+    executor, commands = own_then_chat(graph, tmp_path, 6, "play_music", 120)
     assert commands[:2] == [StopMotion(), Say("Excuse me, I am needed elsewhere. I will be back.")]
     assert commands[2] == Navigate(B, 1)
     assert executor.buffer.get(100000).state == PENDING     # served later
 
 
-def test_introductions_and_charging_are_not_interrupted(graph, tmp_path):
-    executor = executor_for(graph, tmp_path, PeopleAtPlaces(), planner=PriorityFirst,
-                            own_yields=True)
-    meet = make_instruction(200000, A, gamma=1.0, beta=0.9, duration=60, function=9,
-                            type=ROBOT)
-    assert executor.receive([meet], 0.0)[1][0] == Execute(200000, "introduce", 60.0)
-    chat = make_instruction(1, B, gamma=5.0, beta=0.9, duration=60, function=1, start_time=10.0)
-    assert executor.receive([chat], 10.0)[1] == [] and executor.mode == "executing"
+def test_introductions_are_not_interrupted(graph, tmp_path):
+    executor, commands = own_then_chat(graph, tmp_path, 9, "introduce", 60)
+    assert commands == [] and executor.mode == "executing"
 
 
 def test_an_interrupted_own_instruction_waits_until_people_are_served(graph, tmp_path):
