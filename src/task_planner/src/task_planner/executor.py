@@ -339,8 +339,7 @@ class Executor(FindingPeople):
         pending = [r for r in self.buffer.open_records() if r.state == PENDING]
         if not any(r.instruction.type == HUMAN for r in pending):
             self._deferred.clear()
-        instructions = tuple(replace(r.instruction, destination=self._where(r.instruction))
-                             for r in pending)
+        instructions = tuple(self._served_where(r.instruction) for r in pending)
         if instructions != self._problem_key:
             self._problem = Problem(self.graph, instructions, self.config.speed_mps, self.node)
             self._problem_key = instructions
@@ -351,6 +350,13 @@ class Executor(FindingPeople):
                                   or r.instruction.previous_id in done)
                               and r.instruction.id not in self._deferred], dtype=int)
         return self._problem, available
+
+    def _served_where(self, instruction):
+        """The instruction with the destination it is served at (copied only when that differs:
+        a flood of instructions is decoded at every decision)."""
+        where = self._where(instruction)
+        return instruction if where == instruction.destination else \
+            replace(instruction, destination=where)
 
     def _ask_planner(self, problem, node, now, available):
         """(instruction index, next node), next node None when the decision is to serve here."""
