@@ -223,3 +223,12 @@ def test_an_interrupted_own_instruction_waits_until_people_are_served(graph, tmp
     assert executor.arrived(12.0)[0] == Execute(1, "chat", 60.0)
     executor.tick(72.0)                        # the chat is done: the music comes back
     assert executor.goal == A and executor.goal_for == 100000
+
+
+def test_the_table_gives_sightings_and_the_schedules_predictions():
+    people = PeopleAtPlaces()
+    schedules = {"Bob": [(18.5 * 3600, 19 * 3600, C)], "Zoe": []}
+    people.take_table({"Bob": (B, 10.0)}, schedules, 18 * 3600)
+    assert people.now == {"Bob": B} and people.predicted == {"Bob": None, "Zoe": None}
+    people.predict(schedules, 18.6 * 3600)
+    assert people.predicted["Bob"] == C

@@ -1,4 +1,5 @@
-"""tamp_msgs/Instruction <-> Instruction; task buffer -> InstructionState, TaskBufferState."""
+"""tamp_msgs/Instruction <-> Instruction; task buffer -> InstructionState, TaskBufferState;
+tamp_msgs/HumanArray -> the sightings and schedules of people_belief."""
 from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.msg import InstructionState as InstructionStateMsg
 from tamp_msgs.msg import TaskBufferState as TaskBufferStateMsg
@@ -13,6 +14,18 @@ def instruction_to_msg(instruction):
     msg = InstructionMsg(**{name: getattr(instruction, name) for name in _FIELDS})
     msg.type = bool(instruction.type)
     return msg
+
+
+def people_from_msg(msg, names):
+    """human_db's table -> ({name: (node or None, last seen [s]) for people ever seen},
+    {name: [(start, end, node or None)] schedules}); `names`: the graph's place names."""
+    def node_of(place):
+        return names.index(place) if place in names else None
+    sightings = {h.name: (node_of(h.location), h.last_seen.to_sec()) for h in msg.humans
+                 if not h.last_seen.is_zero()}   # never seen: nobody knows where they are
+    schedules = {h.name: [(e.start, e.end, node_of(e.place)) for e in h.schedules]
+                 for h in msg.humans}
+    return sightings, schedules
 
 
 def instruction_from_msg(msg):

@@ -44,6 +44,18 @@ class PeopleAtPlaces:
             self.seen_s[name] = stamp
         self._move(name, node)
 
+    def take_table(self, sightings, schedules, day_s):
+        """human_db's table (conversions.people_from_msg): each sighting, and the places the
+        schedules predict at time of day `day_s` [s since midnight]."""
+        for name, (node, stamp) in sightings.items():
+            self.seen(name, node, stamp)
+        self.predict(schedules, day_s)
+
+    def predict(self, schedules, day_s):
+        """Where each person's schedule puts them at time of day `day_s` [s since midnight]."""
+        for name, entries in schedules.items():
+            self.predicted[name] = scheduled_place(entries, day_s)
+
     def missed(self, name, node):
         """A look at `node` did not find `name`: they are no longer believed there."""
         if self.now.get(name) == node:
@@ -66,12 +78,13 @@ def scheduled_place(entries, seconds_since_midnight):
     """The place of the schedule entry covering the time of day, or None.
 
     entries: (start, end, place) [s since midnight]; an entry whose end is before its start runs
-    past midnight (as human_db's schedules).
+    past midnight (as human_db's schedules). A place may be a name or a graph node; None and ""
+    are no place.
     """
     t = seconds_since_midnight % DAY_S
     for start, end, place in entries:
         inside = start <= t < end if start <= end else (t >= start or t < end)
-        if inside and place:
+        if inside and place not in (None, ""):
             return place
     return None
 

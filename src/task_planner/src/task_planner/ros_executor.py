@@ -29,12 +29,12 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
 
 from task_planner.battery import BatteryConfig, BatteryModel
-from task_planner.conversions import buffer_to_msg, instruction_from_msg
+from task_planner.conversions import buffer_to_msg, instruction_from_msg, people_from_msg
 from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_ms,
                                    nearest_node)
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
 from task_planner.graph import load_graph
-from task_planner.people_belief import PeopleAtPlaces, scheduled_place
+from task_planner.people_belief import PeopleAtPlaces
 from task_planner.instruction import InvalidInstruction
 from task_planner.plan_view import plan_view
 from task_planner.planner_choice import make_planner
@@ -119,7 +119,7 @@ class ExecutorNode:
         # move_base results: a lock-free queue, because actionlib calls done callbacks holding
         # its goal mutex, which cancel_goal (called under self.lock) takes too
         self.results = queue.SimpleQueue()
-        self._last_humans = []
+        self._schedules, self._predicted_at = {}, -float("inf")  # schedules, last prediction
         self.refused, self.nav_goal, self.goal_seq = 0, None, 0
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
         self.settings = settings
@@ -267,22 +267,17 @@ class ExecutorNode:
         return commands
 
     def _update_people(self, now):
-        """Belief from human_db's table (places perception wrote) and the schedules."""
-        humans = self.humans.humans if self.humans is not None else self._last_humans
-        if self.humans is not None:
-            for human in humans:
-                if human.last_seen.is_zero():
-                    continue   # never seen: the robot does not know where they are
-                self.people.seen(human.name, self._node_of(human.location),
-                                 human.last_seen.to_sec())
-            self._last_humans, self.humans = humans, None
+        """Belief from human_db's table (places perception wrote) when a new one came; the
+        schedules' predicted places once a second (they change by the minute)."""
         day_s = self.params.utc_offset + now
-        for human in humans:
-            place = scheduled_place([(e.start, e.end, e.place) for e in human.schedules], day_s)
-            self.people.predicted[human.name] = self._node_of(place)
-
-    def _node_of(self, place):
-        return self.graph.names.index(place) if place in self.graph.names else None
+        if self.humans is not None:
+            sightings, self._schedules = people_from_msg(self.humans, self.graph.names)
+            self.humans = None
+            self.people.take_table(sightings, self._schedules, day_s)
+            self._predicted_at = now
+        elif now - self._predicted_at >= 1.0:
+            self.people.predict(self._schedules, day_s)
+            self._predicted_at = now
 
     def _carry_out(self, commands):
         for command in commands:
