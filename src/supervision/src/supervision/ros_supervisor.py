@@ -1,0 +1,120 @@
+"""rospy timers, subscribers, services and threads under `supervision.health.Health`.
+
+    sup = Supervisor("task_planner: executor")
+    sup.timer(0.05, self._tick, worker="tick", on_error=self._fail_current)
+    sup.subscriber("/humans/known", HumanArray, self._on_humans)
+    sup.service("/task_planner/submit", SubmitInstruction, self._submit)
+
+The health status ("<name>: supervision") goes out on /diagnostics from a thread of its own on
+the wall clock, so it keeps reporting when a worker hangs or the ROS clock stops.
+"""
+import contextlib
+import threading
+import time
+import traceback
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
+from supervision.health import Health, HealthConfig
+
+
+def health_config_from_ros():
+    """~supervision/fault_hold_s, ~supervision/stale_periods, ~supervision/stale_min_s."""
+    default = HealthConfig()
+    return HealthConfig(
+        fault_hold_s=float(rospy.get_param("~supervision/fault_hold_s", default.fault_hold_s)),
+        stale_periods=float(rospy.get_param("~supervision/stale_periods",
+                                            default.stale_periods)),
+        stale_min_s=float(rospy.get_param("~supervision/stale_min_s", default.stale_min_s)))
+
+
+class Supervisor:
+    """One per node. `name` titles its /diagnostics status; `rate_hz` is how often it goes out."""
+
+    def __init__(self, name, hardware_id="", rate_hz=1.0, config=None):
+        self.name = name
+        self.hardware_id = hardware_id or rospy.get_name()
+        self.health = Health(name, config or health_config_from_ros(), log=rospy.logerr)
+        self._period = 1.0 / rate_hz
+        self._pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=2)
+        self._thread = threading.Thread(target=self._publish_loop, name="supervision",
+                                        daemon=True)
+        self._thread.start()
+
+    def timer(self, period_s, callback, worker=None, on_error=None, oneshot=False):
+        """rospy.Timer whose callback can never kill its thread; the worker must beat every
+        `period_s` (ROS time, checked on the wall clock)."""
+        worker = worker or callback.__name__.lstrip("_")
+        if not oneshot:
+            self.health.worker(worker, period_s)
+        return rospy.Timer(rospy.Duration(period_s), self.wrap(worker, callback, on_error),
+                           oneshot=oneshot)
+
+    def subscriber(self, topic, msg_type, callback, worker=None, on_error=None, **kwargs):
+        """rospy.Subscriber whose callback faults are counted and shown, not only logged."""
+        worker = worker or f"{topic} callback"
+        self.health.worker(worker)
+        return rospy.Subscriber(topic, msg_type, self.wrap(worker, callback, on_error), **kwargs)
+
+    def service(self, name, srv_type, handler, worker=None):
+        """rospy.Service; a fault is recorded and the caller gets rospy's error with the reason."""
+        worker = worker or f"{name} service"
+        self.health.worker(worker)
+
+        def guarded(request):
+            failure = []
+            result = self.health.run(worker, "request", handler, request,
+                                     on_error=failure.append)
+            if failure:
+                raise rospy.ServiceException(f"{self.name}: {worker} failed: {failure[0]!r}")
+            return result
+        return rospy.Service(name, srv_type, guarded)
+
+    def wrap(self, worker, callback, on_error=None):
+        """callback(arg) under the guard, for any rospy callback with one argument."""
+        handler = None if on_error is None else (lambda exc, cb=on_error: cb(exc))
+
+        def guarded(arg):
+            return self.health.run(worker, "", callback, arg, on_error=handler)
+        return guarded
+
+    def worker(self, name, period_s=None):
+        """Declare a thread's worker; it must call `beat(name)` every `period_s`."""
+        self.health.worker(name, period_s)
+
+    def beat(self, name):
+        self.health.beat(name)
+
+    @contextlib.contextmanager
+    def guard(self, worker, context=""):
+        """`with sup.guard("work", "utterance 3"):` for code in a thread of the node's own.
+        A fault inside is recorded and swallowed; the block's remaining code is skipped."""
+        failure = []
+        self.health.beat(worker)
+        try:
+            yield failure
+        except Exception as exc:  # noqa: BLE001 - the guard's whole purpose
+            self.health.fault(worker, context, exc, traceback.format_exc())
+            failure.append(exc)
+        else:
+            self.health.succeeded(worker)
+
+    def status(self):
+        """This node's health as a DiagnosticStatus."""
+        level, message, values = self.health.report()
+        return DiagnosticStatus(level=level, name=f"{self.name}: supervision", message=message,
+                                hardware_id=self.hardware_id,
+                                values=[KeyValue(key=k, value=v) for k, v in values])
+
+    def _publish_loop(self):
+        while not rospy.is_shutdown():
+            try:
+                array = DiagnosticArray(status=[self.status()])
+                array.header.stamp = rospy.Time.now()
+                self._pub.publish(array)
+            except Exception as exc:  # noqa: BLE001 - shutting down, or the clock not yet up
+                if rospy.is_shutdown():
+                    return
+                rospy.logwarn_throttle(10.0, f"{self.name}: supervision report failed: {exc}")
+            time.sleep(self._period)
