@@ -1,10 +1,11 @@
 """World files, commands, odometry, people and the camera model, against hand calculations."""
+import copy
 import math
 
 import numpy as np
 import pytest
 import yaml
-from sim2d_fixtures import LASER_DIR
+from sim2d_fixtures import LASER_DIR, REPO
 
 from sim2d.camera import CameraConfig, camera_points, project
 from sim2d.occupancy_map import MapError
@@ -24,7 +25,7 @@ def world_dict(map_path):
         "robots": [{"name": "pepper", "drive": "holonomic", "radius": 0.3,
                     "pose": [2.0, 3.0, 0.0],
                     "lasers": [{"model": "pepper", "mount": [0.0, 0.0, 0.0]}],
-                    "camera": CAMERA},
+                    "camera": copy.deepcopy(CAMERA)},
                    {"name": "penguin", "drive": "differential", "radius": 0.3,
                     "pose": [2.0, 8.5, 0.0], "namespace": "penguin",
                     "odometry": {"alpha_rot_rot": 0.0, "alpha_rot_trans": 0.0,
@@ -257,3 +258,54 @@ def test_unknown_door_and_bad_door_box_are_clear_errors(door_world, tmp_path, ro
     data["doors"] = [{"name": "east", "box": [5.2, 8.0, 5.0, 9.9]}]
     with pytest.raises(WorldError, match=r"doors\[0\]: box needs x1 > x0"):
         load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d["people"][0].update(raduis=0.3),
+     r"world\.yaml: people\[0\]: unknown key 'raduis' \(did you mean 'radius'\?\)"),
+    (lambda d: d.update(robot=[]),
+     r"world\.yaml: unknown key 'robot' \(did you mean 'robots'\?\)"),
+    (lambda d: d["robots"][0].update(radious=0.3),
+     r"world\.yaml: robots\[0\]: unknown key 'radious' \(did you mean 'radius'\?\)"),
+    (lambda d: d["robots"][0]["lasers"][0].update(raycats="table"),
+     r"world\.yaml: robots\[0\]\.lasers\[0\]: unknown key 'raycats' \(did you mean 'raycast'\?\)"),
+    (lambda d: d["robots"][0]["camera"]["top"].update(tilts=0.1),
+     r"world\.yaml: robots\[0\]\.camera\.top: unknown key 'tilts' \(did you mean 'tilt'\?\)"),
+    (lambda d: d["robots"][1]["odometry"].update(alpha_rot_rott=0.1),
+     r"world\.yaml: robots\[1\]\.odometry: unknown key 'alpha_rot_rott' "
+     r"\(did you mean 'alpha_rot_rot'\?\)"),
+    (lambda d: d["people"][0]["schedule"][0].update(posure="lying"),
+     r"world\.yaml: people\[0\]\.schedule\[0\]: unknown key 'posure' "
+     r"\(did you mean 'posture'\?\)"),
+    (lambda d: d["people"][0].update(shirt_colour={"joint1": [1, 2, 3], "joint2": [1, 2, 3],
+                                                     "joint5": [1, 2, 3], "joint3": [1, 2, 3]}),
+     r"world\.yaml: people\[0\]\.shirt_colour: unknown key 'joint3' \(did you mean 'joint5'\?\)"),
+    (lambda d: d["objects"][3].update(hight=0.9),
+     r"world\.yaml: objects\[3\]: unknown key 'hight' \(valid keys: name, label, pose, "
+     r"elevation, size\)"),
+    (lambda d: d.update(doors=[{"name": "d", "box": [1, 1, 2, 2], "close": True}]),
+     r"world\.yaml: doors\[0\]: unknown key 'close' \(did you mean 'closed'\?\)"),
+])
+def test_unknown_key_names_file_field_and_nearest_key(tmp_path, room_map, edit, message):
+    data = world_dict(room_map)
+    edit(data)
+    with pytest.raises(WorldError, match=message):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_person_radius_and_walking_speed_are_world_keys(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["people"][0].update(radius=0.3, walking_speed=1.2)
+    person = load_world_config(write_world(tmp_path, data), LASER_DIR).people[0]
+    assert (person.radius, person.walking_speed) == (0.3, 1.2)
+    data["people"][0]["radius"] = 0
+    with pytest.raises(WorldError, match=r"person 'Bob'\.radius: must be > 0, got 0"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+@pytest.mark.parametrize("world_file", sorted(
+    str(p.relative_to(REPO)) for p in list((REPO / "config" / "worlds").glob("*.yaml"))
+    + list((REPO / "src").glob("*/worlds/*.yaml"))))
+def test_every_shipped_world_loads(world_file):
+    config = load_world_config(REPO / world_file, LASER_DIR)
+    assert config.robots

@@ -2,6 +2,7 @@
 
 See config/worlds/README.md for the format. Every error names the file and the offending entry.
 """
+import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -85,14 +86,42 @@ class DoorConfig:
     closed: bool = False        # state at start
 
 
+TOP_KEYS = ("map", "graph", "camera_transparent", "doors", "robots", "people", "objects")
+ROBOT_KEYS = ("name", "namespace", "drive", "radius", "pose", "limits", "wheels", "odometry",
+              "lasers", "camera")
+LASER_KEYS = ("model", "mount") + tuple(k for k in LaserMount.__dataclass_fields__
+                                        if k not in ("model", "mount"))
+CAMERA_KEYS = ("rate", "top", "bottom", "detection")
+PERSON_KEYS = ("name", "shirt_colour", "pose", "posture", "activity", "holding", "looking_at",
+               "schedule", "radius", "walking_speed")
+SHIRT_KEYS = ("joint1", "joint2", "joint5")
+ENTRY_KEYS = ("time", "pose", "posture", "activity", "holding", "looking_at", "via")
+OBJECT_KEYS = ("name", "label", "pose", "elevation", "size")
+DOOR_KEYS = ("name", "box", "closed")
+ELBOW_MARGIN = 0.05     # [m] a resting person's floor disc beyond the disc the lasers see
+
+
+def unknown_key_message(key, allowed):
+    """"unknown key 'raduis' (did you mean 'radius'?)": the nearest valid key, or the list."""
+    near = difflib.get_close_matches(str(key), list(allowed), n=1)
+    hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(allowed)}"
+    return f"unknown key {key!r} ({hint})"
+
+
+def check_keys(data, allowed, where):
+    """Raise WorldError "<where>: unknown key ..." for the first key of `data` not in `allowed`;
+    `where` names the file and the field path (e.g. "worlds/w.yaml: people[2]")."""
+    if not isinstance(data, dict):
+        raise WorldError(f"{where}: expected a mapping, got {data!r}")
+    for key in data:
+        if key not in allowed:
+            raise WorldError(f"{where}: {unknown_key_message(key, allowed)}")
+
+
 def _dataclass_from(cls, data, where):
     if data is None:
         return cls()
-    if not isinstance(data, dict):
-        raise WorldError(f"{where}: expected a mapping, got {data!r}")
-    unknown = set(data) - set(cls.__dataclass_fields__)
-    if unknown:
-        raise WorldError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+    check_keys(data, tuple(cls.__dataclass_fields__), where)
     return cls(**data)
 
 
@@ -128,7 +157,11 @@ class _Parser:
         pose = [_number(v, f"{self.path}: {where}") for v in value]
         return tuple(pose + [0.0] * (3 - len(pose)))
 
+    def keys(self, data, allowed, where):
+        check_keys(data, allowed, f"{self.path}: {where}")
+
     def laser(self, data, where):
+        self.keys(data, LASER_KEYS, where)
         if "model" not in data:
             self.fail(f"{where}: missing 'model'")
         try:
@@ -145,6 +178,7 @@ class _Parser:
     def camera(self, data, where):
         if data is None:
             return None
+        check_keys(data, CAMERA_KEYS, where)
         top = _dataclass_from(CameraConfig, data.get("top"), f"{where}.top")
         bottom = _dataclass_from(CameraConfig, data.get("bottom"), f"{where}.bottom")
         detection = _dataclass_from(DetectionConfig, data.get("detection"), f"{where}.detection")
@@ -152,31 +186,33 @@ class _Parser:
 
     def robot(self, data, i):
         where = f"robots[{i}]"
+        self.keys(data, ROBOT_KEYS, where)
         missing = [k for k in ("name", "drive", "radius", "pose") if k not in data]
         if missing:
             self.fail(f"{where}: missing key(s) {', '.join(missing)}")
-        where = f"robot {data['name']!r}"
+        path, where = where, f"robot {data['name']!r}"
         if data["drive"] not in (HOLONOMIC, DIFFERENTIAL):
             self.fail(f"{where}: drive must be {HOLONOMIC!r} or {DIFFERENTIAL!r}, "
                       f"got {data['drive']!r}")
         wheels = None
         if data["drive"] == DIFFERENTIAL:
             wheels = _dataclass_from(WheelConfig, data.get("wheels"),
-                                     f"{self.path}: {where}.wheels")
+                                     f"{self.path}: {path}.wheels")
         return RobotConfig(
             name=str(data["name"]), drive=data["drive"],
             radius=_number(data["radius"], f"{self.path}: {where}.radius"),
             pose=self.pose(data["pose"], f"{where}.pose"),
             namespace=str(data.get("namespace", "")),
-            limits=_dataclass_from(DriveLimits, data.get("limits"), f"{self.path}: {where}.limits"),
+            limits=_dataclass_from(DriveLimits, data.get("limits"), f"{self.path}: {path}.limits"),
             wheels=wheels,
             odometry=_dataclass_from(OdometryConfig, data.get("odometry"),
-                                     f"{self.path}: {where}.odometry"),
-            lasers=[self.laser(laser, f"{where}.lasers[{j}]")
+                                     f"{self.path}: {path}.odometry"),
+            lasers=[self.laser(laser, f"{path}.lasers[{j}]")
                     for j, laser in enumerate(data.get("lasers", []))],
-            camera=self.camera(data.get("camera"), f"{self.path}: {where}.camera"))
+            camera=self.camera(data.get("camera"), f"{self.path}: {path}.camera"))
 
-    def schedule_entry(self, data, where):
+    def schedule_entry(self, data, where, path):
+        self.keys(data, ENTRY_KEYS, path)
         if "time" not in data or "pose" not in data:
             self.fail(f"{where}: a schedule entry needs 'time' and 'pose'")
         entry = ScheduleEntry(time=_number(data["time"], f"{self.path}: {where}.time"),
@@ -190,8 +226,10 @@ class _Parser:
             self.fail(f"{where}: posture must be one of {POSTURES}, got {entry.posture!r}")
         return entry
 
-    def shirt_colour(self, value, where):
+    def shirt_colour(self, value, where, path):
         """[r, g, b] for all three joints, or {joint1: [r, g, b], joint2: ..., joint5: ...}."""
+        if isinstance(value, dict):
+            self.keys(value, SHIRT_KEYS, path)
         joints = ([value.get(k) for k in ("joint1", "joint2", "joint5")]
                   if isinstance(value, dict) else [value] * 3)
         for rgb in joints:
@@ -202,24 +240,34 @@ class _Parser:
         return tuple(tuple(rgb) for rgb in joints)
 
     def person(self, data, i):
+        path = f"people[{i}]"
+        self.keys(data, PERSON_KEYS, path)
         missing = [k for k in ("name", "shirt_colour", "pose") if k not in data]
         if missing:
             self.fail(f"people[{i}]: missing key(s) {', '.join(missing)}")
         where = f"person {data['name']!r}"
-        colour = self.shirt_colour(data["shirt_colour"], where)
+        colour = self.shirt_colour(data["shirt_colour"], where, f"{path}.shirt_colour")
         posture = data.get("posture", "standing")
         if posture not in POSTURES:
             self.fail(f"{where}: posture must be one of {POSTURES}, got {posture!r}")
-        schedule = sorted((self.schedule_entry(e, f"{where}.schedule[{j}]")
+        schedule = sorted((self.schedule_entry(e, f"{where}.schedule[{j}]",
+                                               f"{path}.schedule[{j}]")
                            for j, e in enumerate(data.get("schedule", []))),
                           key=lambda e: e.time)
+        sizes = {}
+        for key in ("radius", "walking_speed"):
+            if key in data:
+                sizes[key] = _number(data[key], f"{self.path}: {where}.{key}")
+                if sizes[key] <= 0:
+                    self.fail(f"{where}.{key}: must be > 0, got {data[key]!r}")
         return Person(name=str(data["name"]), shirt_colour=colour,
                       pose=self.pose(data["pose"], f"{where}.pose"), posture=posture,
                       activity=data.get("activity", "standing"),
                       holding=data.get("holding", ""), looking_at=data.get("looking_at", ""),
-                      schedule=schedule)
+                      schedule=schedule, **sizes)
 
     def obj(self, data, i):
+        self.keys(data, OBJECT_KEYS, f"objects[{i}]")
         missing = [k for k in ("name", "label", "pose", "size") if k not in data]
         if missing:
             self.fail(f"objects[{i}]: missing key(s) {', '.join(missing)}")
@@ -239,6 +287,9 @@ class _Parser:
             raise WorldError(f"{self.path}: cannot read world file: {error}") from error
         if not isinstance(data, dict) or "map" not in data:
             self.fail("expected a mapping with at least 'map'")
+        for key in data:
+            if key not in TOP_KEYS:
+                self.fail(unknown_key_message(key, TOP_KEYS))
         map_path = (self.path.parent / data["map"]).resolve()
         graph_path = None
         if data.get("graph"):
@@ -275,6 +326,7 @@ class _Parser:
         where = f"doors[{index}]"
         if not isinstance(data, dict) or "name" not in data or "box" not in data:
             self.fail(f"{where}: expected a mapping with 'name' and 'box', got {data!r}")
+        self.keys(data, DOOR_KEYS, where)
         box = data["box"]
         if not isinstance(box, (list, tuple)) or len(box) != 4:
             self.fail(f"{where}: box must be [x0, y0, x1, y1], got {box!r}")
@@ -292,8 +344,10 @@ class _Parser:
         if self.graph is None or not robots or not people:
             return
         grid = load_map(map_path)
+        person_radius = max([PassageConfig.person_radius]
+                            + [p.radius + ELBOW_MARGIN for p in people])
         check = PassageCheck(grid, self.graph.places, self.graph.edges,
-                             max(r.radius for r in robots), PassageConfig())
+                             max(r.radius for r in robots), PassageConfig(person_radius))
         for person in people:
             for label, (x, y, _) in resting_poses(person):
                 if not grid.inside(*grid.world_to_cell(x, y)):
