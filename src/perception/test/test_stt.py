@@ -9,6 +9,7 @@ from perception.speech_metrics import normalise_words, word_edit_distance, word_
 from perception.speech_synthesis import synthesise
 from perception.stt import (AudioError, ModelMissing, SpeechToText, pcm16_to_float, read_wav,
                             resample, whisper_model_dir)
+from perception.stt_worker import AudioInput, SttWorker
 
 
 def write_wav(path, samples, rate, channels=1, width=2):
@@ -68,7 +69,8 @@ def test_read_stereo_8k_wav_gives_mono_16k(tmp_path):
 
 def test_read_wav_refuses_8_bit_and_non_wav(tmp_path):
     write_wav(tmp_path / "b.wav", np.zeros(100, dtype=np.uint8), 16000, width=1)
-    with pytest.raises(AudioError, match="need 16-bit PCM, got 8-bit"):
+    with pytest.raises(AudioError, match=r"b.wav: sample_width 1 bytes \(8-bit samples\): "
+                                         r"need 16-bit PCM"):
         read_wav(tmp_path / "b.wav")
     (tmp_path / "t.wav").write_text("not audio")
     with pytest.raises(AudioError, match="cannot read WAV file .*t.wav"):
@@ -111,3 +113,19 @@ def test_empty_and_non_finite_audio_refused(stt):
         stt.transcribe(np.zeros(0, dtype=np.float32))
     with pytest.raises(AudioError, match="NaN"):
         stt.transcribe(np.full(1600, np.nan, dtype=np.float32))
+
+
+def test_worker_transcribes_speech_after_a_4e9_hz_message(stt, tmp_path):
+    wav = synthesise("Chat with me, I feel bad.", tmp_path / "chat.wav")
+    with wave.open(str(wav), "rb") as stream:
+        pcm = np.frombuffer(stream.readframes(stream.getnframes()), dtype="<i2")
+    published = []
+    worker = SttWorker(stt.transcribe, lambda text, audio: published.append((text, audio.ip)))
+    bad = worker.handle(AudioInput(tuple(pcm.tolist()), 4000000000, "192.168.1.110"))
+    assert (bad.kind, bad.reason) == \
+        ("refused", "sample_rate 4000000000 Hz is outside [8000, 192000] Hz")
+    good = worker.handle(AudioInput(tuple(pcm.tolist()), 16000, "192.168.1.110"))
+    assert good.kind == "published"
+    assert [(normalise_words(text), ip) for text, ip in published] == \
+        [(["chat", "with", "me", "i", "feel", "bad"], "192.168.1.110")]
+    assert worker.health.status()[2]["refused"] == "1"

@@ -4,7 +4,7 @@ import numpy as np
 import rospy
 from tamp_msgs.msg import Detection, ObservedHuman, PerceptionFrame, Skeleton, Utterance
 
-from perception.stt import pcm16_to_float, resample
+from perception.stt_worker import AudioInput
 from perception.verbal_instructions import Person
 from perception.visual_pipeline import FrameView, ObjectBox, PersonView
 
@@ -25,9 +25,12 @@ def utterance_time(msg):
     return rospy.get_time() if msg.header.stamp.is_zero() else msg.header.stamp.to_sec()
 
 
-def audio_from_msg(msg):
-    """tamp_msgs/AudioUtterance -> float32 mono at 16 kHz (raises AudioError on a bad rate)."""
-    return resample(pcm16_to_float(msg.samples), msg.sample_rate)
+def audio_input_from_msg(msg, topic):
+    """tamp_msgs/AudioUtterance -> stt_worker.AudioInput (samples and declared rate as sent,
+    checked by the worker); a zero stamp becomes now."""
+    stamp = msg.header.stamp if not msg.header.stamp.is_zero() else rospy.Time.now()
+    return AudioInput(samples=msg.samples, sample_rate=msg.sample_rate, ip=msg.ip, stamp=stamp,
+                      origin=f"{msg.ip or 'the microphone'} on {topic}")
 
 
 def frame_from_msg(msg):

@@ -1,6 +1,8 @@
 """The speech-to-text node: a WAV file (~wav) or tamp_msgs/AudioUtterance messages on
 /audio_utterance -> tamp_msgs/Utterance on /voice_message, with the latency of each utterance
-logged and on /diagnostics."""
+logged and on /diagnostics. The work is `perception.stt_worker.SttWorker`: audio outside the
+bounds (~min_sample_rate, ~max_sample_rate, ~max_audio_s) is refused (WARN), an utterance whose
+handling raises fails alone (ERROR), and the worker goes on with the next one."""
 import collections
 import threading
 from dataclasses import dataclass
@@ -9,8 +11,10 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from tamp_msgs.msg import AudioUtterance, Utterance
 
-from perception.conversions import audio_from_msg, utterance_to_msg
-from perception.stt import AudioError, ModelMissing, SpeechToText, SttConfig, read_wav
+from perception.conversions import audio_input_from_msg, utterance_to_msg
+from perception.stt import (WHISPER_RATE, AudioError, AudioLimits, ModelMissing, SpeechToText,
+                            SttConfig, read_wav)
+from perception.stt_worker import AudioInput, SttWorker
 
 
 @dataclass(frozen=True)
@@ -22,20 +26,35 @@ class SttParams:
     period: float = 0.1                    # ~period: work timer period [s]
     max_queue: int = 5                     # ~max_queue: utterances kept while busy
     stt: SttConfig = SttConfig()           # ~model_dir, ~compute_type, ~cpu_threads, ~beam_size
+    limits: AudioLimits = AudioLimits()    # ~min_sample_rate, ~max_sample_rate, ~max_audio_s,
+    #                                        ~max_channels
 
 
 def read_params():
+    """~params; raises ValueError naming a bound that is not a positive finite number."""
     default = SttConfig()
     stt = SttConfig(model_dir=rospy.get_param("~model_dir", default.model_dir),
                     compute_type=rospy.get_param("~compute_type", default.compute_type),
                     cpu_threads=int(rospy.get_param("~cpu_threads", default.cpu_threads)),
                     beam_size=int(rospy.get_param("~beam_size", default.beam_size)),
                     vad_filter=bool(rospy.get_param("~vad_filter", default.vad_filter)))
+    bounds = AudioLimits()
+    limits = AudioLimits(**{name: rospy.get_param(f"~{name}", getattr(bounds, name))
+                            for name in ("min_sample_rate", "max_sample_rate", "max_audio_s",
+                                         "max_channels")})
     return SttParams(wav=rospy.get_param("~wav", ""), ip=rospy.get_param("~ip", ""),
                      wait=float(rospy.get_param("~wait", SttParams.wait)),
                      audio_topic=rospy.get_param("~audio_topic", SttParams.audio_topic),
                      period=float(rospy.get_param("~period", SttParams.period)),
-                     max_queue=int(rospy.get_param("~max_queue", SttParams.max_queue)), stt=stt)
+                     max_queue=int(rospy.get_param("~max_queue", SttParams.max_queue)), stt=stt,
+                     limits=limits)
+
+
+_LOGGERS = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
+
+
+def _log(level, text):
+    _LOGGERS[level](text)
 
 
 class SttNode:
@@ -43,15 +62,14 @@ class SttNode:
         self.params = params
         self._lock = threading.Lock()
         self._queue = collections.deque()
-        self._stats = {"utterances": 0, "silent": 0, "refused": 0, "last_latency_s": 0.0,
-                       "last_real_time_factor": 0.0}
-        self.stt = self._publisher = self._diagnostics = None
+        self.stt = self.worker = self._publisher = self._diagnostics = None
         self._timers = []
 
     def setup(self):
         """Load the model (raises ModelMissing naming scripts/setup) and create the publishers."""
         self.stt = SpeechToText(self.params.stt)
         rospy.loginfo("stt: Whisper tiny.en loaded from %s", self.stt.model_dir)
+        self.worker = SttWorker(self.stt.transcribe, self._publish, self.params.limits, _log)
         self._publisher = rospy.Publisher("/voice_message", Utterance, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
 
@@ -64,12 +82,15 @@ class SttNode:
     def transcribe_file(self):
         """Transcribe ~wav, publish the utterance; returns a process exit code."""
         try:
-            samples = read_wav(self.params.wav)
+            samples = read_wav(self.params.wav, self.params.limits)
         except AudioError as error:
             rospy.logerr("stt: %s", error)
             return 2
-        if not self._transcribe_and_publish(samples, self.params.ip, rospy.Time.now(),
-                                            self.params.wav, wait=self.params.wait):
+        deadline = rospy.get_time() + self.params.wait
+        while self._publisher.get_num_connections() == 0 and rospy.get_time() < deadline:
+            rospy.sleep(0.05)
+        audio = AudioInput(samples, WHISPER_RATE, self.params.ip, rospy.Time.now(), self.params.wav)
+        if self.worker.handle(audio, decoded=True).kind != "published":
             return 1
         rospy.sleep(0.5)  # let the message leave before the node exits
         return 0
@@ -88,51 +109,18 @@ class SttNode:
                 if not self._queue:
                     return
                 msg = self._queue.popleft()
-            try:
-                samples = audio_from_msg(msg)
-            except AudioError as error:
-                self._count("refused")
-                rospy.logwarn("stt: audio from %s refused: %s", msg.ip or "the microphone", error)
-                continue
-            stamp = msg.header.stamp if not msg.header.stamp.is_zero() else rospy.Time.now()
-            self._transcribe_and_publish(samples, msg.ip, stamp, self.params.audio_topic)
+            self.worker.handle(audio_input_from_msg(msg, self.params.audio_topic))
 
-    def _transcribe_and_publish(self, samples, ip, stamp, origin, wait=0.0):
-        """True when an utterance was published."""
-        try:
-            transcript = self.stt.transcribe(samples)
-        except AudioError as error:
-            self._count("refused")
-            rospy.logwarn("stt: audio from %s refused: %s", origin, error)
-            return False
-        rtf = transcript.latency_s / max(transcript.audio_s, 1e-9)
-        with self._lock:
-            self._stats.update(last_latency_s=transcript.latency_s, last_real_time_factor=rtf)
-        if not transcript.text:
-            self._count("silent")
-            rospy.logwarn("stt: no speech in %.2f s of audio from %s (%.3f s); nothing published",
-                          transcript.audio_s, origin, transcript.latency_s)
-            return False
-        rospy.loginfo("stt: %r from %.2f s of audio (%s) in %.3f s (real-time factor %.2f)",
-                      transcript.text, transcript.audio_s, origin, transcript.latency_s, rtf)
-        deadline = rospy.get_time() + wait
-        while self._publisher.get_num_connections() == 0 and rospy.get_time() < deadline:
-            rospy.sleep(0.05)
-        self._publisher.publish(utterance_to_msg(transcript.text, ip, stamp))
-        self._count("utterances")
-        return True
-
-    def _count(self, key):
-        with self._lock:
-            self._stats[key] += 1
+    def _publish(self, text, audio):
+        self._publisher.publish(utterance_to_msg(text, audio.ip, audio.stamp))
 
     def _on_diagnostics(self, _event):
         with self._lock:
-            stats = dict(self._stats, queued=len(self._queue))
+            queued = len(self._queue)
+        level, message, values = self.worker.health.status(queued=queued)
         status = DiagnosticStatus(name="perception: stt", hardware_id=self.params.audio_topic,
-                                  level=DiagnosticStatus.OK, message="ok",
-                                  values=[KeyValue(k, f"{v:.3f}" if isinstance(v, float) else
-                                                   str(v)) for k, v in sorted(stats.items())])
+                                  level=level, message=message,
+                                  values=[KeyValue(k, v) for k, v in sorted(values.items())])
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()
         self._diagnostics.publish(array)
@@ -140,7 +128,12 @@ class SttNode:
 
 def main():
     rospy.init_node("stt")
-    node = SttNode(read_params())
+    try:
+        params = read_params()
+    except ValueError as error:
+        rospy.logfatal("stt: %s", error)
+        return 1
+    node = SttNode(params)
     try:
         node.setup()
     except ModelMissing as error:

@@ -6,6 +6,8 @@ offline: the model is fetched once by scripts/setup (config/models.yaml, `whispe
 read from ${TAMP_MODEL_CACHE:-~/.cache/tamp_ws/models}/whisper_tiny_en/; nothing is downloaded at
 run time.
 """
+import math
+import numbers
 import os
 import time
 import wave
@@ -18,6 +20,13 @@ MODEL_NAME = "whisper_tiny_en"
 MODEL_FILES = ("config.json", "model.bin", "tokenizer.json", "vocabulary.txt")
 WHISPER_RATE = 16000  # [Hz] Whisper's input sample rate
 
+# Bounds on audio from outside, checked before any resampling (`check_audio`).
+MIN_SAMPLE_RATE = 8000.0    # [Hz] telephone speech, the lowest rate a microphone bridge sends
+MAX_SAMPLE_RATE = 192000.0  # [Hz] the highest rate of common audio interfaces
+MAX_AUDIO_S = 30.0          # [s] one utterance; Whisper decodes 30 s windows
+MAX_CHANNELS = 8            # interleaved channels of a WAV file (mixed down to mono)
+PCM_SAMPLE_WIDTH = 2        # [bytes] 16-bit PCM, the only sample format read
+
 
 class ModelMissing(RuntimeError):
     """The Whisper model is not in the cache; the message names scripts/setup."""
@@ -25,6 +34,70 @@ class ModelMissing(RuntimeError):
 
 class AudioError(ValueError):
     """Audio from outside that cannot be transcribed; the message says why."""
+
+
+@dataclass(frozen=True)
+class AudioLimits:
+    """What audio from outside may declare; anything else is refused before resampling."""
+    min_sample_rate: float = MIN_SAMPLE_RATE  # [Hz]
+    max_sample_rate: float = MAX_SAMPLE_RATE  # [Hz]
+    max_audio_s: float = MAX_AUDIO_S          # [s] longest utterance
+    max_channels: int = MAX_CHANNELS          # channels of a WAV file
+
+    def __post_init__(self):
+        for name in ("min_sample_rate", "max_sample_rate", "max_audio_s", "max_channels"):
+            value = getattr(self, name)
+            if not (isinstance(value, numbers.Real) and 0 < value < math.inf):
+                raise ValueError(f"AudioLimits.{name} must be a positive finite number; "
+                                 f"got {value!r}")
+        if self.min_sample_rate > self.max_sample_rate:
+            raise ValueError(f"AudioLimits.min_sample_rate {self.min_sample_rate} is above "
+                             f"max_sample_rate {self.max_sample_rate}")
+
+    def max_samples(self, rate):
+        """Most samples `max_audio_s` holds at `rate` [Hz]."""
+        return math.ceil(self.max_audio_s * rate)
+
+
+def _number(value):
+    """A declared value for a reason: integral numbers without a fraction or exponent."""
+    if isinstance(value, numbers.Real) and math.isfinite(value) and value == int(value):
+        return str(int(value))
+    return f"{value:g}" if isinstance(value, numbers.Real) else repr(value)
+
+
+def check_audio(sample_rate, samples, channels=1, sample_width=PCM_SAMPLE_WIDTH,
+                limits=AudioLimits()):
+    """Why audio declaring `sample_rate` [Hz], `samples` frames (samples per channel),
+    `channels` and `sample_width` [bytes] cannot be transcribed; None when it can.
+
+    Each reason names the field and its value; several are joined with "; "."""
+    reasons = []
+    rate_ok = False
+    if not isinstance(sample_rate, numbers.Real) or isinstance(sample_rate, bool):
+        reasons.append(f"sample_rate {sample_rate!r} is not a number")
+    elif not math.isfinite(sample_rate):
+        reasons.append(f"sample_rate {_number(sample_rate)} Hz is not finite")
+    elif not limits.min_sample_rate <= sample_rate <= limits.max_sample_rate:
+        reasons.append(f"sample_rate {_number(sample_rate)} Hz is outside "
+                       f"[{_number(limits.min_sample_rate)}, "
+                       f"{_number(limits.max_sample_rate)}] Hz")
+        rate_ok = sample_rate > 0  # a duration can still be told
+    else:
+        rate_ok = True
+    if not 1 <= channels <= limits.max_channels:
+        reasons.append(f"channels {_number(channels)} is outside [1, "
+                       f"{_number(limits.max_channels)}]")
+    if sample_width != PCM_SAMPLE_WIDTH:
+        reasons.append(f"sample_width {_number(sample_width)} bytes "
+                       f"({_number(8 * sample_width)}-bit samples): need 16-bit PCM")
+    if samples <= 0:
+        reasons.append(f"samples {_number(samples)}: the audio is empty (duration 0 s)")
+    elif rate_ok and samples / sample_rate > limits.max_audio_s:
+        reasons.append(f"duration {samples / sample_rate:.1f} s ({_number(samples)} samples at "
+                       f"{_number(sample_rate)} Hz) is longer than {_number(limits.max_audio_s)}"
+                       f" s")
+    return "; ".join(reasons) or None
 
 
 @dataclass(frozen=True)
@@ -64,14 +137,22 @@ def whisper_model_dir(model_dir=""):
     return directory
 
 
-def resample(samples, rate_in, rate_out=WHISPER_RATE):
+def resample(samples, rate_in, rate_out=WHISPER_RATE, max_s=MAX_AUDIO_S):
     """Band-limited resampling of a mono signal by the FFT (zero-padding or truncating the
-    spectrum), so downsampling does not alias."""
-    if rate_in <= 0:
-        raise AudioError(f"sample rate must be > 0 Hz; got {rate_in}")
-    if rate_in == rate_out or samples.size == 0:
-        return samples.astype(np.float32)
+    spectrum), so downsampling does not alias. Refuses (AudioError) a rate that is not a finite
+    number > 0 and an output longer than `max_s` [s] or empty from a non-empty input."""
+    if not (isinstance(rate_in, numbers.Real) and 0 < rate_in < math.inf):
+        raise AudioError(f"sample rate must be > 0 Hz and finite; got {rate_in}")
     size_out = int(round(samples.size * rate_out / rate_in))
+    limit = math.ceil(max_s * rate_out)
+    if size_out > limit:
+        raise AudioError(f"resampled length {size_out} samples ({size_out / rate_out:.1f} s at "
+                         f"{_number(rate_out)} Hz) is longer than {_number(max_s)} s")
+    if samples.size == 0 or rate_in == rate_out:
+        return samples.astype(np.float32)
+    if size_out == 0:
+        raise AudioError(f"resampling {samples.size} samples from {_number(rate_in)} Hz to "
+                         f"{_number(rate_out)} Hz leaves no sample")
     spectrum = np.fft.rfft(samples)
     bins_out = size_out // 2 + 1
     if bins_out <= spectrum.size:
@@ -86,22 +167,33 @@ def pcm16_to_float(samples):
     return np.asarray(samples, dtype=np.int16).astype(np.float32) / 32768.0
 
 
-def read_wav(path):
-    """A 16-bit PCM WAV file as float32 mono at 16 kHz; raises AudioError naming the file."""
+def audio_from_pcm16(samples, sample_rate, limits=AudioLimits()):
+    """Mono int16 PCM declared at `sample_rate` [Hz] -> float32 at 16 kHz, checked first
+    (`check_audio`); raises AudioError with the reason."""
+    reason = check_audio(sample_rate, len(samples), limits=limits)
+    if reason:
+        raise AudioError(reason)
+    return resample(pcm16_to_float(samples), sample_rate, max_s=limits.max_audio_s)
+
+
+def read_wav(path, limits=AudioLimits()):
+    """A 16-bit PCM WAV file as float32 mono at 16 kHz; raises AudioError naming the file. The
+    header is checked (`check_audio`) before the samples are read."""
     try:
         with wave.open(str(path), "rb") as stream:
-            channels, width, rate = (stream.getnchannels(), stream.getsampwidth(),
-                                     stream.getframerate())
-            frames = stream.readframes(stream.getnframes())
+            channels, width, rate, frames = (stream.getnchannels(), stream.getsampwidth(),
+                                             stream.getframerate(), stream.getnframes())
+            reason = check_audio(rate, frames, channels, width, limits)
+            if reason:
+                raise AudioError(f"{path}: {reason}")
+            data = stream.readframes(frames)
     except (OSError, EOFError, wave.Error) as error:
         raise AudioError(f"cannot read WAV file {path}: {error}") from error
-    if width != 2:
-        raise AudioError(f"{path}: need 16-bit PCM, got {8 * width}-bit samples")
-    samples = pcm16_to_float(np.frombuffer(frames, dtype="<i2"))
+    samples = pcm16_to_float(np.frombuffer(data, dtype="<i2"))
     if channels > 1:
         samples = samples[: samples.size - samples.size % channels]
         samples = samples.reshape(-1, channels).mean(axis=1)
-    return resample(samples, rate)
+    return resample(samples, rate, max_s=limits.max_audio_s)
 
 
 class SpeechToText:
