@@ -206,6 +206,17 @@ def test_silence_is_asked_again_after_the_timeout_then_given_up():
     assert turn.state == FAILED and turn.say.startswith("Sorry, I did not hear you. I am sorry")
 
 
+def test_an_aborted_dialogue_is_failed_and_says_it_gives_up():
+    talk = dialogue()
+    talk.hear("My name is Frank.", "", 1.0)
+    turn = talk.abort()
+    assert (turn.state, talk.state, talk.open) == (FAILED, FAILED, False)
+    assert turn.say == IntroductionConfig().give_up
+    assert talk.tick(1000.0).say == ""
+    with pytest.raises(RuntimeError, match="dialogue is failed"):
+        talk.hear("I am a man.", "", 2.0)
+
+
 def test_the_greeting_asks_the_name():
     functions = {f.name: f for f in load_robot_functions(CONFIG / "robot_functions.yaml").values()}
     assert functions["introduce"].say.endswith(IntroductionConfig().name_question)

@@ -15,6 +15,7 @@ from nav_msgs.msg import Odometry
 
 from nav_mocks.amcl_model import AmclConfig, AmclModel, latest_pair, map_to_odom
 from nav_mocks.conversions import pose_from_msg, pose_to_msg, transform_msg
+from nav_mocks.param_checks import positive_number
 from nav_mocks.ros_params import config_from_params
 
 HISTORY = 50          # samples kept per stream: 1 s of sim2d's 50 Hz odometry
@@ -27,7 +28,8 @@ class AmclNode:
         self.global_frame = rospy.get_param("~global_frame_id", "map")
         self.odom_frame = rospy.get_param("~odom_frame_id", "odom")
         self.tolerance = rospy.Duration(float(rospy.get_param("~transform_tolerance", 0.1)))
-        rate = float(rospy.get_param("~update_rate", 10.0))          # [Hz]
+        rate = positive_number(rospy.resolve_name("~update_rate"),     # [Hz]
+                               rospy.get_param("~update_rate", 10.0), "Hz")
         self.model = AmclModel(config_from_params(AmclConfig, "~"),
                                seed=int(rospy.get_param("~seed", 0)))
         self.lock = threading.Lock()

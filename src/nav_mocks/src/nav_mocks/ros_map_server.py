@@ -17,6 +17,7 @@ from sim2d.occupancy_map import MapError, load_map
 from nav_mocks.conversions import (map_metadata, map_to_msg, pose_from_msg,
                                    pose_from_transform, scan_from_msg)
 from nav_mocks.mapping import RevealedMap
+from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
 
 MODES = ("static", "mapping")
@@ -29,7 +30,9 @@ class MapServerNode:
         if self.mode not in MODES:
             raise ValueError(f"~mode must be one of {MODES}, got {self.mode!r}")
         self.base_frame = rospy.get_param("~base_frame", "base_link")
-        self.update_interval = float(rospy.get_param("~map_update_interval", 1.0))  # [s]
+        self.update_interval = positive_number(   # [s]
+            rospy.resolve_name("~map_update_interval"),
+            rospy.get_param("~map_update_interval", 1.0), "s")
         self.truth = load_map(map_file)
         self.map_file = map_file
         self.lock = threading.Lock()

@@ -7,8 +7,8 @@ import rospy
 def config_from_params(cls, namespace):
     """An instance of dataclass `cls` whose fields are read from `namespace`/<field>.
 
-    Missing parameters keep the dataclass default; a value of the wrong type is a ValueError
-    naming the parameter.
+    Missing parameters keep the dataclass default; a value of the wrong type, or one the
+    config's validate() refuses, is a ValueError naming the parameter.
     """
     values = {}
     prefix = namespace if namespace.endswith(("~", "/")) else namespace + "/"
@@ -30,5 +30,8 @@ def config_from_params(cls, namespace):
         values[field.name] = value
     config = cls(**values)
     if hasattr(config, "validate"):
-        config.validate()
+        try:
+            config.validate()
+        except ValueError as error:   # the core names the field; add where it was read
+            raise ValueError(f"{rospy.resolve_name(prefix).rstrip('/')}: {error}") from error
     return config

@@ -212,6 +212,12 @@ class IntroductionDialogue:
         self.retries += 1
         return Turn(f"{apology} {self._question()}", self.state)
 
+    def abort(self):
+        """End the dialogue as FAILED from outside (the node could not go on); returns the Turn
+        with the give-up sentence."""
+        self.state = FAILED
+        return Turn(self.config.give_up, FAILED)
+
     def human(self):
         """The human_db Human to register, in the place the robot met them (raises InvalidHuman
         naming a bad field)."""

@@ -10,6 +10,11 @@ Which utterances are answers: while a dialogue is open, every utterance whose ph
 registered person's (a stranger's phone, or the robot's own microphone, ip "") is an answer. The
 node says so on the latched ~dialogue_open (std_msgs/Bool), and verbal perception skips exactly
 those utterances then, so an answer never also becomes a refused request.
+
+Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
+work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
+says it gives up; the stranger is left alone for `retry_after`), and raises
+"perception: introduction: supervision" to ERROR.
 """
 import collections
 import os
@@ -23,6 +28,8 @@ from human_db.conversions import colours_from_msg, human_to_msg
 from human_db.errors import HumanDbError
 from sim2d.semantic_graph import load_graph
 from std_msgs.msg import Bool, String
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Utterance
 from tamp_msgs.srv import RegisterHuman, SubmitInstruction
@@ -97,8 +104,9 @@ class IntroductionNode:
         self._last = ""           # last registration or failure, for diagnostics
         self._timers = []
 
-    def setup(self):
-        """Load the configuration (ValueError names a bad entry) and start the ROS API."""
+    def setup(self, sup):
+        """Load the configuration (ValueError names a bad entry) and start the ROS API under the
+        node's Supervisor `sup`."""
         p = self.params
         functions = {f.name: f for f in load_robot_functions(p.robot_functions).values()}
         if p.function not in functions:
@@ -115,13 +123,14 @@ class IntroductionNode:
         self.say = rospy.Publisher("/robot/say", String, queue_size=5)
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        rospy.Subscriber("/humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
-        rospy.Subscriber(p.humans_topic, HumanArray, self._on_known, queue_size=1)
-        rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
-        rospy.Subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        sup.subscriber("/humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
+        sup.subscriber(p.humans_topic, HumanArray, self._on_known, queue_size=1)
+        sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        sup.subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
         self._publish_open(False)
-        self._timers = [rospy.Timer(rospy.Duration(p.period), self._on_work),
-                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
+        self._timers = [sup.timer(p.period, self._on_work, worker="work",
+                                  on_error=self._fail_dialogue),
+                        sup.timer(1.0, self._on_diagnostics, worker="diagnostics")]
 
     @staticmethod
     def _priority(params):
@@ -285,6 +294,17 @@ class IntroductionNode:
         self._open_until = now + self.params.close_linger
         (rospy.loginfo if met else rospy.logwarn)("introduction: %s", what)
 
+    def _fail_dialogue(self, error):
+        """The work timer faulted: an open dialogue ends as not met, with the reason."""
+        if self.dialogue is None or not self.dialogue.open or self.stranger is None:
+            self._last = f"work failed: {fault_text(error)}"
+            return
+        turn = self.dialogue.abort()
+        self.say.publish(String(turn.say))
+        self._end(rospy.get_time(), f"dialogue with the stranger of "
+                                    f"#{self.stranger.instruction_id} failed: {fault_text(error)}",
+                  met=False)
+
     def _publish_open(self, value):
         if value != self._published_open:
             self.dialogue_open.publish(Bool(value))
@@ -316,9 +336,10 @@ class IntroductionNode:
 
 def main():
     rospy.init_node("introduction")
+    sup = Supervisor("perception: introduction", hardware_id="introduction")
     try:
         node = IntroductionNode(read_params())
-        node.setup()
+        node.setup(sup)
     except (KeyError, ValueError, OSError) as error:
         rospy.logfatal("introduction: cannot start: %s", error)
         return 1
