@@ -6,7 +6,7 @@ from helpers import grid_from_rows, open_room
 from sim2d.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
-from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig
+from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig, nearest_free_cell
 
 # a point robot: no inflation, so lengths can be computed by hand
 POINT = CostmapConfig(robot_radius=0.0, footprint_padding=0.0, inflation_radius=0.0)
@@ -137,3 +137,25 @@ def test_blocked_cells_open_the_footprint_of_a_robot_too_close_to_a_wall():
     expected[(np.hypot(xs - 1.6, ys - 2.5) <= 1.5) & (np.arange(6)[None, :] > 0)] = False
     assert np.array_equal(near, expected)
     assert not near[1:4, 1].any() and near[0, 1] and near[4, 1] and near[:, 0].all()
+
+
+def test_nearest_free_cell_stays_in_the_start_component_and_the_disc():
+    grid = grid_from_rows([".....#....",
+                           ".....#....",
+                           "..###.....",
+                           ".....#...."], resolution=1.0)
+    blocked = grid.occupied_mask()
+    # goal on the wall cell (2, 3): the nearest free cells (1, 3) and (3, 3) are reachable
+    assert nearest_free_cell(grid, blocked, (0, 0), (3.5, 2.5), 1.0) in ((1, 3), (3, 3))
+    # goal on (1, 5): (1, 6) on the far side of the wall is nearer than (1, 4)? both 1 m; a
+    # start on the east side must get the east cell, a start on the west side the west one
+    assert nearest_free_cell(grid, blocked, (0, 9), (5.5, 1.5), 1.0) == (1, 6)
+    assert nearest_free_cell(grid, blocked, (0, 0), (5.5, 1.5), 1.0) == (1, 4)
+    # a disc, not a square: the diagonal cell (2.5, 1.5) lies sqrt(2) m from (3.5, 2.5)
+    closed = blocked.copy()
+    closed[1, 3] = closed[3, 3] = closed[2, 5] = True
+    assert nearest_free_cell(grid, closed, (0, 0), (3.5, 2.5), 1.2) is None
+    assert nearest_free_cell(grid, closed, (0, 0), (3.5, 2.5), 1.5) in ((1, 2), (1, 4), (3, 2),
+                                                                       (3, 4))
+    with pytest.raises(ValueError, match="search radius -1"):
+        nearest_free_cell(grid, blocked, (0, 0), (3.5, 2.5), -1)

@@ -54,11 +54,85 @@ def test_reaches_a_goal_in_the_next_room():
     assert abs(math.remainder(pose[2] - math.pi / 2, 2 * math.pi)) <= 0.15
 
 
-def test_rejects_goals_outside_the_map_or_in_a_wall():
+def test_rejects_goals_outside_the_map_or_in_a_wall_without_free_pose_near():
     core = make_core()
-    assert core.start_goal((5.0, 1.0, 0.0), 0.0, (0.6, 2.4, 0.0))[0] == REJECTED
+    status, reason = core.start_goal((5.0, 1.0, 0.0), 0.0, (0.6, 2.4, 0.0))
+    assert status == REJECTED and "outside the map" in reason
+    # the wall at x = 2.0..2.05 m: the nearest free cell (robot radius 0.2 + padding 0.05 off
+    # the wall) lies about 0.25 m away, beyond a search radius of 0.1 m
+    core = make_core(goal_search_radius=0.1)
     status, reason = core.start_goal((2.02, 2.5, 0.0), 0.0, (0.6, 2.4, 0.0))
-    assert status == REJECTED and "obstacle" in reason
+    assert status == REJECTED
+    assert reason == ("goal (2.02, 2.50) lies in an obstacle and no free pose reachable from "
+                      "the robot lies within 0.10 m of it (goal_search_radius)")
+    status, reason = make_core(goal_search_radius=0.0).start_goal((2.02, 2.5, 0.0), 0.0,
+                                                                   (0.6, 2.4, 0.0))
+    assert status == REJECTED and "within 0.00 m" in reason
+
+
+def test_goal_in_a_wall_moves_to_the_nearest_free_pose_on_the_robots_side():
+    core = make_core()                                  # goal_search_radius 1.0 m
+    status, note = core.start_goal((2.02, 2.5, 1.0), 0.0, (0.6, 2.4, 0.0))
+    assert status == ACTIVE
+    assert note.startswith("goal (2.02, 2.50) lies in an obstacle: moved ")
+    x, y, yaw = core.run.goal
+    assert x < 2.0 and yaw == 1.0                       # the robot's room; heading kept
+    assert 0.25 <= math.hypot(x - 2.02, y - 2.5) <= 0.35
+    assert core.costmap.cost_at(x, y) < 253             # free for the planner
+    assert core.run.requested == (2.02, 2.5, 1.0)
+    result, pose = run(core, (0.6, 2.4, 0.0))
+    assert result.status == SUCCEEDED and result.goal_note == note
+    assert math.hypot(pose[0] - x, pose[1] - y) <= 0.1
+
+
+def test_goal_closer_than_the_robot_radius_to_a_wall_is_moved_off_it():
+    core = make_core()
+    status, note = core.start_goal((1.9, 2.5, 0.0), 0.0, (0.6, 2.4, 0.0))   # 0.1 m from it
+    assert status == ACTIVE
+    assert "closer than the robot radius to an obstacle: moved" in note
+    assert core.run.goal[0] < 1.9
+
+
+def test_person_on_the_goal_moves_it_while_driving_and_back_when_they_leave():
+    grid = two_rooms()
+    world = grid.occupied_mask().copy()
+    rows, cols = np.ogrid[:60, :80]
+    world[np.hypot(rows - 20, cols - 30) <= 4] = True   # a 0.2 m person on (1.5, 1.0)
+    core = make_core(grid)
+    goal = (1.5, 1.0, 0.0)
+    assert core.start_goal(goal, 0.0, (0.6, 2.4, 0.0)) == (ACTIVE, "")   # not seen yet
+    result, pose = run(core, (0.6, 2.4, 0.0), world=world)
+    assert result.status == SUCCEEDED
+    # the laser marks only the person's near side, so the first moves may land behind it;
+    # every replan searches again and the goal ends on cells the laser saw to be clear
+    assert result.goal_note.startswith(
+        "goal (1.50, 1.00) is closer than the robot radius to an obstacle: moved ")
+    assert 0.35 <= math.hypot(pose[0] - 1.5, pose[1] - 1.0) <= 1.0   # person 0.2 + robot 0.2
+    assert pose[2] == pytest.approx(0.0, abs=0.15)                     # heading kept
+    core.costmap.clear_obstacles()                      # the person left
+    assert core.free_goal(goal, pose) == (goal, "")
+
+
+def test_person_on_the_goal_with_no_free_pose_near_aborts_naming_the_radius():
+    grid = two_rooms()
+    world = grid.occupied_mask().copy()
+    rows, cols = np.ogrid[:60, :80]
+    world[np.hypot(rows - 20, cols - 30) <= 4] = True
+    core = make_core(grid, goal_search_radius=0.2)
+    core.start_goal((1.5, 1.0, 0.0), 0.0, (0.6, 2.4, 0.0))
+    result, _ = run(core, (0.6, 2.4, 0.0), world=world, seconds=120.0)
+    assert result.status == ABORTED
+    assert "goal (1.50, 1.00) is closer than the robot radius to an obstacle and no free " \
+           "pose reachable from the robot lies within 0.20 m of it" in result.reason
+
+
+@pytest.mark.parametrize("field, value", [
+    ("planner_frequency", 0.0), ("planner_frequency", -1.0), ("planner_frequency", math.nan),
+    ("controller_patience", math.inf), ("goal_search_radius", -0.5)])
+def test_config_refuses_rates_and_radii_naming_the_parameter(field, value):
+    with pytest.raises(ValueError, match=rf"parameter {field} must be a finite number "
+                                         rf">=? 0 \[.*\], got {value}"):
+        MoveBaseConfig(**{field: value}).validate()
 
 
 def test_aborts_a_goal_that_cannot_be_reached():

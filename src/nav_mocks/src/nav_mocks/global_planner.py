@@ -6,7 +6,8 @@ When the robot stands in an inscribed cell, its footprint is cleared first (cost
 clearRobotCell, widened to the whole inscribed disk) so that it can still leave; otherwise the
 plan keeps to cells the local controller will accept. A goal tolerance (nav_msgs/GetPlan's
 `tolerance`) lets a blocked or unreachable goal be replaced by the nearest reachable free cell
-within that many metres in x and y, as navfn does.
+within that many metres in x and y, as navfn does. `nearest_free_cell` finds the nearest free cell
+reachable from the start within a disc round a blocked goal (the move_base core's goal search).
 """
 from dataclasses import dataclass
 
@@ -121,6 +122,22 @@ def _reachable(blocked, start):
     are: its reachable set is exactly the 4-connected component of the start."""
     _, labels = cv2.connectedComponents((~blocked).astype(np.uint8), connectivity=4)
     return (labels == labels[start]) & ~blocked
+
+
+def nearest_free_cell(grid, blocked, start, goal_xy, radius):
+    """(row, col) of the free cell reachable from the `start` cell whose centre lies nearest
+    goal_xy (x, y) [m] and no farther than `radius` [m] from it (a disc); None when there is
+    none. blocked: boolean mask (GlobalPlanner.blocked_cells) of the cells a plan may not cross."""
+    if not (radius >= 0.0 and np.isfinite(radius)):
+        raise ValueError(f"search radius {radius} must be a finite number >= 0")
+    rows, cols = np.nonzero(_reachable(blocked, start))
+    xs, ys = grid.cell_to_world(rows, cols)
+    squared = (xs - goal_xy[0]) ** 2 + (ys - goal_xy[1]) ** 2
+    inside = squared <= radius ** 2 + 1e-9
+    if not inside.any():
+        return None
+    best = int(np.argmin(np.where(inside, squared, np.inf)))
+    return int(rows[best]), int(cols[best])
 
 
 def _nearest_reachable(grid, blocked, start, goal_xy, tolerance):

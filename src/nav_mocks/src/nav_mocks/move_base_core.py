@@ -8,6 +8,13 @@ in place once; if it is still stuck the goal is ABORTED with the reason. A robot
 (no admissible trajectory, or none that makes progress) is first backed out: it translates
 straight, slowly, in the direction that gains the most clearance without coming closer to any
 obstacle it is already within the collision radius of, then replans from there.
+
+A goal in an obstacle or closer than the robot radius to one (e.g. a person standing on a place's
+pose) is moved to the nearest free pose reachable from the robot within goal_search_radius of
+it, keeping the requested heading (`global_planner.nearest_free_cell`). The search runs when the
+goal arrives and at every replan, always from the requested goal, so the goal returns there when
+the obstacle leaves. The move is reported in `StepResult.goal_note`; when no free pose is found
+the goal is REJECTED (on arrival) or ABORTED (later), the reason naming the goal and the radius.
 """
 import math
 from dataclasses import dataclass, field
@@ -17,7 +24,8 @@ import numpy as np
 from nav_mocks.clearance import ContactClearance
 from nav_mocks.costmap import LETHAL_OBSTACLE
 from nav_mocks.dwa import DwaController
-from nav_mocks.global_planner import GlobalPlanner, NoPath
+from nav_mocks.global_planner import GlobalPlanner, NoPath, nearest_free_cell
+from nav_mocks.param_checks import non_negative_number, positive_number
 from nav_mocks.pose2d import distance, wrap_angle
 from nav_mocks.scan_rays import beam_cells, hit_points
 
@@ -39,10 +47,13 @@ class MoveBaseConfig:
     rotation_angle: float = 2.0 * math.pi  # [rad] turned by the rotate recovery
     back_out_distance: float = 0.3       # [m] driven by the back-out recovery
     back_out_speed: float = 0.1          # [m/s]
+    goal_search_radius: float = 1.0      # [m] a blocked goal moves to the nearest free pose
+                                         # within this distance; 0 = never moved
 
     def validate(self):
-        if self.planner_frequency <= 0 or self.controller_patience <= 0:
-            raise ValueError("move_base: planner_frequency and controller_patience must be > 0")
+        positive_number("planner_frequency", self.planner_frequency, "Hz")
+        positive_number("controller_patience", self.controller_patience, "s")
+        non_negative_number("goal_search_radius", self.goal_search_radius, "m")
         unknown = set(self.recovery_behaviors) - {CLEAR, BACK_OUT, ROTATE}
         if unknown:
             raise ValueError(f"move_base: unknown recovery behaviour(s) {sorted(unknown)}")
@@ -54,11 +65,14 @@ class StepResult:
     status: int                     # GoalStatus value of the current goal
     reason: str = ""                # why a goal ended ABORTED / REJECTED / PREEMPTED
     new_plan: object = None         # a Plan made in this step (for /plan), else None
+    goal_note: str = ""             # how the goal was moved off an obstacle ("" = not moved)
 
 
 @dataclass
 class _GoalRun:
-    goal: tuple                     # (x, y, yaw) map frame
+    goal: tuple                     # (x, y, yaw) map frame: the pose driven to
+    requested: tuple = None         # (x, y, yaw) the goal as sent (goal differs when moved)
+    goal_note: str = ""             # how goal was moved off an obstacle ("" = goal is requested)
     status: int = ACTIVE
     reason: str = ""
     plan: object = None
@@ -88,6 +102,19 @@ class MoveBaseCore:
     # goal life cycle ---------------------------------------------------------------------------
     def check_goal(self, goal):
         """Reason to REJECT a goal (outside the map, in an obstacle or unknown), else ''."""
+        reason = self.check_goal_place(goal)
+        if reason:
+            return reason
+        x, y, _ = goal
+        row, col = self.costmap.grid.world_to_cell(x, y)
+        if self.costmap.static_lethal[row, col] or self.costmap.costs()[row, col] == \
+                LETHAL_OBSTACLE:
+            return f"goal ({x:.2f}, {y:.2f}) lies in an obstacle"
+        return ""
+
+    def check_goal_place(self, goal):
+        """Reason no goal can be made of `goal` (not finite, outside the map, in unknown space
+        when unknown is lethal), else ''. Obstacles are left to free_goal."""
         x, y, yaw = goal
         if not all(math.isfinite(v) for v in (x, y, yaw)):
             return f"goal ({x}, {y}, {yaw}) is not finite"
@@ -95,21 +122,51 @@ class MoveBaseCore:
         row, col = grid.world_to_cell(x, y)
         if not grid.inside(row, col):
             return f"goal ({x:.2f}, {y:.2f}) lies outside the map"
-        if self.costmap.static_lethal[row, col] or self.costmap.costs()[row, col] == \
-                LETHAL_OBSTACLE:
-            return f"goal ({x:.2f}, {y:.2f}) lies in an obstacle"
         if grid.cells[row, col] < 0 and self.costmap.config.unknown_is_lethal:
             return f"goal ({x:.2f}, {y:.2f}) lies in unknown space"
         return ""
 
     def start_goal(self, goal, now, pose):
-        """Accept (ACTIVE) or reject (REJECTED) a new goal; a running goal is preempted."""
-        reason = self.check_goal(goal)
+        """Accept (ACTIVE) or reject (REJECTED) a new goal; a running goal is preempted.
+
+        Returns (status, text): the reason of a rejection, or for an accepted goal that was
+        moved off an obstacle how it was moved ("" when it was not)."""
+        reason = self.check_goal_place(goal)
         if reason:
             return REJECTED, reason
-        self.run = _GoalRun(goal=tuple(float(v) for v in goal), progress_pose=pose,
-                            progress_time=now)
-        return ACTIVE, ""
+        requested = tuple(float(v) for v in goal)
+        target, note = self.free_goal(requested, pose)
+        if target is None:
+            return REJECTED, note
+        self.run = _GoalRun(goal=target, requested=requested, goal_note=note,
+                            progress_pose=pose, progress_time=now)
+        return ACTIVE, note
+
+    def free_goal(self, requested, pose):
+        """(goal, note) for a robot at `pose`: the requested goal and "" when its cell is free;
+        when it lies in an obstacle or closer than the robot radius to one, the nearest free
+        cell reachable from the robot within goal_search_radius, with the requested heading,
+        and a note saying so; (None, reason naming the goal and the radius) when there is none.
+        """
+        x, y, yaw = requested
+        grid = self.costmap.grid
+        row, col = grid.world_to_cell(x, y)
+        blocked = self.planner.blocked_cells(pose[:2])
+        if not blocked[row, col]:
+            return requested, ""
+        lethal = self.costmap.costs()[row, col] == LETHAL_OBSTACLE
+        what = ("lies in an obstacle" if lethal
+                else "is closer than the robot radius to an obstacle")
+        radius = self.config.goal_search_radius
+        start = self.planner.cell_of(pose[0], pose[1], "robot")
+        found = nearest_free_cell(grid, blocked, start, (x, y), radius) if radius > 0 else None
+        if found is None:
+            return None, (f"goal ({x:.2f}, {y:.2f}) {what} and no free pose reachable from the "
+                          f"robot lies within {radius:.2f} m of it (goal_search_radius)")
+        fx, fy = (float(v) for v in grid.cell_to_world(*found))
+        moved = math.hypot(fx - x, fy - y)
+        return (fx, fy, yaw), (f"goal ({x:.2f}, {y:.2f}) {what}: moved {moved:.2f} m to "
+                               f"({fx:.2f}, {fy:.2f}), heading kept")
 
     def cancel(self, reason="cancelled"):
         if self.run is not None and self.run.status == ACTIVE:
@@ -143,22 +200,29 @@ class MoveBaseCore:
         Uses the laser hits of the last observe() for the local costmap."""
         run = self.run
         if run is None or run.status != ACTIVE:
-            return StepResult(ZERO, run.status if run else PENDING, run.reason if run else "")
+            return StepResult(ZERO, run.status if run else PENDING, run.reason if run else "",
+                              goal_note=run.goal_note if run else "")
         new_plan = None
         due = now - run.last_plan_time >= 1.0 / self.config.planner_frequency
         if not run.rotating and run.backing is None and (run.plan is None or due):
             new_plan = self._replan(run, now, pose)
         if run.status != ACTIVE or (run.plan is None and not run.rotating
                                     and run.backing is None):
-            return StepResult(ZERO, run.status, run.reason, new_plan)
+            return StepResult(ZERO, run.status, run.reason, new_plan, run.goal_note)
         cmd = self._control(run, now, pose, velocity)
-        return StepResult(cmd, run.status, run.reason, new_plan)
+        return StepResult(cmd, run.status, run.reason, new_plan, run.goal_note)
 
     def _replan(self, run, now, pose):
         """Replan. Without a path: abort at once if only the static map is in the way (nothing
         to recover), else run the next recovery behaviour (abort when none is left)."""
         run.last_plan_time = now
         try:
+            target, note = self.free_goal(run.requested or run.goal, pose)
+            if target is None:
+                raise NoPath(note)
+            if target != run.goal:
+                run.goal, run.xy_reached = target, False
+            run.goal_note = note
             run.plan = self.planner.plan(pose[:2], run.goal[:2])
         except NoPath as error:
             run.plan = None

@@ -26,6 +26,7 @@ from nav_mocks.dwa import DwaConfig
 from nav_mocks.global_planner import NoPath, PlannerConfig
 from nav_mocks.move_base_core import (ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCCEEDED,
                                       MoveBaseConfig, MoveBaseCore)
+from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
 from nav_mocks.ros_params import config_from_params
 
@@ -37,7 +38,9 @@ class MoveBaseNode:
     def __init__(self):
         self.global_frame = rospy.get_param("~global_frame", "map")
         self.base_frame = rospy.get_param("~robot_base_frame", "base_link")
-        self.period = 1.0 / float(rospy.get_param("~controller_frequency", 10.0))  # [s]
+        self.period = 1.0 / positive_number(   # [s]
+            rospy.resolve_name("~controller_frequency"),
+            rospy.get_param("~controller_frequency", 10.0), "Hz")
         self.costmap_config = config_from_params(CostmapConfig, "~costmap")
         self.dwa_config = config_from_params(DwaConfig, "~DWAPlannerROS")
         self.dwa_config.control_period = self.period
@@ -49,6 +52,7 @@ class MoveBaseNode:
         self.handle = None            # goal handle being executed
         self.core = None
         self.last_cycle = {"duration": 0.0, "status": "idle"}
+        self.goal_note = ""           # how the current (or last) goal was moved off an obstacle
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)
@@ -216,10 +220,17 @@ class MoveBaseNode:
         if self.handle is not None:
             self.handle.set_canceled(MoveBaseResult(), "preempted by a new goal")
         self.handle = handle
-        handle.set_accepted("accepted")
+        self.goal_note = reason
+        handle.set_accepted(f"accepted; {reason}" if reason else "accepted")
         rospy.loginfo("move_base mock: new goal (%.2f, %.2f, %.2f)", *goal)
+        if reason:
+            rospy.logwarn("move_base mock: %s", reason)
 
     def _report(self, result, pose):
+        if result.goal_note != self.goal_note:
+            self.goal_note = result.goal_note
+            rospy.logwarn("move_base mock: %s", result.goal_note or "goal free again: driving "
+                          "to the goal as requested")
         if result.status == ACTIVE:
             feedback = MoveBaseFeedback()
             feedback.base_position.header.stamp = rospy.Time.now()
@@ -228,7 +239,8 @@ class MoveBaseNode:
             self.handle.publish_feedback(feedback)
             return
         if result.status == SUCCEEDED:
-            self.handle.set_succeeded(MoveBaseResult(), "goal reached")
+            self.handle.set_succeeded(MoveBaseResult(), "goal reached" + (
+                f"; {result.goal_note}" if result.goal_note else ""))
         elif result.status == ABORTED:
             rospy.logwarn("move_base mock: goal aborted: %s", result.reason)
             self.handle.set_aborted(MoveBaseResult(), result.reason)
@@ -265,10 +277,13 @@ class MoveBaseNode:
             level, message = DiagnosticStatus.WARN, "control cycle slower than its period"
         else:
             level, message = DiagnosticStatus.OK, names.get(self.last_cycle["status"], "idle")
+            if self.goal_note:
+                message += f"; {self.goal_note}"
         status = DiagnosticStatus(level=level, name="nav_mocks: move_base",
                                   hardware_id="move_base_mock", message=message)
         status.values = [KeyValue("cycle_ms", f"{1e3 * self.last_cycle['duration']:.1f}"),
-                         KeyValue("goal_active", str(self.handle is not None))]
+                         KeyValue("goal_active", str(self.handle is not None)),
+                         KeyValue("goal_moved", self.goal_note)]
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()
         self.diag_pub.publish(array)
