@@ -17,8 +17,11 @@ class HumanTableDirectory(PeopleDirectory):
         self._table = None  # DictPeopleDirectory, None until the first table arrives
         self._subscriber = None
 
-    def setup(self):
-        self._subscriber = rospy.Subscriber(self.topic, HumanArray, self._on_table, queue_size=1)
+    def setup(self, sup=None):
+        """Subscribe to the table; under the node's supervision.ros_supervisor.Supervisor `sup`
+        when given (a malformed table is then a counted fault, the previous table stays)."""
+        subscribe = rospy.Subscriber if sup is None else sup.subscriber
+        self._subscriber = subscribe(self.topic, HumanArray, self._on_table, queue_size=1)
 
     def _on_table(self, msg):
         table = DictPeopleDirectory([person_from_msg(h) for h in msg.humans])

@@ -1,6 +1,11 @@
 """The visual perception node: camera-level frames (/camera/detections, tamp_msgs/PerceptionFrame,
 from the simulator or the image front end) -> /humans/observed, human_db updates, self-generated
-instructions on /task_planner/instructions, /diagnostics with latency."""
+instructions on /task_planner/instructions, /diagnostics with latency.
+
+Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault while a
+frame is analysed makes that frame a refused frame with the reason (counted in the node's own
+diagnostics) and raises the node's "perception: visual: supervision" status to ERROR; the next
+frame is analysed as usual."""
 import math
 import os
 import threading
@@ -14,6 +19,8 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import human_from_msg
 from human_db.schedule import check_schedule, time_of_day
 from sim2d.semantic_graph import load_graph
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, PerceptionFrame
 from tamp_msgs.msg import TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
@@ -95,10 +102,13 @@ class VisualNode:
         self._counts = {"frames": 0, "people": 0, "bad_frames": 0, "identified": 0,
                         "instructions": 0}
         self._timers = []
+        self._analysing = None   # the frame the work timer is analysing (for a fault's reason)
+        self._last_bad_frame = ""   # why the last refused frame was refused
         self._busy = False   # a human instruction is pending or active (/task_planner/state)
         self._day_s = None   # time of day of the last reminder tick [s since midnight]
 
-    def setup(self):
+    def setup(self, sup):
+        """Load the configuration and start the ROS API under the node's Supervisor `sup`."""
         p = self.params
         self.table = load_affordances(p.affordances)
         self.graph = load_graph(p.graph)
@@ -124,12 +134,13 @@ class VisualNode:
         self.instructions = rospy.Publisher("/task_planner/instructions", InstructionMsg,
                                             queue_size=20)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        rospy.Subscriber("/camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
-        rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
-        rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
-        self._timers = [rospy.Timer(rospy.Duration(float(p.period)), self._on_work),
-                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics),
-                        rospy.Timer(rospy.Duration(1.0), self._on_clock)]
+        sup.subscriber("/camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
+        sup.subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
+        sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        self._timers = [sup.timer(float(p.period), self._on_work, worker="work",
+                                  on_error=self._refuse_frame),
+                        sup.timer(1.0, self._on_diagnostics, worker="diagnostics"),
+                        sup.timer(1.0, self._on_clock, worker="reminders")]
 
     def _on_frame(self, msg):
         with self._lock:
@@ -178,15 +189,10 @@ class VisualNode:
             msg, self._frame = self._frame, None
         if msg is None:
             return
+        self._analysing = msg
         started = time.perf_counter()
-        try:
-            frame = frame_from_msg(msg)
-            results = analyse_frame(frame, self.table, self.config, self._cameras(), self.graph)
-        except ValueError as error:
-            with self._lock:
-                self._counts["bad_frames"] += 1
-            rospy.logwarn_throttle(5.0, "visual: frame refused: %s", error)
-            return
+        frame = frame_from_msg(msg)   # ValueError on a malformed frame: _refuse_frame
+        results = analyse_frame(frame, self.table, self.config, self._cameras(), self.graph)
         self._warn_unknown_classes(frame.objects)
         out = ObservedHumanArray(header=msg.header)
         for result in results:
@@ -201,6 +207,18 @@ class VisualNode:
             self._counts["frames"] += 1
             self._counts["people"] += len(results)
             self._latencies = (self._latencies + [time.perf_counter() - started])[-50:]
+        self._analysing = None
+
+    def _refuse_frame(self, error):
+        """The work timer faulted (a malformed frame, or anything else while analysing it): the
+        frame counts as refused, with the reason; the next frame is analysed as usual."""
+        msg, self._analysing = self._analysing, None
+        if msg is None:
+            return
+        reason = f"frame stamped {msg.header.stamp.to_sec():.3f}: {fault_text(error)}"
+        with self._lock:
+            self._counts["bad_frames"] += 1
+            self._last_bad_frame = reason
 
     def _identify(self, result):
         if result.shirt is None:
@@ -255,6 +273,7 @@ class VisualNode:
     def _on_diagnostics(self, _event):
         with self._lock:
             counts, lat = dict(self._counts), list(self._latencies)
+            last_bad = self._last_bad_frame
         mean = sum(lat) / len(lat) if lat else 0.0
         slow = mean > self.params.slow_latency
         status = DiagnosticStatus(
@@ -263,7 +282,8 @@ class VisualNode:
             message=("no frames analysed yet" if not lat else
                      f"slow: mean latency {mean * 1000:.1f} ms" if slow else "ok"),
             values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())]
-            + [KeyValue("mean_latency_ms", f"{mean * 1000:.2f}")])
+            + [KeyValue("mean_latency_ms", f"{mean * 1000:.2f}"),
+               KeyValue("last_bad_frame", last_bad or "none")])
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()
         self.diagnostics.publish(array)
@@ -271,9 +291,10 @@ class VisualNode:
 
 def main():
     rospy.init_node("visual")
+    sup = Supervisor("perception: visual", hardware_id="camera")
     try:
         node = VisualNode(read_params())
-        node.setup()
+        node.setup(sup)
     except (KeyError, ValueError, OSError) as error:
         rospy.logfatal("visual: cannot start: %s", error)
         return 1
