@@ -122,3 +122,17 @@ def test_stall_stops_the_base(controller):
 def test_diagnostics_ok_when_idle(controller):
     level, message, values = controller.diagnostics(0.0)
     assert (level, message, values["seconds since last command"]) == (OK, "no /cmd_vel", "never")
+
+
+def test_a_halt_stops_at_once_and_motion_restarts_from_rest(controller):
+    moving = run(controller, 0.0, 1.0, command=(0.2, 0.0))
+    assert moving.v == pytest.approx(0.2)
+    stopped = controller.halt("control step failed: RuntimeError: boom", 1.01)
+    assert (stopped.left, stopped.right, stopped.stop_reason) == (
+        0.0, 0.0, "control step failed: RuntimeError: boom")
+    level, _message, values = controller.diagnostics(1.02)
+    assert level == WARN and values["last problem"] == "control step failed: RuntimeError: boom"
+    assert values["control steps failed"] == "1"
+    controller.command(0.2, 0.0, 1.02)
+    wheels = controller.update(1.02)   # from rest again: 0.5 m/s^2 * 0.02 s since the last step
+    assert wheels.v == pytest.approx(0.01)

@@ -3,6 +3,8 @@
 Plays the part of the Penguin's ros_control (thesis 002 §2.1.3): command velocity -> the
 rotational speeds of the two differential wheels. Stops (watchdog, e-stop, bumper, stall, invalid
 command) set the wheels to zero at once; the acceleration limits shape commanded motion only.
+A fault of the node's control step (`halt`) stops the base too: a robot stops when its controller
+stops.
 """
 from dataclasses import dataclass
 
@@ -40,6 +42,7 @@ class BaseController:
         self._last_update = None
         self.invalid_count = 0
         self.clamped_count = 0
+        self.halt_count = 0
         self.last_problem = ""
         self._last_problem_time = None
         self._rejected = False
@@ -66,6 +69,15 @@ class BaseController:
         if v == 0.0 and omega == 0.0:
             self.stall.reset()
         return v, omega
+
+    def halt(self, reason, now):
+        """Stop at once from outside the control step (the step itself failed): zero wheels, and
+        the output restarts from rest under the acceleration limits. Returns the zero command."""
+        self._output = (0.0, 0.0)
+        self.halt_count += 1
+        self._note_problem(reason, now)
+        self.last_command = WheelCommand(0.0, 0.0, 0.0, 0.0, reason)
+        return self.last_command
 
     def _note_problem(self, text, now):
         self.last_problem, self._last_problem_time = text, now
@@ -128,6 +140,7 @@ class BaseController:
             "e-stop engagements": str(self.estop.engage_count),
             "invalid commands rejected": str(self.invalid_count),
             "commands clamped": str(self.clamped_count),
+            "control steps failed": str(self.halt_count),
             "last problem": self.last_problem or "none",
         }
         return level, reason or "driving", values

@@ -1,4 +1,10 @@
-"""ROS node `base_controller`: /cmd_vel -> wheel commands; wheel encoders -> /odom and tf."""
+"""ROS node `base_controller`: /cmd_vel -> wheel commands; wheel encoders -> /odom and tf.
+
+Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor. A fault in the
+control step stops the robot (zero wheel speeds are published and the controller restarts from
+rest, `BaseController.halt`): a robot stops when its controller stops. The status
+"penguin_base: base_controller: supervision" on /diagnostics is ERROR meanwhile.
+"""
 import signal
 import threading
 import time
@@ -10,6 +16,8 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 
 from penguin_base.config import BaseConfig, ConfigError
 from penguin_base.controller import BaseController
@@ -39,18 +47,21 @@ class BaseControllerNode:
         self._published_state = None
         self._timers = []
 
-    def start(self):
+    def start(self, sup):
+        """Create the ROS interfaces under the node's Supervisor `sup`."""
         self.wheel_pub = rospy.Publisher("wheel_command", JointState, queue_size=1)
         self.odom_pub = rospy.Publisher("odom", Odometry, queue_size=5)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.tf_broadcaster = tf2_ros.TransformBroadcaster()
-        rospy.Subscriber("cmd_vel", Twist, self._on_cmd_vel, queue_size=10)
-        rospy.Subscriber("e_stop", Bool, self._on_estop, queue_size=5)
-        rospy.Subscriber("bumper", Bool, self._on_bumper, queue_size=5)
-        rospy.Subscriber("joint_states", JointState, self._on_joint_states, queue_size=20)
+        sup.subscriber(rospy.resolve_name("cmd_vel"), Twist, self._on_cmd_vel, queue_size=10)
+        sup.subscriber(rospy.resolve_name("e_stop"), Bool, self._on_estop, queue_size=5)
+        sup.subscriber(rospy.resolve_name("bumper"), Bool, self._on_bumper, queue_size=5)
+        sup.subscriber(rospy.resolve_name("joint_states"), JointState, self._on_joint_states,
+                       queue_size=20)
         self._timers = [
-            rospy.Timer(rospy.Duration(1.0 / self.config.control_rate), self._control_step),
-            rospy.Timer(rospy.Duration(1.0), self._publish_diagnostics)]
+            sup.timer(1.0 / self.config.control_rate, self._control_step, worker="control",
+                      on_error=self._stop_on_fault),
+            sup.timer(1.0, self._publish_diagnostics, worker="diagnostics")]
         rospy.loginfo("base_controller: wheel radius %.3f m, separation %.3f m, watchdog %.2f s",
                       self.config.wheel_radius, self.config.wheel_separation,
                       self.config.watchdog_timeout)
@@ -93,6 +104,11 @@ class BaseControllerNode:
         self.wheel_pub.publish(wheel_command_msg(rospy.Time.now(), self.joints, wheels.left,
                                                  wheels.right))
         self._publish_odometry()
+
+    def _stop_on_fault(self, error):
+        """The control step failed: zero wheel speeds now, then restart from rest."""
+        self.wheel_pub.publish(wheel_command_msg(rospy.Time.now(), self.joints, 0.0, 0.0))
+        self.controller.halt(f"control step failed: {fault_text(error)}", rospy.get_time())
 
     def _integrate(self, encoders):
         """Odometry from the new encoder readings; returns the measured wheel speeds or None."""
@@ -142,7 +158,7 @@ def main():
     except ConfigError as error:
         rospy.logfatal("base_controller: bad configuration: %s", error)
         return 2
-    node.start()
+    node.start(Supervisor("penguin_base: base_controller", hardware_id="penguin"))
     try:
         while not rospy.is_shutdown():
             time.sleep(0.1)

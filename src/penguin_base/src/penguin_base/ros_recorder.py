@@ -1,4 +1,9 @@
-"""ROS node `recorder`: records /scan, /cmd_vel, /odom and the instruction class into a rosbag."""
+"""ROS node `recorder`: records /scan, /cmd_vel, /odom and the instruction class into a rosbag.
+
+Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault while
+cached messages are written (e.g. a full disk) counts them as lost (logged at close) and shows
+"penguin_base: recorder: supervision" as ERROR on /diagnostics; the next flush tries again.
+"""
 import os
 import signal
 import threading
@@ -10,6 +15,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import UInt8
+from supervision.ros_supervisor import Supervisor
 
 from penguin_base.record_format import NUM_CLASSES
 
@@ -31,9 +37,12 @@ class RecorderNode:
         self._lock = threading.Lock()
         self._pending = []
         self.counts = {}
+        self.lost = 0        # messages a failed flush could not write
+        self._flushing = 0   # messages of the flush under way not yet written
         self.bag = None
 
-    def start(self):
+    def start(self, sup):
+        """Open the bag and subscribe under the node's Supervisor `sup`."""
         self.bag = rosbag.Bag(self.path, "w")
         self.class_topic = rospy.resolve_name("instruction_class")
         if self.initial_class:
@@ -41,8 +50,9 @@ class RecorderNode:
         for name, kind in (("scan", LaserScan), ("cmd_vel", Twist), ("odom", Odometry),
                            ("instruction_class", UInt8)):
             topic = rospy.resolve_name(name)
-            rospy.Subscriber(topic, kind, self._cache_from(topic), queue_size=50)
-        self.timer = rospy.Timer(rospy.Duration(FLUSH_PERIOD), self._flush)
+            sup.subscriber(topic, kind, self._cache_from(topic), queue_size=50)
+        self.timer = sup.timer(FLUSH_PERIOD, self._flush, worker="flush",
+                               on_error=self._count_lost)
         rospy.loginfo("recorder: writing %s", self.path)
 
     def _cache_from(self, topic):
@@ -55,9 +65,16 @@ class RecorderNode:
     def _flush(self, _event=None):
         with self._lock:
             pending, self._pending = self._pending, []
+            self._flushing = len(pending)
             for topic, msg, stamp in pending:
                 self.bag.write(topic, msg, stamp)
                 self.counts[topic] = self.counts.get(topic, 0) + 1
+                self._flushing -= 1
+
+    def _count_lost(self, _error):
+        """A flush failed: the messages it had not written yet are lost."""
+        with self._lock:
+            self.lost, self._flushing = self.lost + self._flushing, 0
 
     def close(self):
         """Flush, end an open sequence started by ~instruction_class, close the bag."""
@@ -68,6 +85,9 @@ class RecorderNode:
         with self._lock:
             self.bag.close()
         rospy.loginfo("recorder: closed %s with %s", self.path, self.counts)
+        if self.lost:
+            rospy.logerr("recorder: %d message(s) could not be written to %s", self.lost,
+                         self.path)
 
 
 def _raise_interrupt(_signum, _frame):
@@ -79,7 +99,7 @@ def main():
     signal.signal(signal.SIGTERM, _raise_interrupt)
     try:
         node = RecorderNode()
-        node.start()
+        node.start(Supervisor("penguin_base: recorder"))
     except (ValueError, OSError) as error:
         rospy.logfatal("recorder: %s", error)
         return 2
