@@ -4,6 +4,7 @@ import wave
 
 import numpy as np
 import pytest
+from supervision.health import Health
 
 from perception.speech_metrics import normalise_words, word_edit_distance, word_error_rate
 from perception.speech_synthesis import synthesise
@@ -120,7 +121,8 @@ def test_worker_transcribes_speech_after_a_4e9_hz_message(stt, tmp_path):
     with wave.open(str(wav), "rb") as stream:
         pcm = np.frombuffer(stream.readframes(stream.getnframes()), dtype="<i2")
     published = []
-    worker = SttWorker(stt.transcribe, lambda text, audio: published.append((text, audio.ip)))
+    worker = SttWorker(stt.transcribe, lambda text, audio: published.append((text, audio.ip)),
+                       guard=Health("perception: stt").run)
     bad = worker.handle(AudioInput(tuple(pcm.tolist()), 4000000000, "192.168.1.110"))
     assert (bad.kind, bad.reason) == \
         ("refused", "sample_rate 4000000000 Hz is outside [8000, 192000] Hz")

@@ -1,16 +1,18 @@
 """Bounds on audio from outside (declared rate, channels, sample format, duration), the bounded
-resampler, and the STT worker going on after refused and failing utterances (no ROS, no model)."""
+resampler, and the STT worker going on after refused and failing utterances under the
+supervision guard (no ROS, no model)."""
 import math
 import re
 import wave
 
 import numpy as np
 import pytest
+from supervision.health import Health, HealthConfig
 
 import perception.stt as stt
 from perception.stt import (AudioError, AudioLimits, Transcript, audio_from_pcm16, check_audio,
                             read_wav, resample)
-from perception.stt_worker import ERROR, OK, WARN, AudioInput, SttWorker
+from perception.stt_worker import ERROR, OK, WARN, WORKER, AudioInput, SttWorker
 
 RANGE = "is outside [8000, 192000] Hz"
 
@@ -152,7 +154,17 @@ def speech(rate=16000, seconds=1.0, ip="192.168.1.110"):
                       origin=f"{ip} on /audio_utterance")
 
 
-def make_worker(fake, fail_publish=()):
+class FakeClock:
+    def __init__(self):
+        self.now = 100.0
+
+    def __call__(self):
+        return self.now
+
+
+def make_worker(fake, fail_publish=(), clock=None):
+    """An SttWorker under a real supervision guard; logs gets (level, text) of the worker and
+    ("guard", text) of the guard. Returns (worker, published, logs, health)."""
     published, logs, calls = [], [], []
 
     def publish(text, audio):
@@ -161,9 +173,11 @@ def make_worker(fake, fail_publish=()):
             raise OSError("publisher closed")
         published.append((text, audio.ip, audio.stamp))
 
-    worker = SttWorker(fake.transcribe, publish, log=lambda level, text: logs.append((level,
-                                                                                       text)))
-    return worker, published, logs
+    health = Health("perception: stt", HealthConfig(fault_hold_s=10.0),
+                    clock=clock or FakeClock(), log=lambda text: logs.append(("guard", text)))
+    worker = SttWorker(fake.transcribe, publish, guard=health.run,
+                       log=lambda level, text: logs.append((level, text)))
+    return worker, published, logs, health
 
 
 BAD = [
@@ -178,7 +192,7 @@ BAD = [
 
 def test_worker_transcribes_good_audio_after_each_bad_message():
     fake = FakeStt()
-    worker, published, logs = make_worker(fake)
+    worker, published, logs, health = make_worker(fake)
     for count, (bad, reason) in enumerate(BAD, start=1):
         outcome = worker.handle(bad)
         assert (outcome.kind, outcome.reason[:len(reason)]) == ("refused", reason)
@@ -198,11 +212,13 @@ def test_worker_transcribes_good_audio_after_each_bad_message():
     assert (level, message) == (OK, "ok")
     assert (values["utterances"], values["refused"], values["failed"]) == ("1", "6", "0")
     assert values["last_refusal"].startswith("samples 0")
+    assert health.report()[:2] == (OK, "all workers alive")  # a refusal is no fault
+    assert dict(health.report()[2])[f"{WORKER} runs/faults"] == "7/0"
 
 
 def test_an_utterance_that_raises_fails_alone_and_error_lasts_until_a_transcription():
     fake = FakeStt(fail_on={1})
-    worker, published, logs = make_worker(fake)
+    worker, published, logs, _ = make_worker(fake)
     outcome = worker.handle(speech())
     assert outcome.kind == "failed"
     assert outcome.reason.startswith("RuntimeError: decoder crashed (at test_stt_bounds.py:")
@@ -211,8 +227,11 @@ def test_an_utterance_that_raises_fails_alone_and_error_lasts_until_a_transcript
     assert level == ERROR
     assert message == f"1 utterance(s) failed; last: {outcome.reason}"
     assert values["failed"] == "1" and values["last_failure"] == outcome.reason
-    assert [level for level, _ in logs] == ["error"]
-    assert "Traceback" in logs[0][1] and "going on with the next one" in logs[0][1]
+    assert [level for level, _ in logs] == ["guard", "error"]
+    assert "utterance from 192.168.1.110 on /audio_utterance" in logs[0][1]
+    assert "Traceback" in logs[0][1]  # the guard logs the traceback once per kind of fault
+    assert logs[1][1] == (f"stt: utterance from 192.168.1.110 on /audio_utterance failed: "
+                          f"{outcome.reason}; going on with the next one")
 
     assert worker.handle(BAD[0][0]).kind == "refused"
     assert worker.health.status()[0] == ERROR  # a refusal does not hide the failure
@@ -225,7 +244,7 @@ def test_an_utterance_that_raises_fails_alone_and_error_lasts_until_a_transcript
 
 def test_silence_clears_the_warning_and_a_failing_publish_fails_that_utterance():
     fake = FakeStt()
-    worker, published, logs = make_worker(fake, fail_publish={1})
+    worker, published, logs, _ = make_worker(fake, fail_publish={1})
     assert worker.handle(BAD[0][0]).kind == "refused"
     silence = AudioInput((0,) * 16000, 16000, "", origin="the microphone")
     assert worker.handle(silence).kind == "silent"
@@ -239,8 +258,32 @@ def test_silence_clears_the_warning_and_a_failing_publish_fails_that_utterance()
 
 def test_decoded_samples_skip_the_message_check():
     fake = FakeStt()
-    worker, published, _ = make_worker(fake)
+    worker, published, _, _ = make_worker(fake)
     samples = np.full(16000, 0.5, dtype=np.float32)
     audio = AudioInput(samples, 16000, "192.168.1.102", stamp=3, origin="ill.wav")
     assert worker.handle(audio, decoded=True).kind == "published"
     assert published == [("chat with me", "192.168.1.102", 3)]
+
+
+def test_a_failing_utterance_shows_error_on_the_supervision_status():
+    clock = FakeClock()
+    fake = FakeStt(fail_on={1, 2})
+    worker, published, logs, health = make_worker(fake, clock=clock)
+    assert worker.handle(speech()).kind == "failed"
+    assert worker.handle(speech()).kind == "failed"
+    level, message, values = health.report()
+    assert level == ERROR
+    assert message.startswith("degraded: failing: utterance: utterance from 192.168.1.110 on "
+                              "/audio_utterance: RuntimeError: decoder crashed")
+    assert dict(values)["faults"] == "2"
+    assert dict(values)[f"{WORKER} runs/faults"] == "2/2"
+    assert [level for level, _ in logs] == ["guard", "error", "error"]  # traceback logged once
+    assert worker.health.status()[2]["failed"] == "2"
+
+    assert worker.handle(speech()).kind == "published"
+    level, message, _ = health.report()
+    assert level == ERROR and message.startswith("degraded: fault 0.0 s ago: utterance:")
+    clock.now += 10.5  # ~supervision/fault_hold_s later
+    assert health.report()[:2] == (OK, "all workers alive")
+    assert worker.health.status()[0] == OK
+    assert published == [("chat with me", "192.168.1.110", 7)]

@@ -2,19 +2,24 @@
 /audio_utterance -> tamp_msgs/Utterance on /voice_message, with the latency of each utterance
 logged and on /diagnostics. The work is `perception.stt_worker.SttWorker`: audio outside the
 bounds (~min_sample_rate, ~max_sample_rate, ~max_audio_s) is refused (WARN), an utterance whose
-handling raises fails alone (ERROR), and the worker goes on with the next one."""
+handling raises fails alone (ERROR), and the worker goes on with the next one.
+
+Every timer, the subscriber and each utterance run under one supervision.ros_supervisor.Supervisor
+("perception: stt: supervision" on /diagnostics): a fault while an utterance is handled fails
+that utterance with the reason and raises the supervision status to ERROR."""
 import collections
 import threading
 from dataclasses import dataclass
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AudioUtterance, Utterance
 
 from perception.conversions import audio_input_from_msg, utterance_to_msg
 from perception.stt import (WHISPER_RATE, AudioError, AudioLimits, ModelMissing, SpeechToText,
                             SttConfig, read_wav)
-from perception.stt_worker import AudioInput, SttWorker
+from perception.stt_worker import WORKER, AudioInput, SttWorker
 
 
 @dataclass(frozen=True)
@@ -58,8 +63,10 @@ def _log(level, text):
 
 
 class SttNode:
-    def __init__(self, params):
-        self.params = params
+    """The node's ROS API around SttWorker; `sup` is its Supervisor."""
+
+    def __init__(self, params, sup):
+        self.params, self.sup = params, sup
         self._lock = threading.Lock()
         self._queue = collections.deque()
         self.stt = self.worker = self._publisher = self._diagnostics = None
@@ -69,14 +76,22 @@ class SttNode:
         """Load the model (raises ModelMissing naming scripts/setup) and create the publishers."""
         self.stt = SpeechToText(self.params.stt)
         rospy.loginfo("stt: Whisper tiny.en loaded from %s", self.stt.model_dir)
-        self.worker = SttWorker(self.stt.transcribe, self._publish, self.params.limits, _log)
+        self.worker = SttWorker(self.stt.transcribe, self._publish, self.params.limits, _log,
+                                guard=self.sup.health.run)
+        self.sup.worker(WORKER)
         self._publisher = rospy.Publisher("/voice_message", Utterance, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
 
     def start_listening(self):
-        rospy.Subscriber(self.params.audio_topic, AudioUtterance, self._on_audio, queue_size=5)
-        self._timers = [rospy.Timer(rospy.Duration(self.params.period), self._on_work),
-                        rospy.Timer(rospy.Duration(1.0), self._on_diagnostics)]
+        p = self.params
+        self.sup.subscriber(p.audio_topic, AudioUtterance, self._on_audio, worker="audio",
+                            queue_size=5)
+        self._timers = [self.sup.timer(p.period, self._on_work, worker="work"),
+                        self.sup.timer(1.0, self._on_diagnostics, worker="diagnostics")]
+        # One transcription keeps the work timer busy: it is silent only once an utterance has
+        # taken longer than the longest audio lasts (~max_audio_s, a real-time factor above 1).
+        self.sup.worker("work", max(p.period,
+                                    p.limits.max_audio_s / self.sup.health.config.stale_periods))
         rospy.loginfo("stt: listening on %s", self.params.audio_topic)
 
     def transcribe_file(self):
@@ -109,6 +124,7 @@ class SttNode:
                 if not self._queue:
                     return
                 msg = self._queue.popleft()
+            self.sup.beat("work")
             self.worker.handle(audio_input_from_msg(msg, self.params.audio_topic))
 
     def _publish(self, text, audio):
@@ -130,10 +146,11 @@ def main():
     rospy.init_node("stt")
     try:
         params = read_params()
+        sup = Supervisor("perception: stt", hardware_id=params.audio_topic)
     except ValueError as error:
         rospy.logfatal("stt: %s", error)
         return 1
-    node = SttNode(params)
+    node = SttNode(params, sup)
     try:
         node.setup()
     except ModelMissing as error:

@@ -2,9 +2,11 @@
 (`stt.check_audio`), resampled, transcribed and handed to `publish`.
 
 No utterance can stop the worker: audio outside the bounds is refused with its reason (counted,
-logged, WARN), and any exception while an utterance is handled fails that one utterance with a
-reason (counted, logged with its traceback, ERROR); the next utterance is handled as usual. Both
-states last until an utterance is transcribed again (speech or silence).
+logged, WARN), and each utterance runs under the node's guard (`supervision.health.Health.run`,
+worker "utterance"), whose `on_error` fails that one utterance with a reason (counted, logged,
+ERROR; the guard logs the traceback once per kind of fault and counts it in the node's
+supervision status); the next utterance is handled as usual. Both states last until an utterance
+is transcribed again (speech or silence).
 """
 import logging
 import threading
@@ -15,6 +17,7 @@ from perception.stt import AudioError, AudioLimits, audio_from_pcm16
 
 OK, WARN, ERROR = 0, 1, 2  # diagnostic_msgs/DiagnosticStatus levels
 MAX_REASON_CHARS = 300     # a reason shown on /diagnostics is cut to this length
+WORKER = "utterance"       # the guard's worker name for the handling of one utterance
 
 
 @dataclass(frozen=True)
@@ -42,16 +45,6 @@ def error_reason(error):
         last = frames[-1]
         reason += f" (at {last.filename.rsplit('/', 1)[-1]}:{last.lineno} in {last.name})"
     return reason
-
-
-def run_guarded(fn, *args, on_error):
-    """fn(*args), or None after `on_error(exception)` when it raised: the error boundary of one
-    utterance (same call shape as supervision's `Health.run` with its name and context bound)."""
-    try:
-        return fn(*args)
-    except Exception as error:  # noqa: BLE001 - one utterance must never stop the worker
-        on_error(error)
-        return None
 
 
 class SttHealth:
@@ -105,10 +98,10 @@ def _python_log(level, text):
 class SttWorker:
     """transcribe: float32 mono 16 kHz -> stt.Transcript (SpeechToText.transcribe);
     publish(text, audio): sends the sentence on; log(level, text) with level "info", "warn" or
-    "error"."""
+    "error"; guard(worker, context, fn, *args, on_error=...): the node's guard, with the signature
+    of `supervision.health.Health.run` (`Supervisor.health.run` in the node)."""
 
-    def __init__(self, transcribe, publish, limits=AudioLimits(), log=_python_log,
-                 guard=run_guarded):
+    def __init__(self, transcribe, publish, limits=AudioLimits(), log=_python_log, *, guard):
         self.transcribe, self.publish, self.limits, self.log = transcribe, publish, limits, log
         self.guard = guard
         self.health = SttHealth()
@@ -117,15 +110,17 @@ class SttWorker:
         """One utterance -> its Outcome; never raises. `decoded`: the samples are already float32
         mono at 16 kHz (a WAV file read by `stt.read_wav`)."""
         failed = []
-        outcome = self.guard(self._handle, audio, decoded, on_error=failed.append)
-        if failed:
-            outcome = Outcome("failed", reason=error_reason(failed[0]))
-            self.health.record(outcome)
-            self.log("error", f"stt: utterance from {audio.origin} failed: {outcome.reason}; "
-                              f"going on with the next one\n"
-                              f"{''.join(traceback.format_exception(failed[0]))}".rstrip())
-        return outcome
 
+        def fail(error):
+            """The guard's on_error: the utterance fails with the reason of `error`."""
+            failed.append(Outcome("failed", reason=error_reason(error)))
+            self.health.record(failed[0])
+            self.log("error", f"stt: utterance from {audio.origin} failed: {failed[0].reason}; "
+                              f"going on with the next one")
+
+        outcome = self.guard(WORKER, f"utterance from {audio.origin}", self._handle, audio,
+                             decoded, on_error=fail)
+        return failed[0] if failed else outcome
     def _handle(self, audio, decoded):
         try:
             samples = audio.samples if decoded else audio_from_pcm16(
