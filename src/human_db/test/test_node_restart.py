@@ -8,6 +8,7 @@ import os
 import shutil
 import signal
 import socket
+import sqlite3
 import subprocess
 import sys
 import threading
@@ -96,9 +97,10 @@ def ros_env(tmp_path):
         core.wait()
 
 
-def _start_node(env, db_path):
+def _start_node(env, db_path, *params):
     return subprocess.Popen(
-        ["rosrun", "human_db", "human_db", f"_db_path:={db_path}", f"_household:={HOUSEHOLD}"],
+        ["rosrun", "human_db", "human_db", f"_db_path:={db_path}", f"_household:={HOUSEHOLD}",
+         *params],
         env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
         start_new_session=True)
 
@@ -167,3 +169,23 @@ def test_a_corrupted_database_stops_the_node_naming_the_file(ros_env, tmp_path):
     assert db_path.read_bytes() == garbage
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith("humans")) == \
         ["humans.sqlite"]
+
+
+def test_a_locked_database_is_retried_then_stops_the_node_naming_the_file(ros_env, tmp_path):
+    db_path = tmp_path / "humans.sqlite"
+    holder = sqlite3.connect(db_path, isolation_level=None)
+    holder.execute("BEGIN EXCLUSIVE")          # another process's exclusive lock
+    try:
+        node = _start_node(ros_env, db_path, "_open_retry_s:=2.0")
+        try:
+            output = node.communicate(timeout=TIMEOUT)[0]
+        finally:
+            _stop(node)
+    finally:
+        holder.execute("ROLLBACK")
+        holder.close()
+    assert node.returncode == 1
+    assert output.count(f"human_db: {db_path}: another process holds a lock on the database "
+                        "(SQLite: database is locked); retry ") == 1
+    assert (f"human_db: not starting: {db_path}: another process holds a lock on the database "
+            "(SQLite: database is locked) and kept it for the 2 s start-up budget") in output

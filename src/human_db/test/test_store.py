@@ -1,16 +1,17 @@
 """The SQLite store: round trips, history, bad input, WAL, migrations, refusing bad files."""
 import sqlite3
 import threading
+import time
 
 import pytest
 from human_factories import make_human
 
 from human_db.colour import ColourIndex
 from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidColour, InvalidHuman,
-                             UnknownHuman)
+                             StoreBusy, UnknownHuman)
 from human_db.model import ScheduleEntry
 from human_db.schema import MIGRATIONS, SCHEMA_VERSION
-from human_db.store import HistoryEntry, HumanStore
+from human_db.store import HistoryEntry, HumanStore, StoreConfig
 
 
 @pytest.fixture
@@ -209,7 +210,7 @@ def test_a_foreign_or_newer_database_is_refused(tmp_path):
     connection.execute("CREATE TABLE invoices (id INTEGER)")
     connection.commit()
     connection.close()
-    _refused_untouched(foreign, "no human_db schema")
+    _refused_untouched(foreign, r"holds tables \['invoices'\] but no human_db schema")
     newer = tmp_path / "newer.sqlite"
     connection = sqlite3.connect(newer)
     connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION + 1}")
@@ -246,3 +247,101 @@ def test_two_stores_opening_a_new_file_together_both_work(tmp_path, alice, bob):
     assert [h.name for h in stores[0].humans()] == ["Alice", "Bob"]
     for store in stores:
         store.close()
+
+
+def _checkpointed(tmp_path, alice):
+    path = tmp_path / "humans.sqlite"
+    store = HumanStore(path)
+    store.register(alice)
+    store.close()
+    connection = sqlite3.connect(path)
+    connection.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+    connection.close()
+    return path
+
+
+@pytest.mark.parametrize("keep", [10, 100, 5000, -100])
+def test_a_truncated_database_is_refused_naming_the_file(tmp_path, alice, keep):
+    path = _checkpointed(tmp_path, alice)
+    data = path.read_bytes()
+    path.write_bytes(data[:keep])
+    error = _refused_untouched(path, "truncated SQLite database")
+    if keep > 100:
+        assert f"({len(data[:keep])} bytes; its header states" in str(error)
+
+
+def test_a_foreign_database_with_a_human_db_table_name_is_refused_untouched(tmp_path):
+    foreign = tmp_path / "notes.sqlite"
+    connection = sqlite3.connect(foreign)
+    connection.execute("CREATE TABLE history (day TEXT, note TEXT)")
+    connection.execute("CREATE TABLE tags (name TEXT)")
+    connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+    connection.commit()
+    connection.close()
+    error = _refused_untouched(foreign, r"holds tables \['history', 'tags'\], which do not match "
+                                        r"human_db's schema version 2")
+    assert "not a human_db database" in str(error)
+    connection = sqlite3.connect(foreign)
+    tables = [r[0] for r in connection.execute("SELECT name FROM sqlite_master ORDER BY name")]
+    connection.close()
+    assert tables == ["history", "tags"]          # none of ours added
+
+
+def test_an_extra_table_in_a_human_db_file_is_refused(tmp_path, alice):
+    path = _checkpointed(tmp_path, alice)
+    connection = sqlite3.connect(path)
+    connection.execute("CREATE TABLE invoices (id INTEGER)")
+    connection.commit()
+    connection.close()
+    _refused_untouched(path, r"differing: \['invoices'\]")
+
+
+def _hold_exclusive(path):
+    """A second connection in rollback-journal mode holding BEGIN EXCLUSIVE on `path`."""
+    holder = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+    holder.execute("PRAGMA journal_mode = DELETE")
+    holder.execute("BEGIN EXCLUSIVE")
+    return holder
+
+
+def test_a_locked_database_is_retried_for_the_budget_then_refused(tmp_path):
+    path = tmp_path / "humans.sqlite"
+    holder = _hold_exclusive(path)
+    retries = []
+    started = time.monotonic()
+    try:
+        with pytest.raises(StoreBusy) as caught:
+            HumanStore(path, StoreConfig(open_retry=2.5), on_retry=retries.append)
+    finally:
+        holder.execute("ROLLBACK")
+        holder.close()
+    elapsed = time.monotonic() - started
+    assert 2.5 <= elapsed < 4.0
+    assert str(caught.value).startswith(f"{path}: another process holds a lock on the database "
+                                        "(SQLite: database is locked) and kept it for the 2.5 s "
+                                        "start-up budget (open_retry)")
+    assert len(retries) == 2                        # one line per retry, about 1 s apart
+    assert retries[0].startswith(f"{path}: another process holds a lock on the database")
+    assert "retry 1," in retries[0] and "retry 2," in retries[1]
+
+
+def test_a_lock_released_within_the_budget_lets_the_store_open(tmp_path, alice):
+    path = tmp_path / "humans.sqlite"
+    holder = _hold_exclusive(path)
+    release = threading.Timer(1.5, lambda: holder.execute("ROLLBACK"))
+    release.start()
+    retries = []
+    try:
+        store = HumanStore(path, StoreConfig(open_retry=10.0), on_retry=retries.append)
+    finally:
+        release.join()
+        holder.close()
+    store.register(alice)
+    assert store.get("Alice").name == "Alice" and 1 <= len(retries) <= 3
+    store.close()
+
+
+@pytest.mark.parametrize("value", [-1.0, float("inf"), float("nan")])
+def test_open_retry_must_be_a_finite_number_of_seconds(value):
+    with pytest.raises(ValueError, match="open_retry must be a finite number of seconds >= 0"):
+        StoreConfig(open_retry=value)

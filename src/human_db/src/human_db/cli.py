@@ -29,7 +29,8 @@ def parse_args(argv):
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     try:
-        store = HumanStore(args.db)
+        store = HumanStore(args.db, on_retry=lambda message: print(f"household: {message}",
+                                                                   file=sys.stderr))
         if args.command == "import":
             names = import_household(store, args.yaml, replace=args.replace)
             print(f"imported {len(names)} people into {store.path}: {', '.join(names)}")

@@ -34,6 +34,8 @@ class NodeParams:
     synchronous: str = "FULL"       # SQLite synchronous level
     future_tolerance: float = 5.0   # [s] an update stamped further after the node's clock is
                                     # refused (it would pin the person's current state)
+    open_retry_s: float = 10.0      # [s] at start, a database locked by another process is
+                                    # retried this long (a warning per retry), then the node exits
 
 
 def read_params():
@@ -50,7 +52,8 @@ def read_params():
         retry_timeout=float(rospy.get_param("~retry_timeout", NodeParams.retry_timeout)),
         synchronous=str(rospy.get_param("~synchronous", NodeParams.synchronous)),
         future_tolerance=float(rospy.get_param("~future_tolerance",
-                                               NodeParams.future_tolerance)))
+                                               NodeParams.future_tolerance)),
+        open_retry_s=float(rospy.get_param("~open_retry_s", NodeParams.open_retry_s)))
 
 
 class HumanDbNode:
@@ -72,12 +75,15 @@ class HumanDbNode:
     def setup(self):
         """Open (or create) the database, import the household if it is empty, start the ROS API.
 
-        Raises DatabaseUnusable when the file is corrupted or foreign (it is left untouched),
+        Raises DatabaseUnusable when the file is corrupted, truncated or foreign (it is left
+        untouched), StoreBusy when another process kept it locked for ~open_retry_s,
         InvalidHuman/DuplicateHuman when the household file is bad, ValueError for bad params."""
         config = StoreConfig(busy_timeout=self.params.busy_timeout,
                              retry_timeout=self.params.retry_timeout,
-                             synchronous=self.params.synchronous)
-        self.store = HumanStore(self.params.db_path, config)
+                             synchronous=self.params.synchronous,
+                             open_retry=self.params.open_retry_s)
+        self.store = HumanStore(self.params.db_path, config,
+                                on_retry=lambda message: rospy.logwarn("human_db: %s", message))
         rospy.loginfo("human_db: database %s holds %d people", self.store.path,
                       self.store.count())
         if self.params.household and self.store.count() == 0:

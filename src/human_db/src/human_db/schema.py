@@ -44,4 +44,3 @@ MIGRATIONS = (
 )
 
 SCHEMA_VERSION = len(MIGRATIONS)
-OWN_TABLES = frozenset({"humans", "schedules", "history"})

@@ -15,9 +15,11 @@ from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidHuman, Sto
                              UnknownHuman)
 from human_db.colour import shirt_colours
 from human_db.model import Human, ScheduleEntry, check_ip, check_schedules
-from human_db.schema import COLOUR_COLUMNS, MIGRATIONS, OWN_TABLES, SCHEMA_VERSION
+from human_db.schema import COLOUR_COLUMNS, MIGRATIONS, SCHEMA_VERSION
 
 SQLITE_HEADER = b"SQLite format 3\x00"
+SQLITE_HEADER_SIZE = 100     # [bytes] the database header on page 1
+OPEN_RETRY_PAUSE = 1.0       # [s] at start, one attempt per this long while the file is locked
 SQLITE_BUSY, SQLITE_LOCKED = 5, 6
 SYNCHRONOUS_LEVELS = ("OFF", "NORMAL", "FULL", "EXTRA")
 _HUMAN_COLUMNS = ("id", "name", "ip", "gender", "age") + COLOUR_COLUMNS + (
@@ -29,13 +31,18 @@ class StoreConfig:
     busy_timeout: float = 5.0     # [s] SQLite waits this long for a lock before reporting busy
     retry_timeout: float = 30.0   # [s] an operation retries a busy database for this long in all
     synchronous: str = "FULL"     # SQLite fsync level: FULL also survives power loss
+    open_retry: float = 10.0      # [s] at start, a database locked by another process is
+                                  # retried this long (0 = one attempt)
 
     def __post_init__(self):
         if self.synchronous not in SYNCHRONOUS_LEVELS:
             raise ValueError(f"synchronous must be one of {SYNCHRONOUS_LEVELS}, "
                              f"got {self.synchronous!r}")
-        if self.busy_timeout <= 0 or self.retry_timeout <= 0:
+        if not (self.busy_timeout > 0 and self.retry_timeout > 0):
             raise ValueError("busy_timeout and retry_timeout must be > 0 s")
+        if not (0 <= self.open_retry < math.inf):
+            raise ValueError(f"open_retry must be a finite number of seconds >= 0, "
+                             f"got {self.open_retry!r}")
 
 
 @dataclass(frozen=True)
@@ -51,21 +58,66 @@ class HistoryEntry:
 class HumanStore:
     """Every household member, their schedules and history, in one SQLite file."""
 
-    def __init__(self, path, config=StoreConfig()):
+    def __init__(self, path, config=StoreConfig(), on_retry=None):
+        """Open (or create) the database at `path`. A file that is not a usable human database
+        raises DatabaseUnusable naming it; one locked by another process is retried for
+        config.open_retry seconds, calling on_retry(message) before each retry, then raises
+        StoreBusy."""
         self.path = os.path.abspath(path)
         self.config = config
+        self._on_retry = on_retry
         self.busy_retries = 0          # how often an operation found the database locked
         self._revision = 0             # bumped by every committed write of this process
         self._lock = threading.Lock()  # guards the pool and the counters
         self._pool = []                # idle connections; a working thread takes its own
         self._connections = []         # every connection, to close them all
         check_database_file(self.path)
+        self._open()
+
+    def _open(self):
+        """Check and migrate the schema; retry a locked file for config.open_retry seconds."""
+        budget = self.config.open_retry
+        deadline = wallclock.monotonic() + budget
+        attempt = 0
+        while True:
+            attempt += 1
+            started = wallclock.monotonic()
+            try:
+                self._open_once()
+                return
+            except sqlite3.OperationalError as error:   # only "locked" / "busy" arrive here
+                left = deadline - wallclock.monotonic()
+                if left <= 0:
+                    raise StoreBusy(
+                        f"{self.path}: another process holds a lock on the database (SQLite: "
+                        f"{error}) and kept it for the {budget:g} s start-up budget "
+                        "(open_retry); stop that process or let it finish, then start "
+                        "again") from error
+                if self._on_retry is not None:
+                    self._on_retry(f"{self.path}: another process holds a lock on the "
+                                   f"database (SQLite: {error}); retry {attempt}, "
+                                   f"{left:.1f} s of the {budget:g} s start-up budget left")
+                # SQLite's busy handler has waited already; pace fast failures to the pause
+                waited = wallclock.monotonic() - started
+                wallclock.sleep(max(0.0, min(OPEN_RETRY_PAUSE - waited, left)))
+
+    def _open_once(self):
+        """One attempt at opening: a busy error is raised as sqlite3.OperationalError, any
+        other SQLite error as DatabaseUnusable naming the file."""
+        os.makedirs(os.path.dirname(self.path), exist_ok=True)
+        connection = sqlite3.connect(self.path, isolation_level=None,
+                                     timeout=min(self.config.busy_timeout, OPEN_RETRY_PAUSE))
         try:
-            with self._connection() as connection:
-                open_schema(connection, self.path)
-        except BaseException:
-            self.close()
-            raise
+            connection.execute("PRAGMA foreign_keys = ON")
+            open_schema(connection, self.path)
+        except sqlite3.DatabaseError as error:
+            if is_busy(error):
+                raise
+            raise DatabaseUnusable(unreadable_message(self.path, error)) from error
+        finally:
+            if connection.in_transaction:
+                connection.execute("ROLLBACK")
+            connection.close()
 
     # -- connections and transactions -------------------------------------------------------
     def _connect(self):
@@ -270,42 +322,113 @@ def is_busy(error):
 
 
 def check_database_file(path):
-    """Refuse (DatabaseUnusable, naming the file) anything but a missing, empty or SQLite file."""
+    """Refuse (DatabaseUnusable, naming the file) anything but a missing, empty or SQLite file,
+    and an SQLite file shorter than its header says (truncated)."""
     if not os.path.exists(path):
         return
     if not os.path.isfile(path):
         raise DatabaseUnusable(f"{path}: not a regular file; refusing to use it")
     with open(path, "rb") as stream:
-        header = stream.read(len(SQLITE_HEADER))
-    if header and header != SQLITE_HEADER:
-        raise DatabaseUnusable(f"{path}: not an SQLite database (corrupted header {header!r}); "
-                               "refusing to start, the file is left untouched")
+        header = stream.read(SQLITE_HEADER_SIZE)
+    if not header:
+        return
+    if len(header) < SQLITE_HEADER_SIZE and SQLITE_HEADER.startswith(header[:16]):
+        raise DatabaseUnusable(f"{path}: truncated SQLite database ({len(header)} bytes, less "
+                               f"than its {SQLITE_HEADER_SIZE}-byte header); refusing to start, "
+                               "the file is left untouched")
+    if header[:16] != SQLITE_HEADER:
+        raise DatabaseUnusable(f"{path}: not an SQLite database (corrupted header "
+                               f"{header[:16]!r}); refusing to start, the file is left untouched")
+    truncation = truncation_note(path, header)
+    if truncation:
+        raise DatabaseUnusable(f"{path}: {truncation}; refusing to start, the file is left "
+                               "untouched")
+
+
+def truncation_note(path, header):
+    """"truncated SQLite database (...)" when the file is shorter than the page count its header
+    states, else "". The header's count is trusted only when valid (its version-valid-for
+    number equals the change counter) and no write-ahead log holds pages not yet written
+    back (a checkpoint may be under way)."""
+    page_size = int.from_bytes(header[16:18], "big")
+    page_size = 65536 if page_size == 1 else page_size
+    pages = int.from_bytes(header[28:32], "big")
+    valid = header[24:28] == header[92:96] and pages > 0
+    wal = f"{path}-wal"
+    if not valid or (os.path.exists(wal) and os.path.getsize(wal) > 0):
+        return ""
+    size, expected = os.path.getsize(path), pages * page_size
+    if size >= expected:
+        return ""
+    return (f"truncated SQLite database ({size} bytes; its header states {pages} pages of "
+            f"{page_size} bytes = {expected} bytes)")
+
+
+def unreadable_message(path, error):
+    """The DatabaseUnusable message for an SQLite error other than "locked"."""
+    return (f"{path}: unreadable database ({error}): the file is corrupted or truncated; "
+            "refusing to start, the file is left untouched")
+
+
+def reference_schema(version):
+    """{table: ((column, type, notnull, pk), ...)} of the human_db schema at `version`, built by
+    running MIGRATIONS[:version] on an in-memory database."""
+    connection = sqlite3.connect(":memory:")
+    try:
+        for statements in MIGRATIONS[:version]:
+            for statement in statements:
+                connection.execute(statement)
+        return table_columns(connection)
+    finally:
+        connection.close()
+
+
+def table_columns(connection):
+    """{table: ((column, type, notnull, pk), ...)} of every table but SQLite's own."""
+    names = [row[0] for row in connection.execute(
+        "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
+        "ORDER BY name")]
+    return {name: tuple((row[1], row[2].upper(), row[3], row[5]) for row in
+                        connection.execute("SELECT * FROM pragma_table_info(?)", (name,)))
+            for name in names}
 
 
 def open_schema(connection, path):
-    """Check integrity, switch to WAL, migrate to SCHEMA_VERSION; raise DatabaseUnusable."""
+    """Check integrity and the schema, switch to WAL, migrate to SCHEMA_VERSION.
+
+    Raises DatabaseUnusable naming the file when it is corrupted, newer than this code or not
+    human_db's (tables other than those of its schema version, or columns that differ): such a
+    file is never written to. An SQLite "locked" error is raised as it is (the caller retries).
+    The checks read one snapshot (one read transaction): another process may be migrating."""
     try:
+        connection.execute("BEGIN")
         problems = [row[0] for row in connection.execute("PRAGMA quick_check")]
         if problems != ["ok"]:
             raise DatabaseUnusable(f"{path}: database is corrupted ({'; '.join(problems[:3])}); "
                                    "refusing to start, the file is left untouched")
-        # One statement, one snapshot: another process may be creating the schema meanwhile.
-        version, names = connection.execute(
-            "SELECT user_version, (SELECT group_concat(name, ',') FROM sqlite_master "
-            "WHERE type = 'table') FROM pragma_user_version").fetchone()
-        tables = set(names.split(",")) if names else set()
+        version = connection.execute("PRAGMA user_version").fetchone()[0]
+        found = table_columns(connection)
+        connection.execute("COMMIT")
     except sqlite3.DatabaseError as error:
-        raise DatabaseUnusable(f"{path}: unreadable database ({error}); refusing to start, "
-                               "the file is left untouched") from error
+        if is_busy(error):
+            raise
+        raise DatabaseUnusable(unreadable_message(path, error)) from error
+    tables = sorted(found)
     if version > SCHEMA_VERSION:
         raise DatabaseUnusable(f"{path}: schema version {version} is newer than this code's "
                                f"{SCHEMA_VERSION}; refusing to use it")
     if version == 0 and tables:
-        raise DatabaseUnusable(f"{path}: holds tables {sorted(tables)} but no human_db schema; "
-                               "refusing to use it")
-    if version > 0 and not OWN_TABLES & tables:
-        raise DatabaseUnusable(f"{path}: schema version {version} but none of the human_db "
-                               "tables; refusing to use it")
+        raise DatabaseUnusable(f"{path}: holds tables {tables} but no human_db schema; "
+                               "refusing to use it, the file is left untouched")
+    if version > 0:
+        expected = reference_schema(version)
+        if found != expected:
+            differ = sorted(t for t in set(found) | set(expected)
+                            if found.get(t) != expected.get(t))
+            raise DatabaseUnusable(
+                f"{path}: holds tables {tables}, which do not match human_db's schema version "
+                f"{version} (tables {sorted(expected)}; differing: {differ}); not a human_db "
+                "database, refusing to use it, the file is left untouched")
     connection.execute("PRAGMA journal_mode = WAL")
     migrate(connection, version)
 
