@@ -2,6 +2,11 @@
 
 Callbacks only cache commands under a lock; one loop thread steps the world at `~step` seconds
 of sim time, paced to `~speed` x real time by the wall clock, and publishes what is due.
+
+Subscribers, the door service and every pass of the loop run under one
+supervision.ros_supervisor.Supervisor: a pass that raises is logged once and skipped (the loop
+goes on), and "sim2d: sim2d: supervision" on /diagnostics is ERROR meanwhile, or when the loop
+stops beating.
 """
 import math
 import threading
@@ -19,6 +24,8 @@ from std_msgs.msg import Bool
 from tamp_msgs.msg import PerceptionFrame
 from tamp_msgs.srv import SetDoor, SetDoorResponse
 from visualization_msgs.msg import MarkerArray
+
+from supervision.ros_supervisor import Supervisor
 
 from sim2d import conversions
 from sim2d.kinematics import DIFFERENTIAL, twist_to_wheels
@@ -71,9 +78,12 @@ class SimNode:
         self.door_changes = []   # [(name, closed)] requested, applied by the loop
         self.last = {}
         self.started_wall = None
+        self.sup = None
 
-    def setup(self):
-        """Load the world and create the ROS interfaces; False (with a log line) on bad input."""
+    def setup(self, sup=None):
+        """Load the world and create the ROS interfaces under the node's Supervisor `sup` (one
+        is made when None); False (with a log line) on bad input."""
+        self.sup = sup or Supervisor("sim2d: sim2d", hardware_id="sim2d")
         if not self.config.world:
             rospy.logfatal("sim2d: parameter ~world (path of a world YAML) is required")
             return False
@@ -100,7 +110,7 @@ class SimNode:
             statics += self._static_transforms(io)
             self.io.append(io)
         self.static_tf.sendTransform(statics)
-        rospy.Service("~set_door", SetDoor, self._on_set_door)
+        self.sup.service("~set_door", SetDoor, self._on_set_door, worker="set_door service")
         return True
 
     def frame(self, io, name):
@@ -115,9 +125,11 @@ class SimNode:
         io.truth_pub = rospy.Publisher(p + "base_pose_ground_truth", Odometry, queue_size=10)
         io.stall_pub = rospy.Publisher(p + "stall", Bool, queue_size=1, latch=True)
         if rc.drive != DIFFERENTIAL or self.config.diff_drive_cmd_vel:
-            rospy.Subscriber(p + "cmd_vel", Twist, self._on_twist, io, queue_size=1)
+            self.sup.subscriber(p + "cmd_vel", Twist, lambda msg, io=io: self._on_twist(msg, io),
+                                queue_size=1)
         if rc.drive == DIFFERENTIAL:
-            rospy.Subscriber(p + "wheel_command", JointState, self._on_wheels, io, queue_size=1)
+            self.sup.subscriber(p + "wheel_command", JointState,
+                                lambda msg, io=io: self._on_wheels(msg, io), queue_size=1)
             io.joint_pub = rospy.Publisher(p + "joint_states", JointState, queue_size=10)
         if io.robot.camera is not None:
             io.camera_pub = rospy.Publisher(p + "camera/detections", PerceptionFrame,
@@ -282,11 +294,17 @@ class SimNode:
         """Step and publish until shutdown, keeping sim time = speed x wall time."""
         self.started_wall = time.monotonic()
         speed, step = self.config.speed, self.config.step
+        wall_step = step / speed if speed > 0 else step   # [s] of wall time a paced pass takes
+        self.sup.worker("loop", wall_step)
         behind_warned = False
         while not rospy.is_shutdown():
-            self._apply_commands()
-            self.world.step(step)
-            self._publish()
+            with self.sup.guard("loop", f"sim time {self.world.time:.3f} s") as failure:
+                self._apply_commands()
+                self.world.step(step)
+                self._publish()
+            if failure:
+                time.sleep(wall_step)   # a pass that keeps failing must not spin the CPU
+                continue
             if speed > 0:
                 lag = self.world.time / speed - (time.monotonic() - self.started_wall)
                 if lag > 0:
