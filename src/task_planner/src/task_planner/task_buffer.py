@@ -27,6 +27,7 @@ import sqlite3
 from dataclasses import dataclass, fields
 
 from task_planner.instruction import Instruction, InvalidInstruction
+from task_planner.journal_file import JournalFileError, open_journal
 from task_planner.reward import decayed_reward
 
 PENDING, ACTIVE, DONE, FAILED, CANCELLED = range(5)  # = tamp_msgs/InstructionState constants
@@ -86,17 +87,19 @@ class TaskBuffer:
         if self.config.synchronous not in ("OFF", "NORMAL", "FULL", "EXTRA"):
             raise TaskBufferError(f"synchronous must be OFF, NORMAL, FULL or EXTRA, "
                                   f"got {self.config.synchronous!r}")
-        self._db = sqlite3.connect(str(path), isolation_level=None, check_same_thread=False)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
-        self._db.execute(f"CREATE TABLE IF NOT EXISTS instructions ({_COLUMNS})")
-        # robot state that must survive a restart besides the instructions (e.g. battery level)
-        self._db.execute("CREATE TABLE IF NOT EXISTS robot_state "
-                         "(name TEXT PRIMARY KEY, value REAL NOT NULL)")
-        # searches for people not where they were believed (executor), for reports
-        self._db.execute("CREATE TABLE IF NOT EXISTS searches (instruction_id INTEGER NOT NULL, "
-                         "target TEXT NOT NULL, start_s REAL NOT NULL, end_s REAL NOT NULL, "
-                         "found INTEGER NOT NULL, places TEXT NOT NULL)")
+        self.path = str(path)
+        try:   # an unreadable or foreign file is refused untouched (journal_file)
+            self._db = open_journal(self.path, self.config.synchronous, (
+                f"CREATE TABLE IF NOT EXISTS instructions ({_COLUMNS})",
+                # robot state that must survive a restart besides the instructions (battery)
+                "CREATE TABLE IF NOT EXISTS robot_state "
+                "(name TEXT PRIMARY KEY, value REAL NOT NULL)",
+                # searches for people not where they were believed (executor), for reports
+                "CREATE TABLE IF NOT EXISTS searches (instruction_id INTEGER NOT NULL, "
+                "target TEXT NOT NULL, start_s REAL NOT NULL, end_s REAL NOT NULL, "
+                "found INTEGER NOT NULL, places TEXT NOT NULL)"))
+        except JournalFileError as error:
+            raise TaskBufferError(str(error)) from error
         self.resumed = self._db.execute(
             "UPDATE instructions SET state=?, started_time=0 WHERE state=?",
             (PENDING, ACTIVE)).rowcount
@@ -376,7 +379,8 @@ class TaskBuffer:
             try:
                 instruction = Instruction(**values)
             except InvalidInstruction as error:
-                raise TaskBufferError(f"journal row {row[0]} is corrupt: {error}") from error
+                raise TaskBufferError(f"task buffer journal {self.path}: row {row[0]} is "
+                                      f"corrupt: {error}") from error
             yield Record(instruction, *row[14:21])
 
 

@@ -1,0 +1,77 @@
+"""Opening the task buffer's SQLite journal: only a journal of ours, with errors naming the file.
+
+`open_journal` refuses, leaving the file untouched (nothing is created or converted in it):
+- a file SQLite cannot read (not SQLite, truncated, damaged pages: `PRAGMA quick_check`), and
+- a foreign SQLite file: one holding tables other than the journal's, or a journal table whose
+  columns differ from ours (e.g. another program's database, or the human database).
+The message names the file and, for a foreign file, the tables found. A missing or empty file
+becomes a new journal; ':memory:' opens a journal without a file.
+"""
+import sqlite3
+
+
+class JournalFileError(ValueError):
+    """The journal file cannot be used; the message names the file and why."""
+
+
+def table_columns(db):
+    """{table: ((column, declared type), ...)} of every table of `db` but SQLite's own."""
+    names = [row[0] for row in db.execute(
+        "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
+        "ORDER BY name")]
+    return {name: tuple((row[1], row[2].upper()) for row in
+                        db.execute("SELECT * FROM pragma_table_info(?)", (name,)))
+            for name in names}
+
+
+def expected_columns(statements):
+    """table_columns of an in-memory database made by the journal's CREATE TABLE statements."""
+    db = sqlite3.connect(":memory:")
+    try:
+        for statement in statements:
+            db.execute(statement)
+        return table_columns(db)
+    finally:
+        db.close()
+
+
+def foreign_tables(found, expected):
+    """Names of the tables in `found` that are not the journal's or differ from it, sorted."""
+    return sorted(name for name, columns in found.items() if expected.get(name) != columns)
+
+
+def open_journal(path, synchronous, statements):
+    """An autocommit sqlite3 connection (WAL, PRAGMA synchronous) to the journal at `path`, its
+    tables made by `statements` (CREATE TABLE IF NOT EXISTS ...); JournalFileError when the file
+    is unreadable or foreign (module docstring)."""
+    path = str(path)
+    where = f"task buffer journal {path}"
+    try:
+        db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+    except sqlite3.Error as error:
+        raise JournalFileError(f"{where}: cannot open ({error})") from error
+    try:
+        problems = [row[0] for row in db.execute("PRAGMA quick_check")]
+        if problems != ["ok"]:
+            raise JournalFileError(f"{where}: corrupted ({'; '.join(problems[:3])}); refusing "
+                                   "to use it, the file is left untouched")
+        found, expected = table_columns(db), expected_columns(statements)
+        foreign = foreign_tables(found, expected)
+        if foreign:
+            raise JournalFileError(
+                f"{where}: not a task buffer journal: holds tables {sorted(found)} ("
+                f"{', '.join(foreign)} not as in the journal's {', '.join(sorted(expected))}); "
+                "refusing to use it, the file is left untouched")
+        db.execute("PRAGMA journal_mode=WAL")
+        db.execute(f"PRAGMA synchronous={synchronous}")
+        for statement in statements:
+            db.execute(statement)
+    except sqlite3.DatabaseError as error:
+        db.close()
+        raise JournalFileError(f"{where}: unreadable ({error}): not an SQLite file, or a "
+                               "truncated or corrupted one; refusing to use it, the file is "
+                               "left untouched") from error
+    except JournalFileError:
+        db.close()
+        raise
+    return db
