@@ -12,6 +12,11 @@ has produced an instruction and the task buffer holds no open instruction (or af
 scenario's timeout), writing the record JSON (`~record`) read by scenario_report. Exit status 0
 when the scenario finished, 1 on timeout.
 
+Its subscribers and each pass of its loop run under one supervision.ros_supervisor.Supervisor
+("task_planner: scenario: supervision" on /diagnostics): a request whose sending raises is
+recorded as an event "request N of PERSON not sent: <reason>" (the run then times out), and any
+other fault of a pass is recorded once as an event with its reason; the loop goes on.
+
 Visitors (people of the world the household does not know) answer the robot's introduction
 questions (thesis 000 §3.2.3): a sentence on /robot/say that asks them something
 (scenario.visitor_answer) while the robot is in their place (ground truth, used only to drive the
@@ -32,11 +37,14 @@ import rospy
 import yaml
 from nav_msgs.msg import Odometry
 from std_msgs.msg import String
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
 from visualization_msgs.msg import MarkerArray
 
 from task_planner.scenario import load_scenario, place_of, timeline, visitor_answer
 
+LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
 ACTIVE, HUMAN = 1, 0  # tamp_msgs/InstructionState ACTIVE, tamp_msgs/Instruction HUMAN
 
@@ -70,6 +78,7 @@ class ScenarioNode:
         self.dialogues = {}                # visitor name -> dict(start, answers) while met
         self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
         self.inbox = []                    # (time, "truth" | "belief", message) to grade
+        self.faults = set()                # reasons of the faults already recorded as events
 
     # ---- callbacks: cache only ----
 
@@ -114,12 +123,16 @@ class ScenarioNode:
 
     # ---- the run ----
 
-    def setup(self, timeout):
-        rospy.Subscriber("/base_pose_ground_truth", Odometry, self._on_pose, queue_size=1)
-        rospy.Subscriber("/robot/say", String, self._on_say, queue_size=20)
-        rospy.Subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
-        rospy.Subscriber("/sim2d/markers", MarkerArray, self._on_markers, queue_size=2)
-        rospy.Subscriber("/humans/known", HumanArray, self._on_known, queue_size=5)
+    def setup(self, timeout, sup):
+        """Subscribe under the node's Supervisor `sup`, synthesise the spoken requests and
+        answers, and wait for the executor and human_db; False when human_db never lists the
+        speakers."""
+        self.sup = sup
+        sup.subscriber("/base_pose_ground_truth", Odometry, self._on_pose, queue_size=1)
+        sup.subscriber("/robot/say", String, self._on_say, queue_size=20)
+        sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
+        sup.subscriber("/sim2d/markers", MarkerArray, self._on_markers, queue_size=2)
+        sup.subscriber("/humans/known", HumanArray, self._on_known, queue_size=5)
         self.voice = rospy.Publisher("/voice_message", Utterance, queue_size=10)
         self.audio = rospy.Publisher("/audio_utterance", AudioUtterance, queue_size=2)
         rospy.wait_for_service("/task_planner/get_buffer", timeout)
@@ -271,24 +284,34 @@ class ScenarioNode:
         wall_start = time.monotonic()
         events = timeline(self.scenario)
         last_request = max(r.time_s for r in self.scenario.requests)
-        rate = rospy.Rate(20)
+        rate = rospy.Rate(LOOP_HZ)
+        self.sup.worker("run", 1.0 / LOOP_HZ)
         last_pose, finished, index = -1e9, False, {id(r): k for k, r in
                                                    enumerate(self.scenario.requests)}
         while not rospy.is_shutdown():
             now = rospy.get_time() - self.t0
             while events and events[0][0] <= now:
                 _, kind, event = events.pop(0)
-                if kind == "request":
-                    self._send(index[id(event)], event)
-                else:
-                    self._move(event)
-            self._grade()
-            if self.scenario.visitors:
-                self._answer_questions()
-                self._meet_visitors()
-            last_pose = self._record_pose(last_pose)
-            if now > last_request and self._finished():
-                finished = True
+                what = (f"request {index[id(event)]} of {event.person}" if kind == "request"
+                        else f"move of {event.person}")
+                with self.sup.guard("run", what) as failure:
+                    if kind == "request":
+                        self._send(index[id(event)], event)
+                    else:
+                        self._move(event)
+                if failure:
+                    self._fault(f"{what} not {'sent' if kind == 'request' else 'noted'}: "
+                                f"{fault_text(failure[0])}")
+            with self.sup.guard("run", "grading") as failure:
+                self._grade()
+                if self.scenario.visitors:
+                    self._answer_questions()
+                    self._meet_visitors()
+                last_pose = self._record_pose(last_pose)
+                finished = now > last_request and self._finished()
+            if failure:
+                self._fault(f"scenario pass failed: {fault_text(failure[0])}")
+            if finished:
                 break
             if now > last_request + self.scenario.timeout_s:
                 rospy.logerr("scenario: timed out %.0f s after the last request",
@@ -297,6 +320,12 @@ class ScenarioNode:
             rate.sleep()
         self._write(start_place, finished, time.monotonic() - wall_start)
         return finished
+
+    def _fault(self, what):
+        """Record a fault as an event, once per reason (the supervisor counts the repeats)."""
+        if what not in self.faults:
+            self.faults.add(what)
+            self._event(rospy.get_time(), what)
 
     def _write(self, start_place, finished, wall_s):
         record = dict(
@@ -321,11 +350,12 @@ class ScenarioNode:
 
 def main():
     rospy.init_node("scenario")
+    sup = Supervisor("task_planner: scenario")
     scenario = load_scenario(rospy.get_param("~scenario"))
     node = ScenarioNode(scenario, rospy.get_param("~record"),
                         float(rospy.get_param("~trajectory_period", 0.5)),
                         rospy.get_param("~command", "roslaunch launch/social_household.launch"))
-    if not node.setup(timeout=float(rospy.get_param("~setup_timeout", 120.0))):
+    if not node.setup(float(rospy.get_param("~setup_timeout", 120.0)), sup):
         return 1
     finished = node.run(rospy.get_param("~start_place", "charging_place"))
     return 0 if finished else 1
