@@ -38,5 +38,5 @@ def place_ids():
 
 @pytest.fixture
 def pipeline(keywords, analyser, directory, place_ids):
-    builder = InstructionBuilder(keywords, TABLE_5_5, place_ids, directory, first_id=1)
+    builder = InstructionBuilder(keywords, TABLE_5_5, place_ids, directory)
     return VerbalPipeline(keywords, analyser, builder, directory)

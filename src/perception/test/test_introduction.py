@@ -16,9 +16,9 @@ from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
 
 from perception.answers import AnswerError, parse_age, parse_gender, parse_name
-from perception.id_counter import IdCounter
-from perception.introduction import (AGE, COMPLETE, FAILED, GENDER, NAME, IntroductionConfig,
-                                     IntroductionDialogue, NewcomerWatch, seen_shirt)
+from perception.introduction import (AGE, COMPLETE, FAILED, GENDER, NAME, SUBMITTING,
+                                     IntroductionConfig, IntroductionDialogue, NewcomerWatch,
+                                     seen_shirt)
 
 CONFIG = Path(__file__).resolve().parents[3] / "config"
 HOUSEHOLD = yaml.safe_load((CONFIG / "household.yaml").read_text())["humans"]
@@ -96,8 +96,7 @@ def watch():
     introduce = functions["introduce"]
     priority = load_priorities(CONFIG / "priorities.yaml")["self_generated"]
     return NewcomerWatch(IntroductionConfig(min_sightings=3, retry_after=300.0),
-                         (introduce.code, introduce.duration_s), priority, PLACES,
-                         ids=IdCounter(200000))
+                         (introduce.code, introduce.duration_s), priority, PLACES)
 
 
 def test_a_stranger_seen_three_times_is_met_where_they_were_seen(watch):
@@ -108,13 +107,16 @@ def test_a_stranger_seen_three_times_is_met_where_they_were_seen(watch):
     assert made[:2] == [None, None]
     meet = made[2]
     assert (meet.id, meet.type, meet.function, meet.duration, meet.gamma, meet.beta) == \
-        (200000, ROBOT, 9, 60, 1.0, 0.9)
+        (1, ROBOT, 9, 60, 1.0, 0.9)      # id: provisional, the task buffer allocates the real one
     assert (meet.destination, meet.destination_name, meet.target, meet.source) == \
         (3, "welcome", "", "robot")
     assert meet.start_time == 12.0
+    assert watch.open_stranger().instruction_id == SUBMITTING
+    assert watch.taken(57) is watch.strangers[0]    # the id the task buffer allocated
     # further sightings of the same stranger give no second instruction
     assert watch.observe(WHITE + 3, "welcome", 13.0, known) is None
-    assert len(watch.strangers) == 1 and watch.open_stranger().instruction_id == 200000
+    assert len(watch.strangers) == 1 and watch.open_stranger().instruction_id == 57
+    assert watch.by_instruction(57) is watch.strangers[0]
 
 
 def test_known_shirts_half_seen_people_and_unplaced_people_are_not_met(watch):
@@ -135,19 +137,31 @@ def test_one_stranger_at_a_time_and_registered_people_are_never_met_again(watch)
         first = watch.observe(WHITE, "welcome", t, [])
         second = watch.observe(black, "living_room", t, [])
     assert first is not None and second is None     # the second waits for the first meeting
-    watch.registered(watch.by_instruction(first.id), "Frank")
+    watch.registered(watch.taken(12), "Frank")
     nxt = watch.observe(black, "living_room", 4.0, [])
-    assert (nxt.id, nxt.destination_name) == (200001, "living_room")
+    assert nxt.destination_name == "living_room"
+    assert watch.taken(13).colours.tolist() == black.tolist()
     assert watch.observe(WHITE, "welcome", 5.0, []) is None
+
+
+def test_an_introduce_instruction_not_taken_leaves_the_stranger_alone(watch):
+    for t in range(3):
+        meet = watch.observe(WHITE, "welcome", float(t), [])
+    assert meet is not None
+    stranger = watch.not_taken(now=10.0)
+    assert (stranger.instruction_id, watch.open_stranger()) == (0, None)
+    assert all(watch.observe(WHITE, "welcome", t, []) is None for t in (11.0, 12.0, 13.0))
+    with pytest.raises(RuntimeError, match="no introduce instruction is being submitted"):
+        watch.taken(5)
 
 
 def test_a_stranger_not_met_is_left_alone_for_retry_after(watch):
     for t in range(3):
-        meet = watch.observe(WHITE, "welcome", float(t), [])
-    watch.not_met(watch.by_instruction(meet.id), now=10.0)
+        watch.observe(WHITE, "welcome", float(t), [])
+    watch.not_met(watch.taken(30), now=10.0)
     assert all(watch.observe(WHITE, "welcome", t, []) is None for t in (11.0, 12.0, 13.0, 309.0))
     again = [watch.observe(WHITE, "welcome", t, []) for t in (310.0, 311.0, 312.0)]
-    assert again[:2] == [None, None] and again[2].id == meet.id + 1
+    assert again[:2] == [None, None] and again[2].start_time == 312.0
 
 
 # ---- the dialogue --------------------------------------------------------------------------

@@ -2,13 +2,13 @@
 import pytest
 from verbal_test_support import TABLE_5_5, WS
 
-from perception.id_counter import IdCounter
 from perception.requests import RejectedUtterance
 from perception.verbal_instructions import (DictPeopleDirectory, InstructionBuilder, Person,
-                                            priority_level)
+                                            priority_level, refusal_sentence)
 from task_planner.instruction import HUMAN
 from task_planner.reward import Priority
 from task_planner.robot_functions import function_for, load_robot_functions
+from task_planner.submission import Submission, submit_chain
 
 ALEX, ALICE, BOB, DAVID = "192.168.1.110", "192.168.1.101", "192.168.1.102", "192.168.1.104"
 LIVING_ROOM, WELCOME, DINING_ROOM, OFFICE, BEDROOM = 2, 3, 4, 5, 6  # maps/household.graph.yaml
@@ -120,24 +120,41 @@ def test_person_without_known_place_is_served_at_default(keywords, analyser, pla
     assert any(why in note for note in result.notes)
 
 
-def test_ids_are_unique_and_consecutive(pipeline):
-    ids = [i.id for text in ("check Bob status", "Chat with me", "Play a song")
-           for i in pipeline.process(text, ALEX, 0.0)[1].instructions]
-    assert ids == [1, 2, 3, 4]
+def test_ids_are_provisional_positions_in_the_chain(pipeline):
+    """The task buffer allocates the ids: a request's instructions are numbered 1, 2, ... in
+    chain order, the successor naming its predecessor's number."""
+    chains = [[(i.id, i.previous_id) for i in pipeline.process(text, ALEX, 0.0)[1].instructions]
+              for text in ("check Bob status", "Chat with me", "Play a song")]
+    assert chains == [[(1, 0), (2, 1)], [(1, 0)], [(1, 0)]]
 
 
-def test_restarted_node_does_not_reuse_ids(keywords, analyser, directory, place_ids, tmp_path):
-    """A node started again with the same ~first_id goes on after its last id (issue 12)."""
-    from perception.verbal_instructions import VerbalPipeline
+def test_a_chain_is_submitted_with_the_ids_the_task_buffer_allocates(pipeline):
+    _, result = pipeline.process("check Bob status", ALEX, 0.0)
+    requests = []
 
-    def start_node():
-        ids = IdCounter(first_id=1, path=tmp_path / "perception_verbal_last_id")
-        builder = InstructionBuilder(keywords, TABLE_5_5, place_ids, directory, ids=ids)
-        return VerbalPipeline(keywords, analyser, builder, directory)
+    def task_buffer(instruction, previous_id):   # allocates 41, 42, ...
+        requests.append((instruction.function, previous_id))
+        return True, 40 + len(requests), ""
 
-    before = [i.id for i in start_node().process("check Bob status", ALEX, 0.0)[1].instructions]
-    after = [i.id for i in start_node().process("Chat with me", ALEX, 1.0)[1].instructions]
-    assert (before, after) == ([1, 2], [3])
+    submission = submit_chain(result.instructions, task_buffer)
+    assert requests == [(3, 0), (7, 41)]          # the report names the check's allocated id
+    assert [(i.id, i.previous_id) for i in submission.accepted] == [(41, 0), (42, 41)]
+    assert submission.complete and refusal_sentence(submission) == ""
+
+
+def test_a_request_not_taken_is_said_with_the_reason(pipeline):
+    _, result = pipeline.process("check Bob status", ALEX, 0.0)
+    refused = submit_chain(result.instructions, lambda i, p: (False, 0, "the buffer is full"))
+    assert (refused.accepted, refused.not_sent) == ((), 2)
+    assert refusal_sentence(refused) == "Sorry, I cannot take your request: the buffer is full"
+    answers = iter([(True, 7, ""), (False, 0, "instruction 8: destination node 9 is not in "
+                                              "the graph (nodes 0..6)")])
+    half = submit_chain(result.instructions, lambda i, p: next(answers))
+    assert ([i.id for i in half.accepted], half.not_sent) == ([7], 1)
+    assert refusal_sentence(half) == (
+        "Sorry, I could only take part of your request (as request 7): instruction 8: "
+        "destination node 9 is not in the graph (nodes 0..6)")
+    assert refusal_sentence(Submission((), "", 0)) == ""
 
 
 @pytest.mark.parametrize("text, reason", [
@@ -150,8 +167,7 @@ def test_restarted_node_does_not_reuse_ids(keywords, analyser, directory, place_
 def test_bad_input_yields_no_instruction(pipeline, text, reason):
     with pytest.raises(RejectedUtterance, match=reason):
         pipeline.process(text, ALEX, 0.0)
-    # Nothing was built: the next accepted request still gets the first id.
-    assert pipeline.process("Chat with me", ALEX, 0.0)[1].instructions[0].id == 1
+    assert pipeline.process("Chat with me", ALEX, 0.0)[1].instructions   # still working
 
 
 @pytest.mark.parametrize("terms, sentiment, level", [

@@ -1,10 +1,12 @@
-"""Helpers of the perception rostest nodes: household set-up through human_db's services and
-collectors for the topics under test (imported by the rostest executables of this directory)."""
+"""Helpers of the perception rostest nodes: household set-up through human_db's services,
+collectors for the topics under test and the task planner's submit service as perception sees it
+(imported by the rostest executables of this directory)."""
 import threading
 
 import rospy
-from tamp_msgs.msg import Human, HumanArray, Instruction, Utterance
-from tamp_msgs.srv import RegisterHuman, UpdateHuman
+from tamp_msgs.msg import Human, HumanArray, Utterance
+from tamp_msgs.srv import (RegisterHuman, SubmitInstruction, SubmitInstructionResponse,
+                           UpdateHuman)
 
 ALEX_IP = "192.168.1.110"     # the seed's speaker (Fig. 3-15), registered by the tests
 ALICE_IP = "192.168.1.101"    # config/household.yaml; the caregiver of config/keywords.yaml
@@ -13,17 +15,12 @@ CHAT, CHECK_STATUS, REPORT, PLAY_MUSIC = 1, 3, 7, 6  # function codes of config/
 PLACES = {"Alex": "living_room", "Alice": "office", "Bob": "bedroom"}
 
 
-class Collector:
-    """Messages of one topic, in arrival order."""
+class Inbox:
+    """Messages in arrival order."""
 
-    def __init__(self, topic, kind):
+    def __init__(self):
         self._lock = threading.Lock()
         self._messages = []
-        self._subscriber = rospy.Subscriber(topic, kind, self._on_message, queue_size=50)
-
-    def _on_message(self, msg):
-        with self._lock:
-            self._messages.append(msg)
 
     def messages(self):
         with self._lock:
@@ -37,8 +34,44 @@ class Collector:
         return self.messages()
 
 
+class Collector(Inbox):
+    """Messages of one topic, in arrival order."""
+
+    def __init__(self, topic, kind):
+        super().__init__()
+        self._subscriber = rospy.Subscriber(topic, kind, self._on_message, queue_size=50)
+
+    def _on_message(self, msg):
+        with self._lock:
+            self._messages.append(msg)
+
+
+class TaskPlannerSubmit(Inbox):
+    """/task_planner/submit as the task planner answers it: a request with id 0 gets the next id
+    from `first_id` on; the instructions taken, with their ids, in arrival order. `refuse_next`:
+    the reason with which the next request is refused ("" = take it)."""
+
+    def __init__(self, first_id=41):
+        super().__init__()
+        self.first_id, self.requested_ids, self.refuse_next = first_id, [], ""
+        self._service = rospy.Service("/task_planner/submit", SubmitInstruction, self._on_submit)
+
+    def _on_submit(self, request):
+        msg = request.instruction
+        with self._lock:
+            self.requested_ids.append(msg.id)
+            if self.refuse_next:
+                reason, self.refuse_next = self.refuse_next, ""
+                return SubmitInstructionResponse(accepted=False, id=0, message=reason)
+            if msg.id == 0:
+                msg.id = self.first_id + len(self._messages)
+            self._messages.append(msg)
+        return SubmitInstructionResponse(accepted=True, id=msg.id, message="")
+
+
 def instructions():
-    return Collector("/task_planner/instructions", Instruction)
+    """The instructions perception submits to the (played) task planner."""
+    return TaskPlannerSubmit()
 
 
 def voice_messages():

@@ -38,12 +38,12 @@ def test_low_battery_sends_the_robot_to_charge(line_graph, tmp_path):
     # A->B 2 s, B->C 4 s at 36 W: 0.06 Wh spent, 0.04 left (40 % < 50 %) at C at 6 s:
     # charge for 0.06 Wh at 36 W = 6 s at A. PF serves 1 at D first (12 s), D->A 12 s: charge
     # runs 24-30 s.
-    charge = executor.buffer.get(config.self_id_base)
+    charge = executor.buffer.get(2)   # the buffer's next id after instruction 1
     assert charge.instruction.type == ROBOT and charge.instruction.destination == A
     assert (charge.instruction.start_time, charge.instruction.duration) == (6.0, 6)
     assert charge.state == DONE and charge.completion_time == pytest.approx(30.0)
     assert charge.reward_earned == pytest.approx(0.9 ** 24)
-    assert trace.executed == [(12.0, 1, "chat"), (24.0, config.self_id_base, "charge")]
+    assert trace.executed == [(12.0, 1, "chat"), (24.0, 2, "charge")]
     assert (24.0, "I am charging my battery at the A.") in trace.said
     assert battery.level_wh == pytest.approx(0.06)  # drained to 0 by 12 s, then 6 s at 36 W
     assert FUNCTIONS[8].name == "charge"

@@ -253,3 +253,52 @@ def test_wait_for_a_missing_predecessor_survives_a_restart(journal):
     assert again.fail_missing_predecessors(now=59.0) == []
     assert again.fail_missing_predecessors(now=60.0)[0].reason == \
         "predecessor 1 never arrived (60 s after instruction 2)"
+
+
+def brute_force_snapshot(buffer, recent):
+    """What `snapshot` must hold, from every record: the open ones and the `recent` most
+    recently finished ones, by arrival."""
+    records = buffer.records()
+    finished = sorted((r for r in records if not r.is_open),
+                      key=lambda r: (r.completion_time, r.seq))
+    kept = {r.instruction.id for r in records if r.is_open}
+    kept |= {r.instruction.id for r in finished[len(finished) - recent:]}
+    return [r.instruction.id for r in records if r.instruction.id in kept]
+
+
+def test_snapshot_holds_the_open_and_the_recently_finished_and_counts_every_state(journal):
+    buffer = TaskBuffer(journal, BufferConfig(recent_finished=3))
+    for k in range(1, 11):
+        buffer.submit(make_instruction(k, 0, start_time=0.0), now=float(k))
+    buffer.submit(make_instruction(11, 0, previous_id=10), now=11.0)
+    # finished out of arrival order: 9, 2, 5, 1, 7; 10 cancelled, its successor 11 fails
+    for k, now in ((9, 20.0), (2, 21.0), (5, 22.0), (1, 23.0), (7, 24.0)):
+        buffer.start(k, now=now)
+        buffer.finish(k, now=now + 0.5)
+    buffer.cancel(10, now=30.0)
+    buffer.start(3, now=31.0)
+    snapshot = [r.instruction.id for r in buffer.snapshot()]
+    assert snapshot == [3, 4, 6, 7, 8, 10, 11]   # open 3 4 6 8; the last finished 7 10 11
+    assert snapshot == brute_force_snapshot(buffer, 3)
+    assert buffer.counts() == (3, 1, 5, 1, 1)    # pending active done failed cancelled
+    assert buffer.active_id() == 3
+    assert buffer.total_reward() == pytest.approx(sum(r.reward_earned for r in buffer.records()))
+    buffer.close()
+    again = TaskBuffer(journal, BufferConfig(recent_finished=3))   # rebuilt from the journal
+    assert [r.instruction.id for r in again.snapshot()] == snapshot
+    assert again.counts() == (4, 0, 5, 1, 1) and again.active_id() == 0   # 3 back to pending
+
+
+def test_next_id_follows_every_id_and_predecessor_ever_journalled(journal):
+    buffer = TaskBuffer(journal)
+    assert buffer.next_id() == 1
+    buffer.submit(make_instruction(4, 0), now=0.0)
+    buffer.submit(make_instruction(2, 0, previous_id=9), now=0.0)   # 9 has not arrived yet
+    assert buffer.next_id() == 10 and buffer.next_id(previous_id=12) == 13
+    buffer.start(4, now=1.0)
+    buffer.finish(4, now=2.0)
+    buffer.close()
+    again = TaskBuffer(journal)       # read from the journal: a restart reuses no id
+    assert again.next_id() == 10
+    again.submit(make_instruction(again.next_id(), 0), now=3.0)
+    assert again.next_id() == 11

@@ -10,7 +10,9 @@ Two parts, both ROS-free:
   met within the identification threshold (Eq. 3-10, mean over joints 1, 2, 5 below 200), seen in
   `min_sightings` frames. It then gives the robot a robot-type `introduce` instruction (Table 4-1)
   at the place the stranger was seen, with the self-generated priority and no target (the
-  executor serves it at the place without looking for a known person).
+  executor serves it at the place without looking for a known person). The instruction carries
+  the provisional id 1 (task_planner.submission): the node submits it with id 0 and tells the
+  watch the id the task buffer allocated (`taken`), or that it was not taken (`not_taken`).
 - `IntroductionDialogue` runs the questions once the robot is there: the `introduce` function's
   greeting asks the name, then the dialogue asks the gender and the age, re-asks (boundedly) what
   it cannot read, and produces the human_db `Human` with the stranger's shirt colours and the
@@ -24,10 +26,10 @@ from human_db.model import Human
 from task_planner.instruction import ROBOT, Instruction
 
 from perception.answers import AnswerError, parse_age, parse_gender, parse_name
-from perception.id_counter import IdCounter
 
 # Dialogue states: the question being waited for, then the end states.
 NAME, GENDER, AGE, COMPLETE, FAILED = "name", "gender", "age", "complete", "failed"
+SUBMITTING = -1   # Stranger.instruction_id while their introduce instruction is being submitted
 
 
 @dataclass(frozen=True)
@@ -54,7 +56,8 @@ class Stranger:
     first_seen: float          # [s]
     last_seen: float           # [s]
     sightings: int = 1
-    instruction_id: int = 0    # the introduce instruction given for them; 0 = none yet
+    instruction_id: int = 0    # the introduce instruction given for them (SUBMITTING until the
+                               # task buffer allocated its id); 0 = none
     left_until: float = 0.0    # [s] not met again before this (after a failed meeting)
     name: str = ""             # set once registered
 
@@ -74,13 +77,11 @@ class NewcomerWatch:
         function: (code, duration_s) of the robot function `introduce`.
         priority: task_planner.reward.Priority of the self-generated level.
         place_ids: {place name: graph node id}.
-        ids: IdCounter handing out instruction ids.
     """
 
-    def __init__(self, config, function, priority, place_ids, ids=None):
+    def __init__(self, config, function, priority, place_ids):
         self.config, self.function, self.priority = config, function, priority
         self.place_ids = place_ids
-        self.ids = ids if ids is not None else IdCounter(1)
         self.strangers = []    # Stranger, in the order first seen
 
     def _matching(self, colours):
@@ -128,10 +129,10 @@ class NewcomerWatch:
         if stranger.place not in self.place_ids:
             return None
         code, duration = self.function
-        stranger.instruction_id, stranger.left_until = self.ids.take(), 0.0
+        stranger.instruction_id, stranger.left_until = SUBMITTING, 0.0
         rgb = " ".join(str(tuple(int(c) for c in joint)) for joint in stranger.colours)
         return Instruction(
-            id=stranger.instruction_id, gamma=self.priority.gamma, beta=self.priority.beta,
+            id=1, gamma=self.priority.gamma, beta=self.priority.beta,
             destination=self.place_ids[stranger.place], type=ROBOT, start_time=stamp,
             duration=int(duration), source="robot", target="", function=code,
             destination_name=stranger.place,
@@ -139,6 +140,24 @@ class NewcomerWatch:
 
     def by_instruction(self, instruction_id):
         return next((s for s in self.strangers if s.instruction_id == instruction_id), None)
+
+    def taken(self, instruction_id):
+        """The task buffer took the introduce instruction being submitted, as `instruction_id`;
+        returns its stranger."""
+        stranger = self.by_instruction(SUBMITTING)
+        if stranger is None:
+            raise RuntimeError("no introduce instruction is being submitted")
+        stranger.instruction_id = instruction_id
+        return stranger
+
+    def not_taken(self, now):
+        """The introduce instruction being submitted was not taken: leave its stranger alone for
+        `retry_after`; returns the stranger."""
+        stranger = self.by_instruction(SUBMITTING)
+        if stranger is None:
+            raise RuntimeError("no introduce instruction is being submitted")
+        self.not_met(stranger, now)
+        return stranger
 
     def registered(self, stranger, name):
         """The stranger is now `name` in human_db: never introduced again."""

@@ -1,7 +1,8 @@
 """The introduction node: meeting a new person (thesis 000 §3.2.3, Initialization phase).
 
-Unidentified people on /humans/observed -> an `introduce` instruction on
-/task_planner/instructions (perception.introduction.NewcomerWatch); while the executor serves it
+Unidentified people on /humans/observed -> an `introduce` instruction submitted on
+/task_planner/submit with id 0, under the id the task buffer allocates
+(perception.introduction.NewcomerWatch); while the executor serves it
 (ACTIVE in /task_planner/state, having said the function's greeting, which asks the name) the
 node asks the gender and the age on /robot/say, reads the answers from /voice_message, registers
 the person with /human_db/register and says "Nice to meet you, NAME.".
@@ -17,10 +18,8 @@ says it gives up; the stranger is left alone for `retry_after`), and raises
 "perception: introduction: supervision" to ERROR.
 """
 import collections
-import os
 import threading
 from dataclasses import dataclass, fields
-from pathlib import Path
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -32,12 +31,11 @@ from supervision.health import fault_text
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Utterance
-from tamp_msgs.srv import RegisterHuman, SubmitInstruction
-from task_planner.conversions import instruction_to_msg
+from tamp_msgs.srv import RegisterHuman
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
+from task_planner.ros_submit import SubmitClient
 
-from perception.id_counter import IdCounter
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, seen_shirt)
 
@@ -52,14 +50,12 @@ class IntroductionParams:
     function: str = "introduce"           # ~function: the robot function that meets people
     priority: str = "self_generated"      # ~priority: Table 5-5 level of the introduce
                                           # instruction (config/priorities.yaml)
-    first_id: int = 200000                # ~first_id of the introduce instructions
-    id_file: str = ""                     # ~id_file: last id handed out (a restart goes on after
-                                          # it); "" = $ROS_HOME/perception_introduction_last_id
     humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
     period: float = 0.1                   # ~period: work timer period [s]
     close_linger: float = 3.0             # ~close_linger [s]: ~dialogue_open stays true this
                                           # long after a dialogue ends (a late last answer)
-    register_timeout: float = 5.0         # ~register_timeout [s] for /human_db/register
+    register_timeout: float = 5.0         # ~register_timeout [s] for /human_db/register and
+                                          # /task_planner/submit
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~min_sightings,
                                           # ~max_retries, ~answer_timeout, ~retry_after
 
@@ -72,12 +68,10 @@ def read_params():
             raise KeyError(f"parameter ~{name} is not set (see launch/social_household.launch)")
         values[name] = rospy.get_param("~" + name)
     defaults = IntroductionParams(**values)
-    for name in ("function", "priority", "first_id", "id_file", "humans_topic", "period",
-                 "close_linger", "register_timeout"):
+    for name in ("function", "priority", "humans_topic", "period", "close_linger",
+                 "register_timeout"):
         values[name] = type(getattr(defaults, name))(
             rospy.get_param("~" + name, getattr(defaults, name)))
-    values["id_file"] = values["id_file"] or str(
-        Path(os.environ.get("ROS_HOME", Path.home() / ".ros")) / "perception_introduction_last_id")
     config = {f.name: type(getattr(defaults.config, f.name))(
         rospy.get_param("~" + f.name, getattr(defaults.config, f.name)))
         for f in fields(IntroductionConfig)
@@ -115,11 +109,10 @@ class IntroductionNode:
         function = functions[p.function]
         self.watch = NewcomerWatch(
             p.config, (function.code, function.duration_s),
-            self._priority(p), load_graph(p.graph).place_ids(),
-            ids=IdCounter(p.first_id, p.id_file))
+            self._priority(p), load_graph(p.graph).place_ids())
         self.register = rospy.ServiceProxy("/human_db/register", RegisterHuman)
         # acknowledged: a lost or refused introduce instruction must not block later meetings
-        self.submit = rospy.ServiceProxy("/task_planner/submit", SubmitInstruction)
+        self.submit = SubmitClient(p.register_timeout)
         self.say = rospy.Publisher("/robot/say", String, queue_size=5)
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
@@ -204,22 +197,18 @@ class IntroductionNode:
                 self._submit(instruction, stamp)
 
     def _submit(self, instruction, now):
-        """Hand the introduce instruction to the executor; leave the stranger for later if the
-        executor does not take it."""
-        try:
-            rospy.wait_for_service("/task_planner/submit", self.params.register_timeout)
-            reply = self.submit(instruction=instruction_to_msg(instruction))
-            problem = "" if reply.accepted else reply.message
-        except (rospy.ServiceException, rospy.ROSException) as error:
-            problem = str(error)
-        if problem:
-            self.watch.not_met(self.watch.by_instruction(instruction.id), now)
+        """Hand the introduce instruction to the executor (id 0: the task buffer allocates it);
+        leave the stranger for later if the executor does not take it."""
+        accepted, instruction_id, problem = self.submit(instruction, previous_id=0)
+        if not accepted:
+            self.watch.not_taken(now)
             self._count("not_submitted")
-            self._last = f"#{instruction.id} not taken by the executor: {problem}"
+            self._last = f"introduce instruction not taken by the executor: {problem}"
             rospy.logwarn("introduction: %s", self._last)
             return
+        self.watch.taken(instruction_id)
         self._count("instructions")
-        rospy.loginfo("introduction: #%d: %s", instruction.id, instruction.text)
+        rospy.loginfo("introduction: #%d: %s", instruction_id, instruction.text)
 
     def _follow(self, state, now):
         """Start the dialogue when the introduce instruction becomes ACTIVE; give the stranger a

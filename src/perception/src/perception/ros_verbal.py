@@ -1,30 +1,31 @@
-"""The verbal perception node: /voice_message (tamp_msgs/Utterance) -> /task_planner/instructions.
+"""The verbal perception node: /voice_message (tamp_msgs/Utterance) -> /task_planner/submit.
 
 Thesis 000 §3.3 / Fig. 3-15: the speaker is found from the phone IP in the human database, the
 sentence is read for sentiment, physical terms, the requested robot function and its target, and
-the result becomes one instruction or a chain (§4.2.1) with Table 5-5 priorities.
+the result becomes one instruction or a chain (§4.2.1) with Table 5-5 priorities. The chain is
+submitted in order with id 0 (task_planner.submission.submit_chain): the task buffer allocates
+each id, and a successor names the id allocated for its predecessor. A request the task planner
+does not take (refused, or the service not reachable) is said on /robot/say with the reason and
+logged.
 """
 import collections
-import os
 import threading
 from dataclasses import dataclass
-from pathlib import Path
 
 import rospy
 from sim2d.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from std_msgs.msg import Bool
-from tamp_msgs.msg import Instruction as InstructionMsg
+from std_msgs.msg import Bool, String
 from tamp_msgs.msg import Utterance
+from task_planner.reward import load_priorities
+from task_planner.ros_submit import SubmitClient
+from task_planner.submission import submit_chain
 
 from perception.conversions import utterance_time
-from perception.id_counter import IdCounter
 from perception.requests import RejectedUtterance, keyword_config_from_dict
 from perception.ros_people import HumanTableDirectory
 from perception.sentiment import SentimentAnalyzer
-from perception.verbal_instructions import InstructionBuilder, VerbalPipeline
-from task_planner.conversions import instruction_to_msg
-from task_planner.reward import load_priorities
+from perception.verbal_instructions import InstructionBuilder, VerbalPipeline, refusal_sentence
 
 
 @dataclass(frozen=True)
@@ -32,9 +33,8 @@ class VerbalParams:
     keywords: dict                        # ~keywords: config/keywords.yaml (rosparam load)
     priorities_file: str                  # ~priorities_file: config/priorities.yaml (Table 5-5)
     graph: str                            # ~graph: maps/<map>.graph.yaml
-    first_id: int = 1                     # ~first_id: id of the first instruction published
-    id_file: str = ""                     # ~id_file: last id handed out, so a restart goes on
-                                          # after it; "" = $ROS_HOME/perception_verbal_last_id
+    submit_timeout: float = 5.0           # ~submit_timeout: wall-clock wait for
+                                          # /task_planner/submit per instruction [s]
     humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
     period: float = 0.05                  # ~period: work timer period [s]
     max_queue: int = 20                   # ~max_queue: utterances kept while busy
@@ -52,9 +52,8 @@ def read_params():
                            f"verbal.launch)")
         required[name] = rospy.get_param("~" + name)
     return VerbalParams(
-        **required, first_id=int(rospy.get_param("~first_id", VerbalParams.first_id)),
-        id_file=rospy.get_param("~id_file", "") or str(
-            Path(os.environ.get("ROS_HOME", Path.home() / ".ros")) / "perception_verbal_last_id"),
+        **required,
+        submit_timeout=float(rospy.get_param("~submit_timeout", VerbalParams.submit_timeout)),
         humans_topic=rospy.get_param("~humans_topic", VerbalParams.humans_topic),
         period=float(rospy.get_param("~period", VerbalParams.period)),
         max_queue=int(rospy.get_param("~max_queue", VerbalParams.max_queue)),
@@ -69,9 +68,10 @@ class VerbalNode:
         self._lock = threading.Lock()
         self._queue = collections.deque()
         self._counts = {"accepted": 0, "refused": 0, "instructions": 0, "dropped": 0,
-                        "dialogue_answers": 0}
+                        "dialogue_answers": 0, "not_taken": 0}
         self._dialogue_open = False
-        self.pipeline = self._publisher = self._diagnostics = None
+        self._last_not_taken = ""   # why the task planner last did not take a request
+        self.pipeline = self._submit = self._say = self._diagnostics = None
         self.directory = HumanTableDirectory(params.humans_topic)
         self._timers = []
 
@@ -80,12 +80,11 @@ class VerbalNode:
         bad configuration (the message names the entry)."""
         keywords = keyword_config_from_dict(self.params.keywords)
         builder = InstructionBuilder(keywords, load_priorities(self.params.priorities_file),
-                                     load_graph(self.params.graph).place_ids(), self.directory,
-                                     ids=IdCounter(self.params.first_id, self.params.id_file))
+                                     load_graph(self.params.graph).place_ids(), self.directory)
         self.pipeline = VerbalPipeline(keywords, SentimentAnalyzer(), builder, self.directory)
         self.directory.setup()
-        self._publisher = rospy.Publisher("/task_planner/instructions", InstructionMsg,
-                                          queue_size=20)
+        self._submit = SubmitClient(self.params.submit_timeout)
+        self._say = rospy.Publisher("/robot/say", String, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         rospy.Subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
         rospy.Subscriber(self.params.dialogue_topic, Bool, self._on_dialogue, queue_size=1)
@@ -115,7 +114,7 @@ class VerbalNode:
             self.handle(msg)
 
     def handle(self, msg):
-        """Turn one voice message into published instructions, or log why not."""
+        """Turn one voice message into submitted instructions, or log (and say) why not."""
         sender = msg.ip or "an unknown phone"
         with self._lock:
             dialogue = self._dialogue_open
@@ -137,24 +136,41 @@ class VerbalNode:
             return
         for note in result.notes:
             rospy.logwarn("verbal: %s", note)
-        for instruction in result.instructions:
-            self._publisher.publish(instruction_to_msg(instruction))
+        submission = submit_chain(result.instructions, self._submit)
         with self._lock:
             self._counts["accepted"] += 1
-            self._counts["instructions"] += len(result.instructions)
+            self._counts["instructions"] += len(submission.accepted)
+            if submission.complete:
+                self._last_not_taken = ""
         rospy.loginfo("verbal: %r from %s: %s (keyword %r), %s (compound %.3f) -> %s",
                       msg.text, sender, meaning.function.name, meaning.keyword, meaning.level,
                       meaning.compound, ", ".join(f"#{i.id} at {i.destination_name}"
-                                                  for i in result.instructions))
+                                                  for i in submission.accepted) or "nothing")
+        if not submission.complete:
+            self._not_taken(msg, sender, submission)
+
+    def _not_taken(self, msg, sender, submission):
+        """The task planner did not take (all of) the request: tell the speaker why."""
+        sentence = refusal_sentence(submission)
+        with self._lock:
+            self._counts["not_taken"] += 1
+            self._last_not_taken = submission.refusal
+        rospy.logwarn("verbal: %r from %s not taken by the task planner (%d of %d instruction(s) "
+                      "not sent): %s", msg.text, sender, submission.not_sent,
+                      submission.not_sent + len(submission.accepted), submission.refusal)
+        self._say.publish(String(sentence))
 
     def _on_diagnostics(self, _event):
         with self._lock:
             counts = dict(self._counts, queued=len(self._queue))
+            not_taken = self._last_not_taken
         table = self.directory.received()
+        message = ("ok" if table else f"no human table on {self.directory.topic}") + (
+            f"; the last request was not taken: {not_taken}" if not_taken else "")
         status = DiagnosticStatus(
             name="perception: verbal", hardware_id="voice_message",
-            level=DiagnosticStatus.OK if table else DiagnosticStatus.WARN,
-            message="ok" if table else f"no human table on {self.directory.topic}",
+            level=DiagnosticStatus.OK if table and not not_taken else DiagnosticStatus.WARN,
+            message=message,
             values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())])
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()

@@ -1,17 +1,16 @@
 """The visual perception node: camera-level frames (/camera/detections, tamp_msgs/PerceptionFrame,
 from the simulator or the image front end) -> /humans/observed, human_db updates, self-generated
-instructions on /task_planner/instructions, /diagnostics with latency.
+instructions on /task_planner/submit (the task buffer allocates their ids), /diagnostics with
+latency.
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault while a
 frame is analysed makes that frame a refused frame with the reason (counted in the node's own
 diagnostics) and raises the node's "perception: visual: supervision" status to ERROR; the next
 frame is analysed as usual."""
 import math
-import os
 import threading
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import rospy
 import tf2_ros
@@ -23,13 +22,11 @@ from supervision.health import fault_text
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, PerceptionFrame
 from tamp_msgs.msg import TaskBufferState
-from tamp_msgs.msg import Instruction as InstructionMsg
 from tamp_msgs.srv import IdentifyHuman, UpdateHuman
-from task_planner.conversions import instruction_to_msg
 from task_planner.reward import load_priorities
+from task_planner.ros_submit import SubmitClient
 
 from perception.activity import ActivityConfig, load_affordances
-from perception.id_counter import IdCounter
 from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.requests import keyword_config_from_dict
 from perception.self_instructions import (
@@ -59,9 +56,8 @@ class VisualParams:
     repeat_after: float = 600.0           # ~repeat_after [s] between equal self-instructions
     self_instructions: bool = True        # ~self_instructions
     idle_only: bool = True                # ~idle_only: only while no human instruction is open
-    first_id: int = 100000                # ~first_id of self-generated instructions
-    id_file: str = ""                     # ~id_file: last id handed out (a restart goes on
-                                          # after it); "" = $ROS_HOME/perception_visual_last_id
+    submit_timeout: float = 2.0           # ~submit_timeout: wall-clock wait for
+                                          # /task_planner/submit per instruction [s]
     utc_offset: float = 0.0               # ~utc_offset [s] for schedule times of day
     slow_latency: float = 0.1             # ~slow_latency [s]: diagnostics WARN above this
 
@@ -77,8 +73,7 @@ def read_params():
     defaults = VisualParams(**values)
     for name in ("top_camera", "bottom_camera", "map_frame", "base_frame", "period",
                  "recommendations", "deviation_function", "timed_reminders", "repeat_after",
-                 "self_instructions", "idle_only", "first_id",
-                 "id_file", "utc_offset",
+                 "self_instructions", "idle_only", "submit_timeout", "utc_offset",
                  "slow_latency"):
         values[name] = rospy.get_param("~" + name, getattr(defaults, name))
     return VisualParams(**values)
@@ -100,7 +95,7 @@ class VisualNode:
         self._latencies = []
         self._unknown_classes = set()   # object classes already warned about (once each)
         self._counts = {"frames": 0, "people": 0, "bad_frames": 0, "identified": 0,
-                        "instructions": 0}
+                        "instructions": 0, "not_taken": 0}
         self._timers = []
         self._analysing = None   # the frame the work timer is analysing (for a fault's reason)
         self._last_bad_frame = ""   # why the last refused frame was refused
@@ -121,18 +116,14 @@ class VisualNode:
                                   deviation_function=str(p.deviation_function),
                                   timed_reminders=bool(p.timed_reminders),
                                   repeat_after=float(p.repeat_after)),
-            functions, priority, self.graph.place_ids(), codes,
-            ids=IdCounter(int(p.first_id), p.id_file or str(
-                Path(os.environ.get("ROS_HOME", Path.home() / ".ros"))
-                / "perception_visual_last_id")))
+            functions, priority, self.graph.place_ids(), codes)
         self.config = ActivityConfig()
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.identify = rospy.ServiceProxy("/human_db/identify", IdentifyHuman)
         self.update = rospy.ServiceProxy("/human_db/update", UpdateHuman)
         self.observed = rospy.Publisher("/humans/observed", ObservedHumanArray, queue_size=5)
-        self.instructions = rospy.Publisher("/task_planner/instructions", InstructionMsg,
-                                            queue_size=20)
+        self.submit = SubmitClient(float(p.submit_timeout))
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         sup.subscriber("/camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
         sup.subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
@@ -250,7 +241,7 @@ class VisualNode:
             activity=activity)
         for instruction in self.generator.generate(Observation(name, activity, result.place, now),
                                                    check):
-            self._publish_instruction(instruction)
+            self._submit_instruction(instruction)
 
     def _on_clock(self, _event):
         """Reminders of the schedule entries that started since the last tick."""
@@ -262,11 +253,18 @@ class VisualNode:
         with self._lock:
             humans = list(self._humans.values())
         for instruction in self.generator.due_reminders(humans, previous, day_s, now):
-            self._publish_instruction(instruction)
+            self._submit_instruction(instruction)
 
-    def _publish_instruction(self, instruction):
-        self.instructions.publish(instruction_to_msg(instruction))
-        rospy.loginfo("visual: self-generated #%d: %s", instruction.id, instruction.text)
+    def _submit_instruction(self, instruction):
+        """Submit a self-generated instruction with id 0 (the task buffer allocates it)."""
+        accepted, instruction_id, problem = self.submit(instruction, previous_id=0)
+        if not accepted:
+            rospy.logwarn("visual: self-generated instruction not taken by the task planner "
+                          "(%s): %s", instruction.text, problem)
+            with self._lock:
+                self._counts["not_taken"] += 1
+            return
+        rospy.loginfo("visual: self-generated #%d: %s", instruction_id, instruction.text)
         with self._lock:
             self._counts["instructions"] += 1
 

@@ -9,8 +9,6 @@ from dataclasses import dataclass, field
 
 from task_planner.instruction import ROBOT, Instruction
 
-from perception.id_counter import IdCounter
-
 
 @dataclass
 class SelfInstructionConfig:
@@ -32,6 +30,9 @@ class Observation:
 class SelfInstructionGenerator:
     """Turns observations into robot-type Instructions, once per person and function per period.
 
+    Each carries the provisional id 1: the node submits it with id 0 and the task buffer allocates
+    the id (task_planner.submission).
+
     Args:
         functions: {function name: (code, duration_s)} (config/keywords.yaml `functions`).
         priority: task_planner.reward.Priority of the self-generated level.
@@ -39,8 +40,7 @@ class SelfInstructionGenerator:
         activity_codes: {activity: Instruction.status code}.
     """
 
-    def __init__(self, config, functions, priority, place_ids, activity_codes, first_id=1,
-                 ids=None):
+    def __init__(self, config, functions, priority, place_ids, activity_codes):
         for name in list(config.recommendations.values()) + [config.remind_function,
                                                              config.deviation_function]:
             if name not in functions:
@@ -48,7 +48,6 @@ class SelfInstructionGenerator:
                                  f"(known: {sorted(functions)})")
         self.config, self.functions, self.priority = config, functions, priority
         self.place_ids, self.activity_codes = place_ids, activity_codes
-        self.ids = ids if ids is not None else IdCounter(first_id)  # id_counter.IdCounter
         self._last = {}          # (person, function) -> stamp
 
     def _make(self, function, obs, text, why="observed"):
@@ -60,7 +59,7 @@ class SelfInstructionGenerator:
         self._last[key] = obs.stamp
         code, duration = self.functions[function]
         instruction = Instruction(
-            id=self.ids.take(), gamma=self.priority.gamma, beta=self.priority.beta,
+            id=1, gamma=self.priority.gamma, beta=self.priority.beta,
             destination=self.place_ids[obs.place], type=ROBOT, start_time=obs.stamp,
             duration=int(duration), source="robot", target=obs.person,
             status=self.activity_codes.get(obs.activity, 0), function=code,

@@ -5,6 +5,10 @@ function and target person; the result becomes one instruction, or a chain linke
 `previous_id`, whose initial reward and decay follow the priority physical > negative > neutral >
 positive. People are looked up through a PeopleDirectory (the human database in the ROS layer, a
 dict in tests).
+
+The instructions carry provisional ids, 1, 2, ... in chain order (task_planner.submission): the
+task buffer allocates the real ones when the node submits them. A request the task planner does
+not take is said back to the speaker (`refusal_sentence`).
 """
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -12,7 +16,6 @@ from dataclasses import dataclass
 from task_planner.instruction import HUMAN, Instruction
 from task_planner.robot_functions import about_text
 
-from perception.id_counter import IdCounter
 from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, check_text,
                                  extract_function, find_physical_terms, find_target)
 from perception.sentiment import mood_text
@@ -114,14 +117,13 @@ def interpret(text, keywords, analyser, directory):
 
 
 class InstructionBuilder:
-    """Table 4-1 instructions from Interpretations; owns the id counter of its node."""
+    """Table 4-1 instructions from Interpretations, with provisional ids (see above)."""
 
-    def __init__(self, keywords, priorities, place_ids, directory, first_id=1, ids=None):
+    def __init__(self, keywords, priorities, place_ids, directory):
         """Args:
             priorities: {level: task_planner.reward.Priority} (config/priorities.yaml, read by
                 load_priorities) holding every level of Table 5-5 that speech can produce.
             place_ids: {graph place name: node id}.
-            ids: id_counter.IdCounter (persisted by the node); None: in memory from first_id.
         """
         missing = set(PRIORITY_LEVELS) - set(priorities)
         if missing:
@@ -133,7 +135,6 @@ class InstructionBuilder:
         self.priorities = priorities
         self.place_ids = place_ids
         self.directory = directory
-        self.ids = ids if ids is not None else IdCounter(first_id)
 
     def build(self, interpretation, ip, start_time):
         """§4.2.1: the instruction (or chain) for one interpreted utterance from phone `ip`."""
@@ -155,9 +156,10 @@ class InstructionBuilder:
             steps += [(self.keywords.functions[name], speaker.name,
                        about_text(target, interpretation.text)) for name in follow_ups]
         instructions, previous_id = [], 0
-        for step_function, person, text in steps:
-            instruction = self._instruction(interpretation, step_function, speaker.name, person,
-                                            previous_id, start_time, text, notes)
+        for position, (step_function, person, text) in enumerate(steps, start=1):
+            instruction = self._instruction(position, interpretation, step_function,
+                                            speaker.name, person, previous_id, start_time, text,
+                                            notes)
             instructions.append(instruction)
             previous_id = instruction.id
         return BuildResult(tuple(instructions), tuple(notes))
@@ -172,12 +174,12 @@ class InstructionBuilder:
         notes.append(f"{name}: {why}; serving at {self.keywords.default_place}")
         return self.keywords.default_place
 
-    def _instruction(self, interpretation, function, source, person, previous_id, start_time,
-                     text, notes):
+    def _instruction(self, provisional_id, interpretation, function, source, person, previous_id,
+                     start_time, text, notes):
         priority = self.priorities[interpretation.level]
         place = self._place_of(person, notes)
         instruction = Instruction(
-            id=self.ids.take(), previous_id=previous_id, gamma=priority.gamma, beta=priority.beta,
+            id=provisional_id, previous_id=previous_id, gamma=priority.gamma, beta=priority.beta,
             type=HUMAN, start_time=start_time, duration=function.duration_s, source=source,
             target=person, status=self.keywords.status_codes[interpretation.level],
             function=function.code, destination=self.place_ids[place], destination_name=place,
@@ -198,3 +200,15 @@ class VerbalPipeline:
         """Returns (Interpretation, BuildResult); raises RejectedUtterance naming the problem."""
         interpretation = interpret(text, self.keywords, self.analyser, self.directory)
         return interpretation, self.builder.build(interpretation, ip, start_time)
+
+
+def refusal_sentence(submission):
+    """What the robot says when the task planner did not take (all of) a spoken request:
+    task_planner.submission.Submission -> sentence naming the reason; "" when all was taken."""
+    if submission.complete:
+        return ""
+    if submission.accepted:
+        taken = ", ".join(str(i.id) for i in submission.accepted)
+        return (f"Sorry, I could only take part of your request (as request {taken}): "
+                f"{submission.refusal}")
+    return f"Sorry, I cannot take your request: {submission.refusal}"

@@ -19,7 +19,6 @@ class BatteryConfig:
     executing_w: float = 60.0       # power while executing a robot function [W]
     charge_w: float = 150.0         # charging power [W]
     low_fraction: float = 0.2       # ask for a charge below this share of capacity
-    self_id_base: int = 1_000_000_000  # ids of self-generated instructions start here
 
 
 class BatteryModel:
@@ -57,7 +56,8 @@ class BatteryModel:
 
 
 def charge_instruction(instruction_id, now, place, place_name, priority, battery, function_code):
-    """The self-generated 'go charge' instruction (Table 4-1, type ROBOT)."""
+    """The self-generated 'go charge' instruction (Table 4-1, type ROBOT); the executor gives it
+    the task buffer's next id."""
     return Instruction(id=instruction_id, gamma=priority.gamma, beta=priority.beta,
                        destination=place, type=ROBOT, start_time=float(now),
                        duration=int(round(battery.seconds_to_full())), source="robot",

@@ -41,9 +41,13 @@ def record_to_msg(record):
                                reward_earned=record.reward_earned, reason=record.reason)
 
 
-def buffer_to_msg(buffer, stamp):
-    """The whole task buffer as tamp_msgs/TaskBufferState (oldest first)."""
-    msg = TaskBufferStateMsg(instructions=[record_to_msg(r) for r in buffer.records()],
+def buffer_to_msg(buffer, stamp, complete=False):
+    """tamp_msgs/TaskBufferState of a task buffer: its open records and its most recently
+    finished ones (TaskBuffer.snapshot, bounded: what /task_planner/state carries), or with
+    `complete` every record (/task_planner/get_buffer); counts per state of the whole buffer."""
+    records = buffer.records() if complete else buffer.snapshot()
+    msg = TaskBufferStateMsg(instructions=[record_to_msg(r) for r in records],
+                             counts=list(buffer.counts()), complete=complete,
                              active_id=buffer.active_id(), total_reward=buffer.total_reward())
     msg.header.stamp = stamp
     return msg

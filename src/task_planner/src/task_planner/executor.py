@@ -208,10 +208,7 @@ class Executor(FindingPeople):
                           for r in self.buffer.open_records())
         if not battery.is_low() or open_charge:
             return []
-        base = battery.config.self_id_base
-        next_id = max((r.instruction.id for r in self.buffer.records()
-                       if r.instruction.id >= base), default=base - 1) + 1
-        instruction = charge_instruction(next_id, now, charging.place,
+        instruction = charge_instruction(self.buffer.next_id(), now, charging.place,
                                          self.graph.names[charging.place], charging.priority,
                                          battery, charging.function_code)
         self.log.append((now, f"battery low ({100 * battery.fraction:.0f} %): charge"))

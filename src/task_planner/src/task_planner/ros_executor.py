@@ -3,7 +3,10 @@
 Callbacks only cache under a lock (instructions, the human table, move_base results); a timer
 feeds them to the executor and carries out its commands: `Navigate` -> move_base goal at the
 node's pose, `Execute` -> timed by the executor itself, `Say` -> /robot/say. The submit service
-journals before it answers, so its acknowledgement is durable.
+journals before it answers, so its acknowledgement is durable; a request with id 0 gets the next id
+of the journal (TaskBuffer.next_id), returned in the answer. /task_planner/state carries the open
+instructions and the `~state_recent` most recently finished ones; /task_planner/get_buffer every
+instruction.
 """
 import math
 import os
@@ -41,7 +44,8 @@ from task_planner.planner_choice import make_planner
 from task_planner.ros_markers import plan_markers
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
-from task_planner.task_buffer import PENDING, BufferConfig, TaskBuffer, TaskBufferError
+from task_planner.task_buffer import (PENDING, STATE_NAMES, BufferConfig, TaskBuffer,
+                                      TaskBufferError)
 
 ROOT = Path(__file__).resolve().parents[4]
 
@@ -77,6 +81,8 @@ class NodeParams:
                                    # predicted places [s] (simulated time: the day's start)
     marker_period: float = 0.5     # least time between two /task_planner/markers updates [s]
     plan_view_max: int = 40        # markers show the plan only up to this many open instructions
+    state_recent: int = 50         # /task_planner/state carries this many finished instructions
+                                   # (the most recent) besides the open ones
 
     @classmethod
     def from_ros(cls):
@@ -98,7 +104,8 @@ class ExecutorNode:
         self.graph = load_graph(params.graph, float(settings["robot_radius_m"]))
         Path(params.journal).parent.mkdir(parents=True, exist_ok=True)
         buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size,
-                                                         place_names=tuple(self.graph.names)))
+                                                         place_names=tuple(self.graph.names),
+                                                         recent_finished=params.state_recent))
         self.people = PeopleAtPlaces()
         self.executor_functions = load_robot_functions(params.robot_functions)
         self.executor = Executor(
@@ -189,16 +196,27 @@ class ExecutorNode:
     # ---- services: journal before answering ----
 
     def _submit(self, request):
-        with self.lock:
+        msg = request.instruction
+        allocate = msg.id == 0   # the buffer chooses the id (under the lock: no other submit
+        with self.lock:          # or tick can journal in between)
+            if allocate:
+                msg.id = self.executor.buffer.next_id(msg.previous_id)
             try:
-                instruction = instruction_from_msg(request.instruction)
+                instruction = instruction_from_msg(msg)
             except InvalidInstruction as error:
-                return SubmitInstructionResponse(False, request.instruction.id, str(error))
+                return self._refused(msg, allocate, str(error))
             results, commands = self.executor.receive([instruction], rospy.get_time())
             self._carry_out(commands)
             self._publish_state()
         record, error = results[0]
-        return SubmitInstructionResponse(record is not None, instruction.id, error)
+        if record is None:
+            return self._refused(msg, allocate, error)
+        return SubmitInstructionResponse(True, instruction.id, "")
+
+    @staticmethod
+    def _refused(msg, allocated, reason):
+        rospy.logwarn("task_planner: refused submitted instruction: %s", reason)
+        return SubmitInstructionResponse(False, 0 if allocated else msg.id, reason)
 
     def _cancel(self, request):
         with self.lock:
@@ -212,7 +230,8 @@ class ExecutorNode:
 
     def _get_buffer(self, _request):
         with self.lock:
-            return GetTaskBufferResponse(buffer_to_msg(self.executor.buffer, rospy.Time.now()))
+            return GetTaskBufferResponse(buffer_to_msg(self.executor.buffer, rospy.Time.now(),
+                                                       complete=True))
 
     # ---- the executor step ----
 
@@ -335,10 +354,7 @@ class ExecutorNode:
 
     def _diagnose(self, _event):
         with self.lock:
-            records = self.executor.buffer.records()
-            counts = {name: sum(r.state == k for r in records)
-                      for k, name in enumerate(("pending", "active", "done", "failed",
-                                                "cancelled"))}
+            counts = dict(zip(STATE_NAMES, self.executor.buffer.counts()))
             decision = latency_ms(self.executor.decision_s)
             step = latency_ms(self.step_s)
             slow = decision[0] > self.params.latency_warn_ms

@@ -10,7 +10,9 @@ keeps ground truth (the robot's trajectory, the people's true places from sim2d'
 to what the robot believed (/humans/known), and what the robot said. It ends when every request
 has produced an instruction and the task buffer holds no open instruction (or after the
 scenario's timeout), writing the record JSON (`~record`) read by scenario_report. Exit status 0
-when the scenario finished, 1 on timeout.
+when the scenario finished, 1 on timeout. /task_planner/state shows the open instructions; once
+none of a person is open, the whole buffer (/task_planner/get_buffer) is matched against the
+requests, since the state carries only the most recently finished instructions.
 
 Its subscribers and each pass of its loop run under one supervision.ros_supervisor.Supervisor
 ("task_planner: scenario: supervision" on /diagnostics): a request whose sending raises is
@@ -40,6 +42,7 @@ from std_msgs.msg import String
 from supervision.health import fault_text
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
+from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
 from task_planner.scenario import load_scenario, place_of, timeline, visitor_answer
@@ -79,6 +82,7 @@ class ScenarioNode:
         self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
         self.inbox = []                    # (time, "truth" | "belief", message) to grade
         self.faults = set()                # reasons of the faults already recorded as events
+        self.history = (None, None)        # (state message, get_buffer's instructions then)
 
     # ---- callbacks: cache only ----
 
@@ -136,6 +140,7 @@ class ScenarioNode:
         self.voice = rospy.Publisher("/voice_message", Utterance, queue_size=10)
         self.audio = rospy.Publisher("/audio_utterance", AudioUtterance, queue_size=2)
         rospy.wait_for_service("/task_planner/get_buffer", timeout)
+        self.get_buffer = rospy.ServiceProxy("/task_planner/get_buffer", GetTaskBuffer)
         self.spoken = {}
         workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
         self.answers = {}   # (visitor name, answer text) -> (rate, samples)
@@ -261,21 +266,40 @@ class ScenarioNode:
         closed and nothing active (the robot's own pending instructions do not hold the run)."""
         with self.lock:
             state = self.state
-        if state is None:
+        if state is None or any(r.state == ACTIVE or (r.state in OPEN and
+                                                      r.instruction.type == HUMAN)
+                                for r in state.instructions):   # it carries every open one
             return False
-        records = list(state.instructions)
+        if len(self.sent) < len(self.scenario.requests):
+            return False   # a visitor's request waits for their registration
+        records = self._every_instruction(state)
+        if records is None:
+            return False
         unmatched = list(records)
         for index, request in enumerate(self.scenario.requests):
-            if index not in self.sent:
-                return False   # a visitor's request waits for their registration
             source = self._registered(request.person) if request.visitor else request.person
             match = next((r for r in unmatched if r.instruction.source == source
                           and r.instruction.start_time >= self.sent[index] - 0.5), None)
             if match is None:
                 return False
             unmatched.remove(match)
-        return not any(r.state == ACTIVE or (r.state in OPEN and r.instruction.type == HUMAN)
-                       for r in records)
+        return True
+
+    def _every_instruction(self, state):
+        """Every instruction of the task buffer as of `state` (asked once per state from
+        /task_planner/get_buffer); None when the service did not answer."""
+        if state.complete:
+            return list(state.instructions)
+        asked_for, instructions = self.history
+        if asked_for is not state:
+            try:
+                instructions = list(self.get_buffer().state.instructions)
+            except rospy.ServiceException as error:
+                rospy.logwarn_throttle(10.0, "scenario: /task_planner/get_buffer failed: %s",
+                                       error)
+                return None
+            self.history = (state, instructions)
+        return instructions
 
     def run(self, start_place):
         while rospy.get_time() <= 0 and not rospy.is_shutdown():

@@ -18,12 +18,21 @@ keeps every instruction it ever journalled, so a predecessor it does not hold ha
 naming the missing predecessor. When a predecessor fails or is cancelled its open successors fail
 too, with a reason naming it. `version` counts changes.
 
+Ids: `next_id` is one more than the largest id (or `previous_id`) ever journalled, read from the
+journal on opening, so a sender that lets the buffer choose (the executor node's
+/task_planner/submit with id 0) never gets an id used before, across restarts too.
+
+Snapshots for publishing: the buffer keeps, besides every record, the open ones, the ids of the
+`recent_finished` most recently finished ones and the count per state, so `snapshot` and `counts`
+cost O(open + recent_finished), not O(every record ever journalled).
+
 At the door `submit` refuses (TaskBufferError naming the instruction) besides a reused id and a
 chain cycle: a destination outside the graph, a destination_name that names another node than
 `destination` (with `place_names`), and a start_time more than `future_tolerance_s` after `now`.
 The instruction's own fields are checked by Instruction (finite numbers, bounds).
 """
 import sqlite3
+from collections import deque
 from dataclasses import dataclass, fields
 
 from task_planner.instruction import Instruction, InvalidInstruction
@@ -59,6 +68,7 @@ class BufferConfig:
                                        # still accepted (clocks of two machines) [s]
     predecessor_wait_s: float = 300.0  # a successor whose predecessor has not arrived this long
                                        # after it was received fails [s]
+    recent_finished: int = 50  # finished records `snapshot` holds besides the open ones
 
 
 @dataclass(frozen=True)
@@ -87,6 +97,9 @@ class TaskBuffer:
         if self.config.synchronous not in ("OFF", "NORMAL", "FULL", "EXTRA"):
             raise TaskBufferError(f"synchronous must be OFF, NORMAL, FULL or EXTRA, "
                                   f"got {self.config.synchronous!r}")
+        if self.config.recent_finished < 0:
+            raise TaskBufferError(f"recent_finished must be >= 0, "
+                                  f"got {self.config.recent_finished}")
         self.path = str(path)
         try:   # an unreadable or foreign file is refused untouched (journal_file)
             self._db = open_journal(self.path, self.config.synchronous, (
@@ -106,7 +119,19 @@ class TaskBuffer:
         self._records = {row.instruction.id: row for row in self._load()}  # in seq order
         self._open = {i: r for i, r in self._records.items() if r.is_open}   # in seq order
         self._done = {i for i, r in self._records.items() if r.state == DONE}
+        self._active = next((i for i, r in self._open.items() if r.state == ACTIVE), 0)
         self._next_seq = max((r.seq for r in self._records.values()), default=0) + 1
+        self._counts = [0] * len(STATE_NAMES)
+        for record in self._records.values():
+            self._counts[record.state] += 1
+        self._total_reward = sum(r.reward_earned for r in self._records.values())
+        self._max_id = max((max(r.instruction.id, r.instruction.previous_id)
+                            for r in self._records.values()), default=0)
+        finished = sorted((r for r in self._records.values() if not r.is_open),
+                          key=lambda r: (r.completion_time, r.seq))
+        # ids of the most recently finished records, oldest first (maxlen drops the oldest)
+        self._recent = deque((r.instruction.id for r in finished),
+                             maxlen=self.config.recent_finished)
         # open successors whose predecessor had not arrived when last looked at (id -> record)
         self._awaiting = {i: r for i, r in self._open.items() if self._missing_predecessor(r)}
         self.version = 0  # incremented by every change (for publishing snapshots on change)
@@ -207,6 +232,21 @@ class TaskBuffer:
         """Every record, oldest first (the dict keeps arrival order: seq only grows)."""
         return list(self._records.values())
 
+    def snapshot(self):
+        """The open records and the `recent_finished` most recently finished ones, oldest first
+        (by arrival): O(open + recent_finished) however many records the journal holds."""
+        recent = [self._records[i] for i in self._recent]
+        return sorted(list(self._open.values()) + recent, key=lambda r: r.seq)
+
+    def counts(self):
+        """Number of records per state, indexed by the state constants (PENDING .. CANCELLED)."""
+        return tuple(self._counts)
+
+    def next_id(self, previous_id=0):
+        """The id for a new instruction whose sender lets the buffer choose: one more than every
+        id and previous_id ever journalled (and than `previous_id`, the new one's predecessor)."""
+        return max(self._max_id, previous_id) + 1
+
     def open_records(self):
         """The PENDING and ACTIVE records, oldest first."""
         return list(self._open.values())
@@ -221,10 +261,12 @@ class TaskBuffer:
         return self._done
 
     def active_id(self):
-        return next((r.instruction.id for r in self._open.values() if r.state == ACTIVE), 0)
+        """Id of the ACTIVE instruction; 0 when none is."""
+        return self._active
 
     def total_reward(self):
-        return sum(r.reward_earned for r in self._records.values())
+        """Sum of the Eq. 4-2 rewards earned (kept as instructions finish)."""
+        return self._total_reward
 
     # ---- robot state (executor) ----
 
@@ -363,13 +405,29 @@ class TaskBuffer:
                 self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
 
     def _index(self, record):
-        """Keep the in-memory views (all, open, done ids) in step with the journal."""
-        instruction_id = record.instruction.id
+        """Keep the in-memory views (all, open, done ids, the active id, recently finished ids,
+        counts, reward, largest id) in step with the journal."""
+        instruction = record.instruction
+        instruction_id = instruction.id
+        before = self._records.get(instruction_id)
+        if before is not None:
+            self._counts[before.state] -= 1
+            self._total_reward -= before.reward_earned
+        else:
+            self._max_id = max(self._max_id, instruction_id, instruction.previous_id)
+        self._counts[record.state] += 1
+        self._total_reward += record.reward_earned
         self._records[instruction_id] = record
         if record.is_open:
             self._open[instruction_id] = record
         else:
             self._open.pop(instruction_id, None)
+            if before is None or before.is_open:
+                self._recent.append(instruction_id)   # the oldest drops out (maxlen)
+        if record.state == ACTIVE:
+            self._active = instruction_id
+        elif self._active == instruction_id:
+            self._active = 0
         if record.state == DONE:
             self._done.add(instruction_id)
 
