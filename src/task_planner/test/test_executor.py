@@ -7,7 +7,7 @@ from planner_factories import make_instruction
 
 from task_planner.baselines import FirstComeFirstServe, PriorityFirst
 from task_planner.executor import Executor, ExecutorConfig, nearest_node
-from task_planner.executor_commands import Execute, Navigate, Say, Verify
+from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify
 from task_planner.executor_sim import NavigationModel, run_executor
 from task_planner.exact import ExactReplanner
 from task_planner.people_belief import PeopleAtPlaces
@@ -269,3 +269,29 @@ def test_successor_whose_predecessor_never_arrives_fails_and_is_said(line_graph,
                                             "instruction 2)"
     assert executor.log[-1] == (300.0, "failed 2: predecessor 1 never arrived (300 s after "
                                        "instruction 2)")
+
+
+def test_a_fault_while_serving_fails_that_instruction_stops_and_serves_the_rest(line_graph,
+                                                                                tmp_path):
+    poison = make_instruction(1, D, gamma=9.0, beta=0.9, duration=0, function=1)
+    other = make_instruction(2, B, gamma=1.0, beta=0.9, duration=0, function=1)
+    executor = make_executor(line_graph, PriorityFirst(), tmp_path)
+    _, commands = executor.receive([poison, other], 0.0)
+    assert commands[0] == Navigate(B, 1)  # towards D for the higher priority
+    assert executor.serving() == 1
+    commands = executor.fault(1.0, "ValueError: reward is nan")
+    assert commands == [StopMotion(), Say("Sorry, I could not complete request 1.")]
+    failed = executor.buffer.get(1)
+    assert failed.state == FAILED
+    assert failed.reason == "fault while serving it: ValueError: reward is nan"
+    assert executor.mode == "idle" and executor.serving() == 0
+    assert executor.tick(1.0)[0] == Navigate(B, 2)  # the next tick serves the other one
+    executor.buffer.close()
+    reopened = TaskBuffer(tmp_path / "buffer.sqlite")  # a restart never re-runs it
+    assert [r.instruction.id for r in reopened.open_records()] == [2]
+
+
+def test_a_fault_while_idle_only_stops(line_graph, tmp_path):
+    executor = make_executor(line_graph, PriorityFirst(), tmp_path)
+    assert executor.fault(0.0, "KeyError: 'x'") == [StopMotion()]
+    assert executor.log[-1] == (0.0, "fault: KeyError: 'x'")

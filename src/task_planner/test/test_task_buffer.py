@@ -3,6 +3,9 @@ import math
 import multiprocessing
 import os
 import signal
+import sqlite3
+import subprocess
+import sys
 
 import pytest
 from planner_factories import make_instruction
@@ -302,3 +305,63 @@ def test_next_id_follows_every_id_and_predecessor_ever_journalled(journal):
     assert again.next_id() == 10
     again.submit(make_instruction(again.next_id(), 0), now=3.0)
     assert again.next_id() == 11
+
+
+def test_a_journal_row_that_is_no_valid_instruction_is_quarantined_not_run(journal):
+    buffer = TaskBuffer(journal)
+    buffer.submit(make_instruction(1, 1), 0.0)
+    buffer.submit(make_instruction(2, 2), 0.0)
+    buffer.start(2, 1.0)
+    buffer.close()
+    with sqlite3.connect(journal) as db:  # the issue's poison pill, as an older version wrote it
+        db.execute("UPDATE instructions SET gamma = ?, beta = 1e-300 WHERE id = 2", (math.inf,))
+    reopened = TaskBuffer(journal)
+    reason = ("quarantined: journal row 2 is no valid instruction: instruction 2: gamma must be "
+              "a finite number; got gamma = inf")
+    assert reopened.quarantined == [(2, reason)]
+    assert [r.instruction.id for r in reopened.open_records()] == [1]
+    assert reopened.next_id() == 3  # its id stays used
+    reopened.close()
+    with sqlite3.connect(journal) as db:
+        state, why = db.execute("SELECT state, reason FROM instructions WHERE id = 2").fetchone()
+    assert (state, why) == (FAILED, reason)
+    again = TaskBuffer(journal)  # never re-run: still left out, nothing open but instruction 1
+    assert [r.instruction.id for r in again.open_records()] == [1]
+    again.close()
+
+
+WRITER = """
+import resource, sys
+from task_planner.task_buffer import TaskBuffer
+from task_planner.instruction import Instruction
+limit = int(sys.argv[2])
+buffer = TaskBuffer(sys.argv[1])
+resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))  # a disk that fills up
+accepted = refused = 0
+reason = ""
+for i in range(1, 3001):
+    record, error = buffer.submit_many([Instruction(id=i, gamma=1.0, beta=0.9, destination=1,
+                                                    text="x" * 400)], 0.0)[0]
+    if record is None:
+        refused += 1
+        reason = reason or error
+    else:
+        accepted += 1
+print(accepted, refused, len(buffer.records()), sum(1 for r in buffer.open_records()))
+print(reason)
+"""
+
+
+def test_a_full_disk_refuses_with_the_reason_and_loses_nothing_accepted(journal):
+    run = subprocess.run([sys.executable, "-c", WRITER, str(journal), str(256 * 1024)],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    counts, reason = run.stdout.splitlines()[:2]
+    accepted, refused, in_memory, open_count = map(int, counts.split())
+    assert 0 < accepted < 3000 and accepted + refused == 3000
+    assert in_memory == open_count == accepted  # memory holds only what the journal holds
+    assert reason.startswith(f"instruction {accepted + 1}: not journalled, so not accepted: "
+                             f"writing {journal} failed: ")
+    reopened = TaskBuffer(journal)
+    assert len(reopened.records()) == accepted  # every accepted one survived
+    reopened.close()

@@ -268,6 +268,35 @@ class Executor(FindingPeople):
         self.log.append((now, f"cancelled {instruction_id}"))
         return record, stop + self._redecide(now)
 
+    def serving(self):
+        """Id of the instruction the robot is moving for, looking for, verifying or executing
+        (0 when idle or patrolling)."""
+        if self.mode == MOVING:
+            return self.goal_for
+        if self.mode == LOOKING:
+            return self.looking[0]
+        if self.mode == VERIFYING:
+            return self.verifying[0]
+        if self.mode == EXECUTING:
+            return self.executing[0]
+        return 0
+
+    def fault(self, now, reason):
+        """A step of the executor raised: fail the instruction being served with `reason` (it is
+        journalled FAILED, so a restart never re-runs it), stop, and go idle. Returns the
+        commands; the next tick decides afresh."""
+        instruction_id = self.serving()
+        self.mode, self.goal, self.goal_for, self.attempts = IDLE, None, 0, 0
+        self.executing = self.verifying = self.looking = self.retry_at = None
+        self._patrol_goal = self._target = None
+        self._problem_key = self._problem = None
+        commands = [StopMotion()]
+        if instruction_id and self.buffer.get(instruction_id).is_open:
+            commands += self._fail(instruction_id, now, f"fault while serving it: {reason}")
+        else:
+            self.log.append((now, f"fault: {reason}"))
+        return commands
+
     # ---- decision ----
 
     def _redecide(self, now):

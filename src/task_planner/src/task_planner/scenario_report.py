@@ -17,7 +17,7 @@ from task_planner.baselines import PlannerTooLarge
 from task_planner.belief_report import (belief_markdown, history_sources, people_accuracy,
                                         read_searches)
 from task_planner.exact import SolverTimeout, exact_optimum
-from task_planner.instruction import HUMAN, Instruction
+from task_planner.instruction import HUMAN, Instruction, InvalidInstruction
 from task_planner.metrics import reward_curve
 from task_planner.planner_choice import make_planner
 from task_planner.problem import Problem, order_to_schedule, schedule_reward
@@ -41,14 +41,21 @@ class JournalEntry:
 
 
 def read_journal(path):
-    """Every instruction of an executor journal, oldest first, without changing the file."""
+    """Every instruction of an executor journal, oldest first, without changing the file.
+    Rows the executor quarantined (no valid instruction, never run) are left out."""
     uri = f"file:{Path(path).resolve()}?mode=ro"
     with sqlite3.connect(uri, uri=True) as db:
         rows = db.execute(f"SELECT {', '.join(_INSTRUCTION_COLUMNS)}, state, received_time, "
                           "started_time, completion_time, reward_earned, reason "
                           "FROM instructions ORDER BY seq").fetchall()
-    return [JournalEntry(Instruction(**dict(zip(_INSTRUCTION_COLUMNS, row[:14]))),
-                         STATE_NAMES[row[14]], *row[15:20]) for row in rows]
+    entries = []
+    for row in rows:
+        try:
+            instruction = Instruction(**dict(zip(_INSTRUCTION_COLUMNS, row[:14])))
+        except InvalidInstruction:
+            continue
+        entries.append(JournalEntry(instruction, STATE_NAMES[row[14]], *row[15:20]))
+    return entries
 
 
 @dataclass(frozen=True)

@@ -116,17 +116,25 @@ class TaskBuffer:
         self.resumed = self._db.execute(
             "UPDATE instructions SET state=?, started_time=0 WHERE state=?",
             (PENDING, ACTIVE)).rowcount
+        self._build_index()
+        self.version = 0  # incremented by every change (for publishing snapshots on change)
+
+    def _build_index(self):
+        """The in-memory views of the journal (at start, and after a failed write)."""
+        self.quarantined = []  # (id, reason) of journal rows that are no valid instruction
         self._records = {row.instruction.id: row for row in self._load()}  # in seq order
         self._open = {i: r for i, r in self._records.items() if r.is_open}   # in seq order
         self._done = {i for i, r in self._records.items() if r.state == DONE}
         self._active = next((i for i, r in self._open.items() if r.state == ACTIVE), 0)
-        self._next_seq = max((r.seq for r in self._records.values()), default=0) + 1
+        self._next_seq = (self._db.execute("SELECT MAX(seq) FROM instructions").fetchone()[0]
+                          or 0) + 1
         self._counts = [0] * len(STATE_NAMES)
         for record in self._records.values():
             self._counts[record.state] += 1
         self._total_reward = sum(r.reward_earned for r in self._records.values())
-        self._max_id = max((max(r.instruction.id, r.instruction.previous_id)
-                            for r in self._records.values()), default=0)
+        self._max_id = max([max(r.instruction.id, r.instruction.previous_id)
+                            for r in self._records.values()]
+                           + [i for i, _ in self.quarantined], default=0)
         finished = sorted((r for r in self._records.values() if not r.is_open),
                           key=lambda r: (r.completion_time, r.seq))
         # ids of the most recently finished records, oldest first (maxlen drops the oldest)
@@ -134,7 +142,6 @@ class TaskBuffer:
                              maxlen=self.config.recent_finished)
         # open successors whose predecessor had not arrived when last looked at (id -> record)
         self._awaiting = {i: r for i, r in self._open.items() if self._missing_predecessor(r)}
-        self.version = 0  # incremented by every change (for publishing snapshots on change)
 
     def close(self):
         self._db.close()
@@ -149,9 +156,10 @@ class TaskBuffer:
         destination_name of another node, a start_time in the future (beyond
         `future_tolerance_s` of `now` [s]), or a `previous_id` chain that would form a cycle.
         """
-        with self._db:
-            self._db.execute("BEGIN")
-            return self._insert(instruction, now)
+        record, error = self.submit_many([instruction], now)[0]
+        if record is None:
+            raise TaskBufferError(error)
+        return record
 
     def submit_many(self, instructions, now):
         """Journal a burst in one transaction (one disk sync); bad ones are refused, not fatal.
@@ -159,13 +167,24 @@ class TaskBuffer:
         Returns [(Record, "")] or [(None, reason)] per instruction, in order.
         """
         results = []
-        with self._db:
-            self._db.execute("BEGIN")
-            for instruction in instructions:
-                try:
-                    results.append((self._insert(instruction, now), ""))
-                except TaskBufferError as error:
-                    results.append((None, str(error)))
+        try:
+            with self._db:
+                self._db.execute("BEGIN")
+                for instruction in instructions:
+                    try:
+                        results.append((self._insert(instruction, now), ""))
+                    except TaskBufferError as error:
+                        results.append((None, str(error)))
+        except sqlite3.Error as error:  # disk full, I/O error: the burst is rolled back
+            try:
+                if self._db.in_transaction:
+                    self._db.rollback()
+            except sqlite3.Error:
+                pass                     # nothing more to undo than SQLite already did
+            self._build_index()          # forget what memory took but the journal did not
+            self.version += 1
+            return [(None, f"instruction {i.id}: not journalled, so not accepted: writing "
+                           f"{self.path} failed: {error}") for i in instructions]
         return results
 
     def _insert(self, instruction, now):
@@ -432,14 +451,23 @@ class TaskBuffer:
             self._done.add(instruction_id)
 
     def _load(self):
-        for row in self._db.execute("SELECT * FROM instructions ORDER BY seq"):
+        for row in self._db.execute("SELECT * FROM instructions ORDER BY seq").fetchall():
             values = dict(zip(_INSTRUCTION_FIELDS, _instruction_values(row)))
             try:
                 instruction = Instruction(**values)
             except InvalidInstruction as error:
-                raise TaskBufferError(f"task buffer journal {self.path}: row {row[0]} is "
-                                      f"corrupt: {error}") from error
+                self._quarantine(row, error)
+                continue
             yield Record(instruction, *row[14:21])
+
+    def _quarantine(self, row, error):
+        """A journal row that is no valid instruction (written by an older version, or by hand)
+        is failed with the reason and left out, so it is never run; its id stays used."""
+        reason = f"quarantined: journal row {row[0]} is no valid instruction: {error}"
+        self.quarantined.append((row[0], reason))
+        if row[14] in (PENDING, ACTIVE):
+            self._db.execute("UPDATE instructions SET state=?, completion_time=?, reason=? "
+                             "WHERE id=?", (FAILED, row[15], reason, row[0]))
 
 
 def _instruction_values(row):
