@@ -89,11 +89,14 @@ def test_our_journal_reopens_and_an_older_one_without_searches_is_accepted(tmp_p
     assert TaskBuffer(empty).records() == [] and TaskBuffer(":memory:").records() == []
 
 
-def test_a_corrupt_row_names_the_journal(tmp_path):
+def test_a_corrupt_row_is_quarantined_naming_the_row(tmp_path):
     path = _journal(tmp_path)
     db = sqlite3.connect(path)
     db.execute("UPDATE instructions SET gamma = -5 WHERE id = 3")
     db.commit()
     db.close()
-    with pytest.raises(TaskBufferError, match=rf"task buffer journal {path}: row 3 is corrupt"):
-        TaskBuffer(path)
+    buffer = TaskBuffer(path)
+    assert [i for i, _ in buffer.quarantined] == [3]
+    assert buffer.quarantined[0][1].startswith("quarantined: journal row 3 is no valid "
+                                               "instruction: instruction 3: gamma")
+    assert 3 not in {r.instruction.id for r in buffer.records()}
