@@ -19,7 +19,6 @@ from pathlib import Path
 
 import actionlib
 import rospy
-import yaml
 from actionlib_msgs.msg import GoalStatus
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -27,6 +26,8 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from std_msgs.msg import String
 from tamp_msgs.msg import HumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 from visualization_msgs.msg import MarkerArray
 from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
@@ -44,8 +45,9 @@ from task_planner.planner_choice import make_planner
 from task_planner.ros_markers import plan_markers
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
-from task_planner.task_buffer import (PENDING, STATE_NAMES, BufferConfig, TaskBuffer,
-                                      TaskBufferError)
+from task_planner.settings import BATTERY, REQUIRED, load_settings
+from task_planner.task_buffer import (JOURNAL_FAILED, PENDING, STATE_NAMES, BufferConfig,
+                                      TaskBuffer, TaskBufferError)
 
 ROOT = Path(__file__).resolve().parents[4]
 
@@ -83,6 +85,11 @@ class NodeParams:
     plan_view_max: int = 40        # markers show the plan only up to this many open instructions
     state_recent: int = 50         # /task_planner/state carries this many finished instructions
                                    # (the most recent) besides the open ones
+    goal_silence: float = 5.0      # no feedback from move_base this long on an active goal: the
+                                   # server is taken as gone and the goal as lost [s]
+    max_preemptions: int = 3       # a goal preempted by another sender (rviz "2D Nav Goal") is
+                                   # sent again this often, then handled as aborted
+    event_hold: float = 10.0       # diagnostics keep a navigation or journal event this long [s]
 
     @classmethod
     def from_ros(cls):
@@ -100,7 +107,7 @@ class NodeParams:
 class ExecutorNode:
     def __init__(self, params):
         self.params = params
-        settings = yaml.safe_load(Path(params.settings).read_text())
+        settings = load_settings(params.settings, REQUIRED + (BATTERY if params.battery else ()))
         self.graph = load_graph(params.graph, float(settings["robot_radius_m"]))
         Path(params.journal).parent.mkdir(parents=True, exist_ok=True)
         buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size,
@@ -128,6 +135,13 @@ class ExecutorNode:
         self.results = queue.SimpleQueue()
         self._schedules, self._predicted_at = {}, -float("inf")  # schedules, last prediction
         self.refused, self.nav_goal, self.goal_seq = 0, None, 0
+        self._goal_heard = 0.0      # ROS time of the last feedback on the goal we follow [s]
+        self._last_goal = None      # (node, heading) of the goal we follow, to send it again
+        self._preemptions = 0       # times another sender preempted the goal we follow
+        self.events = deque(maxlen=20)  # (wall time, text): shown on diagnostics for event_hold
+        self.sup = None
+        for instruction_id, reason in buffer.quarantined:
+            self._event(f"journal {params.journal}: instruction {instruction_id} {reason}")
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
         self.settings = settings
         self.view_planner = make_planner(params.planner, settings)  # plays the plan forward
@@ -145,6 +159,7 @@ class ExecutorNode:
 
     def setup(self, timeout):
         """Publishers, subscribers, services and the move_base client; False if it is not up."""
+        self.sup = Supervisor("task_planner: executor", hardware_id="task_planner")
         self.say_pub = rospy.Publisher("/robot/say", String, queue_size=10)
         self.state_pub = rospy.Publisher("/task_planner/state", TaskBufferState, queue_size=1,
                                          latch=True)
@@ -167,14 +182,15 @@ class ExecutorNode:
         rospy.loginfo("task_planner: starting at %s; %d open instruction(s) in the journal "
                       "(%d resumed)", self.graph.names[self.executor.node],
                       len(self.executor.buffer.open_records()), self.executor.buffer.resumed)
-        rospy.Subscriber("/task_planner/instructions", InstructionMsg, self._on_instruction,
-                         queue_size=1000)
-        rospy.Subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
-        rospy.Service("/task_planner/submit", SubmitInstruction, self._submit)
-        rospy.Service("/task_planner/cancel", CancelInstruction, self._cancel)
-        rospy.Service("/task_planner/get_buffer", GetTaskBuffer, self._get_buffer)
-        rospy.Timer(rospy.Duration(self.params.tick_period), self._tick)
-        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        sup = self.sup
+        sup.subscriber("/task_planner/instructions", InstructionMsg, self._on_instruction,
+                       queue_size=1000)
+        sup.subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
+        sup.service("/task_planner/submit", SubmitInstruction, self._submit)
+        sup.service("/task_planner/cancel", CancelInstruction, self._cancel)
+        sup.service("/task_planner/get_buffer", GetTaskBuffer, self._get_buffer)
+        sup.timer(self.params.tick_period, self._tick, worker="tick", on_error=self._tick_fault)
+        sup.timer(1.0, self._diagnose, worker="diagnostics")
         with self.lock:
             self._publish_state()
         return True
@@ -193,6 +209,9 @@ class ExecutorNode:
         del result
         self.results.put((goal_seq, state, self.move_base.get_goal_status_text()))
 
+    def _on_goal_heard(self, *_):
+        self._goal_heard = rospy.get_time()  # one float: no lock needed
+
     # ---- services: journal before answering ----
 
     def _submit(self, request):
@@ -210,6 +229,7 @@ class ExecutorNode:
             self._publish_state()
         record, error = results[0]
         if record is None:
+            self._journal_trouble(error)
             return self._refused(msg, allocate, error)
         return SubmitInstructionResponse(True, instruction.id, "")
 
@@ -234,6 +254,18 @@ class ExecutorNode:
                                                        complete=True))
 
     # ---- the executor step ----
+
+    def _tick_fault(self, exc):
+        """A step raised (the supervisor logged it): fail the instruction being served with the
+        reason, so neither this run nor a restart runs it again, and stop."""
+        with self.lock:
+            now = rospy.get_time()
+            instruction_id = self.executor.serving()
+            commands = self.executor.fault(now, fault_text(exc))
+            self._event(f"fault in the executor step: {fault_text(exc)}"
+                        + (f"; instruction {instruction_id} failed" if instruction_id else ""))
+            self._carry_out(commands)
+            self._publish_state()
 
     def _tick(self, _event):
         with self.lock:
@@ -268,6 +300,7 @@ class ExecutorNode:
             if error:
                 self.refused += 1
                 rospy.logwarn("task_planner: refused instruction: %s", error)
+                self._journal_trouble(error)
         return commands
 
     def _navigation_results(self, now):
@@ -275,15 +308,48 @@ class ExecutorNode:
         while not self.results.empty():
             results.append(self.results.get())
         commands = []
+        following = self.executor.mode in ("moving", "looking")
         for goal_seq, state, text in results:
-            if goal_seq != self.nav_goal or self.executor.mode not in ("moving", "looking"):
+            if goal_seq != self.nav_goal or not following:
                 continue  # a goal we replaced (preempted) or no longer follow
             self.nav_goal = None
             if state == GoalStatus.SUCCEEDED:
                 commands += self.executor.arrived(now)
-            else:  # aborted, rejected, or preempted / recalled / lost by someone else
-                commands += self.executor.aborted(now, text or GoalStatus.to_string(state))
+            elif state == GoalStatus.PREEMPTED and self._preemptions < self.params.max_preemptions:
+                # we only ever cancel goals we stopped following: another sender took move_base
+                self._preemptions += 1
+                self._event(f"move_base goal to {self.graph.names[self._last_goal[0]]} preempted "
+                            f"by another sender (rviz 2D Nav Goal?); sent again "
+                            f"({self._preemptions}/{self.params.max_preemptions})")
+                self._send_goal(*self._last_goal, again=True)
+            else:  # aborted, rejected, recalled, lost, or preempted once too often
+                reason = text or GoalStatus.to_string(state)
+                if state != GoalStatus.ABORTED:  # not move_base's own "no path": say so
+                    self._event(f"move_base goal to {self.graph.names[self._last_goal[0]]} "
+                                f"ended {GoalStatus.to_string(state)}: {reason}")
+                commands += self.executor.aborted(now, reason)
+        silent = now - self._goal_heard
+        if self.nav_goal is not None and following and silent > self.params.goal_silence:
+            self.nav_goal = None       # results of this goal, should it ever end, are ignored
+            self.move_base.cancel_goal()
+            reason = (f"move_base silent for {silent:.1f} s on the goal to "
+                      f"{self.graph.names[self._last_goal[0]]} (server gone?)")
+            self._event(reason)
+            commands += self.executor.aborted(now, reason)
         return commands
+
+    def _journal_trouble(self, error):
+        """A refusal because the journal could not be written (disk full) degrades the node."""
+        if JOURNAL_FAILED in error:
+            self._event(error, DiagnosticStatus.ERROR)
+
+    def _event(self, text, level=DiagnosticStatus.WARN):
+        """Log `text` (not again while it repeats) and show it on diagnostics for event_hold."""
+        if not self.events or self.events[-1][2] != text:
+            rospy.logwarn("task_planner: %s", text)
+        else:
+            self.events.pop()
+        self.events.append((time.monotonic(), level, text))
 
     def _update_people(self, now):
         """Belief from human_db's table (places perception wrote) when a new one came; the
@@ -317,7 +383,7 @@ class ExecutorNode:
                 rospy.loginfo("task_planner: %s for instruction %d (%.0f s)", command.function,
                               command.instruction_id, command.duration_s)
 
-    def _send_goal(self, node, heading=None):
+    def _send_goal(self, node, heading=None, again=False):
         x, y, yaw = self.graph.poses[node]
         yaw = yaw if heading is None else heading
         goal = MoveBaseGoal()
@@ -328,8 +394,12 @@ class ExecutorNode:
         goal.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
         self.goal_seq += 1
         self.nav_goal = self.goal_seq   # results of earlier (replaced) goals are ignored
+        self._last_goal, self._goal_heard = (node, heading), rospy.get_time()
+        if not again:
+            self._preemptions = 0
         self.move_base.send_goal(goal, done_cb=lambda state, result, n=self.goal_seq:
-                                 self._on_goal_done(n, state, result))
+                                 self._on_goal_done(n, state, result),
+                                 active_cb=self._on_goal_heard, feedback_cb=self._on_goal_heard)
         rospy.loginfo("task_planner: move_base goal %s%s", self.graph.names[node],
                       "" if heading is None else f" (look, heading {heading:.2f} rad)")
 
@@ -358,10 +428,15 @@ class ExecutorNode:
             decision = latency_ms(self.executor.decision_s)
             step = latency_ms(self.step_s)
             slow = decision[0] > self.params.latency_warn_ms
-            level = DiagnosticStatus.WARN if self.refused or slow else DiagnosticStatus.OK
+            hold = time.monotonic() - self.params.event_hold
+            events = [(level, text) for at, level, text in self.events if at >= hold]
+            level = max([DiagnosticStatus.WARN if self.refused or slow else DiagnosticStatus.OK]
+                        + [level for level, _ in events])
             message = f"{self.executor.mode} at {self.graph.names[self.executor.node]}"
             if self.refused:
                 message += f"; {self.refused} instruction(s) refused"
+            if events:
+                message += "; " + "; ".join(text for _, text in events[-3:])
             if slow:
                 message += f"; median decision {decision[0]:.1f} ms"
             values = [KeyValue(k, str(v)) for k, v in counts.items()]
@@ -385,7 +460,11 @@ class ExecutorNode:
 
 def main():
     rospy.init_node("task_planner")
-    node = ExecutorNode(NodeParams.from_ros())
+    try:
+        node = ExecutorNode(NodeParams.from_ros())
+    except ValueError as error:   # a settings, journal or graph file that cannot be used
+        rospy.logfatal("task_planner: not starting: %s", error)
+        return 1
     if not node.setup(timeout=60.0):
         return 1
     rospy.spin()

@@ -39,6 +39,8 @@ from task_planner.instruction import Instruction, InvalidInstruction
 from task_planner.journal_file import JournalFileError, open_journal
 from task_planner.reward import decayed_reward
 
+JOURNAL_FAILED = "not journalled, so not accepted"  # a refusal for a failed write
+
 PENDING, ACTIVE, DONE, FAILED, CANCELLED = range(5)  # = tamp_msgs/InstructionState constants
 STATE_NAMES = ("pending", "active", "done", "failed", "cancelled")
 OPEN_STATES = (PENDING, ACTIVE)
@@ -183,8 +185,8 @@ class TaskBuffer:
                 pass                     # nothing more to undo than SQLite already did
             self._build_index()          # forget what memory took but the journal did not
             self.version += 1
-            return [(None, f"instruction {i.id}: not journalled, so not accepted: writing "
-                           f"{self.path} failed: {error}") for i in instructions]
+            return [(None, f"instruction {i.id}: {JOURNAL_FAILED}: writing {self.path} "
+                           f"failed: {error}") for i in instructions]
         return results
 
     def _insert(self, instruction, now):
