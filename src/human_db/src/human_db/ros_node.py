@@ -1,4 +1,10 @@
-"""The human_db node: the household store behind ROS services, a latched table and diagnostics."""
+"""The human_db node: the household store behind ROS services, a latched table and diagnostics.
+
+Every service handler and timer runs under one supervision.ros_supervisor.Supervisor: a request
+the database refuses is answered with success false (or found false) and the reason; an
+unexpected fault while serving a request is answered with rospy's service error naming the
+reason, counted as a failed request, and raises the node's "human_db: human_db: supervision"
+status to ERROR; the next request is served as usual."""
 import os
 import threading
 import time as wallclock
@@ -20,6 +26,8 @@ from human_db.errors import HumanDbError, InvalidHuman, StoreBusy
 from human_db.household import import_household
 from human_db.model import check_observation_time
 from human_db.store import HumanStore, StoreConfig
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 
 
 @dataclass(frozen=True)
@@ -71,6 +79,7 @@ class HumanDbNode:
         self._write_seconds = 0.0        # latency of the last write [s]
         self._services, self._timers = [], []
         self._known = self._diagnostics = None
+        self.sup = None
 
     def setup(self):
         """Open (or create) the database, import the household if it is empty, start the ROS API.
@@ -90,6 +99,7 @@ class HumanDbNode:
             names = import_household(self.store, self.params.household, now=rospy.get_time())
             rospy.loginfo("human_db: imported %s from %s", ", ".join(names),
                           self.params.household)
+        self.sup = sup = Supervisor("human_db: human_db", hardware_id=self.store.path)
         self._known = rospy.Publisher("humans/known", HumanArray, queue_size=1, latch=True)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self._publish_table()
@@ -98,11 +108,12 @@ class HumanDbNode:
                     ("~identify", IdentifyHuman, self._identify),
                     ("~list", ListHumans, self._list), ("~where_was", WhereWasHuman,
                                                         self._where_was))
-        self._services = [rospy.Service(name, kind, self._counted(handler))
+        self._services = [sup.service(name, kind, self._counted(name.lstrip("~"), handler))
                           for name, kind, handler in handlers]
         self._timers = [
-            rospy.Timer(rospy.Duration(self.params.publish_period), self._on_publish_timer),
-            rospy.Timer(rospy.Duration(self.params.diagnostics_period), self._on_diagnostics)]
+            sup.timer(self.params.publish_period, self._on_publish_timer, worker="publish"),
+            sup.timer(self.params.diagnostics_period, self._on_diagnostics,
+                      worker="diagnostics")]
 
     def close(self):
         for timer in self._timers:
@@ -113,11 +124,21 @@ class HumanDbNode:
             self.store.close()
 
     # -- services -----------------------------------------------------------------------------
-    def _counted(self, handler):
+    def _counted(self, what, handler):
+        """handler(request), counted; an unexpected fault counts as a failed request (the
+        Supervisor answers the caller with the reason)."""
         def wrapped(request):
             with self._lock:
                 self._counts["requests"] += 1
-            return handler(request)
+            try:
+                return handler(request)
+            except rospy.ServiceException:
+                raise                      # identify/list refusal, counted by _refused
+            except Exception as error:
+                with self._lock:
+                    self._counts["failed"] += 1
+                    self._last_failure = f"{what}: {fault_text(error)}"
+                raise
         return wrapped
 
     def _refused(self, what, error):
