@@ -1,4 +1,7 @@
-"""The numpy single-step path reproduces the Keras sequence model (Fig. 2.2.4) to 1e-5."""
+"""The numpy single-step path reproduces the Keras sequence model (Fig. 2.2.4) to 1e-5; model
+files that are missing or damaged are told apart by name."""
+import zipfile
+
 import numpy as np
 import pytest
 
@@ -7,7 +10,8 @@ keras = pytest.importorskip("keras")
 from semantic_nav.network import (CORNER_CLASSES, NetworkConfig, StepPolicy,  # noqa: E402
                                   add_count_input, add_heads, build_network,
                                   has_count_input, has_head, has_stop_head,
-                                  interpolate_weights, load_network, relu, softmax)
+                                  interpolate_weights, load_network, ModelFileError, relu,
+                                  softmax)
 from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
 
 
@@ -186,3 +190,42 @@ def test_interpolate_weights_mixes_every_layer_and_keeps_the_ends():
         interpolate_weights(headless, tuned, 0.5)
     with pytest.raises(ValueError, match="alpha"):
         interpolate_weights(base, tuned, 1.5)
+
+
+def test_a_missing_model_names_make_train(tmp_path):
+    with pytest.raises(FileNotFoundError, match=r"model .*none\.keras not found: run `make train`"):
+        load_network(tmp_path / "none.keras")
+
+
+@pytest.mark.parametrize("content", [b"garbage\n", b"PK\x03\x04" + b"\x00" * 100])
+def test_a_file_that_is_not_a_keras_archive_is_named_corrupt_not_missing(tmp_path, content):
+    path = tmp_path / "broken.keras"
+    path.write_bytes(content)
+    with pytest.raises(ModelFileError) as caught:
+        load_network(path)
+    message = str(caught.value)
+    assert message.startswith(f"semantic_nav model {path} is corrupt or unreadable (not a "
+                              ".keras zip archive: BadZipFile: ")
+    assert "not found" not in message and "make train" in message
+
+
+def test_a_zip_that_is_not_a_network_names_the_keras_error(tmp_path):
+    path = tmp_path / "other.keras"
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("notes.txt", "not a model")
+    with pytest.raises(ModelFileError, match=r"is corrupt or unreadable \(Keras: KeyError: "):
+        load_network(path)
+
+
+@pytest.mark.skipif(not DEFAULT_MODEL.is_file(), reason="no committed default model")
+@pytest.mark.parametrize("damage", ["truncate", "flip"])
+def test_a_damaged_default_model_is_named_corrupt(tmp_path, damage):
+    data = bytearray(DEFAULT_MODEL.read_bytes())
+    if damage == "truncate":
+        data = data[:len(data) // 2]
+    else:
+        data[len(data) // 2] ^= 0xFF                     # inside the weights member
+    path = tmp_path / "default.keras"
+    path.write_bytes(bytes(data))
+    with pytest.raises(ModelFileError, match=rf"^semantic_nav model {path} is corrupt"):
+        load_network(path)

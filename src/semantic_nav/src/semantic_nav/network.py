@@ -33,6 +33,7 @@ instruction's corner number.
 instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
 """
 import os
+import zipfile
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -271,9 +272,38 @@ def network_config_dict(config):
     return asdict(config)
 
 
+class ModelFileError(ValueError):
+    """A model file that exists but cannot be loaded (corrupt, truncated, not a .keras archive,
+    or not one of our networks); the message names the file and the underlying error."""
+
+
 def load_network(path):
-    """Load a saved .keras model (custom layers registered above)."""
-    return keras.saving.load_model(path, compile=False)
+    """Load a saved .keras model (custom layers registered above).
+
+    A missing file is a FileNotFoundError naming it and `make train`; a file that is there but
+    cannot be loaded is a ModelFileError naming it as corrupt or unreadable, with the underlying
+    error (Keras itself says "File not found" for any file that is not a zip archive)."""
+    path = str(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"semantic_nav model {path} not found: run `make train` (or "
+                                "pass a model path)")
+    fix = ("restore it (`git checkout -- models/semantic_nav/` for the committed models) or "
+           "rebuild it with `make train`")
+    try:
+        with zipfile.ZipFile(path) as archive:
+            damaged = archive.testzip()      # the first member whose CRC does not match
+    except (zipfile.BadZipFile, OSError, EOFError) as error:
+        raise ModelFileError(f"semantic_nav model {path} is corrupt or unreadable (not a "
+                             f".keras zip archive: {type(error).__name__}: {error}); "
+                             f"{fix}") from error
+    if damaged is not None:
+        raise ModelFileError(f"semantic_nav model {path} is corrupt (member {damaged!r} fails "
+                             f"its CRC check); {fix}")
+    try:
+        return keras.saving.load_model(path, compile=False)
+    except Exception as error:  # noqa: BLE001 - Keras raises many kinds; each is named
+        raise ModelFileError(f"semantic_nav model {path} is corrupt or unreadable (Keras: "
+                             f"{type(error).__name__}: {error}); {fix}") from error
 
 
 # ---------------------------------------------------------------- numpy single-step path
