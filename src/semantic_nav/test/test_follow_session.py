@@ -1,12 +1,14 @@
 """The node's ROS-free session: start, steps, the end of a sentence, refusals, time limit."""
 import math
 
+import numpy as np
 import pytest
 
 from semantic_nav.episodes import PolicyCommand
 from semantic_nav.follow_session import ABORTED, SUCCEEDED, FollowSession, InstructionRefused
 from semantic_nav.follower import FollowerCommand
 from semantic_nav.laser_layer import model_from_scan
+from semantic_nav.word_vectors import WordVectors
 
 
 class ScriptedFollower:
@@ -82,3 +84,41 @@ def test_time_limit_and_stop_abort_with_progress():
         other.step([1.0] * 1081, LASER, 0.1 * k)
     outcome = other.stop("preempted")
     assert (outcome.status, outcome.completed, outcome.message) == (ABORTED, 1, "preempted")
+
+
+class RecordingFollower(ScriptedFollower):
+    """Remembers whether it was started."""
+
+    def start(self, sentence):
+        self.started = True
+        return super().start(sentence)
+
+
+def test_a_corner_beyond_the_third_is_refused_before_the_follower_starts():
+    follower = RecordingFollower([7])
+    with pytest.raises(InstructionRefused) as caught:
+        FollowSession(follower, "turn left at the 99th corner", now=0.0, max_duration=60.0)
+    assert str(caught.value).startswith("cannot follow 'turn left at the 99th corner': 'turn "
+                                        "left at the 99th corner' asks for the 99th corner")
+    assert caught.value.spoken == ("Sorry, I can only count corners up to the third one, and "
+                                   "you asked for the 99th. I am staying here.")
+    assert not hasattr(follower, "started")
+
+
+def test_a_sentence_that_is_not_english_is_refused_with_the_followers_vectors():
+    follower = RecordingFollower([1])
+    follower.word_vectors = WordVectors(["the", "to", "go", "end"], np.zeros((4, 2)), "ranked")
+    with pytest.raises(InstructionRefused) as caught:
+        FollowSession(follower, "gehe geradeaus bis zum ende", now=0.0, max_duration=60.0)
+    assert caught.value.spoken == ("Sorry, I can only follow directions in English. I am "
+                                   "staying here.")
+    assert not hasattr(follower, "started")
+    FollowSession(follower, "go to the end", now=0.0, max_duration=60.0)
+    assert follower.started
+
+
+def test_unknown_words_get_a_spoken_reason_too():
+    with pytest.raises(InstructionRefused) as caught:
+        FollowSession(ScriptedFollower([1]), "flibber", now=0.0, max_duration=60.0)
+    assert caught.value.spoken == ("Sorry, I did not understand those directions. I am staying "
+                                   "here.")

@@ -2,9 +2,12 @@
 import numpy as np
 import pytest
 
-from semantic_nav.instruction_layer import (InstructionError, convert_instruction,
+from semantic_nav.instruction_layer import (FollowableConfig, InstructionError,
+                                            UnfollowableInstruction, check_followable,
+                                            convert_instruction, corners_asked,
+                                            english_fraction, number_value, ordinal_text,
                                             sentence_vector, split_instruction, tokenise)
-from semantic_nav.word_vectors import WordVectors
+from semantic_nav.word_vectors import WordVectors, default_cache_dir, load_compact_cache
 
 
 def test_split_seed_example_of_section_3_1():
@@ -81,3 +84,114 @@ def test_convert_instruction_keeps_order(tiny_vectors):
     parts = convert_instruction("Turn right, then go back.", tiny_vectors)
     assert [p.text for p in parts] == ["turn right", "go back"]
     np.testing.assert_array_equal(parts[1].vectors, [[4, 5], [6, 7]])
+
+
+@pytest.mark.parametrize("token, value", [
+    ("99th", (99, True)), ("4", (4, False)), ("fourth", (4, True)), ("twenty-first", (21, True)),
+    ("ninety-nine", (99, False)), ("hundredth", (100, True)), ("third", (3, True)),
+    ("corner", None), ("second-hand", None)])
+def test_number_value(token, value):
+    assert number_value(token) == value
+
+
+def test_ordinal_text():
+    assert [ordinal_text(n) for n in (1, 2, 3, 4, 11, 12, 13, 21, 22, 99, 111)] == [
+        "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "99th", "111th"]
+
+
+@pytest.mark.parametrize("text, asked", [
+    ("turn left at the 99th corner", [99]), ("turn left at the second corner", [2]),
+    ("turn right after the third corner", [4]), ("after one corner turn left", [2]),
+    ("go two corners down", [2]), ("five corners down", [5]), ("take the fifth left", [5]),
+    ("turn left at corner number four", [4]), ("at corner three turn right", [3]),
+    ("turn left at the twenty-first intersection", [21]),
+    ("turn left at the corner 5 metres ahead", []), ("go straight 20 meters", []),
+    ("first go straight to the end", []), ("turn left at the corner", [])])
+def test_corners_asked(text, asked):
+    assert corners_asked(text) == asked
+
+
+@pytest.mark.parametrize("sentence, shown", [
+    ("turn left at the 99th corner", "99th"), ("go to the end, then take the fourth right", "4th"),
+    ("Turn right after the third corner.", "4th"), ("turn left at the zeroth corner", "0th")])
+def test_corners_beyond_the_third_are_refused_with_a_spoken_reason(sentence, shown):
+    with pytest.raises(UnfollowableInstruction) as caught:
+        check_followable(sentence)
+    assert f"asks for the {shown} corner; the instruction classes count corners from the 1st " \
+           f"to the 3rd" in str(caught.value)
+    assert caught.value.spoken == (f"Sorry, I can only count corners up to the third one, and "
+                                   f"you asked for the {shown}. I am staying here.")
+
+
+@pytest.mark.parametrize("sentence", [
+    "turn left at the third corner", "go straight to the end, then turn left at the 2nd corner",
+    "after the second corner turn right", "go three corners down then turn left",
+    "turn left at the corner 5 metres ahead"])
+def test_counts_the_classes_know_pass(sentence):
+    check_followable(sentence)
+
+
+def frequency_ordered(words):
+    """WordVectors whose row order is the given frequency order (as GloVe's)."""
+    return WordVectors(words, np.zeros((len(words), 2), dtype=np.float32), "ranked")
+
+
+def test_english_fraction_counts_common_words_only():
+    vectors = frequency_ordered(["the", "to", "go", "end", "la", "turn", "left", "gehe"])
+    config = FollowableConfig(common_words=7)            # "gehe" is the 8th: not common
+    assert english_fraction("go to the end", vectors, config) == (4, 4)
+    assert english_fraction("gehe zum ende", vectors, config) == (0, 3)
+    # "la" is common in the vocabulary but one of FOREIGN_WORDS; numbers are not words
+    assert english_fraction("turn left at la 2nd", vectors, config) == (2, 4)
+    assert english_fraction("直走到尽头然后左转", vectors, config) == (0, 1)
+
+
+def test_a_sentence_of_uncommon_words_is_refused_as_not_english():
+    vectors = frequency_ordered(["the", "to", "go", "end", "turn", "right", "veer"])
+    config = FollowableConfig(common_words=6)
+    with pytest.raises(UnfollowableInstruction) as caught:
+        check_followable("gehe geradeaus bis zum ende", vectors, config)
+    assert str(caught.value) == ("only 0 of its 5 words are common English words (among the 6 "
+                                 "most frequent of ranked), fewer than 60%: not English, or not "
+                                 "directions")
+    assert caught.value.spoken == ("Sorry, I can only follow directions in English. I am "
+                                   "staying here.")
+    with pytest.raises(UnfollowableInstruction):
+        check_followable("直走到尽头然后左转", vectors, config)
+    check_followable("go to the end", vectors, config)
+    check_followable("veer right", vectors, config)      # one uncommon word beside a common one
+    with pytest.raises(UnfollowableInstruction):
+        check_followable("veer zum", vectors, config)
+
+
+GLOVE = default_cache_dir()
+FOREIGN = ["gehe geradeaus bis zum ende und dann links", "biege an der zweiten ecke rechts ab",
+           "va tout droit jusqu'au bout puis tourne à gauche", "tourne à droite au deuxième coin",
+           "sigue recto hasta el final y gira a la izquierda",
+           "toma la tercera a la izquierda por favor",
+           "vai dritto fino alla fine e poi gira a sinistra", "gira a destra al secondo angolo",
+           "ga rechtdoor tot het einde en dan links", "neem de derde links alsjeblieft",
+           "siga em frente até o fim e depois vire à esquerda", "直走到尽头然后左转",
+           # written after FOREIGN_WORDS was, as a check
+           "lauf bis zum ende des ganges und bieg dann rechts ab",
+           "au bout du couloir tournez à droite", "marche jusqu'au fond et attends moi",
+           "al final del pasillo gira a la derecha",
+           "ve todo recto y en el segundo cruce a la izquierda",
+           "in fondo al corridoio gira a destra", "aan het einde van de gang rechtsaf",
+           "ga rechtdoor en neem dan de eerste links", "no fim do corredor vire à direita"]
+ENGLISH = ["go down the hall and make a left at the second door",
+           "head towards the elevators then hang a right", "veer right",
+           "keep going past the vending machine until the corridor ends",
+           "okay robot, straight ahead, then left at the crossroads",
+           "proceed to the end of the corridor then bear left", "go to the den and wait",
+           "kindly veer right at the third junction", "drive on and swing left"]
+
+
+@pytest.mark.skipif(not (GLOVE / "vocab.txt").is_file(), reason="no GloVe cache (scripts/setup)")
+def test_on_glove_6b_foreign_directions_are_refused_and_english_ones_pass():
+    vectors = load_compact_cache(GLOVE)
+    for sentence in FOREIGN:
+        with pytest.raises(UnfollowableInstruction, match="common English words"):
+            check_followable(sentence, vectors)
+    for sentence in ENGLISH:
+        check_followable(sentence, vectors)

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from semantic_nav.instruction_layer import InstructionError, split_instruction
+from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
+                                            check_followable, split_instruction)
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
 
@@ -30,19 +31,32 @@ class Outcome:
 
 
 class InstructionRefused(ValueError):
-    """The sentence cannot be followed (no words, unknown words); the message says why."""
+    """The sentence cannot be followed (no words, unknown words, a corner beyond the third, not
+    English); str() says why in full, `spoken` says it to the person in one sentence."""
+
+    def __init__(self, message, spoken):
+        super().__init__(message)
+        self.spoken = spoken
 
 
 class FollowSession:
     """Follow one sentence: start it, step it once per control period, end it."""
 
     def __init__(self, follower, sentence, now, max_duration):
-        """Raises InstructionRefused for a sentence the follower cannot take."""
+        """Raises InstructionRefused for a sentence the follower cannot take or must not try
+        (instruction_layer.check_followable, with the follower's word vectors if it has any),
+        before the follower is started: the robot does not move."""
         try:
+            check_followable(sentence, getattr(follower, "word_vectors", None))
             self.parts = split_instruction(sentence)
             self.classes = list(follower.start(sentence))
+        except UnfollowableInstruction as error:
+            raise InstructionRefused(f"cannot follow {sentence!r}: {error}",
+                                     error.spoken) from error
         except (InstructionError, ValueError) as error:
-            raise InstructionRefused(f"cannot follow {sentence!r}: {error}") from error
+            raise InstructionRefused(f"cannot follow {sentence!r}: {error}",
+                                     "Sorry, I did not understand those directions. I am "
+                                     "staying here.") from error
         self.follower, self.sentence = follower, sentence
         self.started, self.max_duration = now, max_duration
         self.index, self.outcome = 0, None

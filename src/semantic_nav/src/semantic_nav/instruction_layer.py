@@ -85,3 +85,163 @@ def sentence_vector(text, word_vectors):
 def convert_instruction(sentence, word_vectors):
     """Split a sentence and convert each simple instruction: list of SentenceVector, in order."""
     return [sentence_vector(part, word_vectors) for part in split_instruction(sentence)]
+
+
+# ---------------------------------------------------------------- directions the robot can follow
+# Beyond the seed: a sentence is refused before the robot moves when it asks for more than the ten
+# instruction classes can do, or is not English. Without these checks "turn left at the 99th
+# corner" drove (GloVe knows "99th"; LSTM_w classed it as a third-corner turn) and so did a
+# German sentence (GloVe 6B holds many non-English words, so no word was "unknown").
+MAX_CORNER = 3   # Table 3.1-1 counts corners up to "the third corner" (classes 7 and 8)
+CORNER_WORDS = frozenset((
+    "corner", "corners", "intersection", "intersections", "crossroad", "crossroads", "crossing",
+    "crossings", "turning", "turnings", "junction", "junctions", "turn", "turns", "left", "right",
+    "lefts", "rights", "opening", "openings", "branch", "branches", "hallway", "hallways",
+    "corridor", "corridors"))
+COUNT_PAST = frozenset(("after", "past", "beyond"))   # "after the second corner" = the third
+MEASURES = frozenset(("m", "metre", "metres", "meter", "meters", "foot", "feet", "yard", "yards",
+                      "step", "steps", "second", "seconds", "minute", "minutes", "times"))
+UNITS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+         "eleven", "twelve", "thirteen", "fourteen", "fifteen", "sixteen", "seventeen",
+         "eighteen", "nineteen")
+UNIT_ORDINALS = ("zeroth", "first", "second", "third", "fourth", "fifth", "sixth", "seventh",
+                 "eighth", "ninth", "tenth", "eleventh", "twelfth", "thirteenth", "fourteenth",
+                 "fifteenth", "sixteenth", "seventeenth", "eighteenth", "nineteenth")
+TENS = {"twenty": 20, "thirty": 30, "forty": 40, "fifty": 50, "sixty": 60, "seventy": 70,
+        "eighty": 80, "ninety": 90}
+TENS_ORDINALS = {"twentieth": 20, "thirtieth": 30, "fortieth": 40, "fiftieth": 50,
+                 "sixtieth": 60, "seventieth": 70, "eightieth": 80, "ninetieth": 90}
+LARGE = {"hundred": 100, "hundredth": 100, "thousand": 1000, "thousandth": 1000,
+         "million": 10 ** 6, "millionth": 10 ** 6}
+DIGIT_ORDINAL = re.compile(r"^(\d+)(?:st|nd|rd|th)$")
+# GloVe 6B's most frequent words include the function words of other languages (names and
+# quotes in its news and encyclopaedia text: "la", "el", "und", "het" are among its 35,000 most
+# frequent). These, from German, French, Spanish, Italian, Dutch and Portuguese directions, are
+# not counted as English: their function words and their words for left, right, straight on,
+# end, corner, corridor, please, go and turn. Words English uses too ("a", "an", "in", "am",
+# "den", "die", "final", "fine", "coin", "pour", "loop", "gang", "links", "no", "as") are left
+# out.
+FOREIGN_WORDS = frozenset("""
+der das und zum zur bis dann dem des ein eine einen nach mit bitte geh gehe ist nicht zu im
+auf biege nimm fahr rechts ecke flur entlang kreuzung bleib
+le la les du et au aux puis jusqu tout droit droite gauche va vers dans sur avec plaît une est
+prends tourne avance couloir arrête toi deuxième troisième
+el los las y del al hasta hacia por gira derecha izquierda luego sigue una para camina pasillo
+esquina toma tercera segunda allí espera recto
+il lo gli della alla fino poi e destra sinistra favore vai di da prendi terza secondo angolo
+cammina lungo corridoio fermati dritto
+het een en tot naar bij ga sla neem hoek derde tweede alsjeblieft wacht daar rechtdoor einde
+até depois vire direita esquerda na pelo siga frente fim ande pegue terceira à
+""".split())
+
+
+@dataclass(frozen=True)
+class FollowableConfig:
+    """When a sentence counts as English (the rule of `english_fraction`)."""
+
+    common_words: int = 30000          # a word is common English when it is among this many most
+                                       # frequent words of GloVe 6B (its vocabulary is ordered
+                                       # by frequency: row 0 is "the")
+    min_english_fraction: float = 0.6  # fewer common English words than this share: refused
+
+
+class UnfollowableInstruction(InstructionError):
+    """A sentence the robot must not try: str() says why in full, `spoken` says it to a person."""
+
+    def __init__(self, reason, spoken):
+        super().__init__(reason)
+        self.spoken = spoken
+
+
+def number_value(token):
+    """(value, is_ordinal) of a number token ("99th", "4", "fourth", "twenty-first",
+    "hundredth"), else None."""
+    digits = DIGIT_ORDINAL.match(token)
+    if digits:
+        return int(digits.group(1)), True
+    if token.isdigit():
+        return int(token), False
+    total, ordinal = 0, False
+    for part in token.split("-"):
+        if part in UNITS:
+            total += UNITS.index(part)
+        elif part in UNIT_ORDINALS:
+            total, ordinal = total + UNIT_ORDINALS.index(part), True
+        elif part in TENS or part in TENS_ORDINALS:
+            total += TENS.get(part) or TENS_ORDINALS[part]
+            ordinal = part in TENS_ORDINALS
+        elif part in LARGE:
+            total, ordinal = max(total, 1) * LARGE[part], part.endswith("th")
+        else:
+            return None
+    return total, ordinal
+
+
+def ordinal_text(number):
+    """1 -> "1st", 12 -> "12th", 23 -> "23rd", 99 -> "99th"."""
+    if 10 <= number % 100 <= 20:
+        return f"{number}th"
+    return f"{number}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(number % 10, 'th')}"
+
+
+def corners_asked(text):
+    """The corner numbers one simple instruction counts to: a number before a corner word
+    ("the 99th corner", "five corners down", "the fourth left") or after "corner" ("corner
+    number four", "corner three"), one more after "after" / "past" ("after the third corner" is
+    the fourth); a cardinal before a measure ("the corner 5 metres ahead") is a distance."""
+    tokens = TOKEN.findall(text.lower())
+    asked = []
+    for i, token in enumerate(tokens):
+        value = number_value(token)
+        if value is None:
+            continue
+        before, after = tokens[max(0, i - 2):i], tokens[i + 1:i + 3]
+        if after[:1] and after[0] in MEASURES and not value[1]:
+            continue                      # "the corner 5 metres ahead": a distance
+        if not (CORNER_WORDS & set(after) or before[-1:] == ["corner"]
+                or before[-2:] == ["corner", "number"]):
+            continue
+        asked.append(value[0] + (1 if COUNT_PAST & set(before) else 0))
+    return asked
+
+
+def english_fraction(sentence, word_vectors, config=None):
+    """(common, words): how many of the sentence's words (letters only, any alphabet; numbers
+    left out) are common English words: among the `common_words` most frequent of the word
+    vectors' vocabulary (GloVe files list words by frequency) and not in FOREIGN_WORDS."""
+    config = config or FollowableConfig()
+    words = [w for w in re.findall(r"\w+", sentence.lower())
+             if not any(c.isdigit() or c == "_" for c in w)]
+    common = sum(1 for w in words if w not in FOREIGN_WORDS and
+                 word_vectors.index.get(w, config.common_words) < config.common_words)
+    return common, len(words)
+
+
+def check_followable(sentence, word_vectors=None, config=None):
+    """Refuse (UnfollowableInstruction) a sentence the robot must not try to follow:
+
+    - with `word_vectors`, a sentence of which fewer than `min_english_fraction` of the words are
+      common English words (english_fraction: words of any alphabet count, so Chinese is refused
+      here; a sentence without words is left to split_instruction, which refuses it), unless a
+      single word is uncommon beside a common one ("veer right": "veer" is GloVe's 30,834th);
+    - a corner beyond MAX_CORNER, or before the first (Table 3.1-1 counts the first to the
+      third corner), in any simple instruction (corners_asked).
+    """
+    config = config or FollowableConfig()
+    if word_vectors is not None:
+        common, words = english_fraction(sentence, word_vectors, config)
+        if (words and common < config.min_english_fraction * words
+                and (common == 0 or words - common >= 2)):
+            raise UnfollowableInstruction(
+                f"only {common} of its {words} words are common English words (among the "
+                f"{config.common_words} most frequent of {word_vectors.source}), fewer than "
+                f"{config.min_english_fraction:.0%}: not English, or not directions",
+                "Sorry, I can only follow directions in English. I am staying here.")
+    for part in split_instruction(sentence):
+        for corner in corners_asked(part):
+            if not 1 <= corner <= MAX_CORNER:
+                raise UnfollowableInstruction(
+                    f"{part!r} asks for the {ordinal_text(corner)} corner; the instruction "
+                    f"classes count corners from the 1st to the {ordinal_text(MAX_CORNER)}",
+                    f"Sorry, I can only count corners up to the third one, and you asked for "
+                    f"the {ordinal_text(corner)}. I am staying here.")

@@ -3,7 +3,9 @@ the direction follower (scan -> laser layer -> network -> post-processing -> /cm
 
 Callbacks only cache under a lock (scan, odometry, new goal, preemption, voice sentence); a
 timer at the follower's control period does the work. The robot is stopped (zero /cmd_vel) on
-preemption, when no scan arrives for ~scan_timeout, when a sentence ends and on exit.
+preemption, when no scan arrives for ~scan_timeout, when a sentence ends and on exit. A sentence
+the follower must not try (a corner beyond the third, not English, no known word) is refused
+before the robot moves, and the reason is said on /robot/say.
 """
 import math
 import threading
@@ -56,6 +58,7 @@ class FollowerNode:
 
     def setup(self):
         self.cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        self.say_pub = rospy.Publisher("/robot/say", String, queue_size=5)
         self.marker_pub = rospy.Publisher("~path", Marker, queue_size=1, latch=True)
         self.doorway_pub = rospy.Publisher("~doorways", Marker, queue_size=1)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
@@ -123,6 +126,7 @@ class FollowerNode:
         except InstructionRefused as error:
             self.last_result = str(error)
             rospy.logwarn("semantic_nav: %s", error)
+            self.say_pub.publish(String(data=error.spoken))
             if source == "action":
                 self.server.set_aborted(result_msg(str(error)), str(error))
             return
