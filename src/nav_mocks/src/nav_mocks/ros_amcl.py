@@ -3,6 +3,9 @@
 Subscribes /base_pose_ground_truth (nav_msgs/Odometry, map frame), /odom (nav_msgs/Odometry) and
 /initialpose (PoseWithCovarianceStamped); publishes /amcl_pose and the map -> odom transform
 (post-dated by ~transform_tolerance, as amcl does) at ~update_rate, and /diagnostics.
+
+Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor ("nav_mocks:
+amcl: supervision"): a faulted update is recorded and the next one runs as usual.
 """
 import collections
 import threading
@@ -17,6 +20,7 @@ from nav_mocks.amcl_model import AmclConfig, AmclModel, latest_pair, map_to_odom
 from nav_mocks.conversions import pose_from_msg, pose_to_msg, transform_msg
 from nav_mocks.param_checks import positive_number
 from nav_mocks.ros_params import config_from_params
+from supervision.ros_supervisor import Supervisor
 
 HISTORY = 50          # samples kept per stream: 1 s of sim2d's 50 Hz odometry
 MAX_PAIR_GAP = 0.011  # [s] a truth this close to an odometry sample is of the same instant
@@ -45,11 +49,12 @@ class AmclNode:
         self.tf_pub = tf2_ros.TransformBroadcaster()
         # Every sample is queued: with queue_size=1 each callback keeps only the newest message,
         # and under load the two streams can drop alternate instants so that no pair exists.
-        rospy.Subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=HISTORY)
-        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=HISTORY)
-        rospy.Subscriber("initialpose", PoseWithCovarianceStamped, self._on_initial, queue_size=1)
-        rospy.Timer(rospy.Duration(1.0 / rate), self._update)
-        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        self.sup = sup = Supervisor("nav_mocks: amcl", hardware_id="amcl_mock")
+        sup.subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=HISTORY)
+        sup.subscriber("odom", Odometry, self._on_odom, queue_size=HISTORY)
+        sup.subscriber("initialpose", PoseWithCovarianceStamped, self._on_initial, queue_size=1)
+        sup.timer(1.0 / rate, self._update, worker="update")
+        sup.timer(1.0, self._diagnose, worker="diagnostics")
 
     def _on_truth(self, msg):
         with self.lock:

@@ -3,6 +3,10 @@
 In "static" mode the map file is served as map_server does. In "mapping" mode the map grows
 from the laser as GMapping's would: each /scan reveals the cells its beams crossed, located with
 the simulator's ground truth (/base_pose_ground_truth) and the base -> laser transform from tf.
+
+Every timer, subscriber and service runs under one supervision.ros_supervisor.Supervisor
+("nav_mocks: map_server: supervision"): a faulted scan integration is recorded and the next one
+runs as usual; a faulted map request is answered with the service error naming the reason.
 """
 import threading
 
@@ -19,6 +23,7 @@ from nav_mocks.conversions import (map_metadata, map_to_msg, pose_from_msg,
 from nav_mocks.mapping import RevealedMap
 from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
+from supervision.ros_supervisor import Supervisor
 
 MODES = ("static", "mapping")
 
@@ -47,15 +52,16 @@ class MapServerNode:
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.current = None
         self._publish(self.truth if self.mapping is None else self.mapping.current())
-        rospy.Service("static_map", GetMap, self._serve)
-        rospy.Service("dynamic_map", GetMap, self._serve)
+        self.sup = sup = Supervisor("nav_mocks: map_server", hardware_id=map_file)
+        sup.service("static_map", GetMap, self._serve)
+        sup.service("dynamic_map", GetMap, self._serve)
         if self.mapping is not None:
             self.tf_buffer = tf2_ros.Buffer()
             self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-            rospy.Subscriber("scan", LaserScan, self._on_scan, queue_size=1)
-            rospy.Subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=1)
-            rospy.Timer(rospy.Duration(self.update_interval), self._integrate)
-        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+            sup.subscriber("scan", LaserScan, self._on_scan, queue_size=1)
+            sup.subscriber("base_pose_ground_truth", Odometry, self._on_truth, queue_size=1)
+            sup.timer(self.update_interval, self._integrate, worker="mapping")
+        sup.timer(1.0, self._diagnose, worker="diagnostics")
         rospy.loginfo("map_server mock: %s (%dx%d at %.3f m) in %s mode", map_file,
                       self.truth.width, self.truth.height, self.truth.resolution, self.mode)
 

@@ -3,6 +3,11 @@ make_plan, /cmd_vel, /diagnostics. The work is done by nav_mocks.move_base_core 
 
 Callbacks only cache under the lock; the control timer (~controller_frequency) takes new goals,
 cancels, the latest scan and the robot pose (tf global_frame -> base_frame) and runs the core.
+
+Every timer, subscriber, action server callback and the make_plan service run under one
+supervision.ros_supervisor.Supervisor ("nav_mocks: move_base: supervision"): a fault in the
+control cycle stops the robot (a zero /cmd_vel), aborts the active goal with the reason and ends
+every goal the cycle had taken; the next cycle runs as usual.
 """
 import threading
 import time
@@ -29,6 +34,8 @@ from nav_mocks.move_base_core import (ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCC
 from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
 from nav_mocks.ros_params import config_from_params
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
              tf2_ros.ExtrapolationException)
@@ -49,6 +56,7 @@ class MoveBaseNode:
         self.lock = threading.Lock()
         self.map_msg = self.scan = self.odom = None
         self.new_goals, self.cancels = [], []
+        self.taken_goals, self.taken_cancels = [], []   # taken by the running cycle, not handled
         self.handle = None            # goal handle being executed
         self.core = None
         self.last_cycle = {"duration": 0.0, "status": "idle"}
@@ -59,17 +67,21 @@ class MoveBaseNode:
         self.plan_pub = rospy.Publisher("~plan", Path, queue_size=1, latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.goal_pub = rospy.Publisher("move_base/goal", MoveBaseActionGoal, queue_size=1)
-        rospy.Subscriber("map", OccupancyGrid, self._cache("map_msg"), queue_size=1)
-        rospy.Subscriber("scan", LaserScan, self._cache("scan"), queue_size=1)
-        rospy.Subscriber("odom", Odometry, self._cache("odom"), queue_size=1)
-        rospy.Subscriber("move_base_simple/goal", PoseStamped, self._on_simple_goal, queue_size=1)
-        self.server = actionlib.ActionServer("move_base", MoveBaseAction, self._on_goal,
-                                             self._on_cancel, auto_start=False)
-        rospy.Service("~make_plan", GetPlan, self._make_plan)
+        self.sup = sup = Supervisor("nav_mocks: move_base", hardware_id="move_base_mock")
+        sup.subscriber("map", OccupancyGrid, self._cache("map_msg"), queue_size=1)
+        sup.subscriber("scan", LaserScan, self._cache("scan"), queue_size=1)
+        sup.subscriber("odom", Odometry, self._cache("odom"), queue_size=1)
+        sup.subscriber("move_base_simple/goal", PoseStamped, self._on_simple_goal, queue_size=1)
+        sup.worker("goal callback")
+        sup.worker("cancel callback")
+        self.server = actionlib.ActionServer(
+            "move_base", MoveBaseAction, sup.wrap("goal callback", self._on_goal),
+            sup.wrap("cancel callback", self._on_cancel), auto_start=False)
+        sup.service("~make_plan", GetPlan, self._make_plan)
         rospy.on_shutdown(self._stop)
         self.server_started = False   # as move_base: serve goals once there is a map and a pose
-        rospy.Timer(rospy.Duration(self.period), self._cycle)
-        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        sup.timer(self.period, self._cycle, worker="control", on_error=self._cycle_failed)
+        sup.timer(1.0, self._diagnose, worker="diagnostics")
 
     # callbacks: cache only -----------------------------------------------------------------------
     def _cache(self, name):
@@ -153,18 +165,19 @@ class MoveBaseNode:
             map_msg, self.map_msg = self.map_msg, None
             scan, self.scan = self.scan, None
             odom = self.odom
-            goals, self.new_goals = self.new_goals, []
-            cancels, self.cancels = self.cancels, []
+            self.taken_goals, self.new_goals = self.new_goals, []
+            self.taken_cancels, self.cancels = self.cancels, []
         if map_msg is not None:
             self._update_map(map_msg)
-        self._handle_cancels(cancels)
+        self._handle_cancels()
         pose = self._robot_pose()
         if not self.server_started and self.core is not None and pose is not None:
             self.server.start()       # clients wait_for_server until then
             self.server_started = True
             rospy.loginfo("move_base mock: map and robot pose available, action server started")
-        for handle in goals:
-            self._handle_new_goal(handle, pose)
+        while self.taken_goals:
+            self._handle_new_goal(self.taken_goals[0], pose)
+            self.taken_goals.pop(0)
         if self.core is None or pose is None or self.handle is None:
             return
         if scan is not None and odom is not None:
@@ -192,13 +205,39 @@ class MoveBaseNode:
             rospy.logwarn_throttle(10.0, "move_base mock: no robot pose: %s", error)
             return None
 
-    def _handle_cancels(self, cancels):
-        for handle in cancels:
+    def _handle_cancels(self):
+        while self.taken_cancels:
+            handle = self.taken_cancels[0]
             if self.handle is not None and handle.get_goal_id().id == self.handle.get_goal_id().id:
                 self.core.cancel("cancelled")
                 self._stop()
                 self.handle = None
             handle.set_canceled(MoveBaseResult(), "cancelled")
+            self.taken_cancels.pop(0)
+
+    def _cycle_failed(self, error):
+        """The control cycle raised: stop the robot, abort the active goal with the reason, end
+        the goals and cancels the cycle had taken; the next cycle runs as usual."""
+        self._stop()
+        reason = f"move_base mock: control cycle failed: {fault_text(error)}"
+        rospy.logerr("%s; robot stopped", reason)
+        handle, self.handle = self.handle, None
+        ended = [] if handle is None else [handle]
+        ended += [h for h in self.taken_goals + self.taken_cancels if h is not handle]
+        self.taken_goals, self.taken_cancels = [], []
+        for goal in ended:
+            self._end(goal, reason)
+        if self.core is not None:
+            self.core.cancel(reason)
+
+    @staticmethod
+    def _end(handle, reason):
+        """Abort (active) or reject (pending) a goal; one already ended stays as it is."""
+        status = handle.get_goal_status().status
+        if status in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING):
+            handle.set_aborted(MoveBaseResult(), reason)
+        elif status in (GoalStatus.PENDING, GoalStatus.RECALLING):
+            handle.set_rejected(MoveBaseResult(), reason)
 
     def _handle_new_goal(self, handle, pose):
         if handle.get_goal_status().status in (GoalStatus.RECALLING, GoalStatus.RECALLED):
