@@ -7,6 +7,11 @@ submitted in order with id 0 (task_planner.submission.submit_chain): the task bu
 each id, and a successor names the id allocated for its predecessor. A request the task planner
 does not take (refused, or the service not reachable) is said on /robot/say with the reason and
 logged.
+
+Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault while
+an utterance is handled fails that utterance (the robot says a refusal naming the reason on
+/robot/say, counted as `failed` in the node's own diagnostics) and raises the node's
+"perception: verbal: supervision" status to ERROR; the next utterance is handled as usual.
 """
 import collections
 import threading
@@ -16,6 +21,8 @@ import rospy
 from sim2d.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import Bool, String
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import Utterance
 from task_planner.reward import load_priorities
 from task_planner.ros_submit import SubmitClient
@@ -68,16 +75,19 @@ class VerbalNode:
         self._lock = threading.Lock()
         self._queue = collections.deque()
         self._counts = {"accepted": 0, "refused": 0, "instructions": 0, "dropped": 0,
-                        "dialogue_answers": 0, "not_taken": 0}
+                        "dialogue_answers": 0, "not_taken": 0, "failed": 0}
         self._dialogue_open = False
         self._last_not_taken = ""   # why the task planner last did not take a request
+        self._last_failure = ""     # why the handling of an utterance last failed
+        self._handling = None       # the utterance being handled by the work timer
         self.pipeline = self._submit = self._say = self._diagnostics = None
         self.directory = HumanTableDirectory(params.humans_topic)
         self._timers = []
 
-    def setup(self):
-        """Build the pipeline from the parameters and start the ROS API; raises ValueError on
-        bad configuration (the message names the entry)."""
+    def setup(self, sup):
+        """Build the pipeline from the parameters and start the ROS API under the node's
+        Supervisor `sup`; raises ValueError on bad configuration (the message names the
+        entry)."""
         keywords = keyword_config_from_dict(self.params.keywords)
         builder = InstructionBuilder(keywords, load_priorities(self.params.priorities_file),
                                      load_graph(self.params.graph).place_ids(), self.directory)
@@ -86,11 +96,13 @@ class VerbalNode:
         self._submit = SubmitClient(self.params.submit_timeout)
         self._say = rospy.Publisher("/robot/say", String, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        rospy.Subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
-        rospy.Subscriber(self.params.dialogue_topic, Bool, self._on_dialogue, queue_size=1)
+        sup.subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        sup.subscriber(self.params.dialogue_topic, Bool, self._on_dialogue, queue_size=1)
         self._timers = [
-            rospy.Timer(rospy.Duration(self.params.period), self._on_work),
-            rospy.Timer(rospy.Duration(self.params.diagnostics_period), self._on_diagnostics)]
+            sup.timer(self.params.period, self._on_work, worker="work",
+                      on_error=self._fail_utterance),
+            sup.timer(self.params.diagnostics_period, self._on_diagnostics,
+                      worker="diagnostics")]
 
     def _on_utterance(self, msg):
         with self._lock:
@@ -111,7 +123,23 @@ class VerbalNode:
                 if not self._queue:
                     return
                 msg = self._queue.popleft()
+            self._handling = msg
             self.handle(msg)
+            self._handling = None
+
+    def _fail_utterance(self, error):
+        """The work timer faulted while handling an utterance: that utterance fails, the robot
+        says so with the reason; the next one is handled as usual."""
+        msg, self._handling = self._handling, None
+        if msg is None:
+            return
+        reason = fault_text(error)
+        with self._lock:
+            self._counts["failed"] += 1
+            self._last_failure = f"{msg.text!r} from {msg.ip or 'an unknown phone'}: {reason}"
+        rospy.logerr("verbal: voice message %r from %s failed: %s", msg.text,
+                     msg.ip or "an unknown phone", reason)
+        self._say.publish(String(f"Sorry, I cannot take your request: it failed ({reason})"))
 
     def handle(self, msg):
         """Turn one voice message into submitted instructions, or log (and say) why not."""
@@ -141,7 +169,7 @@ class VerbalNode:
             self._counts["accepted"] += 1
             self._counts["instructions"] += len(submission.accepted)
             if submission.complete:
-                self._last_not_taken = ""
+                self._last_not_taken = self._last_failure = ""
         rospy.loginfo("verbal: %r from %s: %s (keyword %r), %s (compound %.3f) -> %s",
                       msg.text, sender, meaning.function.name, meaning.keyword, meaning.level,
                       meaning.compound, ", ".join(f"#{i.id} at {i.destination_name}"
@@ -163,13 +191,15 @@ class VerbalNode:
     def _on_diagnostics(self, _event):
         with self._lock:
             counts = dict(self._counts, queued=len(self._queue))
-            not_taken = self._last_not_taken
+            not_taken, failure = self._last_not_taken, self._last_failure
         table = self.directory.received()
         message = ("ok" if table else f"no human table on {self.directory.topic}") + (
-            f"; the last request was not taken: {not_taken}" if not_taken else "")
+            f"; the last request was not taken: {not_taken}" if not_taken else "") + (
+            f"; the last failed request: {failure}" if failure else "")
         status = DiagnosticStatus(
             name="perception: verbal", hardware_id="voice_message",
-            level=DiagnosticStatus.OK if table and not not_taken else DiagnosticStatus.WARN,
+            level=(DiagnosticStatus.OK if table and not not_taken and not failure
+                   else DiagnosticStatus.WARN),
             message=message,
             values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())])
         array = DiagnosticArray(status=[status])
@@ -179,9 +209,10 @@ class VerbalNode:
 
 def main():
     rospy.init_node("verbal")
+    sup = Supervisor("perception: verbal", hardware_id="voice_message")
     try:
         node = VerbalNode(read_params())
-        node.setup()
+        node.setup(sup)
     except (KeyError, ValueError) as error:
         rospy.logfatal("verbal: cannot start: %s", error)
         return 1
