@@ -58,14 +58,23 @@ class Supervisor:
         return rospy.Subscriber(topic, msg_type, self.wrap(worker, callback, on_error), **kwargs)
 
     def service(self, name, srv_type, handler, worker=None):
-        """rospy.Service; a fault is recorded and the caller gets rospy's error with the reason."""
+        """rospy.Service; a fault is recorded and the caller gets rospy's error with the reason.
+        A rospy.ServiceException the handler raises is its refusal: passed on, not a fault."""
         worker = worker or f"{name} service"
         self.health.worker(worker)
 
         def guarded(request):
-            failure = []
-            result = self.health.run(worker, "request", handler, request,
-                                     on_error=failure.append)
+            refusal, failure = [], []
+
+            def call(req):
+                try:
+                    return handler(req)
+                except rospy.ServiceException as exc:  # the handler refuses: no fault
+                    refusal.append(exc)
+                    return None
+            result = self.health.run(worker, "request", call, request, on_error=failure.append)
+            if refusal:
+                raise refusal[0]
             if failure:
                 raise rospy.ServiceException(f"{self.name}: {worker} failed: {failure[0]!r}")
             return result
