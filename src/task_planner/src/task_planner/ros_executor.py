@@ -101,7 +101,23 @@ class NodeParams:
         if not values["journal"]:
             values["journal"] = str(Path(os.environ.get("ROS_HOME", Path.home() / ".ros"))
                                     / "task_buffer.sqlite")
-        return cls(**values)
+        params = cls(**values)
+        params.check()
+        return params
+
+    def check(self):
+        """ValueError naming the parameter when a number cannot work (a tick period of 0 would
+        spin, a goal silence of 0 would drop every goal)."""
+        positive = ("tick_period", "goal_silence", "event_hold", "fresh")
+        at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
+                         "look_dwell", "pass_wait", "patrol_interval", "marker_period",
+                         "plan_view_max", "state_recent", "max_preemptions")
+        for name in positive + at_least_zero:
+            value = getattr(self, name)
+            low_ok = value > 0 if name in positive else value >= 0
+            if not (math.isfinite(value) and low_ok):
+                raise ValueError(f"parameter ~{name} must be a finite number "
+                                 f"{'> 0' if name in positive else '>= 0'}; got {value}")
 
 
 class ExecutorNode:
@@ -462,7 +478,7 @@ def main():
     rospy.init_node("task_planner")
     try:
         node = ExecutorNode(NodeParams.from_ros())
-    except ValueError as error:   # a settings, journal or graph file that cannot be used
+    except ValueError as error:   # a parameter, settings, journal or graph file that cannot be used
         rospy.logfatal("task_planner: not starting: %s", error)
         return 1
     if not node.setup(timeout=60.0):
