@@ -1,11 +1,13 @@
-"""The node's ROS-free session: start, steps, the end of a sentence, refusals, time limit."""
+"""The node's ROS-free session: start, steps, the end of a sentence, refusals, time limit,
+a failing control step."""
 import math
 
 import numpy as np
 import pytest
 
 from semantic_nav.episodes import PolicyCommand
-from semantic_nav.follow_session import ABORTED, SUCCEEDED, FollowSession, InstructionRefused
+from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
+                                         step_failed)
 from semantic_nav.follower import FollowerCommand
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.word_vectors import WordVectors
@@ -122,3 +124,25 @@ def test_unknown_words_get_a_spoken_reason_too():
         FollowSession(ScriptedFollower([1]), "flibber", now=0.0, max_duration=60.0)
     assert caught.value.spoken == ("Sorry, I did not understand those directions. I am staying "
                                    "here.")
+
+
+def test_a_raising_step_fails_the_session_with_its_progress_and_a_spoken_reason():
+    class BrokenFollower(ScriptedFollower):
+        def step(self, ranges, laser):
+            if self.calls == 4:
+                raise RuntimeError("network exploded")
+            return super().step(ranges, laser)
+
+    session = FollowSession(BrokenFollower([1, 3], steps=2), "go on, then turn left", 0.0, 60.0)
+    with pytest.raises(RuntimeError) as caught:
+        for k in range(10):
+            session.step([1.0] * 1081, LASER, 0.1 * k)
+    assert session.outcome is None          # the node ends it: FollowSession.fail
+    outcome = session.fail(caught.value)
+    assert session.outcome is outcome
+    assert (outcome.status, outcome.completed, outcome.message) == (
+        ABORTED, 1, "control step failed: RuntimeError: network exploded")
+    assert outcome.spoken == ("Sorry, I had to stop following your directions: my controller "
+                              "failed (RuntimeError: network exploded). I am staying here.")
+    assert step_failed(KeyError("x")).message == "control step failed: KeyError: 'x'"
+    assert step_failed(KeyError("x")).completed == 0

@@ -1,12 +1,16 @@
 """One instruction being followed by the node: the follower, its progress and how it ends.
 
 ROS-free so the node (ros_follower.py) stays thin: the node feeds scans and the clock, sends
-the (v, ω) it gets back and reports the feedback and the outcome.
+the (v, ω) it gets back and reports the feedback and the outcome. A control step that raises
+ends the sentence too (`step_failed`, `FollowSession.fail`): aborted, with the reason in full and
+in one spoken sentence.
 """
 import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from supervision.health import fault_text
 
 from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
                                             check_followable, split_instruction)
@@ -28,6 +32,16 @@ class Outcome:
     status: str              # SUCCEEDED | ABORTED
     completed: int           # simple instructions completed
     message: str
+    spoken: str = ""         # the reason said to the person ("": nothing to say)
+
+
+def step_failed(error, completed=0):
+    """Outcome of a sentence whose control step raised `error` (also while it was being
+    started): aborted, the fault named in the message and in the spoken sentence."""
+    text = fault_text(error)
+    return Outcome(ABORTED, completed, f"control step failed: {text}",
+                   f"Sorry, I had to stop following your directions: my controller failed "
+                   f"({text}). I am staying here.")
 
 
 class InstructionRefused(ValueError):
@@ -89,4 +103,9 @@ class FollowSession:
     def stop(self, reason):
         """Ended from outside (preempted, replaced, shut down) -> Outcome."""
         self.outcome = Outcome(ABORTED, self.index, reason)
+        return self.outcome
+
+    def fail(self, error):
+        """The control step raised `error` -> Outcome (aborted; step_failed)."""
+        self.outcome = step_failed(error, self.index)
         return self.outcome

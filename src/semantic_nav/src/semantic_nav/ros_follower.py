@@ -6,6 +6,11 @@ timer at the follower's control period does the work. The robot is stopped (zero
 preemption, when no scan arrives for ~scan_timeout, when a sentence ends and on exit. A sentence
 the follower must not try (a corner beyond the third, not English, no known word) is refused
 before the robot moves, and the reason is said on /robot/say.
+
+Every timer, subscriber and action server callback runs under one
+supervision.ros_supervisor.Supervisor ("semantic_nav: semantic_nav: supervision"): a fault in
+the control step stops the robot at once, ends the sentence being followed (its action goal
+aborted) with the reason, says the reason on /robot/say, and the next step takes the next goal.
 """
 import math
 import threading
@@ -24,7 +29,10 @@ from visualization_msgs.msg import Marker
 from semantic_nav.collision_guard import format_guard_actions
 from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg,
                                       scan_to_core, twist)
-from semantic_nav.follow_session import SUCCEEDED, FollowSession, InstructionRefused
+from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
+                                         Outcome, step_failed)
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
 
 
 @dataclass(frozen=True)
@@ -53,10 +61,15 @@ class FollowerNode:
         self.lock = threading.Lock()   # guards the caches below
         self.scan, self.scan_stamp, self.pose = None, None, None
         self.voice, self.preempted, self.new_goal = None, False, None
-        self.session, self.source, self.path = None, None, []
+        # the sentence being started or followed: its text, session, source and action goal id
+        self.sentence, self.session, self.source, self.goal_id = None, None, None, None
+        self.taken_goal = None   # (text, goal id) the control step took and has not started yet
+        self.path = []
         self.last_result = ""
 
-    def setup(self):
+    def setup(self, sup):
+        """Start the ROS API under the node's Supervisor `sup`."""
+        self.sup = sup
         self.cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         self.say_pub = rospy.Publisher("/robot/say", String, queue_size=5)
         self.marker_pub = rospy.Publisher("~path", Marker, queue_size=1, latch=True)
@@ -64,16 +77,25 @@ class FollowerNode:
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.server = actionlib.SimpleActionServer("follow_directions", FollowDirectionsAction,
                                                    auto_start=False)
-        self.server.register_goal_callback(self._on_goal)
-        self.server.register_preempt_callback(self._on_preempt)
-        rospy.Subscriber("/scan", LaserScan, self._on_scan, queue_size=1)
-        rospy.Subscriber("/odom", Odometry, self._on_odom, queue_size=1)
-        rospy.Subscriber("/voice_message", String, self._on_voice, queue_size=5)
+        self.server.register_goal_callback(
+            self.guarded("goal callback", self._on_goal, self._goal_failed))
+        self.server.register_preempt_callback(self.guarded("preempt callback", self._on_preempt))
+        sup.subscriber("/scan", LaserScan, self._on_scan, queue_size=1)
+        sup.subscriber("/odom", Odometry, self._on_odom, queue_size=1)
+        sup.subscriber("/voice_message", String, self._on_voice, queue_size=5)
         self.server.start()
-        rospy.Timer(rospy.Duration(self.follower.control_period), self._tick)
-        rospy.Timer(rospy.Duration(1.0), self._diagnose)
+        sup.timer(self.follower.control_period, self._tick, worker="control",
+                  on_error=self._step_failed)
+        sup.timer(1.0, self._diagnose, worker="diagnostics")
         rospy.on_shutdown(self._stop_robot)
         return True
+
+    def guarded(self, worker, callback, on_error=None):
+        """A callback without arguments (actionlib's goal and preempt callbacks) under the
+        Supervisor as worker `worker`."""
+        self.sup.worker(worker)
+        run = self.sup.wrap(worker, lambda _arg: callback(), on_error)
+        return lambda: run(None)
 
     # ---- callbacks: cache only ----
     def _on_scan(self, msg):
@@ -90,8 +112,19 @@ class FollowerNode:
 
     def _on_goal(self):
         goal = self.server.accept_new_goal()
+        goal_id = self.server.current_goal.get_goal_id().id
         with self.lock:
-            self.new_goal, self.preempted = goal.text, False
+            self.new_goal, self.preempted = (goal.text, goal_id), False
+
+    def _goal_failed(self, error):
+        """The goal callback raised (actionlib holds its locks): an accepted goal the control
+        step was not handed ends aborted with the reason."""
+        reason = f"goal callback failed: {fault_text(error)}"
+        with self.lock:
+            handed = {goal[1] for goal in (self.new_goal, self.taken_goal) if goal is not None}
+        handed.add(self.goal_id)
+        if self.server.is_active() and self.server.current_goal.get_goal_id().id not in handed:
+            self.server.set_aborted(result_msg(reason), reason)
 
     def _on_preempt(self):
         with self.lock:
@@ -101,36 +134,62 @@ class FollowerNode:
     def _stop_robot(self):
         self.cmd_pub.publish(twist(0.0, 0.0))
 
-    def _finish(self, outcome, report=True):
-        """End the current session with `outcome`: stop, report to the action (unless actionlib
-        already ended that goal) and the log."""
-        self._stop_robot()
-        self.last_result = outcome.message
-        if report and self.source == "action" and self.server.is_active():
+    def _end_goal(self, outcome, goal_id, fault=False):
+        """End action goal `goal_id` with `outcome`, unless actionlib already ended it or a newer
+        goal replaced it. Under actionlib's locks, in the order its goal callback holds them, so
+        no goal is accepted in between."""
+        with self.server.action_server.lock, self.server.lock:
+            if not self.server.is_active() or \
+                    self.server.current_goal.get_goal_id().id != goal_id:
+                return
             result = result_msg(outcome)
             if outcome.status == SUCCEEDED:
                 self.server.set_succeeded(result, outcome.message)
-            elif self.server.is_preempt_requested():
+            elif self.server.is_preempt_requested() and not fault:
                 self.server.set_preempted(result, outcome.message)
             else:
                 self.server.set_aborted(result, outcome.message)
-        rospy.loginfo("semantic_nav: %r: %s", self.session.sentence, outcome.message)
-        self.session, self.source = None, None
 
-    def _begin(self, sentence, source, now):
-        if self.session is not None:     # a new action goal: actionlib preempted the old one
-            self._finish(self.session.stop(f"replaced by a new instruction from {source}"),
-                         report=source != "action")
+    def _finish(self, outcome, fault=False):
+        """End the current sentence with `outcome`: stop, report to its action goal (aborted on
+        a `fault`), say the spoken reason, log."""
+        self._stop_robot()
+        self.last_result = outcome.message
+        if self.goal_id is not None:
+            self._end_goal(outcome, self.goal_id, fault)
+        if outcome.spoken:
+            self.say_pub.publish(String(data=outcome.spoken))
+        log = rospy.logerr if fault else rospy.logwarn if outcome.spoken else rospy.loginfo
+        log("semantic_nav: %r: %s", self.sentence, outcome.message)
+        self.sentence, self.session, self.source, self.goal_id = None, None, None, None
+
+    def _step_failed(self, error):
+        """The control step raised: stop the robot at once, end the sentence being started or
+        followed as aborted with the reason (its action goal too) and say it; the next step
+        takes the next goal as usual. A goal the step took but had not started ends too."""
+        self._stop_robot()
+        taken, self.taken_goal = self.taken_goal, None
+        if self.session is not None:
+            self._finish(self.session.fail(error), fault=True)
+        elif self.sentence is not None:      # raised while it was being started
+            self._finish(step_failed(error), fault=True)
+        else:
+            rospy.logerr("semantic_nav: control step failed: %s; robot stopped",
+                         fault_text(error))
+        if taken is not None:
+            self._end_goal(step_failed(error), taken[1], fault=True)
+
+    def _begin(self, sentence, source, now, goal_id=None):
+        if self.session is not None:     # replaced (actionlib already ended a replaced goal)
+            self._finish(self.session.stop(f"replaced by a new instruction from {source}"))
+        self.sentence, self.source, self.goal_id, self.path = sentence, source, goal_id, []
+        if goal_id is not None:
+            self.taken_goal = None
         try:
             self.session = FollowSession(self.follower, sentence, now, self.params.max_duration)
         except InstructionRefused as error:
-            self.last_result = str(error)
-            rospy.logwarn("semantic_nav: %s", error)
-            self.say_pub.publish(String(data=error.spoken))
-            if source == "action":
-                self.server.set_aborted(result_msg(str(error)), str(error))
+            self._finish(Outcome(ABORTED, 0, str(error), error.spoken))
             return
-        self.source, self.path = source, []
         rospy.loginfo("semantic_nav: following %r (%s): classes %s", sentence, source,
                       self.session.classes)
 
@@ -143,9 +202,10 @@ class FollowerNode:
 
     def _tick(self, _event):
         goal, voice, preempted, scan, stamp, pose = self._take_inputs()
+        self.taken_goal = goal
         now = rospy.get_time()
         if goal is not None:
-            self._begin(goal, "action", now)
+            self._begin(goal[0], "action", now, goal_id=goal[1])
         elif preempted and self.session is not None and self.source == "action":
             self._finish(self.session.stop("preempted"))
         if voice is not None:
@@ -212,7 +272,7 @@ def main():
         rospy.logfatal("semantic_nav: %s", error)
         return 1
     node = FollowerNode(params, follower)
-    node.setup()
+    node.setup(Supervisor("semantic_nav: semantic_nav", hardware_id="direction_follower"))
     rospy.loginfo("semantic_nav: ready (action follow_directions, /voice_message)")
     rospy.spin()
     return 0
