@@ -2,7 +2,7 @@
 import math
 
 import numpy as np
-from sim2d.occupancy_map import FREE, OCCUPIED, UNKNOWN, OccupancyMap
+from floorplan.occupancy_map import FREE, OCCUPIED, UNKNOWN, OccupancyMap
 
 
 def grid_from_rows(rows, resolution=0.1):

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 from helpers import integrate, synthetic_scan
-from sim2d.occupancy_map import FREE, OCCUPIED, OccupancyMap
+from floorplan.occupancy_map import FREE, OCCUPIED, OccupancyMap
 from sim2d.raycast import GridGeometry
 
 from nav_mocks import dwa

@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 from helpers import grid_from_rows, open_room
-from sim2d.occupancy_map import OCCUPIED
+from floorplan.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
 from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig, nearest_free_cell

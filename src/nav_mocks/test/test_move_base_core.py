@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 from helpers import integrate, open_room, synthetic_scan
-from sim2d.occupancy_map import OCCUPIED
+from floorplan.occupancy_map import OCCUPIED
 
 from nav_mocks.costmap import Costmap, CostmapConfig
 from nav_mocks.dwa import DwaConfig

@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 from helpers import grid_from_rows
-from sim2d.occupancy_map import FREE, OCCUPIED, UNKNOWN
+from floorplan.occupancy_map import FREE, OCCUPIED, UNKNOWN
 
 from nav_mocks.mapping import RevealedMap
 from nav_mocks.scan_rays import Scan, beam_cells, hit_points

@@ -1,7 +1,7 @@
 """Fixtures of the verbal perception tests: the workspace's keyword config and graph, the corpus
 household, and Table 5-5 priorities."""
 import pytest
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 from verbal_test_support import CORPUS, GRAPH, KEYWORDS, TABLE_5_5
 
 from perception.request_corpus import load_corpus

@@ -5,7 +5,7 @@ import os
 import numpy as np
 import pytest
 from sim2d.camera import CameraConfig, camera_points
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 
 from perception.localisation import (
     DepthWindowConfig, Intrinsics, box_depth, depth_window, localise_box,

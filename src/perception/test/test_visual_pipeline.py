@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from human_db.model import ScheduleEntry
 from human_db.schedule import check_schedule
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 from task_planner.instruction import ROBOT
 from task_planner.reward import load_priorities
 

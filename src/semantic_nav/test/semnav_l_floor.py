@@ -4,8 +4,8 @@ from pathlib import Path
 
 from semantic_nav.demonstrations import world_for_floor
 from semantic_nav.route_oracle import RouteOracle
-from sim2d.blueprint import render_blueprint
-from sim2d.occupancy_map import save_map
+from floorplan.blueprint import render_blueprint
+from floorplan.occupancy_map import save_map
 
 ROOT = Path(__file__).resolve().parents[3]
 LASER_DIR = ROOT / "config" / "lasers"

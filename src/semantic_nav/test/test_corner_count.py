@@ -10,7 +10,7 @@ from semantic_nav.corner_count import (CornerCountConfig, CornerCounter, count_i
 from semantic_nav.demonstrations import demonstrate, world_for_floor
 from semantic_nav.route_oracle import RouteOracle
 from semantic_nav.training import TrainingConfig, decision_step
-from sim2d.occupancy_map import load_map
+from floorplan.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
 

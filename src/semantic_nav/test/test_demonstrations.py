@@ -103,7 +103,7 @@ def test_not_applicable_class_is_not_driven(l_corridor):
 
 def test_plan_balances_classes_over_starts():
     from semantic_nav.demonstrations import plan_demonstrations
-    from sim2d.occupancy_map import load_map
+    from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_longhall.yaml"))
     starts = [(2.0, 8.0, 0.0), (11.0, 14.0, -math.pi / 2), (21.0, 2.0, math.pi / 2)]
     plan = plan_demonstrations(oracle, starts, 2, np.random.default_rng(0))
@@ -117,7 +117,7 @@ def test_plan_balances_classes_over_starts():
 
 def test_counting_plan_takes_only_starts_where_the_other_side_counts():
     from semantic_nav.demonstrations import plan_counting_demonstrations
-    from sim2d.occupancy_map import load_map
+    from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml"))
     # the spine from its south end: the crossroad is the 3rd corner but the 2nd on either side;
     # the side corridors and the west branch: classes 5 and 6 apply, but one side counts alike

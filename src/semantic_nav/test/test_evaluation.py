@@ -176,7 +176,7 @@ def test_table_in_the_layout_of_table_4_2_1():
 
 
 def test_counting_breakdown_splits_classes_5_to_8_by_the_other_side():
-    from sim2d.occupancy_map import load_map
+    from floorplan.occupancy_map import load_map
     floor = str(ROOT / "maps" / "office_comb.yaml")
     oracles = {floor: RouteOracle(load_map(floor))}
     # from the spine's south end corners on the other side count for 5, 7, 8; from the west
@@ -191,7 +191,7 @@ def test_counting_breakdown_splits_classes_5_to_8_by_the_other_side():
 
 
 def test_failure_places_tell_one_side_counting_from_overshooting():
-    from sim2d.occupancy_map import load_map
+    from floorplan.occupancy_map import load_map
     floor = str(ROOT / "maps" / "office_comb.yaml")
     oracles = {floor: RouteOracle(load_map(floor))}
     # office_comb's spine from its south end, facing north: west openings at y = 10, 18, 24,
@@ -217,7 +217,7 @@ def test_failure_places_tell_one_side_counting_from_overshooting():
 
 
 def test_failure_place_tells_a_door_at_the_corridor_end_from_a_short_stop():
-    from sim2d.occupancy_map import load_map
+    from floorplan.occupancy_map import load_map
     ring = RouteOracle(load_map(ROOT / "maps" / "office_ring.yaml"))
     # heading south down office_ring's x = 15 corridor: the walk ends at the T's far wall
     # (y = 4.1), which has a 1.0 m door (x 14.5-15.5) into the office below

@@ -9,7 +9,7 @@ import yaml
 from semantic_nav.expert import (ExpertConfig, ExpertDriver, recorded_stop_steps, rehearse,
                                  unicycle_step)
 from semantic_nav.route_oracle import RouteOracle
-from sim2d.occupancy_map import load_map
+from floorplan.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
 STARTS = yaml.safe_load((ROOT / "src" / "semantic_nav" / "fixtures" /

@@ -5,8 +5,8 @@ import pytest
 
 from semantic_nav.floor_generator import (Corridor, FloorGeneratorConfig, end_doors,
                                           random_floor, side_branches)
-from sim2d.blueprint import rect_cells
-from sim2d.occupancy_map import FREE, OCCUPIED
+from floorplan.blueprint import rect_cells
+from floorplan.occupancy_map import FREE, OCCUPIED
 
 CONFIG = FloorGeneratorConfig()
 RES = CONFIG.resolution

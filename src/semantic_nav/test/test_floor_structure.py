@@ -8,8 +8,8 @@ import pytest
 from semantic_nav.floor_structure import (floor_structure, sample_corridor_starts,
                                           zhang_suen_skeleton)
 from semantic_nav.route_oracle import OracleError, RouteOracle
-from sim2d.blueprint import render_blueprint
-from sim2d.occupancy_map import load_map
+from floorplan.blueprint import render_blueprint
+from floorplan.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
 

@@ -8,8 +8,8 @@ import yaml
 
 from semantic_nav.route_oracle import (OracleConfig, OracleError, RouteOracle, counting_matters,
                                        goal_branch, one_side_branch)
-from sim2d.blueprint import render_blueprint
-from sim2d.occupancy_map import load_map
+from floorplan.blueprint import render_blueprint
+from floorplan.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
 EXPECTED = yaml.safe_load((Path(__file__).parents[1] / "fixtures" /

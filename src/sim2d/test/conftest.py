@@ -2,7 +2,7 @@
 import pytest
 from sim2d_fixtures import room_grid
 
-from sim2d.occupancy_map import save_map
+from floorplan.occupancy_map import save_map
 
 
 @pytest.fixture

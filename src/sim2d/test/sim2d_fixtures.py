@@ -3,7 +3,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sim2d.occupancy_map import FREE, OCCUPIED, OccupancyMap
+from floorplan.occupancy_map import FREE, OCCUPIED, OccupancyMap
 
 REPO = Path(__file__).resolve().parents[3]
 LASER_DIR = REPO / "config" / "lasers"

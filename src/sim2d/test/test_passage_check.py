@@ -3,9 +3,9 @@ import pytest
 import yaml
 from sim2d_fixtures import LASER_DIR, REPO
 
-from sim2d.occupancy_map import load_map
+from floorplan.occupancy_map import load_map
 from sim2d.passage_check import PassageCheck
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 from sim2d.world_config import WorldError, load_world_config
 
 WORLDS = REPO / "config" / "worlds"

@@ -6,7 +6,7 @@ import pytest
 from sim2d_fixtures import LASER_DIR, room_grid
 
 from sim2d.laser import LaserSensor, circle_ranges, find_laser_model
-from sim2d.occupancy_map import OCCUPIED, OccupancyMap
+from floorplan.occupancy_map import OCCUPIED, OccupancyMap
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, ray_march
 
 

@@ -8,7 +8,7 @@ import yaml
 from sim2d_fixtures import LASER_DIR, REPO
 
 from sim2d.camera import CameraConfig, camera_points, project
-from sim2d.occupancy_map import MapError
+from floorplan.occupancy_map import MapError
 from sim2d.laser import box_ranges
 from sim2d.world import CommandError, World
 from sim2d.world_config import WorldError, load_world_config

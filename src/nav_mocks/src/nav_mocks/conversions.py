@@ -5,7 +5,7 @@ import numpy as np
 from geometry_msgs.msg import PoseStamped, Transform, TransformStamped
 from nav_msgs.msg import MapMetaData, OccupancyGrid, Path
 from sim2d.conversions import yaw_quaternion as yaw_to_quaternion
-from sim2d.occupancy_map import OccupancyMap
+from floorplan.occupancy_map import OccupancyMap
 
 from nav_mocks.scan_rays import Scan
 

@@ -113,7 +113,7 @@ class Costmap:
     """A global costmap over a static grid: static + obstacle (laser) + inflation layers."""
 
     def __init__(self, grid, config=None):
-        """`grid` is a sim2d.occupancy_map.OccupancyMap (the static map)."""
+        """`grid` is a floorplan.occupancy_map.OccupancyMap (the static map)."""
         self.config = config or CostmapConfig()
         self.config.validate()
         self.grid = grid

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from nav_mocks.astar import astar
+from floorplan.astar import astar
 from nav_mocks.costmap import (INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
                                cost_penalty)
 

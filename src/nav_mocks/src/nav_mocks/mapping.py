@@ -5,7 +5,7 @@ crossed it (free) or ended in it (occupied), the way GMapping's occupancy grid g
 robot's trajectory. Unseen cells stay UNKNOWN (-1), as in a GMapping map being built.
 """
 import numpy as np
-from sim2d.occupancy_map import UNKNOWN, OccupancyMap
+from floorplan.occupancy_map import UNKNOWN, OccupancyMap
 
 from nav_mocks.scan_rays import beam_cells
 

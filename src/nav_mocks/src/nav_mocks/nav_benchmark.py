@@ -18,7 +18,7 @@ import numpy as np
 import yaml
 
 from nav_mocks.amcl_model import AmclConfig, AmclModel
-from nav_mocks.astar import astar
+from floorplan.astar import astar
 from nav_mocks.costmap import INSCRIBED_INFLATED_OBSTACLE, Costmap, CostmapConfig
 from nav_mocks.dwa import DwaConfig
 from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig

@@ -16,7 +16,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from nav_msgs.msg import MapMetaData, OccupancyGrid, Odometry
 from nav_msgs.srv import GetMap, GetMapResponse
 from sensor_msgs.msg import LaserScan
-from sim2d.occupancy_map import MapError, load_map
+from floorplan.occupancy_map import MapError, load_map
 
 from nav_mocks.conversions import (map_metadata, map_to_msg, pose_from_msg,
                                    pose_from_transform, scan_from_msg)

@@ -25,7 +25,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import colours_from_msg, human_to_msg
 from human_db.errors import HumanDbError
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 from std_msgs.msg import Bool, String
 from supervision.health import fault_text
 from supervision.ros_supervisor import Supervisor

@@ -18,7 +18,7 @@ import threading
 from dataclasses import dataclass
 
 import rospy
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import Bool, String
 from supervision.health import fault_text

@@ -17,7 +17,7 @@ import tf2_ros
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import human_from_msg
 from human_db.schedule import check_schedule, time_of_day
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 from supervision.health import fault_text
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, PerceptionFrame

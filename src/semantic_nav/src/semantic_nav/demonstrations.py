@@ -13,7 +13,7 @@ from semantic_nav.episodes import EpisodeError, chain_goals
 from semantic_nav.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
 from semantic_nav.route_oracle import RouteOracle, counting_matters
 from sim2d.kinematics import RobotState
-from sim2d.occupancy_map import load_map
+from floorplan.occupancy_map import load_map
 from sim2d.world import CACHE_DIR, World, new_odometry
 from sim2d.world_config import load_world_config
 

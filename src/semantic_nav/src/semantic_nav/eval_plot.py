@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from sim2d.plotting import draw_map  # noqa: E402
+from floorplan.plotting import draw_map  # noqa: E402
 
 MARGIN = 3.0     # [m] shown round the paths and the goal
 

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from sim2d.blueprint import rect_cells
-from sim2d.occupancy_map import FREE, OCCUPIED, OccupancyMap
+from floorplan.blueprint import rect_cells
+from floorplan.occupancy_map import FREE, OCCUPIED, OccupancyMap
 
 
 @dataclass

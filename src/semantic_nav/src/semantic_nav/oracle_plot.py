@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from sim2d.plotting import draw_map  # noqa: E402
+from floorplan.plotting import draw_map  # noqa: E402
 
 CLASS_COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:gray", "tab:purple", "tab:olive",
                  "tab:brown", "tab:pink", "tab:orange", "tab:cyan")

@@ -16,7 +16,7 @@ import numpy as np
 from sim2d.camera import Camera, CameraFrame, hidden_face
 from sim2d.kinematics import DIFFERENTIAL, RobotState, step_robot, wheels_to_twist
 from sim2d.laser import LaserSensor
-from sim2d.occupancy_map import load_map
+from floorplan.occupancy_map import load_map
 from sim2d.odometry import Odometry
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
 from sim2d.skeleton import person_keypoints

@@ -12,11 +12,11 @@ import yaml
 from sim2d.camera import CameraConfig, DetectionConfig
 from sim2d.kinematics import DIFFERENTIAL, HOLONOMIC, DriveLimits, WheelConfig
 from sim2d.laser import LaserModelError, find_laser_model
-from sim2d.occupancy_map import load_map
+from floorplan.occupancy_map import load_map
 from sim2d.odometry import OdometryConfig
 from sim2d.passage_check import PassageCheck, PassageConfig, blockage_message, resting_poses
 from sim2d.people import POSTURES, Person, ScheduleEntry
-from sim2d.semantic_graph import load_graph
+from floorplan.semantic_graph import load_graph
 
 
 class WorldError(ValueError):

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from sim2d.semantic_graph import GraphError as SemanticGraphError
-from sim2d.semantic_graph import load_graph as load_semantic_graph
+from floorplan.semantic_graph import GraphError as SemanticGraphError
+from floorplan.semantic_graph import load_graph as load_semantic_graph
 
 
 class GraphError(ValueError):
@@ -139,8 +139,8 @@ def load_graph(graph_path, robot_radius=0.25, cache_dir=None):
 
 def measure_edge_lengths(map_path, poses, pairs, robot_radius):
     """A* path length [m] between the poses of each pair of places on the occupancy grid."""
-    from nav_mocks.astar import astar
-    from sim2d.occupancy_map import load_map
+    from floorplan.astar import astar
+    from floorplan.occupancy_map import load_map
 
     grid = load_map(map_path)
     blocked = grid.occupied_mask()
@@ -164,7 +164,8 @@ def _content_hash(graph_path, map_path, robot_radius):
 
 
 def _read_graph_spec(graph_path):
-    """The graph file through sim2d's reader; the planner also needs ids 0..n-1 in file order."""
+    """The graph file through floorplan's reader; the planner also needs ids 0..n-1 in file
+    order."""
     try:
         semantic = load_semantic_graph(graph_path)
     except SemanticGraphError as error:

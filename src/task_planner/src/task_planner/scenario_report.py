@@ -203,9 +203,9 @@ def plot_rewards(path, run, figures, title):
 
 def plot_trajectory(path, map_path, graph_path, trajectory, title):
     """PNG: the robot's ground-truth trajectory over the map and its semantic graph."""
-    from sim2d.occupancy_map import load_map
-    from sim2d.plotting import plot_map
-    from sim2d.semantic_graph import load_graph as load_semantic_graph
+    from floorplan.occupancy_map import load_map
+    from floorplan.plotting import plot_map
+    from floorplan.semantic_graph import load_graph as load_semantic_graph
     xy = np.asarray([(x, y) for _, x, y in trajectory], dtype=float).reshape(-1, 2)
     plot_map(load_map(map_path), load_semantic_graph(graph_path),
              paths=[("robot (ground truth)", xy)] if len(xy) else (), title=title, out_path=path)

@@ -4,7 +4,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from sim2d.occupancy_map import FREE, OCCUPIED, MapError, OccupancyMap
+from floorplan.occupancy_map import FREE, OCCUPIED, MapError, OccupancyMap
 
 
 def rect_cells(rect, resolution, shape):

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from nav_mocks.astar import astar, inflate_obstacles
+from floorplan.astar import astar, inflate_obstacles
 
 R2 = math.sqrt(2.0)
 

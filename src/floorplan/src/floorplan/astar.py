@@ -1,4 +1,5 @@
-"""Grid A* of the move_base mock: 8-connected, octile heuristic, optional robot-radius inflation.
+"""Grid A*: 8-connected, octile heuristic, optional robot-radius inflation (the move_base mock's
+global planner and the task planner's graph edge lengths use it).
 
 ROS-free. The grid is a boolean obstacle array indexed [row, col]; cells are square with side
 `resolution` metres. A diagonal step may not cut the corner of an obstacle (both orthogonal

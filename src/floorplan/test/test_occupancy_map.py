@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 import yaml
 
-from sim2d.blueprint import render_blueprint
-from sim2d.occupancy_map import (FREE, OCCUPIED, UNKNOWN, MapError, OccupancyMap, load_map,
+from floorplan.blueprint import render_blueprint
+from floorplan.occupancy_map import (FREE, OCCUPIED, UNKNOWN, MapError, OccupancyMap, load_map,
                                  save_map)
 
 
