@@ -26,6 +26,7 @@ scripted person) is answered with espeak-ng speech on /audio_utterance from thei
 answer goes through the STT node and perception. Their requests are held until human_db lists
 them (/humans/known); each registration (time, name, how long the dialogue took) is recorded.
 """
+import dataclasses
 import datetime
 import json
 import tempfile
@@ -376,6 +377,9 @@ def main():
     rospy.init_node("scenario")
     sup = Supervisor("task_planner: scenario")
     scenario = load_scenario(rospy.get_param("~scenario"))
+    timeout = float(rospy.get_param("~timeout", 0.0))  # > 0: replaces the file's timeout_s
+    if timeout > 0:
+        scenario = dataclasses.replace(scenario, timeout_s=timeout)
     node = ScenarioNode(scenario, rospy.get_param("~record"),
                         float(rospy.get_param("~trajectory_period", 0.5)),
                         rospy.get_param("~command", "roslaunch launch/social_household.launch"))
