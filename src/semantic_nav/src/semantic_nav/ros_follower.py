@@ -23,7 +23,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
-from tamp_msgs.msg import FollowDirectionsAction
+from tamp_msgs.msg import FollowDirectionsAction, Utterance
 from visualization_msgs.msg import Marker
 
 from semantic_nav.collision_guard import format_guard_actions
@@ -82,7 +82,7 @@ class FollowerNode:
         self.server.register_preempt_callback(self.guarded("preempt callback", self._on_preempt))
         sup.subscriber("/scan", LaserScan, self._on_scan, queue_size=1)
         sup.subscriber("/odom", Odometry, self._on_odom, queue_size=1)
-        sup.subscriber("/voice_message", String, self._on_voice, queue_size=5)
+        sup.subscriber("/voice_message", Utterance, self._on_voice, queue_size=5)
         self.server.start()
         sup.timer(self.follower.control_period, self._tick, worker="control",
                   on_error=self._step_failed)
@@ -107,8 +107,10 @@ class FollowerNode:
             self.pose = (msg.pose.pose.position.x, msg.pose.pose.position.y)
 
     def _on_voice(self, msg):
+        """The utterance the phone app or speech-to-text publishes (tamp_msgs/Utterance, as for
+        the social robot's perception): its text is the sentence to follow."""
         with self.lock:
-            self.voice = msg.data
+            self.voice = msg.text
 
     def _on_goal(self):
         goal = self.server.accept_new_goal()
