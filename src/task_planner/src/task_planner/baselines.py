@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from task_planner.planner_api import TARGET
 
 
 class PlannerTooLarge(ValueError):
@@ -19,6 +20,7 @@ class PlannerTooLarge(ValueError):
 class FirstComeFirstServe:
     """FCFS: the earliest launched instruction (then the lowest id)."""
 
+    kind = TARGET
     name = "FCFS"
 
     def reset(self, problem):
@@ -32,6 +34,7 @@ class FirstComeFirstServe:
 class RandomOrder:
     """Rand: a uniformly random available instruction, from a seeded generator."""
 
+    kind = TARGET
     name = "Rand"
 
     def __init__(self, seed=0):
@@ -47,6 +50,7 @@ class RandomOrder:
 class PriorityFirst:
     """PF: the highest initial reward gamma (ties: first come first served)."""
 
+    kind = TARGET
     name = "PF"
 
     def reset(self, problem):
@@ -61,6 +65,7 @@ class PriorityFirst:
 class ShortestTimeFirst:
     """SF: the least navigation time plus duration from the robot's node (ties: lowest id)."""
 
+    kind = TARGET
     name = "SF"
 
     def reset(self, problem):
@@ -74,6 +79,8 @@ class ShortestTimeFirst:
 
 class PlannedOrder:
     """Serves a whole order computed at the first decision by `solve(problem) -> order`."""
+
+    kind = TARGET
 
     def __init__(self, name, solve):
         self.name, self.solve = name, solve

@@ -11,6 +11,7 @@ import yaml
 from task_planner import benchmark as bench
 from task_planner import benchmark_report as report
 from task_planner.graph import load_graph
+from task_planner.planner_registry import label
 from task_planner.reward import load_priorities
 from task_planner.rollout_planner import RolloutConfig
 
@@ -89,14 +90,14 @@ def write_plots(out_dir, parts):
                         "Time ratio (cf. Fig. 5-9)", out_dir / "fig_5_9_time_ratio.png")
     report.plot_scaling(scaling, "latency_mean_ms", "mean decision latency per call [ms]",
                         "Decision latency of the online planners", out_dir / "decision_latency.png",
-                        names=["Ours(seed)", "Ours(rollout)"])
+                        names=report.LATENCY_NAMES)
     report.plot_exact(parts["exact"], out_dir / "exact_runtime.png")
 
 
 def results_markdown(args, config, graph, parts, elapsed, load):
     static_rows = parts["static"][1]
     problem, named_record, schedules = parts["named"]
-    guard = sum(row["Ours(seed)"]["guard_activations"] for row in static_rows)
+    guard = sum(row[label("seed")]["guard_activations"] for row in static_rows)
     return "\n".join([
         "# Task planner benchmark (thesis 000 §5.3)", "",
         "Written by `scripts/bench_planner` from one run:", "", f"    {args.command}", "",
@@ -107,15 +108,14 @@ def results_markdown(args, config, graph, parts, elapsed, load):
         f"{len(graph.edges())} edges (A* lengths); speed {config.speed_mps} m/s; robot starts on "
         f"`{graph.names[config.start_node]}`; durations uniform {config.duration_min_s}-"
         f"{config.duration_max_s} s; priorities of Table 5-5 drawn uniformly; seed {config.seed}.",
-        "", "Planners: FCFS, Rand, PF, SF and Opt (exhaustive) as in §5.3; Ours(seed) = "
-        "Algorithm 4-2; Ours(rollout) = our improved online planner; Exact = label-setting DP "
-        "(provably optimal); Exact-replan = Exact re-solved whenever instructions arrive. "
+        "", f"Planners (`task_planner.planner_registry`): {report.planner_legend()}. "
         "\"w/ decision\" adds each planner's measured decision time (the seed's \"Opt w/m\").", "",
         f"## Static sets of {config.static_count} instructions (Tables 5-7, 5-9)", "",
         f"{config.static_trials} random sets; Opt ran on the first {config.opt_trials} only "
         "(its row averages those). Similarity cost (Eq. 5-1) is to the exact optimum's order.", "",
         report.static_table(static_rows), "", report.opt_check(static_rows), "",
-        f"Loop guard of Ours(seed) fired {guard} times in these {config.static_trials} trials.", "",
+        f"Loop guard of {label('seed')} fired {guard} times in these {config.static_trials} "
+        "trials.", "",
         "## The seed's example set (Table 5-6 / Table 5-8)", "",
         "gamma and beta from Table 5-6; the thesis does not give nodes or durations, so they are "
         "drawn with a fixed seed (56):", "", report.instructions_table(problem), "",

@@ -2,21 +2,22 @@
 
 Runs the seed's planner, its baselines, the exhaustive Opt, the exact optimiser and our rollout
 planner on seeded random instruction sets over a topological graph, and returns plain dicts that
-serialise to the JSON schema of the issue (see `trial_record`).
+serialise to the JSON schema of the issue (see `trial_record`). Each part runs the planners that
+`planner_registry` lists for it (BENCH_*), in registration order.
 """
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from task_planner.baselines import (FirstComeFirstServe, PlannedOrder, PriorityFirst, RandomOrder,
-                                    ShortestTimeFirst, exhaustive_optimum)
-from task_planner.exact import ExactReplanner, SolverTimeout, exact_optimum
+from task_planner.exact import SolverTimeout, warm_exact_optimum
 from task_planner.instruction import Instruction
 from task_planner.metrics import completion_time, navigation_time, similarity_cost, time_ratio
+from task_planner.planner_registry import (BENCH_DYNAMIC, BENCH_SCALING, BENCH_STATIC,
+                                           BENCH_STATIC_FEW, PlannerSettings, label,
+                                           make_planners)
 from task_planner.problem import Problem, schedule_reward
-from task_planner.ripple_planner import RipplePlanner
-from task_planner.rollout_planner import RolloutConfig, RolloutPlanner
+from task_planner.rollout_planner import RolloutConfig
 from task_planner.simulate import run_planner
 
 # Table 5-6: the seed's example set (gamma, beta); its nodes and durations are not given
@@ -49,6 +50,12 @@ class BenchConfig:
     rollout: RolloutConfig = field(default_factory=RolloutConfig)  # improved planner settings
     seed: int = 0
 
+    def planner_settings(self):
+        """The settings the registry's planner factories read."""
+        return PlannerSettings(step_s=self.step_s, opt_max_instructions=self.opt_max_instructions,
+                               exact_max_instructions=self.exact_max_instructions,
+                               rollout=self.rollout)
+
 
 def random_instructions(rng, count, priorities, node_count, config, launches=None):
     """`count` instructions with a uniformly drawn Table 5-5 priority, node and duration."""
@@ -63,22 +70,11 @@ def random_instructions(rng, count, priorities, node_count, config, launches=Non
     return tuple(instructions)
 
 
-def warm_exact(problem, time_limit_s=None, max_instructions=40, rollout=None):
-    """The exact optimiser, its pruning bound seeded by the rollout planner's order."""
-    warm = run_planner(problem, RolloutPlanner(rollout))
-    return exact_optimum(problem, max_instructions, [i for i, _ in warm.served], time_limit_s)
-
-
 def static_planners(config, trial, with_opt):
-    """The planners of Table 5-7 (plus ours and the exact optimiser) for one trial."""
-    planners = [FirstComeFirstServe(), RandomOrder(seed=config.seed * 100003 + trial),
-                PriorityFirst(), ShortestTimeFirst(), RipplePlanner(config.step_s),
-                RolloutPlanner(config.rollout), PlannedOrder("Exact", lambda p: warm_exact(
-                    p, max_instructions=config.exact_max_instructions, rollout=config.rollout))]
-    if with_opt:
-        planners.append(PlannedOrder(
-            "Opt", lambda p: exhaustive_optimum(p, config.opt_max_instructions)))
-    return planners
+    """The planners of Table 5-7 (plus ours and the exact optimiser) for one trial; with
+    `with_opt` also those run on a few sets only (the exhaustive Opt)."""
+    uses = (BENCH_STATIC, BENCH_STATIC_FEW) if with_opt else (BENCH_STATIC,)
+    return make_planners(uses, config.planner_settings(), seed=config.seed * 100003 + trial)
 
 
 def planner_record(problem, schedule):
@@ -151,8 +147,9 @@ def run_static(graph, priorities, config):
 
 def _static_row(problem, record, schedules):
     """Per-planner figures of one static trial, relative to the exact optimum."""
-    best = record["planners"]["Exact"]["reward"]
-    exact_order = served_order(problem, schedules["Exact"])
+    exact = label("exact_offline")
+    best = record["planners"][exact]["reward"]
+    exact_order = served_order(problem, schedules[exact])
     row = {}
     for name, entry in record["planners"].items():
         schedule = schedules[name]
@@ -184,10 +181,7 @@ def run_scaling(graph, priorities, config):
         for trial in range(config.scaling_trials):
             instructions = random_instructions(rng, count, priorities, graph.size, config)
             problem = Problem(graph, instructions, config.speed_mps, config.start_node)
-            planners = [FirstComeFirstServe(), RandomOrder(seed=trial), PriorityFirst(),
-                        ShortestTimeFirst(), RipplePlanner(config.step_s),
-                        RolloutPlanner(config.rollout)]
-            for planner in planners:
+            for planner in make_planners((BENCH_SCALING,), config.planner_settings(), trial):
                 schedule = run_planner(problem, planner)
                 calls = np.array(schedule.decision_calls)
                 entry = results.setdefault(planner.name, {}).setdefault(count, [])
@@ -216,7 +210,8 @@ def run_exact_scaling(graph, priorities, config):
             problem = Problem(graph, instructions, config.speed_mps, config.start_node)
             started = time.perf_counter()
             try:
-                warm_exact(problem, config.exact_limit_s, max(config.exact_counts), config.rollout)
+                warm_exact_optimum(problem, max(config.exact_counts), config.rollout,
+                                   config.exact_limit_s)
                 solved += 1
             except SolverTimeout:
                 pass
@@ -238,9 +233,7 @@ def run_dynamic(graph, priorities, config):
         instructions = random_instructions(rng, config.dynamic_count, priorities, graph.size,
                                            config, launches)
         problem = Problem(graph, instructions, config.speed_mps, config.start_node)
-        planners = [FirstComeFirstServe(), RandomOrder(seed=trial), PriorityFirst(),
-                    ShortestTimeFirst(), RipplePlanner(config.step_s),
-                    RolloutPlanner(config.rollout), ExactReplanner(config.exact_max_instructions)]
+        planners = make_planners((BENCH_DYNAMIC,), config.planner_settings(), seed=trial)
         record, _ = run_trial(problem, planners, keep_waits=True)
         trials.append(record)
         rows.append(record["planners"])

@@ -2,8 +2,22 @@
 import numpy as np
 
 from task_planner.metrics import reward_curve, similarity_cost
+from task_planner.planner_api import NODE
+from task_planner.planner_registry import (BENCH_DYNAMIC, BENCH_SCALING, BENCH_STATIC,
+                                           BENCH_STATIC_FEW, display_order, entries, label)
 
-ORDER = ["Opt", "Exact", "FCFS", "Rand", "PF", "SF", "Ours(seed)", "Ours(rollout)", "Exact-replan"]
+ORDER = display_order()  # rows, columns and curves in this order
+OPT, EXACT = label("opt"), label("exact_offline")
+# the per-node online planners, whose decision latency is tabled and plotted
+LATENCY_NAMES = tuple(e.label for e in entries(BENCH_SCALING) if e.kind == NODE)
+
+
+def planner_legend():
+    """One sentence per benchmarked planner: display name, role and description."""
+    bench = {e.label: e for e in entries(BENCH_STATIC, BENCH_STATIC_FEW, BENCH_SCALING,
+                                         BENCH_DYNAMIC)}
+    return "; ".join(f"{name} ({bench[name].role}) = {bench[name].description}"
+                     for name in ORDER if name in bench)
 
 
 def _names(present):
@@ -36,9 +50,9 @@ def static_table(rows):
 
 def opt_check(rows):
     """One sentence comparing exhaustive Opt with Exact on the trials Opt ran on."""
-    pairs = [(row["Opt"]["reward"], row["Exact"]["reward"]) for row in rows if "Opt" in row]
+    pairs = [(row[OPT]["reward"], row[EXACT]["reward"]) for row in rows if OPT in row]
     if not pairs:
-        return "Opt was not run."
+        return f"{OPT} was not run."
     gap = max(abs(a - b) for a, b in pairs)
     return (f"On the {len(pairs)} trials Opt ran on, Opt and Exact rewards average "
             f"{np.mean([a for a, _ in pairs]):.3f} and {np.mean([b for _, b in pairs]):.3f}; the "
@@ -52,7 +66,7 @@ def named_case_table(problem, record, schedules):
     for name in _names(orders):
         entry = record["planners"][name]
         rows.append([name, " ".join(map(str, orders[name])),
-                     "-" if name == "Opt" else similarity_cost(orders[name], orders["Opt"]),
+                     "-" if name == OPT else similarity_cost(orders[name], orders[OPT]),
                      f"{entry['reward']:.3f}", f"{entry['reward_with_decision']:.3f}",
                      f"{entry['completion_s']:.1f}", f"{1e3 * entry['decision_s']:.1f}"])
     return _table(["planner", "instruction id sequence", "cost (Eq. 5-1)", "reward",
@@ -73,7 +87,7 @@ def scaling_table(results, key, fmt):
     return _table(["instructions"] + names, rows)
 
 
-def latency_table(results, names=("Ours(seed)", "Ours(rollout)")):
+def latency_table(results, names=LATENCY_NAMES):
     counts = sorted({c for r in results.values() for c in r})
     rows = []
     for count in counts:
@@ -118,11 +132,11 @@ def plot_named_case(problem, schedules, path):
     figure, axes = plt.subplots(figsize=(8, 5))
     for name in _names(schedules):
         times, accumulated = reward_curve(problem, schedules[name])
-        wide = {"Opt": 5, "Exact": 3}.get(name, 1.5)  # Opt and Exact coincide with other curves
+        wide = {OPT: 5, EXACT: 3}.get(name, 1.5)  # Opt and Exact coincide with other curves
         axes.step(np.r_[0, times], np.r_[0, accumulated], where="post", label=name, lw=wide,
-                  alpha=0.6 if name in ("Opt", "Exact") else 1.0)
-    times, accumulated = reward_curve(problem, schedules["Opt"], with_decision=True)
-    axes.step(np.r_[0, times], np.r_[0, accumulated], where="post", label="Opt w/m", ls="--")
+                  alpha=0.6 if name in (OPT, EXACT) else 1.0)
+    times, accumulated = reward_curve(problem, schedules[OPT], with_decision=True)
+    axes.step(np.r_[0, times], np.r_[0, accumulated], where="post", label=f"{OPT} w/m", ls="--")
     axes.set(xlabel="time [s]", ylabel="accumulated reward", title="Table 5-6 set (cf. Fig. 5-6)")
     axes.legend()
     figure.savefig(path, dpi=100, bbox_inches="tight")

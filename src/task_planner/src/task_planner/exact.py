@@ -14,7 +14,10 @@ import time
 import numpy as np
 
 from task_planner.baselines import PlannerTooLarge
+from task_planner.planner_api import TARGET
 from task_planner.problem import order_reward
+from task_planner.rollout_planner import RolloutPlanner
+from task_planner.simulate import run_planner
 
 _TOLERANCE = 1e-12  # rewards closer than this count as equal when pruning
 _GREEDY_PROBES = 4  # labels per layer completed greedily to improve the incumbent
@@ -53,6 +56,13 @@ def exact_optimum(problem, max_instructions=40, initial_order=None, time_limit_s
             if reward > best_reward + _TOLERANCE:
                 best_reward, best_order = reward, list(order)
     return [int(i) for i in best_order]
+
+
+def warm_exact_optimum(problem, max_instructions=40, rollout=None, time_limit_s=None):
+    """`exact_optimum` with its pruning bound seeded by the order the rollout planner serves
+    (`rollout`: its RolloutConfig, None for the defaults)."""
+    warm = run_planner(problem, RolloutPlanner(rollout))
+    return exact_optimum(problem, max_instructions, [i for i, _ in warm.served], time_limit_s)
 
 
 def _extend_layer(problem, layer, best_reward, deadline):
@@ -185,6 +195,7 @@ class ExactReplanner:
     initial rewards.
     """
 
+    kind = TARGET
     name = "Exact-replan"
 
     def __init__(self, max_instructions=40):

@@ -37,6 +37,7 @@ from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, MOVING, VE
                                             Navigate, Say, StopMotion, Verify, Wait)
 from task_planner.finding_people import FindingPeople
 from task_planner.instruction import HUMAN
+from task_planner.planner_api import NODE, kind_of
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
@@ -97,6 +98,7 @@ class Executor(FindingPeople):
     def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0,
                  charging=None):
         self.buffer, self.graph, self.planner = buffer, graph, planner
+        self._node_planner = kind_of(planner) == NODE  # else a target planner (planner_api)
         self.charging = charging         # Charging, or None for a robot without a battery model
         self.people, self.functions = people, functions
         self.config = config or ExecutorConfig()
@@ -386,7 +388,7 @@ class Executor(FindingPeople):
 
     def _ask_planner(self, problem, node, now, available):
         """(instruction index, next node), next node None when the decision is to serve here."""
-        if hasattr(self.planner, "decide"):  # node planner (the seed's, Algorithm 4-2)
+        if self._node_planner:  # node planner (the seed's, Algorithm 4-2)
             action, value = self.planner.decide(node, now, available)
             if action == "serve":
                 return int(value), None

@@ -15,6 +15,7 @@ ripple term until the instruction set changes. `guard_activations` counts how of
 import numpy as np
 
 from task_planner.graph import floyd_warshall
+from task_planner.planner_api import NODE
 from task_planner.robot_state import (neighbouring_nodes, state_at_node, state_transition,
                                       step_adjacency, steps_to_instructions)
 
@@ -51,6 +52,7 @@ def ripple_field(gamma, beta, nodes, shortest_steps, step_s):
 class RipplePlanner:
     """Per-node online planner of the seed (Algorithm 4-2) with the loop guard described above."""
 
+    kind = NODE
     name = "Ours(seed)"
 
     def __init__(self, step_s=1.0):

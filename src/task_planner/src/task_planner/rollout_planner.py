@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from task_planner.planner_api import NODE
+
 _MIN_STEP_S = 1e-9  # guards the reward rate when an instruction takes no time
 
 
@@ -27,6 +29,7 @@ class RolloutConfig:
 class RolloutPlanner:
     """Per-node online planner: rollouts of the reward-rate rule from the best first targets."""
 
+    kind = NODE
     name = "Ours(rollout)"
 
     def __init__(self, config=None):

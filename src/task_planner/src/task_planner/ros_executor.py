@@ -41,7 +41,7 @@ from task_planner.graph import load_graph
 from task_planner.people_belief import PeopleAtPlaces
 from task_planner.instruction import InvalidInstruction
 from task_planner.plan_view import plan_view
-from task_planner.planner_choice import make_planner
+from task_planner.planner_registry import EXECUTOR, make_planner
 from task_planner.ros_markers import plan_markers
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
@@ -54,7 +54,7 @@ ROOT = Path(__file__).resolve().parents[4]
 
 @dataclass(frozen=True)
 class NodeParams:
-    planner: str = "seed"          # seed | rollout | exact | fcfs | pf | sf
+    planner: str = "seed"          # a planner_registry name that runs in the EXECUTOR
     graph: str = str(ROOT / "maps/household.graph.yaml")
     settings: str = str(ROOT / "config/task_planner.yaml")
     robot_functions: str = str(ROOT / "config/robot_functions.yaml")
@@ -132,7 +132,7 @@ class ExecutorNode:
         self.people = PeopleAtPlaces()
         self.executor_functions = load_robot_functions(params.robot_functions)
         self.executor = Executor(
-            buffer, self.graph, make_planner(params.planner, settings), self.people,
+            buffer, self.graph, make_planner(params.planner, settings, use=EXECUTOR), self.people,
             self.executor_functions,
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
                            verify_wait_s=params.verify_wait, look_headings=params.look_headings,
@@ -160,7 +160,8 @@ class ExecutorNode:
             self._event(f"journal {params.journal}: instruction {instruction_id} {reason}")
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
         self.settings = settings
-        self.view_planner = make_planner(params.planner, settings)  # plays the plan forward
+        self.view_planner = make_planner(params.planner, settings,  # plays the plan forward
+                                         use=EXECUTOR)
         self._view_key, self._view_time = None, -float("inf")
 
     def _charging(self, params, settings):

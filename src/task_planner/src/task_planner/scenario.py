@@ -68,7 +68,7 @@ class Scenario:
     moves: tuple         # Move, in time order (the world's timed moves, unannounced)
     initial: dict        # person -> (place, activity) at t = 0, from the world
     timeout_s: float     # give up this long after the last request [s of simulated time]
-    planner: str         # task planner of the executor (planner_choice.PLANNER_NAMES)
+    planner: str         # task planner of the executor (planner_registry, EXECUTOR)
     visitors: tuple = ()  # Visitor
     day_start_s: float = 0.0  # time of day at simulated time 0 [s since midnight] (schedules)
 

@@ -19,7 +19,7 @@ from task_planner.belief_report import (belief_markdown, history_sources, people
 from task_planner.exact import SolverTimeout, exact_optimum
 from task_planner.instruction import HUMAN, Instruction, InvalidInstruction
 from task_planner.metrics import reward_curve
-from task_planner.planner_choice import make_planner
+from task_planner.planner_registry import SCENARIO_MODEL, entries, make_planner
 from task_planner.problem import Problem, order_to_schedule, schedule_reward
 from task_planner.simulate import run_planner
 from task_planner.task_buffer import STATE_NAMES
@@ -88,8 +88,7 @@ def _figures(name, problem, schedule):
                         order)
 
 
-MODEL_PLANNERS = (("fcfs", "FCFS (model)"), ("seed", "Ours(seed) (model)"),
-                  ("rollout", "Ours(rollout) (model)"))
+MODEL_PLANNERS = tuple((e.name, f"{e.label} (model)") for e in entries(SCENARIO_MODEL))
 
 
 def model_figures(problem, settings, exact_time_limit_s=60.0):

@@ -1,6 +1,6 @@
 """Executes a planner on a problem, online: instructions appear at their launch times.
 
-Two planner forms are supported:
+Both kinds of `planner_api` are run, told apart by the kind the planner states (`kind_of`):
 - node planners (`decide(node, clock, available)` -> ('serve', i) or ('move', neighbour)) are asked
   again at every node, like the seed's planner;
 - target planners (`choose(node, clock, available)` -> i) pick one instruction, the robot drives
@@ -12,11 +12,14 @@ import time
 
 import numpy as np
 
+from task_planner.planner_api import NODE, kind_of
 from task_planner.problem import Schedule, score_route
 
 
 def run_planner(problem, planner):
-    """Run `planner` to completion on `problem`; returns a scored Schedule."""
+    """Run `planner` (a planner_api planner) to completion on `problem`; returns a scored
+    Schedule."""
+    node_planner = kind_of(planner) == NODE
     planner.reset(problem)
     run = _Run(problem)
     while run.pending:
@@ -25,7 +28,7 @@ def run_planner(problem, planner):
             run.wait_for_next_launch()
             continue
         started, started_cpu = time.perf_counter(), time.thread_time()
-        if hasattr(planner, "decide"):
+        if node_planner:
             action, value = planner.decide(run.node, run.clock, available)
         else:
             action, value = "target", planner.choose(run.node, run.clock, available)
