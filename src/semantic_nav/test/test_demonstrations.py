@@ -103,11 +103,12 @@ def test_not_applicable_class_is_not_driven(l_corridor):
 
 def test_plan_balances_classes_over_starts():
     from semantic_nav.demonstrations import plan_demonstrations
+    from semantic_nav.instruction_classes import CLASS_IDS
     from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_longhall.yaml"))
     starts = [(2.0, 8.0, 0.0), (11.0, 14.0, -math.pi / 2), (21.0, 2.0, math.pi / 2)]
     plan = plan_demonstrations(oracle, starts, 2, np.random.default_rng(0))
-    per_class = {label: [s for s, c in plan if c == label] for label in range(1, 11)}
+    per_class = {label: [s for s, c in plan if c == label] for label in CLASS_IDS}
     # fixture: class 5 and 8 only from the hall start, 9 from the two side corridors, 6/7 never
     assert per_class[5] == [starts[0]] and per_class[8] == [starts[0]]
     assert per_class[6] == [] and per_class[7] == []

@@ -8,6 +8,7 @@ import yaml
 
 from semantic_nav.expert import (ExpertConfig, ExpertDriver, recorded_stop_steps, rehearse,
                                  unicycle_step)
+from semantic_nav.instruction_classes import CLASS_IDS
 from semantic_nav.route_oracle import RouteOracle
 from floorplan.occupancy_map import load_map
 
@@ -84,7 +85,7 @@ def test_noisy_demonstrations_reach_the_goal_without_touching_walls(floor):
     results = []
     for entry in STARTS[floor]:
         x, y, yaw = entry["start"]
-        for label in range(1, 11):
+        for label in CLASS_IDS:
             offset = (rng.uniform(-0.25, 0.25), rng.uniform(-0.25, 0.25),
                       math.radians(rng.uniform(-10, 10)))
             demo = rehearse(oracle, (x, y, math.radians(yaw)), label, rng=rng,

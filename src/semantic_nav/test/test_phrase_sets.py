@@ -7,9 +7,9 @@ import pytest
 import yaml
 
 from semantic_nav.instruction_layer import split_instruction, tokenise
-from semantic_nav.phrase_sets import (CLASSES, SETS, Phrase, PhraseSetError, compose,
-                                      enumerate_sentences, load_phrase_sets, sample_sentence,
-                                      score_phrasings)
+from semantic_nav.instruction_classes import CLASS_IDS
+from semantic_nav.phrase_sets import (SETS, Phrase, PhraseSetError, compose, enumerate_sentences,
+                                      load_phrase_sets, sample_sentence, score_phrasings)
 from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
 
 CONFIG = Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml"
@@ -22,7 +22,7 @@ def sets():
 
 @pytest.fixture(scope="module")
 def train_sentences(sets):
-    return {label: list(enumerate_sentences(sets, label, "train")) for label in CLASSES}
+    return {label: list(enumerate_sentences(sets, label, "train")) for label in CLASS_IDS}
 
 
 def _find(sets, name, text):
@@ -84,7 +84,7 @@ def test_enumeration_counts_follow_the_set_sizes(sets, train_sentences):
 
 
 def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
-    for label in CLASSES:
+    for label in CLASS_IDS:
         train = {s.text for s in train_sentences[label]}
         held = list(enumerate_sentences(sets, label, "held_out"))
         assert held and all(any(p.held_out for p in s.phrases) for s in held)
@@ -94,13 +94,13 @@ def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
 
 def test_validation_phrasings_are_neither_trained_on_nor_tested(sets, train_sentences):
     rng = np.random.default_rng(2)
-    for label in CLASSES:
+    for label in CLASS_IDS:
         sentences = [sample_sentence(sets, label, rng, "validation") for _ in range(30)]
         assert all(s.label == label for s in sentences)
         assert all(any(p.split == "validation" for p in s.phrases) for s in sentences)
         assert not any(p.held_out for s in sentences for p in s.phrases)
         assert not {s.text for s in sentences} & {s.text for s in train_sentences[label]}
-    held = [s for label in CLASSES for s in enumerate_sentences(sets, label, "held_out")]
+    held = [s for label in CLASS_IDS for s in enumerate_sentences(sets, label, "held_out")]
     assert not any(p.split == "validation" for s in held for p in s.phrases)
 
 
@@ -113,7 +113,7 @@ def test_held_out_sampling_ignores_validation_phrases(tmp_path):
     plain = tmp_path / "phrases.yaml"
     plain.write_text(yaml.safe_dump(config))
     draws = [[sample_sentence(load_phrase_sets(path), label, np.random.default_rng(9),
-                              "held_out").text for label in CLASSES] for path in (CONFIG, plain)]
+                              "held_out").text for label in CLASS_IDS] for path in (CONFIG, plain)]
     assert draws[0] == draws[1]
     with pytest.raises(PhraseSetError, match="no validation phrase"):
         sample_sentence(load_phrase_sets(plain), 4, np.random.default_rng(0), "validation")

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import yaml
 
+from semantic_nav.instruction_classes import CLASS_IDS
 from semantic_nav.route_oracle import (OracleConfig, OracleError, RouteOracle, counting_matters,
                                        goal_branch, one_side_branch)
 from floorplan.blueprint import render_blueprint
@@ -15,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[3]
 EXPECTED = yaml.safe_load((Path(__file__).parents[1] / "fixtures" /
                            "oracle_expected_goals.yaml").read_text())
 CASES = [(floor, i, label) for floor, starts in EXPECTED.items()
-         for i, entry in enumerate(starts) for label in range(1, 11)]
+         for i, entry in enumerate(starts) for label in CLASS_IDS]
 
 
 @pytest.fixture(scope="module")
@@ -94,7 +95,7 @@ def test_corners_count_over_both_sides_not_only_the_turning_side():
 
     assert [along(goal_branch(walk, label)) for label in (5, 6, 7, 8)] == [14, None, 18, 18]
     assert [along(one_side_branch(walk, label)) for label in (5, 6, 7, 8)] == [18, 18, 27, 24]
-    assert [counting_matters(walk, label) for label in range(1, 11)] == \
+    assert [counting_matters(walk, label) for label in CLASS_IDS] == \
         [False] * 4 + [True, False, True, True, False, False]
 
 

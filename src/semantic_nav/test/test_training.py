@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from semantic_nav.training import (MIRRORED_CLASS, Episode, Monitor, TrainingConfig,
+from semantic_nav.instruction_classes import CLASS_IDS, MIRRORED_CLASS
+from semantic_nav.training import (Episode, Monitor, TrainingConfig,
                                    ValidationThresholds, accumulated_errors, batch_rows,
                                    control_rate_sequence, decision_distance, decision_step,
                                    class_batch, class_hits_and_loss, make_batches,
@@ -219,8 +220,8 @@ def test_mirror_sequence_swaps_the_sides():
     assert m_scans.tolist() == [[3.0, 2.0, 1.0], [6.0, 5.0, 4.0]]
     np.testing.assert_allclose(m_commands, [[0.5, -0.2], [0.3, 0.1]])
     assert label == 5                            # left at the 2nd corner -> right at the 2nd
-    assert all(MIRRORED_CLASS[MIRRORED_CLASS[c]] == c for c in range(1, 11))
-    assert [c for c in range(1, 11) if MIRRORED_CLASS[c] == c] == [1, 4]
+    assert all(MIRRORED_CLASS[MIRRORED_CLASS[c]] == c for c in CLASS_IDS)
+    assert [c for c in CLASS_IDS if MIRRORED_CLASS[c] == c] == [1, 4]
 
 
 def test_only_training_batches_are_mirrored():

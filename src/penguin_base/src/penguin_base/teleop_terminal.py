@@ -7,15 +7,22 @@ The terminal is always restored (curses.wrapper) and a zero command is always pu
 import curses
 import os
 
+from penguin_base.record_format import NUM_CLASSES
 from penguin_base.teleop import DOWN, LEFT, RIGHT, STOP, UP
 
 KEY_ACTIONS = {curses.KEY_UP: UP, curses.KEY_DOWN: DOWN, curses.KEY_LEFT: LEFT,
                curses.KEY_RIGHT: RIGHT, ord(" "): STOP}
 QUIT_KEYS = {ord("q"), ord("Q")}
 END_SEQUENCE_KEY = ord("e")
-CLASS_KEYS = {ord(str(n % 10)): n for n in range(1, 11)}  # '1'..'9' -> 1..9, '0' -> class 10
+# Digit keys start a record of instruction classes 1..NUM_CLASSES (record_format.NUM_CLASSES,
+# Table 3.1-1: ten): '1'..'9' -> class 1..9, '0' -> class 10. The ten digits cover ten classes
+# at most; a class beyond the tenth gets no key.
+KEYED_CLASSES = min(NUM_CLASSES, 10)
+CLASS_KEYS = {ord(str(n % 10)): n for n in range(1, KEYED_CLASSES + 1)}
+_DIGITS = "1-9, 0" if KEYED_CLASSES == 10 else f"1-{KEYED_CLASSES}"
 HELP = ("Up: faster   Down: slower   Left/Right: tap = nudge, hold = rotate   Space: stop",
-        "1-9, 0: start a record of instruction class 1-10   e: end the record   q: quit")
+        f"{_DIGITS}: start a record of instruction class 1-{KEYED_CLASSES}   e: end the record   "
+        "q: quit")
 
 
 def run_teleop(state, publish, clock, running, announce_class=None):

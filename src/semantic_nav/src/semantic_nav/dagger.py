@@ -13,7 +13,7 @@ from penguin_base.record_format import RecordSequence, Sample, write_records
 from semantic_nav.episodes import ExpertLabeller, chain_goals, run_episode
 from semantic_nav.demonstrations import world_for_floor
 from semantic_nav.evaluation import plan_episodes
-from semantic_nav.phrase_sets import CLASSES
+from semantic_nav.instruction_classes import CLASS_IDS
 from semantic_nav.route_oracle import RouteOracle
 
 RANGE_DECIMALS = 3   # as the demonstrations: ranges to the millimetre
@@ -66,7 +66,7 @@ def visited_states(world, oracle, policy, spec, max_route_offset=None):
 
 
 def collect_round(floors, template, policy, sets, per_class, rng, progress=None,
-                  classes=CLASSES, max_route_offset=None):
+                  classes=CLASS_IDS, max_route_offset=None):
     """One DAgger round on `floors` (map YAML paths) over `classes` -> ([RecordSequence],
     [EpisodeResult]); max_route_offset as in visited_states."""
     worlds = {str(f): world_for_floor(template, f) for f in floors}

@@ -11,6 +11,7 @@ import numpy as np
 from penguin_base.recording import SequenceBuilder
 from semantic_nav.episodes import EpisodeError, chain_goals
 from semantic_nav.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
+from semantic_nav.instruction_classes import CLASS_IDS, COUNTING_IDS
 from semantic_nav.route_oracle import RouteOracle, counting_matters
 from sim2d.kinematics import RobotState
 from floorplan.occupancy_map import load_map
@@ -119,7 +120,7 @@ def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, 
 def plan_demonstrations(oracle, starts, per_class, rng):
     """Balance the classes: for each class, up to `per_class` of the starts from which it is
     applicable, drawn at random. Returns [(start, class)] in class order."""
-    applicable = {label: [] for label in range(1, 11)}
+    applicable = {label: [] for label in CLASS_IDS}
     for start in starts:
         for label, goal in oracle.goals(start).items():
             if goal is not None:
@@ -137,7 +138,7 @@ def plan_counting_demonstrations(oracle, starts, per_class, rng):
     random. Returns [(start, class)] in class order."""
     plan = []
     walks = [oracle.walk(start) for start in starts]
-    for label in (5, 6, 7, 8):
+    for label in COUNTING_IDS:
         candidates = [start for start, walk in zip(starts, walks)
                       if counting_matters(walk, label)]
         chosen = rng.permutation(len(candidates))[:per_class]

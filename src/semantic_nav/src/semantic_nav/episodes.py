@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route
+from semantic_nav.instruction_classes import END_TURN, STRAIGHT, TURN, ids
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.route_oracle import OracleError
 
@@ -31,7 +32,10 @@ REACHED, TIMEOUT, COLLISION, STOPPED_OUTSIDE, NOT_UNDERSTOOD = (
     "reached", "timeout", "collision", "stopped outside goal", "not understood")
 
 
-TURN_AT_END = {2: 9, 3: 10}    # "go straight to the end, then turn right / left"
+# "go straight to the end, then turn right / left": after class 1 (STRAIGHT_TO_END), turns 2 and
+# 3 take the goal of the same side's turn at the end (TURN_AT_END = {2: 9, 3: 10})
+STRAIGHT_TO_END = ids(motion=STRAIGHT)[0]
+TURN_AT_END = {label: END_TURN[label] for label in ids(motion=TURN, at=None)}
 
 
 class EpisodeError(ValueError):
@@ -83,7 +87,7 @@ def chain_goals(oracle, start, labels):
     parts, pose, walk = [], tuple(float(v) for v in start), None
     for label in labels:
         previous = parts[-1].label if parts else None
-        if previous == 1 and label in TURN_AT_END:
+        if previous == STRAIGHT_TO_END and label in TURN_AT_END:
             goal = oracle.goal(None, TURN_AT_END[label], walk)
             route_label = TURN_AT_END[label]
         else:

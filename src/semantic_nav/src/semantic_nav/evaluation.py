@@ -22,7 +22,9 @@ from semantic_nav.demonstrations import world_for_floor
 from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
                                    chain_goals, run_episode)
 from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
-from semantic_nav.phrase_sets import CLASSES, KIND, SIDE, TURN_CLASSES, sample_sentence
+from semantic_nav.instruction_classes import (CLASS_IDS, COUNTING_IDS, END_TURN, STRAIGHT,
+                                              TURN, get, ids)
+from semantic_nav.phrase_sets import sample_sentence
 from semantic_nav.route_oracle import (OracleError, RouteOracle, branches_on_side,
                                        counting_matters, goal_branch)
 
@@ -92,10 +94,10 @@ def _displaced(oracle, start, labels, rng, config):
     return None, None
 
 
-def applicable_starts(oracles, rng, config, classes=CLASSES):
+def applicable_starts(oracles, rng, config, classes=CLASS_IDS):
     """{class: [(floor, start)]} over corridor starts sampled on the floors, in rounds of
     `batch` per floor until every class has `min_starts` (or `candidates` per floor)."""
-    pool = {label: [] for label in CLASSES}
+    pool = {label: [] for label in CLASS_IDS}
     structures = {floor: floor_structure(oracle.field, oracle.config.robot_radius)
                   for floor, oracle in oracles.items()}
     for _ in range(max(1, config.candidates // config.batch)):
@@ -109,16 +111,11 @@ def applicable_starts(oracles, rng, config, classes=CLASSES):
     return pool
 
 
-# corner turn (2, 3, 5-8) -> the turn at the corridor's end on the same side (9, 10)
-END_TURN = {label: TURN_CLASSES[(side, "end")] for label, side in SIDE.items()
-            if KIND.get(label) != "end"}
-
-
 def class_census(oracle, starts, same_place=1.5):
     """{class: (starts it applies from, of those: its goal within `same_place` [m] of the
     same side's end turn)} for a floor. Where every third corner is a corridor's end, "turn
     right at the third corner" is learnt as "turn right at the end"."""
-    census = {label: [0, 0] for label in CLASSES}
+    census = {label: [0, 0] for label in CLASS_IDS}
     for start in starts:
         goals = oracle.goals(start)
         for label, goal in goals.items():
@@ -131,7 +128,7 @@ def class_census(oracle, starts, same_place=1.5):
     return {label: tuple(counts) for label, counts in census.items()}
 
 
-def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASSES):
+def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASS_IDS):
     """`per_class` single-instruction episodes per class over the floors' starts -> [EpisodeSpec].
 
     Starts are used in turn (shuffled) so every applicable start is used about equally; a class
@@ -312,7 +309,7 @@ def counting_breakdown(outcomes, oracles):
     groups = {}
     for outcome in outcomes:
         labels = outcome.spec.labels
-        if len(labels) != 1 or labels[0] not in (5, 6, 7, 8):
+        if len(labels) != 1 or labels[0] not in COUNTING_IDS:
             continue
         label = labels[0]
         walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
@@ -338,10 +335,11 @@ def failure_place(walk, label, end, margin=0.3):
     along, lateral = walk.frame(end)
     if along > walk.front + margin:
         return "through the wall ahead"
-    if label == 1:
+    cls = get(label)
+    if cls.motion == STRAIGHT:
         return "off to one side" if abs(lateral) > walk.half_width + margin else \
             "short of the corridor's end"
-    side = SIDE[label]
+    side = cls.side
     branches = branches_on_side(walk, side)
     goal = goal_branch(walk, label)
     if abs(lateral) > walk.half_width + margin:
@@ -357,13 +355,16 @@ def failure_place(walk, label, end, margin=0.3):
     return "short of the goal's corner" if along < goal.start else "past the goal's corner"
 
 
+PLACED_IDS = ids(motion=STRAIGHT) + ids(motion=TURN)   # the classes failure_place places
+
+
 def failure_places(outcomes, oracles):
     """failure_place of every failed single-part episode of class 1, 2, 3 or 5-10 ->
     {class: {place: count}}."""
     places = {}
     for outcome in outcomes:
         labels = outcome.spec.labels
-        if outcome.success or len(labels) != 1 or not (labels[0] in SIDE or labels[0] == 1) \
+        if outcome.success or len(labels) != 1 or labels[0] not in PLACED_IDS \
                 or not outcome.path:
             continue
         walk = oracles[outcome.spec.floor].walk(outcome.spec.start)

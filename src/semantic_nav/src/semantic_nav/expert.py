@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from semantic_nav.instruction_classes import BACK, STRAIGHT, get
 from semantic_nav.route_oracle import goal_branch
 
 
@@ -48,9 +49,10 @@ def expert_route(walk, label, goal_pose):
     """Polyline (N, 2) the person follows: centre line, junction centre, into the branch."""
     origin = np.asarray(walk.origin, dtype=float)
     goal = np.array(goal_pose[:2], dtype=float)
-    if label == 4:
+    motion = get(label).motion
+    if motion == BACK:
         return origin[None, :]
-    if label == 1:
+    if motion == STRAIGHT:
         return np.vstack([origin, goal])
     junction = walk.point(goal_branch(walk, label).centre)
     return np.vstack([origin, junction, goal])

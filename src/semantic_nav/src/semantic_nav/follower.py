@@ -17,6 +17,7 @@ from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_acti
                                           scan_points, steer_around)
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
+from semantic_nav.instruction_classes import CLASS_IDS
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
@@ -183,7 +184,7 @@ class DirectionFollower:
             unknown.extend(converted.oov)
         self.instructions = parts
         z_w = [self.policy.classify(v) for v in vectors]
-        self.classes = [int(np.argmax(z)) + 1 for z in z_w]
+        self.classes = [CLASS_IDS[int(np.argmax(z))] for z in z_w]
         self.z_w = [class_one_hot(z) for z in z_w] if self.config.one_hot_class else z_w
         self.unknown_words = unknown
         self.index = 0

@@ -5,6 +5,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from semantic_nav.instruction_classes import MAX_CORNER
+
 # §3.1: "we simply use punctuation marks to split sentences into simple instruction".
 PUNCTUATION = re.compile(r"[.,;:!?\n]+")
 # Spoken text (speech recognition) has no punctuation: "then" / "and then" also end an instruction.
@@ -92,7 +94,7 @@ def convert_instruction(sentence, word_vectors):
 # instruction classes can do, or is not English. Without these checks "turn left at the 99th
 # corner" drove (GloVe knows "99th"; LSTM_w classed it as a third-corner turn) and so did a
 # German sentence (GloVe 6B holds many non-English words, so no word was "unknown").
-MAX_CORNER = 3   # Table 3.1-1 counts corners up to "the third corner" (classes 7 and 8)
+# MAX_CORNER (instruction_classes): Table 3.1-1 counts corners up to "the third corner" (7, 8)
 CORNER_WORDS = frozenset((
     "corner", "corners", "intersection", "intersections", "crossroad", "crossroads", "crossing",
     "crossings", "turning", "turnings", "junction", "junctions", "turn", "turns", "left", "right",
@@ -243,5 +245,5 @@ def check_followable(sentence, word_vectors=None, config=None):
                 raise UnfollowableInstruction(
                     f"{part!r} asks for the {ordinal_text(corner)} corner; the instruction "
                     f"classes count corners from the 1st to the {ordinal_text(MAX_CORNER)}",
-                    f"Sorry, I can only count corners up to the third one, and you asked for "
-                    f"the {ordinal_text(corner)}. I am staying here.")
+                    f"Sorry, I can only count corners up to the {ORDINAL_WORDS[MAX_CORNER]} "
+                    f"one, and you asked for the {ordinal_text(corner)}. I am staying here.")

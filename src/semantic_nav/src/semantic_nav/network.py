@@ -1,7 +1,8 @@
 """Neural network model (thesis 002 §2.2.4, Fig. 2.2.4) in Keras 3 and its single-step numpy twin.
 
 Stage 1: LSTM_w reads the word vectors (w_1 … w_n) of one simple instruction; a softmax over the
-ten basic instruction classes gives the instruction vector Z_w (Eq. 2.2-11, softmax).
+basic instruction classes (instruction_classes.CLASSES, ten) gives the instruction vector Z_w
+(Eq. 2.2-11, softmax).
 Stage 2: a fully connected ReLU layer turns each preprocessed scan (l_i1 … l_iN) into Z_si
 (Eq. 2.2-11, ReLU); [Z_w, Z_si] goes into LSTM_fused, whose linear output is (v, ω).
 
@@ -41,7 +42,8 @@ import numpy as np
 os.environ.setdefault("KERAS_BACKEND", "torch")
 import keras  # noqa: E402  (the backend must be chosen before the import)
 
-NUM_CLASSES = 10   # Table 3.1-1
+from semantic_nav.instruction_classes import NUM_CLASSES  # noqa: E402  (Table 3.1-1: ten)
+
 CORNER_CLASSES = 4  # count input: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
 
 

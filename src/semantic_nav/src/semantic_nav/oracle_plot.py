@@ -44,7 +44,7 @@ def plot_oracle_goals(grid, start, walk, goals, title, out_path, names):
     ax.annotate("start", start[:2], fontsize=8, xytext=(-10, -14), textcoords="offset points")
     absent, shared = [], {}
     for label, goal in goals.items():
-        colour = CLASS_COLOURS[label - 1]
+        colour = CLASS_COLOURS[(label - 1) % len(CLASS_COLOURS)]
         if goal is None:
             absent.append(str(label))
             continue

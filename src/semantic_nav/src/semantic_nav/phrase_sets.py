@@ -1,25 +1,20 @@
-"""Basic instruction sets (thesis 002 §3.2, Fig. 3.2.1): labelled simple instructions of the ten
-classes of Table 3.1-1, generated from the phrase sets in config/semnav_phrases.yaml."""
+"""Basic instruction sets (thesis 002 §3.2, Fig. 3.2.1): labelled simple instructions of the
+classes of Table 3.1-1 (semantic_nav.instruction_classes), generated from the phrase sets in
+config/semnav_phrases.yaml."""
 import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
 
-# Table 3.1-1: class number -> representative basic instruction.
-CLASSES = {
-    1: "go straight to the end", 2: "turn right", 3: "turn left", 4: "go back (turn around)",
-    5: "turn right at the second corner", 6: "turn left at the second corner",
-    7: "turn right at the third corner", 8: "turn left at the third corner",
-    9: "go straight to the end and turn right", 10: "go straight to the end and turn left",
-}
-# Class Turn + (no / kind-A / kind-B suffix): (direction, kind) -> class.
-TURN_CLASSES = {("right", None): 2, ("left", None): 3, ("right", "second"): 5,
-                ("left", "second"): 6, ("right", "third"): 7, ("left", "third"): 8,
-                ("right", "end"): 9, ("left", "end"): 10}
+from semantic_nav.instruction_classes import (CLASS_IDS, CLASSES, NUM_CLASSES, SIDES, TURN,
+                                              TURN_AT, TURN_CLASSES, get)
+
 SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_keep",
         "suffix_turn_change", "class4", "others")
-CHANGE_KINDS = ("second", "third", "end")
+CHANGE_KINDS = TURN_AT   # kind-B tags: ("second", "third", "end")
+# core phrase set of a class that is not a turn -> the class: {"class1": 1, "class4": 4}
+CORE_SET_CLASS = {c.phrase_set: c.number for c in CLASSES if c.motion != TURN}
 # train: the only phrases training sees; validation: phrases that choose between trained
 # classifiers (train_semnav --retrain-classifier's monitor); held_out: the final test (§4.2.1).
 SPLITS = ("train", "validation", "held_out")
@@ -72,7 +67,7 @@ def load_phrase_sets(path):
                          "class4")}
     sets["class_turn"] = [Phrase("class_turn", p.text.format(dir=side), p.split, side)
                           for p in _phrases(config["class_turn"], "class_turn")
-                          for side in ("right", "left")]
+                          for side in SIDES]
     sets["suffix_turn_change"] = [p for kind in CHANGE_KINDS for p in _phrases(
         config["suffix_turn_change"][kind], "suffix_turn_change", kind)]
     others = config["others"]
@@ -97,10 +92,9 @@ def label_of(phrases):
     by_set = {p.set_name: p for p in phrases}
     if "others" in by_set:
         return by_set["others"].tag
-    if "class1" in by_set:
-        return 1
-    if "class4" in by_set:
-        return 4
+    for set_name, label in CORE_SET_CLASS.items():
+        if set_name in by_set:
+            return label
     if "class_turn" in by_set:
         change = by_set.get("suffix_turn_change")
         return TURN_CLASSES[(by_set["class_turn"].tag, change.tag if change else None)]
@@ -122,21 +116,17 @@ class Slot:
     optional: bool = False
 
 
-SIDE = {2: "right", 3: "left", 5: "right", 6: "left", 7: "right", 8: "left", 9: "right",
-        10: "left"}
-KIND = {5: "second", 6: "second", 7: "third", 8: "third", 9: "end", 10: "end"}
-
-
 def recipes(label):
     """Fig. 3.2.1 / §3.2 examples: the sequences of sets that generate class `label`."""
     prefix, suffix = Slot("prefix", optional=True), Slot("suffix", optional=True)
     others = [(prefix, Slot("others", label), suffix)]   # empty unless `others` has the class
-    if label in (1, 4):
-        return [(prefix, Slot("class1" if label == 1 else "class4"), suffix)] + others
-    turn = (prefix, Slot("prefix_turn", optional=True), Slot("class_turn", SIDE[label]))
-    if label in (2, 3):
+    cls = get(label)
+    if cls.motion != TURN:
+        return [(prefix, Slot(cls.phrase_set), suffix)] + others
+    turn = (prefix, Slot("prefix_turn", optional=True), Slot(cls.phrase_set, cls.side))
+    if cls.at is None:
         return [turn + (Slot("suffix_turn_keep", optional=True), suffix)]
-    return [turn + (Slot("suffix_turn_change", KIND[label]), suffix)] + others
+    return [turn + (Slot("suffix_turn_change", cls.at), suffix)] + others
 
 
 def _choices(sets, slot, split):
@@ -152,7 +142,7 @@ def enumerate_sentences(sets, label, split="train"):
 
     split="train" uses training phrases only; split="held_out" (or "validation") yields only
     sentences with at least one phrase of that split (never seen in training)."""
-    if label not in CLASSES or split not in SPLITS:
+    if label not in CLASS_IDS or split not in SPLITS:
         raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
     for recipe in recipes(label):
         slots = [_choices(sets, slot, split) for slot in recipe]
@@ -165,7 +155,7 @@ def enumerate_sentences(sets, label, split="train"):
 
 def sample_sentence(sets, label, rng, split="train"):
     """§3.4: one random sentence of class `label` (uniform over recipes, then over slots)."""
-    if label not in CLASSES or split not in SPLITS:
+    if label not in CLASS_IDS or split not in SPLITS:
         raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
     options = [[_choices(sets, slot, split) for slot in recipe] for recipe in recipes(label)]
     options = [pools for pools in options if all(pools)]
@@ -204,10 +194,10 @@ class PhrasingScore:
 def score_phrasings(sets, classify, count, rng, split="held_out"):
     """§4.2.1's "new instructions with similar meanings": `count` sentences of `split`, classes in
     turn, each classified by `classify(text) -> [class, ...]` (right if it is [label])."""
-    per_class = {label: [0, 0] for label in CLASSES}
+    per_class = {label: [0, 0] for label in CLASS_IDS}
     per_phrase = {}
     for i in range(count):
-        label = i % len(CLASSES) + 1
+        label = CLASS_IDS[i % NUM_CLASSES]
         sentence = sample_sentence(sets, label, rng, split)
         right = classify(sentence.text) == [label]
         per_class[label][0] += right

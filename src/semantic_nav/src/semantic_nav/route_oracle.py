@@ -6,13 +6,16 @@ corridor centre line to the wall ahead and probes the free space to both sides w
 on the distance field. Side openings at least `min_branch_width` wide that lead on for
 `min_branch_depth` are corridor branches; narrower ones (doors) are side openings. Branches
 whose spans along the walk overlap form one corner (a crossroad is one corner with both sides);
-the corner the walk runs into is the corner at the end. Classes (docs/semantic_nav/oracle/):
+the corner the walk runs into is the corner at the end. The goal rule of a class follows its
+entry in semantic_nav.instruction_classes (motion, side, at; docs/semantic_nav/oracle/):
 
-  1  end of the corridor: `stop_margin` before the wall ahead (n/a if already there)
-  2/3  first corner ahead (or at the start: "immediately") with a branch on that side
-  4  turn around on the spot (start position, heading reversed)
-  5-8  the 2nd / 3rd corner counted over both sides must have a branch on that side
-  9/10  the corner at the end must have a branch on that side
+  1  straight: end of the corridor, `stop_margin` before the wall ahead (n/a if already there)
+  2/3  turn, at None: first corner ahead (or at the start: "immediately") with a branch on
+       that side
+  4  back: turn around on the spot (start position, heading reversed)
+  5-8  turn at "second" / "third": the 2nd / 3rd corner counted over both sides must have a
+       branch on that side
+  9/10  turn at "end": the corner at the end must have a branch on that side
 A turn goal lies on the branch centre line, `turn_exit_distance` beyond the branch mouth, facing
 along the branch. Poses are (x [m], y [m], yaw [rad]) in the map frame.
 """
@@ -22,9 +25,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from semantic_nav.phrase_sets import KIND, SIDE
-
-NTH = {"second": 2, "third": 3}
+from semantic_nav.instruction_classes import BACK, BY_ID, CLASS_IDS, STRAIGHT, TURN, get
 
 
 class OracleError(ValueError):
@@ -298,14 +299,16 @@ def _turn_goal(walk, branch, config):
 
 def goal_branch(walk, label):
     """The branch a turn class (2, 3, 5-10) turns into, or None when there is none."""
-    side, kind = SIDE[label], KIND.get(label)
-    if kind is None:
-        return nth_branch_on_side(walk, side, 1)
-    if kind == "end":
+    cls = get(label)
+    if cls.motion != TURN:
+        raise OracleError(f"instruction class {label} is not a turn")
+    if cls.at is None:
+        return nth_branch_on_side(walk, cls.side, 1)
+    if cls.at == "end":
         corner = walk.corners[-1] if walk.corners and walk.corners[-1].at_end else None
     else:
-        corner = walk.corners[NTH[kind] - 1] if len(walk.corners) >= NTH[kind] else None
-    return corner.branches.get(side) if corner else None
+        corner = walk.corners[cls.corner - 1] if len(walk.corners) >= cls.corner else None
+    return corner.branches.get(cls.side) if corner else None
 
 
 def branches_on_side(walk, side):
@@ -322,7 +325,8 @@ def nth_branch_on_side(walk, side, nth):
 def one_side_branch(walk, label):
     """Classes 5-8 counted the wrong way, over the corners with a branch on the turning side
     only: the branch that count reaches, or None."""
-    return nth_branch_on_side(walk, SIDE[label], NTH[KIND[label]])
+    cls = get(label)
+    return nth_branch_on_side(walk, cls.side, cls.corner)
 
 
 def counting_matters(walk, label):
@@ -330,7 +334,8 @@ def counting_matters(walk, label):
     (the oracle's rule) reaches another branch than counting one side only: the starts that
     teach a network to count every corner, not only those on its turning side (beyond the
     seed; a network trained without enough of them turns at the Nth opening on its side)."""
-    if KIND.get(label) not in NTH:
+    cls = BY_ID.get(label)
+    if cls is None or cls.corner is None:
         return False
     branch = goal_branch(walk, label)
     return branch is not None and branch is not one_side_branch(walk, label)
@@ -338,13 +343,14 @@ def counting_matters(walk, label):
 
 def goal_pose(walk, label, config):
     """Table 3.1-1 class -> goal pose (x, y, yaw), or None when not applicable here."""
-    if label == 1:
+    motion = get(label).motion
+    if motion == STRAIGHT:
         s_end = walk.front - config.stop_margin
         if s_end < config.stop_margin:
             return None
         xy = walk.point(s_end)
         return (float(xy[0]), float(xy[1]), math.remainder(walk.axis, 2 * math.pi))
-    if label == 4:
+    if motion == BACK:
         xy = walk.origin
         return (float(xy[0]), float(xy[1]), math.remainder(walk.axis + math.pi, 2 * math.pi))
     branch = goal_branch(walk, label)
@@ -352,7 +358,7 @@ def goal_pose(walk, label, config):
 
 
 class RouteOracle:
-    """Goals of the ten classes on one occupancy grid (a map_server floor)."""
+    """Goals of the instruction classes on one occupancy grid (a map_server floor)."""
 
     def __init__(self, grid, config=None):
         self.config = config or OracleConfig()
@@ -363,8 +369,9 @@ class RouteOracle:
 
     def goal(self, start, label, walk=None):
         """Goal region of class `label` from `start`, or None ("not applicable here")."""
-        if label not in SIDE and label not in (1, 4):
-            raise OracleError(f"unknown instruction class {label!r} (1..10)")
+        if label not in BY_ID:
+            raise OracleError(f"unknown instruction class {label!r} "
+                              f"({CLASS_IDS[0]}..{CLASS_IDS[-1]})")
         pose = goal_pose(walk or self.walk(start), label, self.config)
         if pose is None:
             return None
@@ -372,6 +379,6 @@ class RouteOracle:
                     math.radians(self.config.goal_heading_tolerance))
 
     def goals(self, start):
-        """{class: Goal or None} for all ten classes from one start."""
+        """{class: Goal or None} for every instruction class from one start."""
         walk = self.walk(start)
-        return {label: self.goal(start, label, walk) for label in range(1, 11)}
+        return {label: self.goal(start, label, walk) for label in CLASS_IDS}

@@ -17,9 +17,10 @@ import yaml
 
 from semantic_nav.corner_count import CornerCountConfig, count_inputs, one_hot_counts, side_ranges
 from semantic_nav.doorways import close_doorways
+from semantic_nav.instruction_classes import CLASS_IDS, MIRRORED_CLASS
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
-from semantic_nav.phrase_sets import CLASSES, sample_sentence
+from semantic_nav.phrase_sets import sample_sentence
 from semantic_nav.route_oracle import true_runs
 
 
@@ -289,10 +290,6 @@ def decision_distance(commands, rate, config):
             / config.decision_horizon).astype(np.float32)
 
 
-# Left-right mirror image of each class (Table 3.1-1): right and left swap, 1 and 4 stay.
-MIRRORED_CLASS = {1: 1, 2: 3, 3: 2, 4: 4, 5: 6, 6: 5, 7: 8, 8: 7, 9: 10, 10: 9}
-
-
 def mirror_sequence(scans, commands, label):
     """The sequence a mirrored building gives: beams reversed (the canonical scan is symmetric,
     -110° … +110°), ω negated, right and left swapped in the class.
@@ -379,7 +376,7 @@ def batch_arrays(chunk, word_dim, config):
 def class_batch(sets, word_vectors, rng, size, split="train", noise=0.0):
     """A batch of random sentences, classes drawn uniformly -> (padded words, labels 0..9);
     `noise`: word_noise's sigma."""
-    labels = rng.integers(1, len(CLASSES) + 1, size)
+    labels = rng.integers(CLASS_IDS[0], CLASS_IDS[-1] + 1, size)
     vectors = [sentence_vectors(int(label), sets, word_vectors, rng, split, noise)
                for label in labels]
     return pad_words(vectors, word_vectors.dim), labels - 1
