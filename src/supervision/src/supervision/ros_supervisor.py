@@ -82,10 +82,8 @@ class Supervisor:
 
     def wrap(self, worker, callback, on_error=None):
         """callback(arg) under the guard, for any rospy callback with one argument."""
-        handler = None if on_error is None else (lambda exc, cb=on_error: cb(exc))
-
         def guarded(arg):
-            return self.health.run(worker, "", callback, arg, on_error=handler)
+            return self.health.run(worker, "", callback, arg, on_error=on_error)
         return guarded
 
     def worker(self, name, period_s=None):

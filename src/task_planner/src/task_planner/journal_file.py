@@ -9,19 +9,11 @@ becomes a new journal; ':memory:' opens a journal without a file.
 """
 import sqlite3
 
+from human_db.store import table_columns
+
 
 class JournalFileError(ValueError):
     """The journal file cannot be used; the message names the file and why."""
-
-
-def table_columns(db):
-    """{table: ((column, declared type), ...)} of every table of `db` but SQLite's own."""
-    names = [row[0] for row in db.execute(
-        "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
-        "ORDER BY name")]
-    return {name: tuple((row[1], row[2].upper()) for row in
-                        db.execute("SELECT * FROM pragma_table_info(?)", (name,)))
-            for name in names}
 
 
 def expected_columns(statements):
