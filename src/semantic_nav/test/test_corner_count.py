@@ -85,7 +85,7 @@ def test_counts_from_a_demonstration_match_the_oracles_corners():
     map_path = ROOT / "maps" / "office_comb.yaml"
     oracle = RouteOracle(load_map(map_path))
     world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml", map_path,
-                            cache_dir=None)
+                            cache_dir=None, raycast="march")
     start = (18.0, 5.0, math.pi / 2)
     demo = demonstrate(world, "penguin", oracle, start, 8, record_rate=10.0)
     assert demo.ok, demo

@@ -126,10 +126,16 @@ class DistanceField:
         dist = cv2.distanceTransform(padded, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
         self.clearance = dist[1:-1, 1:-1] * grid.resolution
         self.grid = grid
+        # plain floats for `at`, which the ray march calls millions of times on single points
+        self._x0, self._y0 = float(grid.origin[0]), float(grid.origin[1])
+        self._resolution, self._rows, self._cols = float(grid.resolution), grid.height, grid.width
 
     def at(self, x, y):
-        row, col = self.grid.world_to_cell(x, y)
-        if not self.grid.inside(row, col):
+        """Clearance [m] at a map-frame point; 0 outside the grid (OccupancyGrid.world_to_cell's
+        cell, computed on scalars)."""
+        col = math.floor((x - self._x0) / self._resolution)
+        row = math.floor((y - self._y0) / self._resolution)
+        if not (0 <= row < self._rows and 0 <= col < self._cols):
             return 0.0
         return float(self.clearance[row, col])
 
