@@ -5,7 +5,6 @@ import math
 import numpy as np
 import pytest
 
-from semantic_nav.episodes import PolicyCommand
 from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
                                          step_failed)
 from semantic_nav.follower import FollowerCommand
@@ -31,7 +30,7 @@ class ScriptedFollower:
         index = min(self.calls // self.steps, len(self.classes) - 1)
         done = self.calls >= self.steps * len(self.classes)
         self.calls += 1
-        return PolicyCommand(0.0 if done else 0.3, 0.1, index, self.classes[index], done)
+        return FollowerCommand(0.0 if done else 0.3, 0.1, index, self.classes[index], done)
 
 
 LASER = model_from_scan("utm", -2.35, 0.0043633, 1081)

@@ -9,7 +9,7 @@ from actionlib_msgs.msg import GoalStatus
 from sensor_msgs.msg import LaserScan
 from supervision.health import ERROR, Health
 
-from semantic_nav.episodes import PolicyCommand
+from semantic_nav.follower import FollowerCommand
 from semantic_nav.ros_follower import FollowerNode, NodeParams
 
 SENTENCE = "go straight to the end, then turn left"
@@ -35,7 +35,7 @@ class Follower:
     def step(self, ranges, laser):
         if self.broken == "step":
             raise RuntimeError("network exploded")
-        return PolicyCommand(0.3, 0.1, 0, 1, False)
+        return FollowerCommand(0.3, 0.1, 0, 1, False)
 
 
 class Recorder:

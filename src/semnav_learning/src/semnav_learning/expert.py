@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from semantic_nav.instruction_classes import BACK, STRAIGHT, get
-from semantic_nav.route_oracle import goal_branch
+from semnav_learning.route_oracle import goal_branch
 
 
 @dataclass

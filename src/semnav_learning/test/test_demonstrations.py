@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from penguin_base.record_format import format_records, parse_records
-from semantic_nav.demonstrations import demonstrate, world_for_floor
+from semnav_learning.demonstrations import demonstrate, world_for_floor
 from semantic_nav.laser_layer import model_from_scan, preprocess_scan, load_laser_config
-from semantic_nav.route_oracle import RouteOracle
+from semnav_learning.route_oracle import RouteOracle
 from semnav_l_floor import l_floor_world, write_l_floor
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -102,7 +102,7 @@ def test_not_applicable_class_is_not_driven(l_corridor):
 
 
 def test_plan_balances_classes_over_starts():
-    from semantic_nav.demonstrations import plan_demonstrations
+    from semnav_learning.demonstrations import plan_demonstrations
     from semantic_nav.instruction_classes import CLASS_IDS
     from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_longhall.yaml"))
@@ -117,7 +117,7 @@ def test_plan_balances_classes_over_starts():
 
 
 def test_counting_plan_takes_only_starts_where_the_other_side_counts():
-    from semantic_nav.demonstrations import plan_counting_demonstrations
+    from semnav_learning.demonstrations import plan_counting_demonstrations
     from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml"))
     # the spine from its south end: the crossroad is the 3rd corner but the 2nd on either side;

@@ -2,8 +2,8 @@
 written as a map_server map plus a sim2d world file with the Penguin (URG-04LX, exact casting)."""
 from pathlib import Path
 
-from semantic_nav.demonstrations import world_for_floor
-from semantic_nav.route_oracle import RouteOracle
+from semnav_learning.demonstrations import world_for_floor
+from semnav_learning.route_oracle import RouteOracle
 from floorplan.blueprint import render_blueprint
 from floorplan.occupancy_map import save_map
 

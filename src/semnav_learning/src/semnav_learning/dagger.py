@@ -2,7 +2,7 @@
 seed, against the compounding error of §4.2 ("the network's output changes its next input").
 
 One round: the learned policy (DirectionFollower) drives single-instruction episodes closed-loop in
-sim2d on the TRAINING floors (semantic_nav.episodes.run_episode); at every visited state the
+sim2d on the TRAINING floors (semnav_learning.episodes.run_episode); at every visited state the
 expert's clean command (episodes.ExpertLabeller) is recorded as the label next to the scan the
 policy saw. The visited states are written in penguin_base's record format at the control rate
 and added to the training set for the next training round.
@@ -10,11 +10,11 @@ and added to the training set for the next training round.
 import numpy as np
 
 from penguin_base.record_format import RecordSequence, Sample, write_records
-from semantic_nav.episodes import ExpertLabeller, chain_goals, run_episode
-from semantic_nav.demonstrations import world_for_floor
-from semantic_nav.evaluation import plan_episodes
+from semnav_learning.episodes import ExpertLabeller, chain_goals, run_episode
+from semnav_learning.demonstrations import world_for_floor
+from semnav_learning.evaluation import plan_episodes
 from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.route_oracle import RouteOracle
+from semnav_learning.route_oracle import RouteOracle
 
 RANGE_DECIMALS = 3   # as the demonstrations: ranges to the millimetre
 

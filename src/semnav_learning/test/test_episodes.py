@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from semantic_nav.episodes import (COLLISION, NOT_UNDERSTOOD, REACHED, STOPPED_OUTSIDE, TIMEOUT,
+from semnav_learning.episodes import (COLLISION, NOT_UNDERSTOOD, REACHED, STOPPED_OUTSIDE, TIMEOUT,
                                    EpisodeError, ExpertLabeller, ExpertPolicy, PolicyCommand,
                                    chain_goals, run_episode, run_expert_episode, time_limit)
 from semnav_l_floor import l_floor_world

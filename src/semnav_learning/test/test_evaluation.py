@@ -7,16 +7,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import semantic_nav.evaluation as evaluation
-from semantic_nav.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
+import semnav_learning.evaluation as evaluation
+from semnav_learning.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, counting_breakdown, episode_seed,
                                      evaluate, failure_place, failure_places, format_table,
                                      load_plan, mcnemar_exact, paired_comparison,
                                      plan_chain_episodes,
                                      plan_episodes, success_table)
-from semantic_nav.episodes import chain_goals
-from semantic_nav.phrase_sets import load_phrase_sets
-from semantic_nav.route_oracle import RouteOracle
+from semnav_learning.episodes import chain_goals
+from semnav_learning.phrase_sets import load_phrase_sets
+from semnav_learning.route_oracle import RouteOracle
 from semnav_l_floor import write_l_floor
 
 ROOT = Path(__file__).resolve().parents[3]

@@ -23,10 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from semantic_nav.expert import ExpertConfig, ExpertDriver, expert_route
+from semnav_learning.expert import ExpertConfig, ExpertDriver, expert_route
 from semantic_nav.instruction_classes import END_TURN, STRAIGHT, TURN, ids
 from semantic_nav.laser_layer import model_from_scan
-from semantic_nav.route_oracle import OracleError
+from semnav_learning.route_oracle import OracleError
 
 REACHED, TIMEOUT, COLLISION, STOPPED_OUTSIDE, NOT_UNDERSTOOD = (
     "reached", "timeout", "collision", "stopped outside goal", "not understood")

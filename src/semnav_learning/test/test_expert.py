@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 import yaml
 
-from semantic_nav.expert import (ExpertConfig, ExpertDriver, recorded_stop_steps, rehearse,
+from semnav_learning.expert import (ExpertConfig, ExpertDriver, recorded_stop_steps, rehearse,
                                  unicycle_step)
 from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.route_oracle import RouteOracle
+from semnav_learning.route_oracle import RouteOracle
 from floorplan.occupancy_map import load_map
 
 ROOT = Path(__file__).resolve().parents[3]
-STARTS = yaml.safe_load((ROOT / "src" / "semantic_nav" / "fixtures" /
+STARTS = yaml.safe_load((ROOT / "src" / "semnav_learning" / "fixtures" /
                          "oracle_expected_goals.yaml").read_text())
 
 

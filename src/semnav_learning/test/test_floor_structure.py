@@ -5,9 +5,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from semantic_nav.floor_structure import (floor_structure, sample_corridor_starts,
+from semnav_learning.floor_structure import (floor_structure, sample_corridor_starts,
                                           zhang_suen_skeleton)
-from semantic_nav.route_oracle import OracleError, RouteOracle
+from semnav_learning.route_oracle import OracleError, RouteOracle
 from floorplan.blueprint import render_blueprint
 from floorplan.occupancy_map import load_map
 

@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.route_oracle import (OracleConfig, OracleError, RouteOracle, counting_matters,
+from semnav_learning.route_oracle import (OracleConfig, OracleError, RouteOracle, counting_matters,
                                        goal_branch, one_side_branch)
 from floorplan.blueprint import render_blueprint
 from floorplan.occupancy_map import load_map

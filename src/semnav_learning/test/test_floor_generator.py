@@ -3,7 +3,7 @@ doors straight ahead at corridor ends only where an office lies behind."""
 import numpy as np
 import pytest
 
-from semantic_nav.floor_generator import (Corridor, FloorGeneratorConfig, end_doors,
+from semnav_learning.floor_generator import (Corridor, FloorGeneratorConfig, end_doors,
                                           random_floor, side_branches)
 from floorplan.blueprint import rect_cells
 from floorplan.occupancy_map import FREE, OCCUPIED

@@ -18,14 +18,14 @@ from pathlib import Path
 
 import numpy as np
 
-from semantic_nav.demonstrations import world_for_floor
-from semantic_nav.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
+from semnav_learning.demonstrations import world_for_floor
+from semnav_learning.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
                                    chain_goals, run_episode)
-from semantic_nav.floor_structure import floor_structure, sample_corridor_starts
+from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.instruction_classes import (CLASS_IDS, COUNTING_IDS, END_TURN, STRAIGHT,
                                               TURN, get, ids)
-from semantic_nav.phrase_sets import sample_sentence
-from semantic_nav.route_oracle import (OracleError, RouteOracle, branches_on_side,
+from semnav_learning.phrase_sets import sample_sentence
+from semnav_learning.route_oracle import (OracleError, RouteOracle, branches_on_side,
                                        counting_matters, goal_branch)
 
 

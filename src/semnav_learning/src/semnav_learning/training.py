@@ -20,8 +20,8 @@ from semantic_nav.doorways import close_doorways
 from semantic_nav.instruction_classes import CLASS_IDS, MIRRORED_CLASS
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
-from semantic_nav.phrase_sets import sample_sentence
-from semantic_nav.route_oracle import true_runs
+from semnav_learning.phrase_sets import sample_sentence
+from semnav_learning.route_oracle import true_runs
 
 
 @dataclass

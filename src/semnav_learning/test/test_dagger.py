@@ -1,7 +1,7 @@
 """DAgger's on-route truncation: states after the policy strays from the expert's route."""
 import numpy as np
 
-from semantic_nav.dagger import on_route_steps, route_distances
+from semnav_learning.dagger import on_route_steps, route_distances
 
 # An L route: 10 m east, then 5 m north (a left turn at (10, 0)).
 ROUTE = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0]])

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from semantic_nav.instruction_classes import CLASS_IDS, MIRRORED_CLASS
-from semantic_nav.training import (Episode, Monitor, TrainingConfig,
+from semnav_learning.training import (Episode, Monitor, TrainingConfig,
                                    ValidationThresholds, accumulated_errors, batch_rows,
                                    control_rate_sequence, decision_distance, decision_step,
                                    class_batch, class_hits_and_loss, make_batches,
@@ -256,7 +256,7 @@ def phrase_words():
     from pathlib import Path
 
     from semantic_nav.instruction_layer import tokenise
-    from semantic_nav.phrase_sets import load_phrase_sets
+    from semnav_learning.phrase_sets import load_phrase_sets
     from semantic_nav.word_vectors import WordVectors
     sets = load_phrase_sets(Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml")
     vocabulary = sorted({t for phrases in sets.values() for p in phrases for t in tokenise(p.text)})

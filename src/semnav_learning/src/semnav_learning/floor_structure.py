@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from semantic_nav.route_oracle import OracleError
+from semnav_learning.route_oracle import OracleError
 
 
 @dataclass

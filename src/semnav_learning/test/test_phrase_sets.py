@@ -8,7 +8,7 @@ import yaml
 
 from semantic_nav.instruction_layer import split_instruction, tokenise
 from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.phrase_sets import (SETS, Phrase, PhraseSetError, compose, enumerate_sentences,
+from semnav_learning.phrase_sets import (SETS, Phrase, PhraseSetError, compose, enumerate_sentences,
                                       load_phrase_sets, sample_sentence, score_phrasings)
 from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
 

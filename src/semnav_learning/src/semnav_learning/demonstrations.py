@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from penguin_base.recording import SequenceBuilder
-from semantic_nav.episodes import EpisodeError, chain_goals
-from semantic_nav.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
+from semnav_learning.episodes import EpisodeError, chain_goals
+from semnav_learning.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
 from semantic_nav.instruction_classes import CLASS_IDS, COUNTING_IDS
-from semantic_nav.route_oracle import RouteOracle, counting_matters
+from semnav_learning.route_oracle import RouteOracle, counting_matters
 from sim2d.kinematics import RobotState
 from floorplan.occupancy_map import load_map
 from sim2d.world import CACHE_DIR, World, new_odometry
