@@ -5,6 +5,7 @@ the database refuses is answered with success false (or found false) and the rea
 unexpected fault while serving a request is answered with rospy's service error naming the
 reason, counted as a failed request, and raises the node's "human_db: human_db: supervision"
 status to ERROR; the next request is served as usual."""
+import dataclasses
 import os
 import threading
 import time as wallclock
@@ -27,6 +28,7 @@ from human_db.household import import_household
 from human_db.model import check_observation_time
 from human_db.store import HumanStore, StoreConfig
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 
@@ -49,19 +51,8 @@ class NodeParams:
 def read_params():
     """Read the node's ~parameters once."""
     default_db = os.path.join(rospkg.get_ros_home(), "human_db.sqlite")
-    return NodeParams(
-        db_path=os.path.expanduser(rospy.get_param("~db_path", default_db)),
-        household=rospy.get_param("~household", ""),
-        threshold=float(rospy.get_param("~threshold", NodeParams.threshold)),
-        publish_period=float(rospy.get_param("~publish_period", NodeParams.publish_period)),
-        diagnostics_period=float(rospy.get_param("~diagnostics_period",
-                                                 NodeParams.diagnostics_period)),
-        busy_timeout=float(rospy.get_param("~busy_timeout", NodeParams.busy_timeout)),
-        retry_timeout=float(rospy.get_param("~retry_timeout", NodeParams.retry_timeout)),
-        synchronous=str(rospy.get_param("~synchronous", NodeParams.synchronous)),
-        future_tolerance=float(rospy.get_param("~future_tolerance",
-                                               NodeParams.future_tolerance)),
-        open_retry_s=float(rospy.get_param("~open_retry_s", NodeParams.open_retry_s)))
+    params = config_from_params(NodeParams, db_path=default_db)
+    return dataclasses.replace(params, db_path=os.path.expanduser(params.db_path))
 
 
 class HumanDbNode:

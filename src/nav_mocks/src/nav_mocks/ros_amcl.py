@@ -9,6 +9,7 @@ amcl: supervision"): a faulted update is recorded and the next one runs as usual
 """
 import collections
 import threading
+from dataclasses import dataclass
 
 import rospy
 import tf2_ros
@@ -19,7 +20,7 @@ from nav_msgs.msg import Odometry
 from nav_mocks.amcl_model import AmclConfig, AmclModel, latest_pair, map_to_odom
 from nav_mocks.conversions import pose_from_msg, pose_to_msg, transform_msg
 from nav_mocks.param_checks import positive_number
-from nav_mocks.ros_params import config_from_params
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 HISTORY = 50          # samples kept per stream: 1 s of sim2d's 50 Hz odometry
@@ -27,15 +28,25 @@ MAX_PAIR_GAP = 0.011  # [s] a truth this close to an odometry sample is of the s
                       # (sim2d stamps both alike; a base's own odometry within half a 50 Hz step)
 
 
+@dataclass(frozen=True)
+class AmclNodeParams:
+    """~parameters of the node besides AmclConfig's."""
+
+    global_frame_id: str = "map"
+    odom_frame_id: str = "odom"
+    transform_tolerance: float = 0.1  # [s] map -> odom is post-dated by this
+    update_rate: float = 10.0         # [Hz]
+    seed: int = 0                     # of the noise model
+
+
 class AmclNode:
     def __init__(self):
-        self.global_frame = rospy.get_param("~global_frame_id", "map")
-        self.odom_frame = rospy.get_param("~odom_frame_id", "odom")
-        self.tolerance = rospy.Duration(float(rospy.get_param("~transform_tolerance", 0.1)))
-        rate = positive_number(rospy.resolve_name("~update_rate"),     # [Hz]
-                               rospy.get_param("~update_rate", 10.0), "Hz")
-        self.model = AmclModel(config_from_params(AmclConfig, "~"),
-                               seed=int(rospy.get_param("~seed", 0)))
+        params = config_from_params(AmclNodeParams)
+        self.global_frame = params.global_frame_id
+        self.odom_frame = params.odom_frame_id
+        self.tolerance = rospy.Duration(params.transform_tolerance)
+        rate = positive_number(rospy.resolve_name("~update_rate"), params.update_rate, "Hz")
+        self.model = AmclModel(config_from_params(AmclConfig), seed=params.seed)
         self.lock = threading.Lock()
         # recent (stamp, pose) samples of each stream, to pair them by time (latest_pair)
         self.truths = collections.deque(maxlen=HISTORY)

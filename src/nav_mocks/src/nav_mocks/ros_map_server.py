@@ -9,6 +9,7 @@ Every timer, subscriber and service runs under one supervision.ros_supervisor.Su
 runs as usual; a faulted map request is answered with the service error naming the reason.
 """
 import threading
+from dataclasses import dataclass
 
 import rospy
 import tf2_ros
@@ -23,21 +24,33 @@ from nav_mocks.conversions import (map_metadata, map_to_msg, pose_from_msg,
 from nav_mocks.mapping import RevealedMap
 from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 MODES = ("static", "mapping")
 
 
+@dataclass(frozen=True)
+class MapServerParams:
+    """~parameters of the node (the map file is its argument or ~map_file)."""
+
+    frame_id: str = "map"
+    mode: str = "static"             # one of MODES
+    base_frame: str = "base_link"
+    map_update_interval: float = 1.0  # [s] mapping mode: how often the map grows
+    max_urange: float = 8.0          # [m] GMapping's maxUrange: beams reveal cells this far
+
+
 class MapServerNode:
     def __init__(self, map_file):
-        self.frame_id = rospy.get_param("~frame_id", "map")
-        self.mode = rospy.get_param("~mode", "static")
+        params = config_from_params(MapServerParams)
+        self.frame_id = params.frame_id
+        self.mode = params.mode
         if self.mode not in MODES:
             raise ValueError(f"~mode must be one of {MODES}, got {self.mode!r}")
-        self.base_frame = rospy.get_param("~base_frame", "base_link")
+        self.base_frame = params.base_frame
         self.update_interval = positive_number(   # [s]
-            rospy.resolve_name("~map_update_interval"),
-            rospy.get_param("~map_update_interval", 1.0), "s")
+            rospy.resolve_name("~map_update_interval"), params.map_update_interval, "s")
         self.truth = load_map(map_file)
         self.map_file = map_file
         self.lock = threading.Lock()
@@ -45,8 +58,7 @@ class MapServerNode:
         self.latest_truth_pose = None
         self.mapping = None
         if self.mode == "mapping":
-            max_range = float(rospy.get_param("~max_urange", 8.0))   # GMapping's maxUrange [m]
-            self.mapping = RevealedMap(self.truth, max_range)
+            self.mapping = RevealedMap(self.truth, params.max_urange)
         self.map_pub = rospy.Publisher("map", OccupancyGrid, queue_size=1, latch=True)
         self.meta_pub = rospy.Publisher("map_metadata", MapMetaData, queue_size=1, latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)

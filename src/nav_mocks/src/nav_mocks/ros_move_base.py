@@ -11,6 +11,7 @@ every goal the cycle had taken; the next cycle runs as usual.
 """
 import threading
 import time
+from dataclasses import dataclass
 
 import actionlib
 import rospy
@@ -33,21 +34,30 @@ from nav_mocks.move_base_core import (ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCC
                                       MoveBaseConfig, MoveBaseCore)
 from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
-from nav_mocks.ros_params import config_from_params
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
              tf2_ros.ExtrapolationException)
 
 
+@dataclass(frozen=True)
+class MoveBaseNodeParams:
+    """~parameters of the node besides MoveBaseConfig's and its sub-namespaces'."""
+
+    global_frame: str = "map"
+    robot_base_frame: str = "base_link"
+    controller_frequency: float = 10.0  # [Hz]
+
+
 class MoveBaseNode:
     def __init__(self):
-        self.global_frame = rospy.get_param("~global_frame", "map")
-        self.base_frame = rospy.get_param("~robot_base_frame", "base_link")
+        params = config_from_params(MoveBaseNodeParams)
+        self.global_frame = params.global_frame
+        self.base_frame = params.robot_base_frame
         self.period = 1.0 / positive_number(   # [s]
-            rospy.resolve_name("~controller_frequency"),
-            rospy.get_param("~controller_frequency", 10.0), "Hz")
+            rospy.resolve_name("~controller_frequency"), params.controller_frequency, "Hz")
         self.costmap_config = config_from_params(CostmapConfig, "~costmap")
         self.dwa_config = config_from_params(DwaConfig, "~DWAPlannerROS")
         self.dwa_config.control_period = self.period

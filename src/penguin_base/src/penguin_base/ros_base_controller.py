@@ -8,6 +8,7 @@ rest, `BaseController.halt`): a robot stops when its controller stops. The statu
 import signal
 import threading
 import time
+from dataclasses import dataclass, field
 
 import rospy
 import tf2_ros
@@ -17,9 +18,10 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
-from penguin_base.config import BaseConfig, ConfigError
+from penguin_base.config import BaseConfig
 from penguin_base.controller import BaseController
 from penguin_base.conversions import (diagnostics_msg, odometry_msg, transform_msg,
                                       twist_from_msg, wheel_angles_from_msg, wheel_command_msg)
@@ -29,16 +31,28 @@ from penguin_base.safety import InvalidCommand
 ZERO_REPEATS = 3  # zero wheel commands sent on shutdown (one may be lost while connections close)
 
 
+@dataclass(frozen=True)
+class BaseControllerParams:
+    """~parameters of the node."""
+
+    base: dict = field(default_factory=dict)  # BaseConfig section (config/penguin.yaml)
+    left_joint: str = "left_wheel_joint"
+    right_joint: str = "right_wheel_joint"
+    odom_frame: str = "odom"
+    base_frame: str = "base_link"
+    publish_tf: bool = True                   # odom -> base_link on /tf
+
+
 class BaseControllerNode:
     """Owns the ROS plumbing; the control logic is penguin_base.controller.BaseController."""
 
     def __init__(self):
-        self.config = BaseConfig.from_dict(rospy.get_param("~base", {}))
-        self.joints = (rospy.get_param("~left_joint", "left_wheel_joint"),
-                       rospy.get_param("~right_joint", "right_wheel_joint"))
-        self.odom_frame = rospy.get_param("~odom_frame", "odom")
-        self.base_frame = rospy.get_param("~base_frame", "base_link")
-        self.publish_tf = rospy.get_param("~publish_tf", True)
+        params = config_from_params(BaseControllerParams)
+        self.config = BaseConfig.from_dict(params.base)
+        self.joints = (params.left_joint, params.right_joint)
+        self.odom_frame = params.odom_frame
+        self.base_frame = params.base_frame
+        self.publish_tf = params.publish_tf
         self.controller = BaseController(self.config)
         self.odometry = OdometryIntegrator(self.config.wheel_radius, self.config.wheel_separation)
         self._lock = threading.Lock()
@@ -155,7 +169,7 @@ def main():
     signal.signal(signal.SIGTERM, _raise_interrupt)
     try:
         node = BaseControllerNode()
-    except ConfigError as error:
+    except ValueError as error:   # a ConfigError, or a parameter of the wrong type
         rospy.logfatal("base_controller: bad configuration: %s", error)
         return 2
     node.start(Supervisor("penguin_base: base_controller", hardware_id="penguin"))

@@ -8,6 +8,7 @@ import os
 import signal
 import threading
 import time
+from dataclasses import dataclass
 
 import rosbag
 import rospy
@@ -15,6 +16,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import UInt8
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 from penguin_base.record_format import NUM_CLASSES
@@ -22,14 +24,24 @@ from penguin_base.record_format import NUM_CLASSES
 FLUSH_PERIOD = 0.2  # [s] how often cached messages are written to the bag
 
 
+@dataclass(frozen=True)
+class RecorderParams:
+    """~parameters of the node."""
+
+    bag: str                    # path of the bag to write (required)
+    instruction_class: int = 0  # class recorded until one arrives; 0: wait for one
+
+
 class RecorderNode:
     """Callbacks cache (topic, message, time) under a lock; a timer writes them to the bag."""
 
     def __init__(self):
-        if not rospy.has_param("~bag"):
-            raise ValueError("parameter ~bag (path of the bag to write) is required")
-        self.path = os.path.expanduser(rospy.get_param("~bag"))
-        self.initial_class = int(rospy.get_param("~instruction_class", 0))
+        try:
+            params = config_from_params(RecorderParams)
+        except KeyError:
+            raise ValueError("parameter ~bag (path of the bag to write) is required") from None
+        self.path = os.path.expanduser(params.bag)
+        self.initial_class = params.instruction_class
         if not 0 <= self.initial_class <= NUM_CLASSES:
             raise ValueError(f"~instruction_class must be 0..{NUM_CLASSES} (0: wait for "
                              f"{rospy.resolve_name('instruction_class')}), "

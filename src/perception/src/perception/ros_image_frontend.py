@@ -8,6 +8,7 @@ processed as usual."""
 import os
 import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import rospy
@@ -16,6 +17,7 @@ from sensor_msgs.msg import Image
 from tamp_msgs.msg import PerceptionFrame
 
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 from perception.conversions import depth_from_msg, frame_to_msg, image_from_msg
@@ -23,21 +25,33 @@ from perception.detectors import DarknetConfig, DarknetDetector, MediapipePose
 from perception.image_frontend import FrontEndConfig, build_frame
 
 MODELS = Path(os.environ.get("TAMP_MODEL_CACHE", Path.home() / ".cache" / "tamp_ws" / "models"))
+YOLO = MODELS / "yolov3_tiny"
 STREAMS = ("top", "bottom", "depth_top", "depth_bottom")
+
+
+@dataclass(frozen=True)
+class FrontEndParams:
+    """~parameters of the node."""
+
+    cfg: str = str(YOLO / "yolov3-tiny.cfg")          # any Darknet cfg ...
+    weights: str = str(YOLO / "yolov3-tiny.weights")  # ... + weights
+    names: str = str(YOLO / "coco.names")
+    input_size: int = 416              # [px] network input
+    confidence_threshold: float = 0.25
+    stitch: bool = True                # stitch the bottom camera under the top one
+    top_down: bool = True              # pose per YOLO person box
+    period: float = 0.2                # [s] work timer period
 
 
 class ImageFrontEnd:
     def __init__(self):
-        yolo = MODELS / "yolov3_tiny"
-        self.darknet = DarknetConfig(
-            rospy.get_param("~cfg", str(yolo / "yolov3-tiny.cfg")),     # any Darknet cfg ...
-            rospy.get_param("~weights", str(yolo / "yolov3-tiny.weights")),  # ... + weights
-            rospy.get_param("~names", str(yolo / "coco.names")),
-            input_size=int(rospy.get_param("~input_size", 416)),
-            confidence_threshold=float(rospy.get_param("~confidence_threshold", 0.25)))
-        self.stitch = bool(rospy.get_param("~stitch", True))
-        self.top_down = bool(rospy.get_param("~top_down", True))   # pose per YOLO person box
-        self.period = float(rospy.get_param("~period", 0.2))
+        params = config_from_params(FrontEndParams)
+        self.darknet = DarknetConfig(params.cfg, params.weights, params.names,
+                                     input_size=params.input_size,
+                                     confidence_threshold=params.confidence_threshold)
+        self.stitch = params.stitch
+        self.top_down = params.top_down
+        self.period = params.period
         self._lock = threading.Lock()
         self._latest = dict.fromkeys(STREAMS)
         self._latency, self._counts = 0.0, {"frames": 0, "refused": 0}

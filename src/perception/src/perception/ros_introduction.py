@@ -19,7 +19,7 @@ says it gives up; the stranger is left alone for `retry_after`), and raises
 """
 import collections
 import threading
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -28,6 +28,7 @@ from human_db.errors import HumanDbError
 from floorplan.semantic_graph import load_graph
 from std_msgs.msg import Bool, String
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Utterance
@@ -62,22 +63,12 @@ class IntroductionParams:
 
 def read_params():
     """Node parameters; KeyError names a missing required one."""
-    values = {}
-    for name in ("graph", "priorities_file", "robot_functions"):
-        if not rospy.has_param("~" + name):
-            raise KeyError(f"parameter ~{name} is not set (see launch/social_household.launch)")
-        values[name] = rospy.get_param("~" + name)
-    defaults = IntroductionParams(**values)
-    for name in ("function", "priority", "humans_topic", "period", "close_linger",
-                 "register_timeout"):
-        values[name] = type(getattr(defaults, name))(
-            rospy.get_param("~" + name, getattr(defaults, name)))
-    config = {f.name: type(getattr(defaults.config, f.name))(
-        rospy.get_param("~" + f.name, getattr(defaults.config, f.name)))
-        for f in fields(IntroductionConfig)
-        if f.name in ("threshold", "min_sightings", "max_retries", "answer_timeout",
-                      "retry_after")}
-    return IntroductionParams(**values, config=IntroductionConfig(**config))
+    config = config_from_params(IntroductionConfig, only=(
+        "threshold", "min_sightings", "max_retries", "answer_timeout", "retry_after"))
+    return config_from_params(IntroductionParams, only=(
+        "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
+        "period", "close_linger", "register_timeout"),
+        hint=" (see launch/social_household.launch)", config=config)
 
 
 class IntroductionNode:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AudioUtterance, Utterance
 
@@ -37,22 +38,11 @@ class SttParams:
 
 def read_params():
     """~params; raises ValueError naming a bound that is not a positive finite number."""
-    default = SttConfig()
-    stt = SttConfig(model_dir=rospy.get_param("~model_dir", default.model_dir),
-                    compute_type=rospy.get_param("~compute_type", default.compute_type),
-                    cpu_threads=int(rospy.get_param("~cpu_threads", default.cpu_threads)),
-                    beam_size=int(rospy.get_param("~beam_size", default.beam_size)),
-                    vad_filter=bool(rospy.get_param("~vad_filter", default.vad_filter)))
-    bounds = AudioLimits()
-    limits = AudioLimits(**{name: rospy.get_param(f"~{name}", getattr(bounds, name))
-                            for name in ("min_sample_rate", "max_sample_rate", "max_audio_s",
-                                         "max_channels")})
-    return SttParams(wav=rospy.get_param("~wav", ""), ip=rospy.get_param("~ip", ""),
-                     wait=float(rospy.get_param("~wait", SttParams.wait)),
-                     audio_topic=rospy.get_param("~audio_topic", SttParams.audio_topic),
-                     period=float(rospy.get_param("~period", SttParams.period)),
-                     max_queue=int(rospy.get_param("~max_queue", SttParams.max_queue)), stt=stt,
-                     limits=limits)
+    stt = config_from_params(SttConfig, only=("model_dir", "compute_type", "cpu_threads",
+                                              "beam_size", "vad_filter"))
+    return config_from_params(SttParams, only=("wav", "ip", "wait", "audio_topic", "period",
+                                               "max_queue"),
+                              stt=stt, limits=config_from_params(AudioLimits))
 
 
 _LOGGERS = {"info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}

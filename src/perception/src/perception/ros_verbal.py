@@ -22,6 +22,7 @@ from floorplan.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import Bool, String
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import Utterance
 from task_planner.reward import load_priorities
@@ -52,21 +53,7 @@ class VerbalParams:
 
 def read_params():
     """Node parameters; raises KeyError naming a missing required parameter."""
-    required = {}
-    for name in ("keywords", "priorities_file", "graph"):
-        if not rospy.has_param("~" + name):
-            raise KeyError(f"parameter ~{name} is not set (see src/perception/launch/"
-                           f"verbal.launch)")
-        required[name] = rospy.get_param("~" + name)
-    return VerbalParams(
-        **required,
-        submit_timeout=float(rospy.get_param("~submit_timeout", VerbalParams.submit_timeout)),
-        humans_topic=rospy.get_param("~humans_topic", VerbalParams.humans_topic),
-        period=float(rospy.get_param("~period", VerbalParams.period)),
-        max_queue=int(rospy.get_param("~max_queue", VerbalParams.max_queue)),
-        diagnostics_period=float(rospy.get_param("~diagnostics_period",
-                                                 VerbalParams.diagnostics_period)),
-        dialogue_topic=rospy.get_param("~dialogue_topic", VerbalParams.dialogue_topic))
+    return config_from_params(VerbalParams, hint=" (see src/perception/launch/verbal.launch)")
 
 
 class VerbalNode:

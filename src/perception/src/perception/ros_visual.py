@@ -19,6 +19,7 @@ from human_db.conversions import human_from_msg
 from human_db.schedule import check_schedule, time_of_day
 from floorplan.semantic_graph import load_graph
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, PerceptionFrame
 from tamp_msgs.msg import TaskBufferState
@@ -64,19 +65,7 @@ class VisualParams:
 
 def read_params():
     """Node parameters; KeyError names a missing required one."""
-    values = {}
-    for name in ("affordances", "graph", "keywords", "priorities_file"):
-        if not rospy.has_param("~" + name):
-            raise KeyError(f"parameter ~{name} is not set "
-                           "(see src/perception/launch/visual.launch)")
-        values[name] = rospy.get_param("~" + name)
-    defaults = VisualParams(**values)
-    for name in ("top_camera", "bottom_camera", "map_frame", "base_frame", "period",
-                 "recommendations", "deviation_function", "timed_reminders", "repeat_after",
-                 "self_instructions", "idle_only", "submit_timeout", "utc_offset",
-                 "slow_latency"):
-        values[name] = rospy.get_param("~" + name, getattr(defaults, name))
-    return VisualParams(**values)
+    return config_from_params(VisualParams, hint=" (see src/perception/launch/visual.launch)")
 
 
 def _camera_parts(spec, robot_pose):

@@ -32,6 +32,7 @@ from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker,
 from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
                                          Outcome, step_failed)
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 
@@ -48,11 +49,8 @@ class NodeParams:
 
     @classmethod
     def from_ros(cls):
-        values = {}
-        for name in cls.__dataclass_fields__:
-            default = getattr(cls, name)
-            values[name] = type(default)(rospy.get_param(f"~{name}", default))
-        return cls(**values)
+        """Every field from the private parameter of the same name (default if unset)."""
+        return config_from_params(cls)
 
 
 class FollowerNode:

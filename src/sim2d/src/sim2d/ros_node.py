@@ -25,6 +25,7 @@ from tamp_msgs.msg import PerceptionFrame
 from tamp_msgs.srv import SetDoor, SetDoorResponse
 from visualization_msgs.msg import MarkerArray
 
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 from sim2d import conversions
@@ -52,10 +53,7 @@ class NodeConfig:
 
 
 def read_config():
-    config = NodeConfig()
-    for name, default in vars(NodeConfig()).items():
-        setattr(config, name, type(default)(rospy.get_param("~" + name, default)))
-    return config
+    return config_from_params(NodeConfig)
 
 
 @dataclass

@@ -17,16 +17,12 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from supervision.health import Health, HealthConfig
+from supervision.ros_params import config_from_params
 
 
 def health_config_from_ros():
     """~supervision/fault_hold_s, ~supervision/stale_periods, ~supervision/stale_min_s."""
-    default = HealthConfig()
-    return HealthConfig(
-        fault_hold_s=float(rospy.get_param("~supervision/fault_hold_s", default.fault_hold_s)),
-        stale_periods=float(rospy.get_param("~supervision/stale_periods",
-                                            default.stale_periods)),
-        stale_min_s=float(rospy.get_param("~supervision/stale_min_s", default.stale_min_s)))
+    return config_from_params(HealthConfig, "~supervision")
 
 
 class Supervisor:

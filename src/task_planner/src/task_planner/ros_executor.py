@@ -8,6 +8,7 @@ of the journal (TaskBuffer.next_id), returned in the answer. /task_planner/state
 instructions and the `~state_recent` most recently finished ones; /task_planner/get_buffer every
 instruction.
 """
+import dataclasses
 import math
 import os
 import queue
@@ -27,6 +28,7 @@ from std_msgs.msg import String
 from tamp_msgs.msg import HumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from visualization_msgs.msg import MarkerArray
 from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
@@ -94,16 +96,11 @@ class NodeParams:
     @classmethod
     def from_ros(cls):
         """Read every field from the private parameter of the same name (default if unset)."""
-        values = {}
-        for name in cls.__dataclass_fields__:
-            default = getattr(cls, name)
-            values[name] = type(default)(rospy.get_param(f"~{name}", default))
-        if not values["journal"]:
-            values["journal"] = str(Path(os.environ.get("ROS_HOME", Path.home() / ".ros"))
-                                    / "task_buffer.sqlite")
-        params = cls(**values)
-        params.check()
-        return params
+        params = config_from_params(cls)   # check() is run there
+        if params.journal:
+            return params
+        return dataclasses.replace(params, journal=str(
+            Path(os.environ.get("ROS_HOME", Path.home() / ".ros")) / "task_buffer.sqlite"))
 
     def check(self):
         """ValueError naming the parameter when a number cannot work (a tick period of 0 would
