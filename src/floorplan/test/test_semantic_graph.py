@@ -1,10 +1,10 @@
-from pathlib import Path
 
 import pytest
 
 from floorplan.semantic_graph import GraphError, load_graph
+from tamp_resources import resource
 
-MAPS = Path(__file__).resolve().parents[3] / "maps"
+MAPS = resource("maps")
 
 
 def write_graph(tmp_path, text):

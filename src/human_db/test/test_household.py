@@ -1,6 +1,5 @@
 """config/household.yaml and YAML import/export."""
 import itertools
-from pathlib import Path
 
 import pytest
 
@@ -9,8 +8,9 @@ from human_db.errors import DuplicateHuman, InvalidHuman
 from human_db.household import (dump_household, export_household, format_clock,
                                 import_household, load_household, parse_clock)
 from human_db.store import HumanStore
+from tamp_resources import resource
 
-HOUSEHOLD = Path(__file__).resolve().parents[3] / "config" / "household.yaml"
+HOUSEHOLD = resource("config") / "household.yaml"
 MAP_PLACES = {"office", "bedroom", "charging_place", "alley", "living_room", "dining_room",
               "welcome"}
 

@@ -13,11 +13,11 @@ import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
 import pytest
+from tamp_resources import resource
 
-HOUSEHOLD = Path(__file__).resolve().parents[3] / "config" / "household.yaml"
+HOUSEHOLD = resource("config") / "household.yaml"
 ACKS_BEFORE_KILL = 200   # acknowledged updates before the node is killed
 TIMEOUT = 30.0           # [s] for anything to start or finish
 

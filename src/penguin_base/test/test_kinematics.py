@@ -7,6 +7,7 @@ from penguin_base.config import BaseConfig, ConfigError, wheel_speed_limit
 from penguin_base.kinematics import (integrate_pose, rate_limit, saturate_wheel_speeds,
                                      twist_from_wheel_speeds, wheel_speeds_from_twist, wrap_angle)
 from penguin_base.odometry import EncoderError, OdometryIntegrator
+from tamp_resources import resource
 
 R, B = 0.075, 0.45
 
@@ -91,10 +92,9 @@ def test_config_rejects_unknown_and_non_positive_values():
 
 
 def test_deployment_config_file_loads():
-    import pathlib
 
     import yaml
-    path = pathlib.Path(__file__).resolve().parents[3] / "config" / "penguin.yaml"
+    path = resource("config") / "penguin.yaml"
     values = yaml.safe_load(path.read_text())
     config = BaseConfig.from_dict(values["base"])
     assert (config.wheel_radius, config.watchdog_timeout) == (0.075, 0.5)

@@ -12,8 +12,9 @@ from perception.activity import (
 from perception.keypoints import (
     L_ANKLE, L_EAR, L_ELBOW, L_EYE, L_HIP, L_KNEE, L_SHOULDER, L_WRIST, NECK, NOSE, NUM_KEYPOINTS,
     R_ANKLE, R_EAR, R_ELBOW, R_EYE, R_HIP, R_KNEE, R_SHOULDER, R_WRIST, as_skeleton)
+from tamp_resources import resource
 
-AFFORDANCES = os.path.join(os.path.dirname(__file__), "..", "..", "..", "config",
+AFFORDANCES = os.path.join(resource("config"),
                            "affordances.yaml")
 
 

@@ -5,7 +5,6 @@ workspace's STT on `perception.speech_synthesis` output): "I am seventy two year
 back as "I am 72 years old.", "I'm a woman." as "I'm at Woven.", "I am male." as "I'm mail.",
 "I am twenty nine years old." as "I am 20,000,000.", "I am Eve." as "I mean.".
 """
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,8 +18,9 @@ from perception.answers import AnswerError, parse_age, parse_gender, parse_name
 from perception.introduction import (AGE, COMPLETE, FAILED, GENDER, NAME, SUBMITTING,
                                      IntroductionConfig, IntroductionDialogue, NewcomerWatch,
                                      seen_shirt)
+from tamp_resources import resource
 
-CONFIG = Path(__file__).resolve().parents[3] / "config"
+CONFIG = resource("config")
 HOUSEHOLD = yaml.safe_load((CONFIG / "household.yaml").read_text())["humans"]
 SHIRTS = {h["name"]: np.array([h["shirt_color"][j] for j in ("joint1", "joint2", "joint5")])
           for h in HOUSEHOLD}

@@ -4,14 +4,14 @@ import os
 
 import numpy as np
 import pytest
-from sim2d.camera import CameraConfig, camera_points
 from floorplan.semantic_graph import load_graph
 
 from perception.localisation import (
     DepthWindowConfig, Intrinsics, box_depth, depth_window, localise_box,
-    optical_to_map_transform, pixel_to_camera, semantic_place, stitched_pixel, transform_point)
+    optical_to_map_transform, pixel_to_camera, semantic_place, stitched_pixel)
+from tamp_resources import resource
 
-GRAPH = os.path.join(os.path.dirname(__file__), "..", "..", "..", "maps", "household.graph.yaml")
+GRAPH = os.path.join(resource("maps"), "household.graph.yaml")
 PEPPER = Intrinsics(fx=583.9, fy=588.5, cx=320.0, cy=240.0, width=640, height=480)
 
 
@@ -46,17 +46,6 @@ def test_box_depth_ignores_nan_zero_and_out_of_range():
     assert box_depth(depth, (0, 0, 100, 100), cfg) is None
     with pytest.raises(ValueError, match="depth image"):
         box_depth(np.zeros((0, 0)), (0, 0, 1, 1), cfg)
-
-
-def test_transform_inverts_the_simulator_camera():
-    """optical_to_map_transform is the inverse of sim2d.camera.camera_points for any pose/tilt."""
-    cam = CameraConfig(mount_x=0.09, mount_height=1.15, tilt=0.1)
-    pose = (5.4, 5.0, 3.14159)
-    points = np.array([[3.0, 4.5, 1.2], [4.0, 6.0, 0.3], [2.0, 5.0, 1.7]])
-    optical = camera_points(points, pose, cam)
-    T = optical_to_map_transform(pose, cam.mount_x, cam.mount_height, cam.tilt)
-    for p_opt, p_map in zip(optical, points):
-        assert transform_point(T, p_opt) == pytest.approx(p_map, abs=1e-9)
 
 
 def test_localise_box_in_front_of_robot():

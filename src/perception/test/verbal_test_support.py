@@ -1,12 +1,15 @@
 """Paths and numbers shared by the verbal perception tests (imported by conftest and tests)."""
 from pathlib import Path
 
-from task_planner.reward import load_priorities
+import rospkg
 
-WS = Path(__file__).resolve().parents[3]
+from task_planner.reward import load_priorities
+from tamp_resources import resource
+
+WS = resource()
 KEYWORDS = WS / "config" / "keywords.yaml"
 GRAPH = WS / "maps" / "household.graph.yaml"
-CORPUS = WS / "src" / "perception" / "data" / "verbal_corpus.yaml"
+CORPUS = Path(rospkg.RosPack().get_path("perception")) / "data" / "verbal_corpus.yaml"
 PRIORITIES = WS / "config" / "priorities.yaml"
 
 # The deployment table; the tests assert the instructions' gamma and beta against thesis 000

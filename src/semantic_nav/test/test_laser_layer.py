@@ -1,6 +1,5 @@
 """Laser layer (thesis 002 §2.2.2) against hand-computed values."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,8 +7,9 @@ import pytest
 from semantic_nav.laser_layer import (PreprocessConfig, ScanError, interpolate_scan,
                                       interpolation_indices, l2_normalise, load_laser_config,
                                       model_from_scan, preprocess_scan, saturate)
+from tamp_resources import resource
 
-CONFIG = Path(__file__).resolve().parents[3] / "config" / "semnav_laser.yaml"
+CONFIG = resource("config") / "semnav_laser.yaml"
 
 
 @pytest.fixture(scope="module")

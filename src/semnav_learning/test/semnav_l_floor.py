@@ -1,13 +1,13 @@
 """Test helper: a 1.8 m corridor running east 10 m into an L corner that turns north for 6 m,
 written as a map_server map plus a sim2d world file with the Penguin (URG-04LX, exact casting)."""
-from pathlib import Path
 
 from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.route_oracle import RouteOracle
 from floorplan.blueprint import render_blueprint
 from floorplan.occupancy_map import save_map
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = resource()
 LASER_DIR = ROOT / "config" / "lasers"
 WORLD = """map: {map}
 robots:

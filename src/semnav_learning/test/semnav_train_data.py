@@ -4,15 +4,15 @@ Record files of a UTM-30LX (1081 beams) in train/ and validation/ splits at 10 H
 drives straight at 0.3 m/s towards a wall that comes closer, class 2 turns right and class 3 turns
 left at a side opening; and a GloVe text file with a random 50-d vector for every phrase-set word.
 """
-from pathlib import Path
 
 import numpy as np
 
 from penguin_base.record_format import RecordSequence, Sample, write_records
 from semantic_nav.instruction_layer import tokenise
 from semnav_learning.phrase_sets import load_phrase_sets
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = resource()
 CONFIG = ROOT / "config"
 BEAMS = 1081                     # UTM-30LX: -135° … 135° every 0.25°
 RATE = 10.0                      # [Hz] record rate of the synthetic records

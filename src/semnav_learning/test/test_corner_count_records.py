@@ -1,7 +1,6 @@
 """Corner counts in training data (corner_count on records): the counts of a demonstration
 against the oracle's corners, and the side ranges and doorway-closed scans of record files."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,8 +10,9 @@ from semnav_learning.demonstrations import demonstrate, world_for_floor
 from semnav_learning.route_oracle import RouteOracle
 from semnav_learning.training import TrainingConfig, decision_step
 from floorplan.occupancy_map import load_map
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = resource()
 
 
 def _travel(commands, rate):

@@ -1,6 +1,5 @@
 """Expert demonstrations driven in the sim2d world and recorded in penguin_base's format."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,8 +9,9 @@ from semnav_learning.demonstrations import demonstrate, world_for_floor
 from semantic_nav.laser_layer import model_from_scan, preprocess_scan, load_laser_config
 from semnav_learning.route_oracle import RouteOracle
 from semnav_l_floor import l_floor_world, write_l_floor
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = resource()
 
 
 @pytest.fixture(scope="module")

@@ -2,7 +2,6 @@
 import json
 import math
 from dataclasses import asdict, astuple
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,8 +17,9 @@ from semnav_learning.episodes import chain_goals
 from semnav_learning.phrase_sets import load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
 from semnav_l_floor import write_l_floor
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = resource()
 
 
 @pytest.fixture(scope="module")

@@ -11,9 +11,12 @@ from semnav_learning.expert import (ExpertConfig, ExpertDriver, recorded_stop_st
 from semantic_nav.instruction_classes import CLASS_IDS
 from semnav_learning.route_oracle import RouteOracle
 from floorplan.occupancy_map import load_map
+import rospkg
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
-STARTS = yaml.safe_load((ROOT / "src" / "semnav_learning" / "fixtures" /
+ROOT = resource()
+FIXTURES = Path(rospkg.RosPack().get_path("semnav_learning")) / "fixtures"
+STARTS = yaml.safe_load((FIXTURES /
                          "oracle_expected_goals.yaml").read_text())
 
 

@@ -1,6 +1,5 @@
 """Free-space skeleton, junctions, dead ends, corridor network and start sampling."""
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,8 +9,9 @@ from semnav_learning.floor_structure import (floor_structure, sample_corridor_st
 from semnav_learning.route_oracle import OracleError, RouteOracle
 from floorplan.blueprint import render_blueprint
 from floorplan.occupancy_map import load_map
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = resource()
 
 
 def _grid(walls, size, doors=()):

@@ -1,6 +1,5 @@
 """Phrase-set generator (thesis 002 §3.2) on the seed's three worked examples and its splits."""
 from collections import Counter
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,8 +10,9 @@ from semantic_nav.instruction_classes import CLASS_IDS
 from semnav_learning.phrase_sets import (SETS, Phrase, PhraseSetError, compose, enumerate_sentences,
                                       load_phrase_sets, sample_sentence, score_phrasings)
 from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
+from tamp_resources import resource
 
-CONFIG = Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml"
+CONFIG = resource("config") / "semnav_phrases.yaml"
 
 
 @pytest.fixture(scope="module")

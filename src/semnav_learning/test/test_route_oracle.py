@@ -11,9 +11,12 @@ from semnav_learning.route_oracle import (OracleConfig, OracleError, RouteOracle
                                        goal_branch, one_side_branch)
 from floorplan.blueprint import render_blueprint
 from floorplan.occupancy_map import load_map
+import rospkg
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[3]
-EXPECTED = yaml.safe_load((Path(__file__).parents[1] / "fixtures" /
+ROOT = resource()
+FIXTURES = Path(rospkg.RosPack().get_path("semnav_learning")) / "fixtures"
+EXPECTED = yaml.safe_load((FIXTURES /
                            "oracle_expected_goals.yaml").read_text())
 CASES = [(floor, i, label) for floor, starts in EXPECTED.items()
          for i, entry in enumerate(starts) for label in CLASS_IDS]

@@ -10,6 +10,7 @@ from semnav_learning.training import (Episode, Monitor, TrainingConfig,
                                    mirror_sequence,
                                    onset_verdict, step_errors, step_weights, turn_fit_by_class,
                                    turn_onset, validate_sequence, word_noise)
+from tamp_resources import resource
 
 T = ValidationThresholds(step_linear=0.1, step_angular=0.25, distance=1.0, angle=0.6)
 
@@ -253,12 +254,11 @@ def test_word_noise_has_the_asked_spread_and_none_at_zero():
 @pytest.fixture(scope="module")
 def phrase_words():
     """The real phrase sets and a random vector for every word they use."""
-    from pathlib import Path
 
     from semantic_nav.instruction_layer import tokenise
     from semnav_learning.phrase_sets import load_phrase_sets
     from semantic_nav.word_vectors import WordVectors
-    sets = load_phrase_sets(Path(__file__).resolve().parents[3] / "config" / "semnav_phrases.yaml")
+    sets = load_phrase_sets(resource("config") / "semnav_phrases.yaml")
     vocabulary = sorted({t for phrases in sets.values() for p in phrases for t in tokenise(p.text)})
     matrix = np.random.default_rng(0).normal(size=(len(vocabulary), 4)).astype(np.float32)
     return sets, WordVectors(vocabulary, matrix, "random")

@@ -1,11 +1,11 @@
 """Helpers shared by the sim2d tests (a uniquely named module: every package has a conftest)."""
-from pathlib import Path
 
 import numpy as np
 
 from floorplan.occupancy_map import FREE, OCCUPIED, OccupancyMap
+from tamp_resources import resource
 
-REPO = Path(__file__).resolve().parents[3]
+REPO = resource()
 LASER_DIR = REPO / "config" / "lasers"
 RESOLUTION = 0.05
 

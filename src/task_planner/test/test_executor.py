@@ -1,5 +1,4 @@
 """TAMP executor (Fig. 4-14) on the in-process navigation model: numbers from the timing rule."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,9 +15,10 @@ from task_planner.ripple_planner import RipplePlanner
 from task_planner.robot_functions import load_robot_functions
 from task_planner.simulate import run_planner
 from task_planner.task_buffer import DONE, FAILED, PENDING, BufferConfig, TaskBuffer
+from tamp_resources import resource
 
 FUNCTIONS = load_robot_functions(
-    Path(__file__).resolve().parents[3] / "config" / "robot_functions.yaml")
+    resource("config") / "robot_functions.yaml")
 A, B, C, D = range(4)  # line_graph: A -1- B -2- C -3- D (metres), 0.5 m/s
 
 
@@ -229,7 +229,7 @@ def dynamic_household_arrivals(graph, count=12, seed=3):
     from task_planner.reward import load_priorities
     rng = np.random.default_rng(seed)
     rows = list(load_priorities(
-        Path(__file__).resolve().parents[3] / "config" / "priorities.yaml").values())
+        resource("config") / "priorities.yaml").values())
     arrivals = []
     for k in range(1, count + 1):
         row = rows[rng.integers(len(rows))]
@@ -243,7 +243,7 @@ def dynamic_household_arrivals(graph, count=12, seed=3):
 def test_dynamic_fcfs_matches_the_offline_simulation_and_planners_beat_it(tmp_path):
     from task_planner.graph import load_graph
     from task_planner.rollout_planner import RolloutPlanner
-    graph = load_graph(Path(__file__).resolve().parents[3] / "maps" / "household.graph.yaml")
+    graph = load_graph(resource("maps") / "household.graph.yaml")
     arrivals = dynamic_household_arrivals(graph)
     problem = Problem(graph, tuple(i for _, i in arrivals), 0.5, 0)
     earned = {}

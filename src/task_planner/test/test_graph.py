@@ -1,12 +1,12 @@
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from task_planner.graph import GraphError, floyd_warshall, graph_from_edges, load_graph
+from tamp_resources import resource
 
-MAPS = Path(__file__).resolve().parents[3] / "maps"
+MAPS = resource("maps")
 INF = np.inf
 
 

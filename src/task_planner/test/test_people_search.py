@@ -1,6 +1,5 @@
 """The robot's belief about people: search order, idle patrol, looking around, asking to pass."""
 import math
-from pathlib import Path
 
 import pytest
 from planner_factories import make_instruction
@@ -15,9 +14,10 @@ from task_planner.people_belief import (PeopleAtPlaces, patrol_target, scheduled
 from task_planner.robot_functions import load_robot_functions
 from task_planner.instruction import ROBOT
 from task_planner.task_buffer import FAILED, PENDING, BufferConfig, TaskBuffer
+from tamp_resources import resource
 
 FUNCTIONS = load_robot_functions(
-    Path(__file__).resolve().parents[3] / "config" / "robot_functions.yaml")
+    resource("config") / "robot_functions.yaml")
 A, B, C, D = range(4)
 
 

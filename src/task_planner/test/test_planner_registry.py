@@ -1,23 +1,23 @@
 """The planner interface and the one registry the executor, the reports and the benchmark use."""
-from pathlib import Path
 
 import pytest
 import yaml
 from planner_factories import make_instruction
 
-from task_planner import benchmark, benchmark_report, scenario_report
+from task_planner import benchmark, benchmark_report
 from task_planner.baselines import RandomOrder
 from task_planner.executor import Executor
 from task_planner.planner_api import NODE, TARGET, kind_of
 from task_planner.planner_registry import (BENCH_DYNAMIC, BENCH_SCALING, BENCH_STATIC,
-                                           BENCH_STATIC_FEW, EXECUTOR, PLANNERS, SCENARIO_MODEL,
-                                           PlannerEntry, PlannerSettings, display_order, entries,
-                                           make_planner, planner_names)
+                                           BENCH_STATIC_FEW, EXECUTOR, PLANNERS, PlannerEntry,
+                                           PlannerSettings, display_order, entries, make_planner,
+                                           planner_names)
 from task_planner.problem import Problem
 from task_planner.simulate import run_planner
+from tamp_resources import resource
 
 SETTINGS = yaml.safe_load(
-    (Path(__file__).resolve().parents[3] / "config" / "task_planner.yaml").read_text())
+    (resource("config") / "task_planner.yaml").read_text())
 
 
 @pytest.fixture
@@ -102,12 +102,10 @@ def test_the_benchmark_runs_the_registered_planners_in_registration_order():
     assert {e.name for e in entries(BENCH_SCALING)} < {e.name for e in entries(BENCH_DYNAMIC)}
 
 
-def test_tables_put_the_offline_optima_first_and_reports_take_their_planners_from_the_registry():
+def test_tables_put_the_offline_optima_first_and_take_their_planners_from_the_registry():
     order = display_order()
     assert sorted(order) == sorted(e.label for e in PLANNERS.values())
     offline = [e.label for e in PLANNERS.values() if e.offline]
     assert order[:len(offline)] == ["Opt", "Exact"]
     assert benchmark_report.LATENCY_NAMES == tuple(
         e.label for e in entries(BENCH_SCALING) if e.kind == NODE)
-    assert [name for name, _ in scenario_report.MODEL_PLANNERS] == \
-        list(planner_names(SCENARIO_MODEL))

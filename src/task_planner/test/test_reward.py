@@ -1,11 +1,11 @@
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from task_planner.reward import PriorityError, decayed_reward, load_priorities
+from tamp_resources import resource
 
-CONFIG = Path(__file__).resolve().parents[3] / "config" / "priorities.yaml"
+CONFIG = resource("config") / "priorities.yaml"
 
 
 def test_eq_4_2_on_hand_numbers():

@@ -1,5 +1,4 @@
 """Robot functions (Table 4-1 `function`): the config agrees with verbal perception's codes."""
-from pathlib import Path
 
 import pytest
 import yaml
@@ -7,8 +6,9 @@ from planner_factories import make_instruction
 
 from task_planner.robot_functions import (RobotFunctionError, about_text, function_for,
                                           load_robot_functions, subject_of)
+from tamp_resources import resource
 
-CONFIG = Path(__file__).resolve().parents[3] / "config"
+CONFIG = resource("config")
 
 
 def test_codes_and_durations_match_the_verbal_keywords():

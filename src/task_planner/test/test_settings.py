@@ -1,13 +1,13 @@
 """config/task_planner.yaml: read and checked at start, every error naming the file and key."""
 import math
-from pathlib import Path
 
 import pytest
 import yaml
 
 from task_planner.settings import BATTERY, REQUIRED, SettingsError, load_settings
+from tamp_resources import resource
 
-SHIPPED = Path(__file__).resolve().parents[3] / "config" / "task_planner.yaml"
+SHIPPED = resource("config") / "task_planner.yaml"
 
 
 def write(tmp_path, text):

@@ -25,8 +25,10 @@ from nav_mocks.global_planner import GlobalPlanner, NoPath, PlannerConfig
 from nav_mocks.move_base_core import ACTIVE, SUCCEEDED, MoveBaseConfig, MoveBaseCore
 from nav_mocks.pose2d import between, compose
 from nav_mocks.scan_rays import Scan
+from sim2d.world import CACHE_DIR
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[4]
+ROOT = resource()
 MAX_GOAL_DRAWS = 10000   # [-] random cells tried for the next goal before the run gives up
 # the executor rostests' drives: from the charging place (the world's start pose) to the dining
 # room through its door and back to the alley
@@ -45,7 +47,7 @@ class NavBenchConfig:
     sim_dt: float = 0.05                 # [s] simulator step
     timeout_base: float = 30.0           # [s] per-goal time limit: base + factor * optimum / v
     timeout_factor: float = 3.0          # [-]
-    cache_dir: Path = ROOT / ".cache" / "sim2d"
+    cache_dir: Path = CACHE_DIR
 
 
 @dataclass

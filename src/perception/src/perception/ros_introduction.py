@@ -68,7 +68,7 @@ def read_params():
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
         "period", "close_linger", "register_timeout"),
-        hint=" (see launch/social_household.launch)", config=config)
+        hint=" (see tamp_bringup's social_household.launch)", config=config)
 
 
 class IntroductionNode:

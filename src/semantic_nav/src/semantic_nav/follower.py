@@ -21,8 +21,9 @@ from semantic_nav.instruction_classes import CLASS_IDS
 from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[4]
+ROOT = resource()
 DEFAULT_MODEL = ROOT / "models" / "semantic_nav" / "default.keras"
 DEFAULT_LASER_CONFIG = ROOT / "config" / "semnav_laser.yaml"
 

@@ -50,8 +50,9 @@ from task_planner.robot_functions import load_robot_functions
 from task_planner.settings import BATTERY, REQUIRED, load_settings
 from task_planner.task_buffer import (JOURNAL_FAILED, PENDING, STATE_NAMES, BufferConfig,
                                       TaskBuffer, TaskBufferError)
+from tamp_resources import resource
 
-ROOT = Path(__file__).resolve().parents[4]
+ROOT = resource()
 
 
 @dataclass(frozen=True)

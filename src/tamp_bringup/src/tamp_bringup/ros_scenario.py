@@ -1,0 +1,390 @@
+"""Node `scenario`: plays a scenario file (tamp_bringup.scenario) against the running household and
+records what happened.
+
+It tells the robot nothing about the people: the world moves them (sim2d) and the robot finds
+them with its own perception. On simulated time each request is sent as the phone app does
+(`tamp_msgs/Utterance` on /voice_message: the text and the phone's address, never where the
+speaker is), or, when `spoken`, synthesised with espeak-ng and sent as audio on /audio_utterance
+for the STT node; the world's timed moves are only noted in the record. For grading alone it
+keeps ground truth (the robot's trajectory, the people's true places from sim2d's markers) next
+to what the robot believed (/humans/known), and what the robot said. It ends when every request
+has produced an instruction and the task buffer holds no open instruction (or after the
+scenario's timeout), writing the record JSON (`~record`) read by scenario_report. Exit status 0
+when the scenario finished, 1 on timeout. /task_planner/state shows the open instructions; once
+none of a person is open, the whole buffer (/task_planner/get_buffer) is matched against the
+requests, since the state carries only the most recently finished instructions.
+
+Its subscribers and each pass of its loop run under one supervision.ros_supervisor.Supervisor
+("tamp_bringup: scenario: supervision" on /diagnostics): a request whose sending raises is
+recorded as an event "request N of PERSON not sent: <reason>" (the run then times out), and any
+other fault of a pass is recorded once as an event with its reason; the loop goes on.
+
+Visitors (people of the world the household does not know) answer the robot's introduction
+questions (thesis 000 §3.2.3): a sentence on /robot/say that asks them something
+(scenario.visitor_answer) while the robot is in their place (ground truth, used only to drive the
+scripted person) is answered with espeak-ng speech on /audio_utterance from their phone, so the
+answer goes through the STT node and perception. Their requests are held until human_db lists
+them (/humans/known); each registration (time, name, how long the dialogue took) is recorded.
+"""
+import dataclasses
+import datetime
+import json
+import tempfile
+import threading
+import time
+import wave
+from pathlib import Path
+
+import numpy as np
+import rospy
+import yaml
+from nav_msgs.msg import Odometry
+from std_msgs.msg import String
+from supervision.health import fault_text
+from supervision.ros_supervisor import Supervisor
+from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
+from tamp_msgs.srv import GetTaskBuffer
+from visualization_msgs.msg import MarkerArray
+
+from tamp_bringup.scenario import load_scenario, place_of, timeline, visitor_answer
+
+LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
+OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
+ACTIVE, HUMAN = 1, 0  # tamp_msgs/InstructionState ACTIVE, tamp_msgs/Instruction HUMAN
+
+
+def _changed(changes, now, place):
+    """Append (now, place) to a person's [[t, place], ...] when the place differs from the last."""
+    if not changes or changes[-1][1] != place:
+        changes.append([now, place])
+
+
+def _wav_samples(path):
+    with wave.open(str(path), "rb") as stream:
+        return stream.getframerate(), np.frombuffer(stream.readframes(stream.getnframes()),
+                                                    dtype="<i2")
+
+
+class ScenarioNode:
+    def __init__(self, scenario, record_path, trajectory_period, command):
+        self.scenario, self.record_path = scenario, Path(record_path)
+        self.trajectory_period = trajectory_period  # [s of simulated time]
+        self.command = command
+        self.lock = threading.Lock()
+        self.trajectory, self.said, self.state, self.events = [], [], None, []
+        self.pose = None
+        self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
+        self.table = {}                    # human_db's table: name -> phone ip
+        self.heard = 0                     # sentences of self.said the visitors have heard
+        self.sent = {}                     # request index -> when it was sent [s]
+        self.held = []                     # (index, request) of visitors not registered yet
+        self.registrations = []            # dict(time, visitor, name, dialogue_s, answers)
+        self.dialogues = {}                # visitor name -> dict(start, answers) while met
+        self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
+        self.inbox = []                    # (time, "truth" | "belief", message) to grade
+        self.faults = set()                # reasons of the faults already recorded as events
+        self.history = (None, None)        # (state message, get_buffer's instructions then)
+
+    # ---- callbacks: cache only ----
+
+    def _on_pose(self, msg):
+        with self.lock:
+            self.pose = (msg.header.stamp.to_sec(), msg.pose.pose.position.x,
+                         msg.pose.pose.position.y)
+
+    def _on_say(self, msg):
+        with self.lock:
+            self.said.append((rospy.get_time(), msg.data))
+
+    def _on_state(self, msg):
+        with self.lock:
+            self.state = msg
+
+    def _on_markers(self, msg):
+        with self.lock:
+            self.inbox.append((rospy.get_time(), "truth", msg))
+
+    def _on_known(self, msg):
+        with self.lock:
+            self.inbox.append((rospy.get_time(), "belief", msg))
+
+    def _grade(self):
+        """Ground truth of the people's places (sim2d's labels) next to what the robot believes
+        (human_db's table), for grading only."""
+        with self.lock:
+            inbox, self.inbox = self.inbox, []
+        for now, kind, msg in inbox:
+            if kind == "belief":
+                with self.lock:
+                    self.table = {human.name: human.ip for human in msg.humans}
+                for human in msg.humans:
+                    _changed(self.belief.setdefault(human.name, []), now, human.location)
+                continue
+            for marker in msg.markers:
+                if marker.ns == "people_labels":
+                    place = place_of(self.graph_spec, marker.pose.position.x,
+                                     marker.pose.position.y)
+                    _changed(self.truth.setdefault(marker.text.split(":")[0], []), now, place)
+
+    # ---- the run ----
+
+    def setup(self, timeout, sup):
+        """Subscribe under the node's Supervisor `sup`, synthesise the spoken requests and
+        answers, and wait for the executor and human_db; False when human_db never lists the
+        speakers."""
+        self.sup = sup
+        sup.subscriber("/base_pose_ground_truth", Odometry, self._on_pose, queue_size=1)
+        sup.subscriber("/robot/say", String, self._on_say, queue_size=20)
+        sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
+        sup.subscriber("/sim2d/markers", MarkerArray, self._on_markers, queue_size=2)
+        sup.subscriber("/humans/known", HumanArray, self._on_known, queue_size=5)
+        self.voice = rospy.Publisher("/voice_message", Utterance, queue_size=10)
+        self.audio = rospy.Publisher("/audio_utterance", AudioUtterance, queue_size=2)
+        rospy.wait_for_service("/task_planner/get_buffer", timeout)
+        self.get_buffer = rospy.ServiceProxy("/task_planner/get_buffer", GetTaskBuffer)
+        self.spoken = {}
+        workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
+        self.answers = {}   # (visitor name, answer text) -> (rate, samples)
+        if any(r.spoken for r in self.scenario.requests) or self.scenario.visitors:
+            from perception.speech_synthesis import synthesise
+            for k, request in enumerate(self.scenario.requests):
+                if request.spoken:
+                    self.spoken[k] = _wav_samples(synthesise(request.text, workdir / f"{k}.wav"))
+            for visitor in self.scenario.visitors:
+                for question, text in visitor.answers.items():
+                    self.answers[visitor.name, text] = _wav_samples(synthesise(
+                        text, workdir / f"{visitor.name}_{question}.wav"))
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and not rospy.is_shutdown() and (
+                self.voice.get_num_connections() == 0
+                or (self.spoken and self.audio.get_num_connections() == 0)):
+            time.sleep(0.1)
+        # verbal perception identifies speakers from the latched table: wait until it is there
+        table_deadline = time.monotonic() + timeout
+        speakers = {r.person for r in self.scenario.requests if not r.visitor}
+        while time.monotonic() < table_deadline:
+            table = rospy.wait_for_message("/humans/known", HumanArray, timeout)
+            if speakers <= {h.name for h in table.humans}:
+                return True
+            time.sleep(0.2)
+        rospy.logerr("scenario: human_db never listed %s", ", ".join(sorted(speakers)))
+        return False
+
+    def _send(self, index, request):
+        if request.visitor and self._registered(request.person) is None:
+            self.held.append((index, request))   # sent once the robot has met them
+            return
+        stamp = rospy.Time.now()
+        self.sent[index] = stamp.to_sec()
+        if request.spoken:
+            rate, samples = self.spoken[index]
+            msg = AudioUtterance(ip=request.ip, sample_rate=rate, samples=samples.tolist())
+            msg.header.stamp = stamp
+            self.audio.publish(msg)
+            what = (f"{request.person} (phone {request.ip}) speaks: \"{request.text}\" "
+                    f"(audio -> STT)")
+        else:
+            msg = Utterance(text=request.text, ip=request.ip)
+            msg.header.stamp = stamp
+            self.voice.publish(msg)
+            what = f"{request.person} (phone {request.ip}) sends: \"{request.text}\""
+        self._event(stamp.to_sec(), what)
+
+    def _visitor(self, name):
+        return next(v for v in self.scenario.visitors if v.name == name)
+
+    def _registered(self, person):
+        """The name human_db lists the visitor under (their phone, else their name), or None."""
+        visitor = self._visitor(person)
+        with self.lock:
+            table = dict(self.table)
+        return next((n for n, ip in table.items() if ip == visitor.ip),
+                    visitor.name if visitor.name in table else None)
+
+    def _answer_questions(self):
+        """Visitors in the robot's place answer what it asked them, as speech from their phone."""
+        with self.lock:
+            said, pose = self.said[self.heard:], self.pose
+            self.heard = len(self.said)
+        if pose is None:
+            return
+        here = place_of(self.graph_spec, pose[1], pose[2])
+        for _, text in said:
+            for visitor in self.scenario.visitors:
+                answer = visitor_answer(visitor, text)
+                if visitor.place != here or not answer or visitor.name in {
+                        r["visitor"] for r in self.registrations}:
+                    continue
+                dialogue = self.dialogues.setdefault(visitor.name, dict(start=rospy.get_time(),
+                                                                        answers=[]))
+                dialogue["answers"].append([text, answer])
+                rate, samples = self.answers[visitor.name, answer]
+                msg = AudioUtterance(ip=visitor.ip, sample_rate=rate, samples=samples.tolist())
+                msg.header.stamp = rospy.Time.now()
+                self.audio.publish(msg)
+                self._event(msg.header.stamp.to_sec(), f"{visitor.name} (visitor, phone "
+                            f"{visitor.ip}) answers \"{answer}\" to \"{text}\" (audio -> STT)")
+
+    def _meet_visitors(self):
+        """Record registrations; send the requests held for visitors now registered."""
+        for visitor in self.scenario.visitors:
+            if visitor.name in {r["visitor"] for r in self.registrations}:
+                continue
+            name = self._registered(visitor.name)
+            if name is None:
+                continue
+            now = rospy.get_time()
+            dialogue = self.dialogues.get(visitor.name, dict(start=now, answers=[]))
+            self.registrations.append(dict(
+                time=now - self.t0, visitor=visitor.name, name=name,
+                dialogue_s=now - dialogue["start"], answers=dialogue["answers"]))
+            self._event(now, f"the robot registered {visitor.name} (visitor) as {name} after a "
+                             f"{now - dialogue['start']:.1f} s dialogue "
+                             f"({len(dialogue['answers'])} answers)")
+        ready = [(k, r) for k, r in self.held if self._registered(r.person) is not None]
+        self.held = [h for h in self.held if h not in ready]
+        for index, request in ready:
+            self._send(index, request)
+
+    def _move(self, move):
+        self._event(rospy.get_time(), f"{move.person} sets off to the {move.place} "
+                                      f"({move.activity}), unannounced")
+
+    def _event(self, now, what):
+        self.events.append(dict(time=now - self.t0, what=what))
+        rospy.loginfo("scenario %.1f s: %s", now - self.t0, what)
+
+    def _record_pose(self, last):
+        with self.lock:
+            pose = self.pose
+        if pose is not None and (not self.trajectory or pose[0] - last >= self.trajectory_period):
+            self.trajectory.append([pose[0] - self.t0, pose[1], pose[2]])
+            return pose[0]
+        return last
+
+    def _finished(self):
+        """Every request answered by an instruction from its person, every person's instruction
+        closed and nothing active (the robot's own pending instructions do not hold the run)."""
+        with self.lock:
+            state = self.state
+        if state is None or any(r.state == ACTIVE or (r.state in OPEN and
+                                                      r.instruction.type == HUMAN)
+                                for r in state.instructions):   # it carries every open one
+            return False
+        if len(self.sent) < len(self.scenario.requests):
+            return False   # a visitor's request waits for their registration
+        records = self._every_instruction(state)
+        if records is None:
+            return False
+        unmatched = list(records)
+        for index, request in enumerate(self.scenario.requests):
+            source = self._registered(request.person) if request.visitor else request.person
+            match = next((r for r in unmatched if r.instruction.source == source
+                          and r.instruction.start_time >= self.sent[index] - 0.5), None)
+            if match is None:
+                return False
+            unmatched.remove(match)
+        return True
+
+    def _every_instruction(self, state):
+        """Every instruction of the task buffer as of `state` (asked once per state from
+        /task_planner/get_buffer); None when the service did not answer."""
+        if state.complete:
+            return list(state.instructions)
+        asked_for, instructions = self.history
+        if asked_for is not state:
+            try:
+                instructions = list(self.get_buffer().state.instructions)
+            except rospy.ServiceException as error:
+                rospy.logwarn_throttle(10.0, "scenario: /task_planner/get_buffer failed: %s",
+                                       error)
+                return None
+            self.history = (state, instructions)
+        return instructions
+
+    def run(self, start_place):
+        while rospy.get_time() <= 0 and not rospy.is_shutdown():
+            time.sleep(0.05)  # sim time has not started
+        self.t0 = 0.0  # the world's schedules count from the simulator's start
+        wall_start = time.monotonic()
+        events = timeline(self.scenario)
+        last_request = max(r.time_s for r in self.scenario.requests)
+        rate = rospy.Rate(LOOP_HZ)
+        self.sup.worker("run", 1.0 / LOOP_HZ)
+        last_pose, finished, index = -1e9, False, {id(r): k for k, r in
+                                                   enumerate(self.scenario.requests)}
+        while not rospy.is_shutdown():
+            now = rospy.get_time() - self.t0
+            while events and events[0][0] <= now:
+                _, kind, event = events.pop(0)
+                what = (f"request {index[id(event)]} of {event.person}" if kind == "request"
+                        else f"move of {event.person}")
+                with self.sup.guard("run", what) as failure:
+                    if kind == "request":
+                        self._send(index[id(event)], event)
+                    else:
+                        self._move(event)
+                if failure:
+                    self._fault(f"{what} not {'sent' if kind == 'request' else 'noted'}: "
+                                f"{fault_text(failure[0])}")
+            with self.sup.guard("run", "grading") as failure:
+                self._grade()
+                if self.scenario.visitors:
+                    self._answer_questions()
+                    self._meet_visitors()
+                last_pose = self._record_pose(last_pose)
+                finished = now > last_request and self._finished()
+            if failure:
+                self._fault(f"scenario pass failed: {fault_text(failure[0])}")
+            if finished:
+                break
+            if now > last_request + self.scenario.timeout_s:
+                rospy.logerr("scenario: timed out %.0f s after the last request",
+                             self.scenario.timeout_s)
+                break
+            rate.sleep()
+        self._write(start_place, finished, time.monotonic() - wall_start)
+        return finished
+
+    def _fault(self, what):
+        """Record a fault as an event, once per reason (the supervisor counts the repeats)."""
+        if what not in self.faults:
+            self.faults.add(what)
+            self._event(rospy.get_time(), what)
+
+    def _write(self, start_place, finished, wall_s):
+        record = dict(
+            scenario=self.scenario.name, command=self.command,
+            date=datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
+            speed=rospy.get_param("/sim2d/speed", 1.0),
+            planner=rospy.get_param("/task_planner/planner", "seed"),
+            start_place=start_place, t0=self.t0, sim_s=rospy.get_time() - self.t0,
+            wall_s=wall_s, finished=finished, events=self.events, trajectory=self.trajectory,
+            requests=[dict(time=r.time_s, person=r.person, text=r.text, spoken=r.spoken,
+                           visitor=r.visitor, sent=self.sent[k] - self.t0 if k in self.sent
+                           else None)
+                      for k, r in enumerate(self.scenario.requests)],
+            registrations=self.registrations,
+            said=[[t - self.t0, text] for t, text in self.said],
+            truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
+            belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()})
+        self.record_path.parent.mkdir(parents=True, exist_ok=True)
+        self.record_path.write_text(json.dumps(record, indent=1))
+        rospy.loginfo("scenario: record written to %s", self.record_path)
+
+
+def main():
+    rospy.init_node("scenario")
+    sup = Supervisor("tamp_bringup: scenario")
+    scenario = load_scenario(rospy.get_param("~scenario"))
+    timeout = float(rospy.get_param("~timeout", 0.0))  # > 0: replaces the file's timeout_s
+    if timeout > 0:
+        scenario = dataclasses.replace(scenario, timeout_s=timeout)
+    node = ScenarioNode(scenario, rospy.get_param("~record"),
+                        float(rospy.get_param("~trajectory_period", 0.5)),
+                        rospy.get_param("~command",
+                                        "roslaunch tamp_bringup social_household.launch"))
+    if not node.setup(float(rospy.get_param("~setup_timeout", 120.0)), sup):
+        return 1
+    finished = node.run(rospy.get_param("~start_place", "charging_place"))
+    return 0 if finished else 1

@@ -1,0 +1,110 @@
+"""Scenario report: journal read-back, the run's reward curve, counts, order checks, and the model
+figures on the same arrivals, against hand-computed numbers."""
+import pytest
+from bringup_factories import instruction
+
+from tamp_bringup.scenario_report import (MODEL_PLANNERS, arrivals_problem, check_order,
+                                          model_figures, read_journal, report_markdown,
+                                          run_curve, summary, timeline_rows)
+from task_planner.planner_registry import SCENARIO_MODEL, planner_names
+from task_planner.task_buffer import BufferConfig, TaskBuffer
+
+
+SETTINGS = {"step_s": 1.0, "rollout_candidates": 6, "rollout_horizon": 10,
+            "rollout_tail_weight": 0.5, "exact_max_instructions": 40}
+
+
+def journal(tmp_path, graph, first_served):
+    """Three instructions on A -1- B -2- C -3- D launched at t = 0: 1 (gamma 2, beta 0.5) and
+    2 (gamma 4, beta 0.5) on B lasting 1 s; 3 (gamma 1, beta 0.9) on C after 2, lasting 0 s."""
+    path = tmp_path / "tasks.sqlite"
+    buffer = TaskBuffer(path, BufferConfig(node_count=graph.size))
+    buffer.submit_many([instruction(1, 1, 2.0, 0.5, 1, source="Bob", text="hi"),
+                        instruction(2, 1, 4.0, 0.5, 1, source="Ann"),
+                        instruction(3, 2, 1.0, 0.9, 0, previous_id=2, source="Ann")], 0.0)
+    second = 1 if first_served == 2 else 2
+    buffer.start(first_served, 1.0)
+    buffer.finish(first_served, 2.0)
+    buffer.start(second, 2.0)
+    buffer.finish(second, 3.0)
+    buffer.start(3, 5.0)
+    buffer.finish(3, 5.0)
+    buffer.close()
+    return path
+
+
+def test_journal_curve_counts_and_order(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=2))
+    assert [(e.instruction.id, e.state, e.started_s, e.completion_s) for e in entries] == [
+        (1, "done", 2.0, 3.0), (2, "done", 1.0, 2.0), (3, "done", 5.0, 5.0)]
+    # 4 * 0.5^2 = 1.0 at 2 s, 2 * 0.5^3 = 0.25 at 3 s, 0.9^5 = 0.59049 at 5 s
+    times, rewards = run_curve(entries, t0=0.0)
+    assert times == (2.0, 3.0, 5.0)
+    assert rewards == pytest.approx((1.0, 1.25, 1.84049))
+    stats = summary(entries)
+    assert (stats["requests"], stats["served"], stats["failed"]) == (3, 3, 0)
+    assert stats["reward"] == pytest.approx(1.84049)
+    assert check_order(entries) == []
+    rows = timeline_rows(entries, t0=0.0)
+    assert [(r["id"], r["launch"], r["start"], r["end"]) for r in rows] == [
+        (1, 0.0, 2.0, 3.0), (2, 0.0, 1.0, 2.0), (3, 0.0, 5.0, 5.0)]
+
+
+def test_lower_priority_first_at_the_same_place_is_reported(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=1))
+    assert check_order(entries) == [
+        "1 (gamma 2.0) started at 1.0 s while 2 (gamma 4.0) waited at the same place"]
+
+
+def test_people_served_where_found_are_not_compared_by_place(tmp_path, line_graph):
+    path = tmp_path / "people.sqlite"
+    buffer = TaskBuffer(path, BufferConfig(node_count=line_graph.size))
+    buffer.submit_many([instruction(1, 1, 2.0, 0.5, 1, source="Bob", target="Bob"),
+                        instruction(2, 1, 4.0, 0.5, 1, source="Ann", target="Ann")], 0.0)
+    buffer.start(1, 1.0)     # Bob found first; Ann, believed at the same place, was elsewhere
+    buffer.finish(1, 2.0)
+    buffer.close()
+    assert check_order(read_journal(path)) == []
+
+
+def test_model_figures_on_the_same_arrivals(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=2))
+    problem = arrivals_problem(line_graph, entries, speed_mps=1.0, start_node=0, t0=0.0)
+    figures = {f.name: f for f in model_figures(problem, SETTINGS)}
+    # FCFS from A: B at 1 s, 1 done at 2 (2 * 0.5^2), 2 done at 3 (4 * 0.5^3), C at 5 (0.9^5)
+    fcfs = figures["FCFS (model)"]
+    assert fcfs.order == (1, 2, 3)
+    assert fcfs.reward == pytest.approx(0.5 + 0.5 + 0.59049)
+    # the optimum serves 2 first: 1.0 + 0.25 + 0.59049
+    exact = figures["Exact optimum (model, arrivals known)"]
+    assert exact.order == (2, 1, 3)
+    assert exact.reward == pytest.approx(1.84049)
+    assert exact.curve[0] == (2.0, 3.0, 5.0)
+
+
+def test_arrivals_are_shifted_to_the_scenario_start(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=2))
+    problem = arrivals_problem(line_graph, entries, 1.0, 0, t0=-4.0)
+    assert problem.launch.tolist() == [4.0, 4.0, 4.0]
+
+
+def test_markdown_lists_every_instruction(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=2))
+    problem = arrivals_problem(line_graph, entries, 1.0, 0, 0.0)
+    figures = model_figures(problem, SETTINGS)
+    record = dict(scenario="t", command="scripts/run_scenario t", date="d", speed=5.0,
+                  planner="rollout", start_place="A", t0=0.0, sim_s=6.0, wall_s=2.0,
+                  finished=True, events=[dict(time=0.0, what="Bob sends: \"hi\"")],
+                  requests=[dict(time=0.0, person="Bob", text="hi", spoken=True)],
+                  trajectory=[[0.0, 0.0, 0.0]])
+    text = report_markdown(record, entries, figures, run_curve(entries, 0.0), [],
+                           dict(rewards="r.png", trajectory="t.png"))
+    assert "phone requests sent: 1 (1 spoken through the STT node)" in text
+    assert "served 3, failed 0" in text
+    assert "| 1 | Bob | hi | " in text
+    assert "| this run (simulator) | 1.840 | 2, 1, 3 |" in text
+    assert "| FCFS (model) | 1.590 | 1, 2, 3 |" in text
+
+
+def test_model_figures_take_their_planners_from_the_registry():
+    assert [name for name, _ in MODEL_PLANNERS] == list(planner_names(SCENARIO_MODEL))
