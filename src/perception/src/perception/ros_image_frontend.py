@@ -63,7 +63,7 @@ class ImageFrontEnd:
         self.detector = DarknetDetector(self.darknet)
         self.pose = MediapipePose()
         self.config = FrontEndConfig(top_down=self.top_down)
-        self.frames = rospy.Publisher("/camera/detections", PerceptionFrame, queue_size=2)
+        self.frames = rospy.Publisher("camera/detections", PerceptionFrame, queue_size=2)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         topics = {"top": "camera/top/image_raw", "bottom": "camera/bottom/image_raw",
                   "depth_top": "camera/top/depth", "depth_bottom": "camera/bottom/depth"}

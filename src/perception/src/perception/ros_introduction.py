@@ -51,7 +51,7 @@ class IntroductionParams:
     function: str = "introduce"           # ~function: the robot function that meets people
     priority: str = "self_generated"      # ~priority: Table 5-5 level of the introduce
                                           # instruction (config/priorities.yaml)
-    humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
+    humans_topic: str = "humans/known"    # ~humans_topic: human_db's latched table
     period: float = 0.1                   # ~period: work timer period [s]
     close_linger: float = 3.0             # ~close_linger [s]: ~dialogue_open stays true this
                                           # long after a dialogue ends (a late last answer)
@@ -101,16 +101,16 @@ class IntroductionNode:
         self.watch = NewcomerWatch(
             p.config, (function.code, function.duration_s),
             self._priority(p), load_graph(p.graph).place_ids())
-        self.register = rospy.ServiceProxy("/human_db/register", RegisterHuman)
+        self.register = rospy.ServiceProxy("human_db/register", RegisterHuman)
         # acknowledged: a lost or refused introduce instruction must not block later meetings
         self.submit = SubmitClient(p.register_timeout)
-        self.say = rospy.Publisher("/robot/say", String, queue_size=5)
+        self.say = rospy.Publisher("robot/say", String, queue_size=5)
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        sup.subscriber("/humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
+        sup.subscriber("humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
         sup.subscriber(p.humans_topic, HumanArray, self._on_known, queue_size=1)
-        sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
-        sup.subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        sup.subscriber("task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         self._publish_open(False)
         self._timers = [sup.timer(p.period, self._on_work, worker="work",
                                   on_error=self._fail_dialogue),
@@ -263,7 +263,7 @@ class IntroductionNode:
         self._end(now, f"registration refused: {problem}", met=False)
 
     def _call_register(self, human):
-        rospy.wait_for_service("/human_db/register", self.params.register_timeout)
+        rospy.wait_for_service("human_db/register", self.params.register_timeout)
         return self.register(human=human_to_msg(human), replace=False)
 
     def _end(self, now, what, met):

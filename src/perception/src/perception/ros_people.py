@@ -11,7 +11,7 @@ from perception.verbal_instructions import DictPeopleDirectory, PeopleDirectory
 class HumanTableDirectory(PeopleDirectory):
     """Latest table of human_db; lookups read a snapshot, the callback only swaps it in."""
 
-    def __init__(self, topic="/humans/known"):
+    def __init__(self, topic="humans/known"):
         self.topic = topic
         self._lock = threading.Lock()
         self._table = None  # DictPeopleDirectory, None until the first table arrives

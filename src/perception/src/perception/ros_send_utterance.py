@@ -21,7 +21,7 @@ def parse_args(argv):
 def main(argv):
     args = parse_args(argv)
     rospy.init_node("send_utterance", anonymous=True)
-    publisher = rospy.Publisher("/voice_message", Utterance, queue_size=1, latch=True)
+    publisher = rospy.Publisher("voice_message", Utterance, queue_size=1, latch=True)
     if not publish_when_heard(publisher, utterance_to_msg(args.text, args.ip), args.wait):
         rospy.logerr("not sent: nobody subscribes to /voice_message after %.1f s", args.wait)
         return 1

@@ -28,7 +28,7 @@ class SttParams:
     wav: str = ""                          # ~wav: transcribe this file once and exit
     ip: str = ""                           # ~ip: phone IP attached to the file's utterance
     wait: float = 10.0                     # ~wait: [s] for a /voice_message subscriber (file)
-    audio_topic: str = "/audio_utterance"  # ~audio_topic
+    audio_topic: str = "audio_utterance"  # ~audio_topic
     period: float = 0.1                    # ~period: work timer period [s]
     max_queue: int = 5                     # ~max_queue: utterances kept while busy
     stt: SttConfig = SttConfig()           # ~model_dir, ~compute_type, ~cpu_threads, ~beam_size
@@ -69,7 +69,7 @@ class SttNode:
         self.worker = SttWorker(self.stt.transcribe, self._publish, self.params.limits, _log,
                                 guard=self.sup.health.run)
         self.sup.worker(WORKER)
-        self._publisher = rospy.Publisher("/voice_message", Utterance, queue_size=10)
+        self._publisher = rospy.Publisher("voice_message", Utterance, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
 
     def start_listening(self):

@@ -43,11 +43,11 @@ class VerbalParams:
     graph: str                            # ~graph: maps/<map>.graph.yaml
     submit_timeout: float = 5.0           # ~submit_timeout: wall-clock wait for
                                           # /task_planner/submit per instruction [s]
-    humans_topic: str = "/humans/known"   # ~humans_topic: human_db's latched table
+    humans_topic: str = "humans/known"    # ~humans_topic: human_db's latched table
     period: float = 0.05                  # ~period: work timer period [s]
     max_queue: int = 20                   # ~max_queue: utterances kept while busy
     diagnostics_period: float = 1.0       # ~diagnostics_period [s]
-    dialogue_topic: str = "/introduction/dialogue_open"  # ~dialogue_topic: true while the
+    dialogue_topic: str = "introduction/dialogue_open"  # ~dialogue_topic: true while the
                                           # introduction node takes unknown speakers' answers
 
 
@@ -81,9 +81,9 @@ class VerbalNode:
         self.pipeline = VerbalPipeline(keywords, SentimentAnalyzer(), builder, self.directory)
         self.directory.setup()
         self._submit = SubmitClient(self.params.submit_timeout)
-        self._say = rospy.Publisher("/robot/say", String, queue_size=10)
+        self._say = rospy.Publisher("robot/say", String, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        sup.subscriber("/voice_message", Utterance, self._on_utterance, queue_size=10)
+        sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         sup.subscriber(self.params.dialogue_topic, Bool, self._on_dialogue, queue_size=1)
         self._timers = [
             sup.timer(self.params.period, self._on_work, worker="work",

@@ -109,14 +109,14 @@ class VisualNode:
         self.config = ActivityConfig()
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        self.identify = rospy.ServiceProxy("/human_db/identify", IdentifyHuman)
-        self.update = rospy.ServiceProxy("/human_db/update", UpdateHuman)
-        self.observed = rospy.Publisher("/humans/observed", ObservedHumanArray, queue_size=5)
+        self.identify = rospy.ServiceProxy("human_db/identify", IdentifyHuman)
+        self.update = rospy.ServiceProxy("human_db/update", UpdateHuman)
+        self.observed = rospy.Publisher("humans/observed", ObservedHumanArray, queue_size=5)
         self.submit = SubmitClient(float(p.submit_timeout))
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        sup.subscriber("/camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
-        sup.subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
-        sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        sup.subscriber("camera/detections", PerceptionFrame, self._on_frame, queue_size=1)
+        sup.subscriber("humans/known", HumanArray, self._on_humans, queue_size=1)
+        sup.subscriber("task_planner/state", TaskBufferState, self._on_state, queue_size=1)
         self._timers = [sup.timer(float(p.period), self._on_work, worker="work",
                                   on_error=self._refuse_frame),
                         sup.timer(1.0, self._on_diagnostics, worker="diagnostics"),

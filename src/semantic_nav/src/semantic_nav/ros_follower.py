@@ -68,8 +68,8 @@ class FollowerNode:
     def setup(self, sup):
         """Start the ROS API under the node's Supervisor `sup`."""
         self.sup = sup
-        self.cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
-        self.say_pub = rospy.Publisher("/robot/say", String, queue_size=5)
+        self.cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)
+        self.say_pub = rospy.Publisher("robot/say", String, queue_size=5)
         self.marker_pub = rospy.Publisher("~path", Marker, queue_size=1, latch=True)
         self.doorway_pub = rospy.Publisher("~doorways", Marker, queue_size=1)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
@@ -78,9 +78,9 @@ class FollowerNode:
         self.server.register_goal_callback(
             self.guarded("goal callback", self._on_goal, self._goal_failed))
         self.server.register_preempt_callback(self.guarded("preempt callback", self._on_preempt))
-        sup.subscriber("/scan", LaserScan, self._on_scan, queue_size=1)
-        sup.subscriber("/odom", Odometry, self._on_odom, queue_size=1)
-        sup.subscriber("/voice_message", Utterance, self._on_voice, queue_size=5)
+        sup.subscriber("scan", LaserScan, self._on_scan, queue_size=1)
+        sup.subscriber("odom", Odometry, self._on_odom, queue_size=1)
+        sup.subscriber("voice_message", Utterance, self._on_voice, queue_size=5)
         self.server.start()
         sup.timer(self.follower.control_period, self._tick, worker="control",
                   on_error=self._step_failed)

@@ -2,8 +2,8 @@
 
     sup = Supervisor("task_planner: executor")
     sup.timer(0.05, self._tick, worker="tick", on_error=self._fail_current)
-    sup.subscriber("/humans/known", HumanArray, self._on_humans)
-    sup.service("/task_planner/submit", SubmitInstruction, self._submit)
+    sup.subscriber("humans/known", HumanArray, self._on_humans)
+    sup.service("~submit", SubmitInstruction, self._submit)
 
 The health status ("<name>: supervision") goes out on /diagnostics from a thread of its own on
 the wall clock, so it keeps reporting when a worker hangs or the ROS clock stops.

@@ -175,11 +175,11 @@ class ExecutorNode:
     def setup(self, timeout):
         """Publishers, subscribers, services and the move_base client; False if it is not up."""
         self.sup = Supervisor("task_planner: executor", hardware_id="task_planner")
-        self.say_pub = rospy.Publisher("/robot/say", String, queue_size=10)
-        self.state_pub = rospy.Publisher("/task_planner/state", TaskBufferState, queue_size=1,
+        self.say_pub = rospy.Publisher("robot/say", String, queue_size=10)
+        self.state_pub = rospy.Publisher("~state", TaskBufferState, queue_size=1,
                                          latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        self.marker_pub = rospy.Publisher("/task_planner/markers", MarkerArray, queue_size=1,
+        self.marker_pub = rospy.Publisher("~markers", MarkerArray, queue_size=1,
                                           latch=True)
         self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
@@ -187,7 +187,7 @@ class ExecutorNode:
             return False
         if not self.params.start_node:
             try:
-                pose = rospy.wait_for_message("/amcl_pose", PoseWithCovarianceStamped,
+                pose = rospy.wait_for_message("amcl_pose", PoseWithCovarianceStamped,
                                               timeout).pose.pose.position
             except rospy.ROSException:
                 rospy.logerr("task_planner: no /amcl_pose after %.0f s to find the start place "
@@ -198,12 +198,12 @@ class ExecutorNode:
                       "(%d resumed)", self.graph.names[self.executor.node],
                       len(self.executor.buffer.open_records()), self.executor.buffer.resumed)
         sup = self.sup
-        sup.subscriber("/task_planner/instructions", InstructionMsg, self._on_instruction,
+        sup.subscriber("~instructions", InstructionMsg, self._on_instruction,
                        queue_size=1000)
-        sup.subscriber("/humans/known", HumanArray, self._on_humans, queue_size=1)
-        sup.service("/task_planner/submit", SubmitInstruction, self._submit)
-        sup.service("/task_planner/cancel", CancelInstruction, self._cancel)
-        sup.service("/task_planner/get_buffer", GetTaskBuffer, self._get_buffer)
+        sup.subscriber("humans/known", HumanArray, self._on_humans, queue_size=1)
+        sup.service("~submit", SubmitInstruction, self._submit)
+        sup.service("~cancel", CancelInstruction, self._cancel)
+        sup.service("~get_buffer", GetTaskBuffer, self._get_buffer)
         sup.timer(self.params.tick_period, self._tick, worker="tick", on_error=self._tick_fault)
         sup.timer(1.0, self._diagnose, worker="diagnostics")
         with self.lock:

@@ -9,7 +9,7 @@ from tamp_msgs.srv import SubmitInstruction
 
 from task_planner.conversions import instruction_to_msg
 
-SERVICE = "/task_planner/submit"
+SERVICE = "task_planner/submit"  # relative: a robot's namespace
 
 
 class SubmitClient:
@@ -25,13 +25,14 @@ class SubmitClient:
             msg.id = 0
         if previous_id is not None:
             msg.previous_id = previous_id
+        service = self._proxy.resolved_name
         try:
-            rospy.wait_for_service(SERVICE, self.timeout_s)
+            rospy.wait_for_service(service, self.timeout_s)
         except rospy.ROSException:
-            return False, 0, (f"the task planner is not reachable: {SERVICE} is not available "
+            return False, 0, (f"the task planner is not reachable: {service} is not available "
                               f"after {self.timeout_s:g} s")
         try:
             reply = self._proxy(instruction=msg)
         except (rospy.ServiceException, rospy.ROSException) as error:
-            return False, 0, f"the task planner did not answer on {SERVICE}: {error}"
+            return False, 0, f"the task planner did not answer on {service}: {error}"
         return reply.accepted, reply.id, reply.message
