@@ -2,10 +2,10 @@
 # Record two teleoperated sequences on the simulated Penguin (tmux send-keys plays the person).
 # Writes build/penguin_demo/{demo.bag,launch.log,screen.txt}; uses ROS master port 11473.
 set -u
-cd "$(dirname "${BASH_SOURCE[0]}")/../.." && mkdir -p build/penguin_demo
+cd "$(dirname "${BASH_SOURCE[0]}")/../.." && OUT="$PWD/build/penguin_demo" && mkdir -p "$OUT"
 set +u; source scripts/env.sh; set -u
-export ROS_HOME=build/penguin_demo/ros ROS_LOG_DIR=build/penguin_demo/ros/log ROS_MASTER_URI=http://localhost:11473
-roslaunch -p 11473 launch/record_demos.launch bag:=build/penguin_demo/demo.bag > build/penguin_demo/launch.log 2>&1 &
+export ROS_HOME=$OUT/ros ROS_LOG_DIR=$OUT/ros/log ROS_MASTER_URI=http://localhost:11473
+roslaunch -p 11473 launch/record_demos.launch bag:=$OUT/demo.bag > $OUT/launch.log 2>&1 &
 LAUNCH=$!
 sleep 10
 T="tmux -L penguin_demo -f /dev/null"
@@ -23,7 +23,7 @@ sleep 1
 $T send-keys -t demo Left; sleep 0.5        # held: first press, then repeats at ~30 Hz
 for _ in $(seq 20); do $T send-keys -t demo Left; sleep 0.033; done
 sleep 1.5
-$T capture-pane -p -t demo > build/penguin_demo/screen.txt
+$T capture-pane -p -t demo > $OUT/screen.txt
 $T send-keys -t demo Space; sleep 1; $T send-keys -t demo e; sleep 0.5
 $T send-keys -t demo q; sleep 2
 $T kill-server
