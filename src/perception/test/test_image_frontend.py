@@ -6,7 +6,9 @@ import cv2
 import numpy as np
 import pytest
 
-from perception.detectors import DarknetConfig, DarknetDetector, MediapipePose
+from perception.detector_registry import (DETECTORS, POSE_ESTIMATORS, make_detector,
+                                          make_pose_estimator)
+from perception.detectors import DarknetDetector, MediapipePose
 from perception.image_frontend import FrontEndConfig, build_frame, joint_depths, person_crop
 from perception.keypoints import NECK
 
@@ -17,10 +19,10 @@ PHOTO = "/usr/share/darknet/data/person.jpg"     # 640x424, the woman wears a bl
 
 @pytest.fixture(scope="module")
 def backends():
-    yolo = DarknetDetector(DarknetConfig(str(MODELS / "yolov3-tiny.cfg"),
-                                         str(MODELS / "yolov3-tiny.weights"),
-                                         str(MODELS / "coco.names")))
-    pose = MediapipePose()
+    yolo = make_detector("darknet", {"cfg": str(MODELS / "yolov3-tiny.cfg"),
+                                     "weights": str(MODELS / "yolov3-tiny.weights"),
+                                     "names": str(MODELS / "coco.names")})
+    pose = make_pose_estimator("mediapipe")
     yield yolo, pose
     pose.close()
 
@@ -96,3 +98,14 @@ def test_joint_depth_ignores_zero_and_nan():
     points = np.array([[10.0, 10.0], [3.0, 3.0]])
     got = joint_depths(depth, points, np.array([1.0, 1.0]), FrontEndConfig())
     assert np.isnan(got[0]) and got[1] == pytest.approx(2.0)
+
+
+def test_the_registry_makes_each_model_by_name_and_names_an_unknown_one(backends):
+    yolo, pose = backends
+    assert isinstance(yolo, DarknetDetector) and isinstance(pose, MediapipePose)
+    assert yolo.config.input_size == 416 and yolo.config.confidence_threshold == 0.25
+    assert set(DETECTORS) == {"darknet"} and set(POSE_ESTIMATORS) == {"mediapipe"}
+    with pytest.raises(ValueError, match="unknown detector 'yolo9'; known: darknet"):
+        make_detector("yolo9", {})
+    with pytest.raises(ValueError, match="unknown pose estimator 'openpose'; known: mediapipe"):
+        make_pose_estimator("openpose")

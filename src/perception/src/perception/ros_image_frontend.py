@@ -21,7 +21,7 @@ from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 
 from perception.conversions import depth_from_msg, frame_to_msg, image_from_msg
-from perception.detectors import DarknetConfig, DarknetDetector, MediapipePose
+from perception.detector_registry import make_detector, make_pose_estimator
 from perception.image_frontend import FrontEndConfig, build_frame
 
 MODELS = Path(os.environ.get("TAMP_MODEL_CACHE", Path.home() / ".cache" / "tamp_ws" / "models"))
@@ -33,7 +33,9 @@ STREAMS = ("top", "bottom", "depth_top", "depth_bottom")
 class FrontEndParams:
     """~parameters of the node."""
 
-    cfg: str = str(YOLO / "yolov3-tiny.cfg")          # any Darknet cfg ...
+    detector: str = "darknet"          # perception.detector_registry.DETECTORS
+    pose: str = "mediapipe"            # perception.detector_registry.POSE_ESTIMATORS
+    cfg: str = str(YOLO / "yolov3-tiny.cfg")          # darknet: any Darknet cfg ...
     weights: str = str(YOLO / "yolov3-tiny.weights")  # ... + weights
     names: str = str(YOLO / "coco.names")
     input_size: int = 416              # [px] network input
@@ -46,9 +48,7 @@ class FrontEndParams:
 class ImageFrontEnd:
     def __init__(self):
         params = config_from_params(FrontEndParams)
-        self.darknet = DarknetConfig(params.cfg, params.weights, params.names,
-                                     input_size=params.input_size,
-                                     confidence_threshold=params.confidence_threshold)
+        self.params = params
         self.stitch = params.stitch
         self.top_down = params.top_down
         self.period = params.period
@@ -60,8 +60,11 @@ class ImageFrontEnd:
 
     def setup(self, sup):
         """Load the models and start the ROS API under the node's Supervisor `sup`."""
-        self.detector = DarknetDetector(self.darknet)
-        self.pose = MediapipePose()
+        p = self.params
+        self.detector = make_detector(p.detector, {
+            "cfg": p.cfg, "weights": p.weights, "names": p.names, "input_size": p.input_size,
+            "confidence_threshold": p.confidence_threshold})
+        self.pose = make_pose_estimator(p.pose)
         self.config = FrontEndConfig(top_down=self.top_down)
         self.frames = rospy.Publisher("camera/detections", PerceptionFrame, queue_size=2)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
