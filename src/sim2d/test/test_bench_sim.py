@@ -1,0 +1,59 @@
+"""scripts/bench_sim's library: the reactive controller, step figures, arguments, a tiny run."""
+import json
+
+import numpy as np
+import pytest
+
+from sim2d import bench_sim_main as bench
+
+ANGLES = np.linspace(-2.0, 2.0, 181)
+
+
+def test_steer_turns_on_the_spot_when_blocked_ahead():
+    ranges = np.full(ANGLES.size, 5.0)
+    ranges[np.abs(ANGLES) < 0.3] = 0.4
+    assert bench.steer(ranges, ANGLES) == (0.0, bench.TURN_IN_PLACE)
+
+
+def test_steer_heads_for_the_open_side():
+    ranges = np.where(ANGLES > 1.0, 20.0, 2.0)      # open only far to the left
+    v, w = bench.steer(ranges, ANGLES)
+    assert v == bench.CRUISE and w == 1.0            # bearing ~1.5 rad * gain, clipped at 1
+    v, w = bench.steer(ranges[::-1], ANGLES)         # mirrored: open to the right
+    assert v == bench.CRUISE and w == -1.0
+
+
+def test_step_figures_agree_with_numpy():
+    step_us = np.random.default_rng(0).exponential(100.0, 57)
+    figures = bench.step_figures(57 * 0.025, 57, step_us.tolist())
+    assert figures["step_p50_us"] == pytest.approx(np.percentile(step_us, 50))
+    assert figures["step_p99_us"] == pytest.approx(np.percentile(step_us, 99))
+    assert figures["us_per_step"] == pytest.approx(step_us.mean())
+    assert figures["real_time_factor"] == pytest.approx(57 * 0.025 / (step_us.sum() / 1e6))
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--seconds", "0"], "--seconds: must be a positive number"),
+    (["--accuracy-scans", "0"], "--accuracy-scans must be at least 1"),
+    (["--penguin-world", "/nonexistent.yaml"], "--penguin-world: no such world file"),
+])
+def test_bad_arguments_are_named(argv, message, capsys):
+    with pytest.raises(SystemExit):
+        bench.parse_args(argv)
+    assert message in capsys.readouterr().err
+
+
+def test_a_tiny_run_writes_every_figure(tmp_path, capsys):
+    out = tmp_path / "sim.json"
+    assert bench.main(["--seconds", "0.2", "--accuracy-scans", "1", "--json", str(out)]) == 0
+    figures = json.loads(out.read_text())
+    assert set(figures) == {"penguin", "table_accuracy", "household", "build"}
+    penguin, household = figures["penguin"], figures["household"]
+    assert penguin["world"] == "config/worlds/office_penguin.yaml"
+    assert penguin["steps"] == 8 and penguin["scans"] == 8      # 40 Hz UTM-30LX for 0.2 s
+    assert household["steps"] == 8 and household["people"] == 4
+    for part in (penguin, household):
+        assert 0 < part["step_p50_us"] <= part["step_p99_us"]
+    assert figures["table_accuracy"]["beams"] > 1000 and figures["build"] == {}
+    printed = capsys.readouterr().out
+    assert "real-time factor: penguin" in printed and "step time: penguin p50" in printed
