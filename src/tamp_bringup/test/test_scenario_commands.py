@@ -1,0 +1,79 @@
+"""scripts/run_scenario's and scripts/scenario_report's libraries: arguments, the launch command,
+the summary lines, stopping a child."""
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from tamp_resources import resource
+
+from tamp_bringup import run_scenario_main, scenario_report_main
+from tamp_bringup.scenario import load_scenario
+
+RESULT = {"requests": 3, "served": 2, "failed": 1, "instructions": 4,
+          "states": {"done": 3, "failed": 1}, "reward": 1.23456,
+          "model": {"FCFS (model)": 0.5, "Ours(seed) (model)": 1.0},
+          "order_problems": ["x before y"], "belief": {"Alice": 0.5, "Bob": 1.0},
+          "searches": 2, "sources": {"perception": 10, "register": 1}}
+
+
+def test_summary_lines_of_a_report():
+    assert scenario_report_main.summary_lines(RESULT, Path("out")) == [
+        "requests 3: served 2, failed 1; instructions 4 {'done': 3, 'failed': 1}",
+        "reward of the run 1.235; model on the same arrivals: FCFS (model) 0.500, "
+        "Ours(seed) (model) 1.000",
+        "order: x before y",
+        "belief accuracy: mean 0.75 (Alice 0.50, Bob 1.00); searches 2",
+        "human_db history rows by source: perception 10, register 1",
+        "report: out/REPORT.md"]
+
+
+def test_summary_lines_leave_out_empty_belief_and_sources():
+    result = dict(RESULT, order_problems=[], belief={}, sources={})
+    lines = scenario_report_main.summary_lines(result, "out")
+    assert len(lines) == 3 and lines[-1] == "report: out/REPORT.md"
+
+
+def test_report_arguments_name_missing_files(tmp_path, capsys):
+    record = tmp_path / "record.json"
+    record.write_text("{}")
+    with pytest.raises(SystemExit):
+        scenario_report_main.parse_args([str(record), str(tmp_path / "tasks.sqlite")])
+    assert f"journal: no such file: {tmp_path / 'tasks.sqlite'}" in capsys.readouterr().err
+
+
+def test_report_arguments_of_a_run_directory_parse(tmp_path):
+    for name in ("record.json", "social_household_tasks.sqlite",
+                 "social_household_humans.sqlite"):
+        (tmp_path / name).write_text("")
+    args = scenario_report_main.parse_args(
+        run_scenario_main.report_arguments(tmp_path, tmp_path / "report"))
+    assert args.record == tmp_path / "record.json"
+    assert args.humans == tmp_path / "social_household_humans.sqlite"
+    assert args.out_dir == tmp_path / "report" and args.exact_limit_s == 60.0
+
+
+def test_launch_command_carries_the_scenario_and_the_switches(tmp_path):
+    path = resource("config", "scenarios", "household_short.yaml")
+    scenario = load_scenario(path)
+    args = run_scenario_main.parse_args([str(path), "--speed", "2.5", "--no-patrol"])
+    command = run_scenario_main.launch_command(args, scenario, path, tmp_path, 11311)
+    assert command[:5] == ["roslaunch", "-p", "11311", "tamp_bringup", "social_household.launch"]
+    assert "speed:=2.5" in command and "patrol:=false" in command
+    assert "self_instructions:=true" in command and "rviz:=false" in command
+    assert f"record:={tmp_path / 'record.json'}" in command
+    assert f"planner:={scenario.planner}" in command
+    assert f"command:=scripts/run_scenario {path} --speed 2.5" in command
+
+
+def test_speed_must_be_positive(capsys):
+    with pytest.raises(SystemExit):
+        run_scenario_main.parse_args(["--speed", "0"])
+    assert "--speed must be positive" in capsys.readouterr().err
+
+
+def test_stop_interrupts_a_running_child():
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    run_scenario_main.stop(child, timeout_s=10.0)
+    assert child.returncode is not None and child.returncode != 0
+    run_scenario_main.stop(None)               # nothing started: nothing to do
