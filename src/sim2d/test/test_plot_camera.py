@@ -1,0 +1,41 @@
+"""scripts/plot_camera's library: running the world up to a time, placing the robot, errors."""
+import pytest
+from tamp_resources import resource
+
+from sim2d import plot_camera_main as plot_camera
+from sim2d.world import World
+
+HOUSEHOLD = resource("config", "worlds", "household.yaml")
+
+
+def test_camera_view_runs_the_world_and_places_the_robot():
+    world = World.from_file(HOUSEHOLD)
+    frame, robot = plot_camera.camera_view(world, "pepper", (1.0, 2.0, 0.5), time_s=0.2)
+    assert world.time == pytest.approx(0.2)        # four steps of 0.05 s
+    assert robot.state.pose == (1.0, 2.0, 0.5)
+    assert frame is not None
+
+
+def test_unknown_robot_names_the_robots_there():
+    with pytest.raises(ValueError, match="no robot named 'r2d2' in the world \\(it has: pepper\\)"):
+        plot_camera.camera_view(World.from_file(HOUSEHOLD), "r2d2")
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--out", "x.png", "--time", "-1"], "--time must not be negative"),
+    (["--out", "x.png", "--world", "/nonexistent.yaml"], "--world: no such world file"),
+    ([], "the following arguments are required: --out"),
+])
+def test_bad_arguments_are_named(argv, message, capsys):
+    with pytest.raises(SystemExit):
+        plot_camera.parse_args(argv)
+    assert message in capsys.readouterr().err
+
+
+def test_main_prints_the_detections_and_writes_the_png(tmp_path, capsys):
+    out = tmp_path / "camera.png"
+    assert plot_camera.main(["--out", str(out), "--time", "1"]) == 0
+    # what the script printed before it moved here: Pepper's start pose sees the dining table
+    assert capsys.readouterr().out == \
+        "2 boxes, 0 skeletons: dining_table:dining table, cup_dining:cup\n"
+    assert out.read_bytes()[:4] == b"\x89PNG"
