@@ -8,9 +8,9 @@ confusion-matrix PNG and per-class accuracy to docs/perception/.
 
 Two splits: `tune` (the default; distances, bearings, facings below, seeds from 0) is the set the
 affordances and ActivityConfig were adjusted on; `held-out` (other distances, bearings and
-facings, seeds from 100) is reported beside it and never tuned on. It was measured once after
-issue 32's tuning and a second time after the changes aimed at chat and store, so it is no
-longer blind; `--note` writes such a remark into the accuracy table.
+facings, seeds from 100) is reported beside it and never tuned on; it has been measured twice,
+the second time after the changes aimed at chat and store, so it is not blind. `--note` writes
+such a remark into the accuracy table.
 A frame whose person the detector missed counts as "missed" (a wrong answer).
 """
 import argparse
