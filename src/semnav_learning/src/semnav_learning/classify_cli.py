@@ -1,0 +1,80 @@
+"""Command line of scripts/classify_instruction: Z_w of LSTM_w (thesis 002 §2.2.4) on sentences
+from stdin, or its accuracy on sentences of held-out (or validation) phrasings."""
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+
+def argument_parser(root, description=None):
+    """The options of classify_instruction; the phrase sets default under `root`."""
+    parser = argparse.ArgumentParser(description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--model", type=Path, help="default: models/semantic_nav/default.keras")
+    parser.add_argument("--words", help="GloVe text file or cache directory (default cache)")
+    parser.add_argument("--held-out", type=int, metavar="N",
+                        help="instead of stdin: accuracy on N held-out-phrasing sentences")
+    parser.add_argument("--split", choices=("held_out", "validation"), default="held_out",
+                        help="the phrasings of --held-out: the held-out test (default) or the "
+                             "validation phrasings that choose between classifiers")
+    parser.add_argument("--phrases", type=Path,
+                        default=Path(root) / "config" / "semnav_phrases.yaml",
+                        help="phrase sets of --held-out (default: config/semnav_phrases.yaml)")
+    parser.add_argument("--seed", type=int, default=0)
+    return parser
+
+
+def read_phrase_sets(path):
+    """The phrase sets of --phrases; a bad file ends the program with a message naming it."""
+    from semnav_learning.phrase_sets import PhraseSetError, load_phrase_sets
+    try:
+        return load_phrase_sets(path)
+    except (OSError, yaml.YAMLError, PhraseSetError) as error:
+        sys.exit(f"classify_instruction: --phrases {path}: {error}")
+
+
+def phrasing_accuracy(follower, sets, split, count, seed):
+    """Z_w accuracy on `count` sentences of one split's phrasings, classes drawn in turn, and
+    the phrases of that split it misses (printed) -> the accuracy."""
+    from semnav_learning.phrase_sets import score_phrasings
+    score = score_phrasings(sets, follower.start, count, np.random.default_rng(seed), split)
+    print(f"{split} phrasings: {score.hits}/{count} = {score.accuracy:.2%} classified correctly")
+    print("per class: " + ", ".join(f"{label}: {h}/{n}"
+                                    for label, (h, n) in score.per_class.items()))
+    for text, missed, used in score.missed_phrases():
+        print(f"  missed {missed:4d} of {used:4d} sentences with {text!r}")
+    return score.accuracy
+
+
+def classify_lines(follower, lines):
+    """Print the classes of each non-blank line (`unknown: <reason>` for unknown words) ->
+    exit status: 1 if a line had unknown words, else 0."""
+    from semantic_nav.follower import UnknownInstructionError
+    status = 0
+    for line in lines:
+        if not line.strip():
+            continue
+        try:
+            print(" ".join(str(c) for c in follower.start(line.strip())), flush=True)
+        except UnknownInstructionError as error:
+            print(f"unknown: {error}", flush=True)
+            status = 1
+    return status
+
+
+def main(root, description=None, argv=None, lines=None):
+    """Parse, load the model, classify `lines` (default stdin) or score --held-out -> exit
+    status."""
+    args = argument_parser(root, description).parse_args(argv)
+    sets = read_phrase_sets(args.phrases) if args.held_out else None   # before the model loads
+    from semantic_nav.follower import DirectionFollower, ModelMissingError
+    try:
+        follower = DirectionFollower.from_files(args.model, args.words)
+    except ModelMissingError as error:
+        sys.exit(str(error))
+    if args.held_out:
+        phrasing_accuracy(follower, sets, args.split, args.held_out, args.seed)
+        return 0
+    return classify_lines(follower, sys.stdin if lines is None else lines)
