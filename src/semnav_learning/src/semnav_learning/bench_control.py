@@ -1,0 +1,146 @@
+"""Latency of one semantic_nav control step (DirectionFollower.step) on real sim2d scans of both
+lasers along a corridor of office_ring, with its parts (closing doorways, the collision guard and
+its worst case) and one step of the Keras model for comparison: scripts/bench_semnav_control."""
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from semantic_nav.collision_guard import guard_velocity, scan_points, steer_around
+from semantic_nav.doorways import close_doorways
+from semantic_nav.follower import DirectionFollower, ModelMissingError, model_file
+from semnav_learning.demonstrations import world_for_floor
+from semnav_learning.episodes import sim_laser_model
+from semnav_learning.eval_cli import laser_templates
+
+FLOOR = ("maps", "office_ring.yaml")       # under the workspace root
+SENTENCE = "go straight to the end, then turn left"
+CORRIDOR = (6.0, 24.0, 5.0)                # x from, x to, y of office_ring's south corridor [m]
+WALL_GAP = 0.36                            # [m] ahead in the guard's worst case (reach 0.35 m)
+
+
+def argument_parser(description=None):
+    """The options of bench_semnav_control."""
+    parser = argparse.ArgumentParser(description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--model", help="model file (default: the follower's default)")
+    parser.add_argument("--untrained", action="store_true")
+    parser.add_argument("--steps", type=int, default=2000)
+    return parser
+
+
+def keras_model(model_path, untrained):
+    """The Keras network: freshly built (untrained) or loaded; ModelMissingError if absent."""
+    from semantic_nav.network import build_network, load_network
+    return build_network() if untrained else load_network(str(model_file(model_path)))
+
+
+def follower(model):
+    """A DirectionFollower on the numpy single-step twin of `model`, default GloVe vectors."""
+    from semantic_nav.network import StepPolicy
+    from semantic_nav.word_vectors import load_word_vectors
+    return DirectionFollower(StepPolicy.from_keras(model), load_word_vectors(None))
+
+
+def median_ms(function, calls):
+    """Median wall time of `calls` calls of `function` [ms]."""
+    times = []
+    for _ in range(calls):
+        began = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - began)
+    return 1e3 * float(np.median(times))
+
+
+def scans(template, floor, count, raycast):
+    """`count` sim2d scans along the south ring corridor (at most 200 places, repeated) ->
+    (scans, the laser's model)."""
+    world = world_for_floor(template, floor, raycast=raycast)
+    robot = world.robots[0]
+    x_from, x_to, y = CORRIDOR
+    out = [robot.lasers[0].scan((float(x), y, 0.0)) for x in np.linspace(x_from, x_to,
+                                                                          min(count, 200))]
+    return [out[i % len(out)] for i in range(count)], sim_laser_model(robot)
+
+
+def blocked_scan(templates, floor, laser_name):
+    """One scan facing a wall WALL_GAP ahead (north from the ring corridor): the guard's
+    footprint reach is 0.35 m, so every arc is blocked at its first checked pose. The wall is
+    found with the UTM-30LX (30 m range; the URG-04LX reaches 5.6 m)."""
+    lasers = {name: world_for_floor(templates[name], floor, raycast="march").robots[0].lasers[0]
+              for name in {"utm30lx", laser_name}}
+    x, y = 15.0, CORRIDOR[2]
+    ahead = lasers["utm30lx"].scan((x, y, np.pi / 2))
+    front = float(ahead[len(ahead) // 2])
+    return lasers[laser_name].scan((x, y + front - WALL_GAP, np.pi / 2))
+
+
+def step_times_ms(policy, ranges, laser):
+    """Wall time of each control step over `ranges` [ms], restarting the sentence when done."""
+    policy.start(SENTENCE)
+    times = []
+    for r in ranges:
+        began = time.perf_counter()
+        policy.step(r, laser)
+        times.append(time.perf_counter() - began)
+        if policy.done:
+            policy.start(SENTENCE)
+    return np.array(times) * 1e3
+
+
+def bench_laser(policy, laser_name, templates, floor, steps):
+    """Print the control step's latency on one laser and its parts."""
+    ranges, laser = scans(templates[laser_name], floor, steps,
+                          "table" if laser_name == "utm30lx" else "march")
+    ms = step_times_ms(policy, ranges, laser)
+    print(f"{laser_name} ({laser.beams} beams): control step median {np.median(ms):.3f} ms, "
+          f"p90 {np.percentile(ms, 90):.3f} ms, max {ms.max():.3f} ms over {len(ms)} steps "
+          f"(budget {policy.control_period * 1e3:.0f} ms)")
+    cycle = iter(ranges)
+    doors = median_ms(lambda: close_doorways(next(cycle), laser, policy.config.doors),
+                      len(ranges))
+    print(f"  of which closing the doorways: median {doors:.3f} ms")
+    cycle = iter(ranges)
+    guard = median_ms(lambda: guard_velocity(0.4, 0.5, scan_points(next(cycle), laser)),
+                      len(ranges))
+    print(f"  of which the collision guard (v 0.4 m/s, ω 0.5 rad/s): median {guard:.3f} ms")
+    wall = blocked_scan(templates, floor, laser_name)
+    v_move = policy.config.postprocess.v_move
+    steered = median_ms(lambda: steer_around(0.4, 0.0, scan_points(wall, laser), v_move,
+                                             policy.config.guard, 0.5), 200)
+    print(f"  the guard's worst case (a wall 0.36 m ahead, every arc tried on the base's "
+          f"path from ω 0.5 rad/s): median {steered:.3f} ms")
+
+
+def keras_step_ms(model, calls=100):
+    """Median time of one Keras step (words + one scan, no state kept) [ms]."""
+    from semantic_nav.network import CORNER_CLASSES, has_count_input
+    rng = np.random.default_rng(0)
+    inputs = {"words": rng.normal(size=(1, 6, 50)).astype(np.float32),
+              "scans": rng.random((1, 1, 881)).astype(np.float32)}
+    if has_count_input(model):      # the corner count (corner_count.CornerCounter): 0 here
+        inputs["counts"] = np.eye(CORNER_CLASSES, dtype=np.float32)[[[0]]]
+    return median_ms(lambda: model.predict_on_batch(inputs), calls)
+
+
+def main(root, description=None, argv=None):
+    """Parse, measure, print -> exit status 0 (no model file: exits naming --untrained)."""
+    args = argument_parser(description).parse_args(argv)
+    try:
+        model = keras_model(args.model, args.untrained)
+    except ModelMissingError as error:
+        sys.exit(f"bench_semnav_control: {error}, or pass --untrained")
+    policy = follower(model)
+    name = "untrained network (same shape)" if args.untrained else args.model or "default"
+    print(f"model: {name}")
+    templates, floor = laser_templates(root), Path(root).joinpath(*FLOOR)
+    for laser_name in ("utm30lx", "urg04lx"):
+        bench_laser(policy, laser_name, templates, floor, args.steps)
+    keras = keras_step_ms(model)
+    print(f"Keras model, one step (words + one scan, no state kept): median {keras:.3f} ms")
+    began = time.perf_counter()
+    policy.start(SENTENCE)
+    print(f"start(sentence): {1e3 * (time.perf_counter() - began):.2f} ms (split, GloVe, LSTM_w)")
+    return 0
