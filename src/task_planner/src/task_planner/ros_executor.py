@@ -89,7 +89,8 @@ class NodeParams:
     state_recent: int = 50         # /task_planner/state carries this many finished instructions
                                    # (the most recent) besides the open ones
     goal_silence: float = 5.0      # no feedback from move_base this long on an active goal: the
-                                   # server is taken as gone and the goal as lost [s]
+                                   # server is taken as gone and the goal as lost [s of wall
+                                   # time: a restarting server is no faster in a faster sim]
     max_preemptions: int = 3       # a goal preempted by another sender (rviz "2D Nav Goal") is
                                    # sent again this often, then handled as aborted
     event_hold: float = 10.0       # diagnostics keep a navigation or journal event this long [s]
@@ -149,7 +150,7 @@ class ExecutorNode:
         self.results = queue.SimpleQueue()
         self._schedules, self._predicted_at = {}, -float("inf")  # schedules, last prediction
         self.refused, self.nav_goal, self.goal_seq = 0, None, 0
-        self._goal_heard = 0.0      # ROS time of the last feedback on the goal we follow [s]
+        self._goal_heard = 0.0      # wall time of the last feedback on the goal we follow [s]
         self._last_goal = None      # (node, heading) of the goal we follow, to send it again
         self._preemptions = 0       # times another sender preempted the goal we follow
         self.events = deque(maxlen=20)  # (wall time, text): shown on diagnostics for event_hold
@@ -225,7 +226,7 @@ class ExecutorNode:
         self.results.put((goal_seq, state, self.move_base.get_goal_status_text()))
 
     def _on_goal_heard(self, *_):
-        self._goal_heard = rospy.get_time()  # one float: no lock needed
+        self._goal_heard = time.monotonic()  # one float: no lock needed
 
     # ---- services: journal before answering ----
 
@@ -343,11 +344,11 @@ class ExecutorNode:
                     self._event(f"move_base goal to {self.graph.names[self._last_goal[0]]} "
                                 f"ended {GoalStatus.to_string(state)}: {reason}")
                 commands += self.executor.aborted(now, reason)
-        silent = now - self._goal_heard
+        silent = time.monotonic() - self._goal_heard
         if self.nav_goal is not None and following and silent > self.params.goal_silence:
             self.nav_goal = None       # results of this goal, should it ever end, are ignored
             self.move_base.cancel_goal()
-            reason = (f"move_base silent for {silent:.1f} s on the goal to "
+            reason = (f"move_base silent for {silent:.1f} s (wall clock) on the goal to "
                       f"{self.graph.names[self._last_goal[0]]} (server gone?)")
             self._event(reason)
             commands += self.executor.aborted(now, reason)
@@ -409,7 +410,7 @@ class ExecutorNode:
         goal.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
         self.goal_seq += 1
         self.nav_goal = self.goal_seq   # results of earlier (replaced) goals are ignored
-        self._last_goal, self._goal_heard = (node, heading), rospy.get_time()
+        self._last_goal, self._goal_heard = (node, heading), time.monotonic()
         if not again:
             self._preemptions = 0
         self.move_base.send_goal(goal, done_cb=lambda state, result, n=self.goal_seq:
