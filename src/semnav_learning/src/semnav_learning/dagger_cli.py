@@ -106,7 +106,7 @@ def write_model_card(model, out, work_dir):
 
 
 def main(root, description=None, argv=None):
-    """Parse, run the rounds -> exit status 0 (a failed training exits with its status)."""
+    """Parse, run the rounds -> exit status 0 (a failed training round exits with a message)."""
     root = Path(root)
     args = argument_parser(root, description).parse_args(argv)
     from semnav_learning.phrase_sets import load_phrase_sets
