@@ -3,8 +3,8 @@ is closed, for the network, the corner counter and the collision guard.
 
 The route oracle's corridors end at a wall even where a door leads into an office behind it, and
 doors are not corners. A network that sees its beams go on through a door at a corridor's end
-drives into the office: 34 of countin2's 36 failed class 1, 9 and 10 episodes on the test floors
-did (EVALUATION.md, "Doors straight ahead at a corridor's end"). The generated floors'
+drives into the office (docs/semantic_nav/EVALUATION.md compares the default follower with its
+doorways left open). The generated floors'
 corridors (1.8-2.4 m, floor_generator) are wider than their doors (0.8-1.1 m), so a door can be
 told from a corridor's opening by its width alone.
 """

@@ -119,8 +119,9 @@ class FollowerCommand:
 def class_one_hot(z_w):
     """Beyond the seed: Z_w -> the one-hot vector of its class (argmax). LSTM_fused learnt on
     Z_w of training phrasings, one-hot to about 1e-7; a classifier trained with noise on the word
-    vectors is less sure of some phrasings (zw61 on office_wings' counting phrasings: median 0.94
-    to 0.96 on the right class), and LSTM_fused then drives differently for the same class."""
+    vectors is less sure of some phrasings (the default model's Z_w on office_wings' counting
+    phrasings: median 0.94 to 0.96 on the right class), and LSTM_fused then drives differently for
+    the same class."""
     return np.eye(len(z_w))[int(np.argmax(z_w))]
 
 
