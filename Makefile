@@ -10,8 +10,9 @@ demo:
 test:
 	bash scripts/test
 
+# `make train ARGS=--install` also copies the models over models/semantic_nav/
 train:
-	bash -c 'source scripts/env.sh && python3 scripts/train_semnav_default'
+	bash -c 'source scripts/env.sh && python3 scripts/train_recipe $(ARGS)'
 
 lint: setup
 	bash scripts/lint

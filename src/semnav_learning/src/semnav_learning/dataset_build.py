@@ -182,10 +182,11 @@ def floor_jobs(config):
     return jobs
 
 
-def build_dataset(config, progress=True):
+def build_dataset(config, progress=True, on_floor=None):
     """Build every floor in `config.workers` processes (a progress bar on stderr unless
-    `progress` is False), add the floors of earlier runs of `out` and write
-    <out>/summary.yaml -> the summary ({record_rate, splits, failures, seconds})."""
+    `progress` is False; `on_floor(floors done, floors, "floors")` after each floor), add the
+    floors of earlier runs of `out` and write <out>/summary.yaml -> the summary
+    ({record_rate, splits, failures, seconds})."""
     began = time.perf_counter()
     # record_rate: what scripts/train_semnav reads (None: every scan of the 40 Hz laser)
     summary = {"record_rate": config.record_rate or DEFAULT_RECORD_RATE, "splits": {},
@@ -193,12 +194,14 @@ def build_dataset(config, progress=True):
     jobs = floor_jobs(config)
     with multiprocessing.get_context("fork").Pool(config.workers) as pool, \
             tqdm(total=len(jobs), unit="floor", disable=not progress) as bar:
-        for split, floor, entry, failures in pool.imap_unordered(
-                functools.partial(build_floor, config=config), jobs):
+        for done, (split, floor, entry, failures) in enumerate(pool.imap_unordered(
+                functools.partial(build_floor, config=config), jobs), 1):
             summary["splits"].setdefault(split, {})[floor] = entry
             summary["failures"][floor] = failures
             bar.set_postfix_str(f"{floor}: {entry['records']} records")
             bar.update(1)
+            if on_floor:
+                on_floor(done, len(jobs), "floors")
     for entry_path in sorted(Path(config.out).glob("*/*.json")):  # floors of earlier runs
         split, floor = entry_path.parent.name, entry_path.stem
         if floor not in summary["splits"].get(split, {}):

@@ -1,0 +1,401 @@
+"""`make train`: the training recipe of the semantic_nav models (config/semnav_recipe.yaml).
+
+`load_recipe(path, root)` reads and checks a recipe: named stages, each a list of units (one
+dataset build, closed-loop plan, training, DAgger collection, Z_w retraining or evaluation) with
+an estimated duration. `RecipeRun(recipe, report=print).run()` runs the units in order in this
+process through the library (dataset_build, eval_cli, trainer, dagger), everything under the
+recipe's work directory; a unit whose done/<unit>.json exists is skipped (resume). Progress goes
+to `report` as lines: one per unit and per floor, epoch or episode block, each with the elapsed
+time, the unit's ETA and the recipe's ETA (the estimates of the units still to run, scaled by
+the measured/estimated ratio of the units run so far). `install()` copies the models named by
+the recipe's `install` to the install directory with their cards; nothing else is written
+outside the work directory.
+"""
+import argparse
+import dataclasses
+import json
+import re
+import shutil
+import signal
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+from semnav_learning.dataset_build import DatasetConfig
+from semnav_learning.trainer import TrainerConfig, format_duration
+from semnav_learning.training import TrainingConfig
+
+KINDS = ("build", "plan", "train", "dagger", "classifier", "evaluate")
+MODEL_KINDS = ("train", "classifier")
+TOP_KEYS = {"work_dir", "stages", "world", "threads", "install", "install_dir", "maps_dir",
+            "words", "training", "network"}
+# keys the runner sets itself, not the recipe
+MANAGED = {"work_dir", "out", "command", "laser_config", "phrases", "world_template", "cache",
+           "threads", "retrain_classifier", "words"}
+KIND_KEYS = {
+    "build": {f.name for f in dataclasses.fields(DatasetConfig)}
+    - {"world", "maps_dir", "out", "resume"},
+    "plan": {"floors", "per_class", "seed", "classes"},
+    "train": {f.name for f in dataclasses.fields(TrainerConfig)} - MANAGED,
+    "dagger": {"model", "floors", "per_class", "seed", "classes", "max_route_offset"},
+    "classifier": {"init", "batches", "word_noise", "seed", "training", "network"},
+    "evaluate": {"model", "plan", "per_class", "seed", "floors", "classes", "laser", "workers"},
+}
+REQUIRED = {"plan": ("floors", "per_class"), "dagger": ("model", "floors"),
+            "classifier": ("init", "batches"), "evaluate": ("model", "plan"), "train": ("dataset",)}
+# references to earlier units: key -> the kinds it may name
+REFERENCES = {("train", "dataset"): ("build",), ("train", "closed_loop_plan"): ("plan",),
+              ("train", "init"): MODEL_KINDS, ("train", "dagger_records"): ("dagger",),
+              ("dagger", "model"): MODEL_KINDS, ("classifier", "init"): MODEL_KINDS}
+# Trainer lines that end a part of a training unit -> what the parts are
+PROGRESS_LINE = {"epochs": re.compile(r"^Epoch (\d+)/(\d+) - "),
+                 "Z_w batches": re.compile(r"^Z_w: (\d+)/(\d+) batches")}
+
+
+class RecipeError(ValueError):
+    """A recipe that cannot run: names the key (or unit) that is wrong."""
+
+
+@dataclass
+class Unit:
+    """One unit of work of a stage."""
+
+    stage: str
+    name: str
+    kind: str          # one of KINDS
+    minutes: float     # estimated duration on 2 cores
+    args: dict
+
+
+@dataclass
+class Recipe:
+    """A checked recipe; paths are absolute (relative ones are under the workspace root)."""
+
+    path: Path
+    root: Path
+    work_dir: Path
+    world: Path
+    maps_dir: Path
+    install_dir: Path
+    threads: int = 2
+    words: str = None
+    install: dict = field(default_factory=dict)     # model name -> unit name
+    training: dict = field(default_factory=dict)    # TrainingConfig overrides of every training
+    network: dict = field(default_factory=dict)     # NetworkConfig overrides of every training
+    units: list = field(default_factory=list)       # [Unit] in order
+
+    def unit(self, name):
+        return next(u for u in self.units if u.name == name)
+
+    def stages(self):
+        """Stage names in order."""
+        return list(dict.fromkeys(u.stage for u in self.units))
+
+
+def _mapping(value, where):
+    if not isinstance(value, dict):
+        raise RecipeError(f"{where}: expected a mapping, got {type(value).__name__}")
+    return value
+
+
+def _check_keys(mapping, allowed, where):
+    unknown = sorted(set(mapping) - set(allowed))
+    if unknown:
+        raise RecipeError(f"{where}.{unknown[0]}: unknown key (allowed: "
+                          f"{', '.join(sorted(allowed))})")
+
+
+def _check_overrides(overrides, where):
+    """`training` / `network` mappings: fields of TrainingConfig / NetworkConfig."""
+    from semantic_nav.network import NetworkConfig
+    for key, config in (("training", TrainingConfig), ("network", NetworkConfig)):
+        if key in overrides:
+            _check_keys(_mapping(overrides[key], f"{where}.{key}"),
+                        {f.name for f in dataclasses.fields(config)}, f"{where}.{key}")
+
+
+def _check_references(unit, done, where):
+    """Names of earlier units in `unit`'s arguments, and dataset floors ("unit:floor")."""
+    for (kind, key), kinds in REFERENCES.items():
+        if unit.kind != kind or key not in unit.args:
+            continue
+        names = unit.args[key]
+        for name in names if isinstance(names, list) else [names]:
+            if done.get(name) not in kinds:
+                raise RecipeError(f"{where}.{kind}.{key}: {name!r} is not an earlier unit of kind "
+                                  f"{' / '.join(kinds)}")
+    for floor in unit.args.get("floors", []):
+        dataset = str(floor).partition(":")[0] if ":" in str(floor) else None
+        if dataset is not None and done.get(dataset) != "build":
+            raise RecipeError(f"{where}.{unit.kind}.floors: {floor!r} names no earlier build unit")
+
+
+def _unit(entry, stage, where):
+    """One unit entry -> Unit (keys checked)."""
+    entry = _mapping(entry, where)
+    kinds = [k for k in KINDS if k in entry]
+    if "name" not in entry or len(kinds) != 1:
+        raise RecipeError(f"{where}: a unit needs a name and exactly one of {', '.join(KINDS)}")
+    kind = kinds[0]
+    _check_keys(entry, {"name", "minutes", kind}, where)
+    minutes = entry.get("minutes", 0)
+    if not isinstance(minutes, (int, float)) or minutes < 0:
+        raise RecipeError(f"{where}.minutes: expected a number of minutes >= 0, got {minutes!r}")
+    args = _mapping(entry[kind], f"{where}.{kind}")
+    _check_keys(args, KIND_KEYS[kind], f"{where}.{kind}")
+    missing = [key for key in REQUIRED.get(kind, ()) if key not in args]
+    if missing:
+        raise RecipeError(f"{where}.{kind}.{missing[0]}: missing")
+    _check_overrides(args, f"{where}.{kind}")
+    return Unit(stage, str(entry["name"]), kind, float(minutes), dict(args))
+
+
+def _stage_units(stages, where="stages"):
+    """The `stages` list -> [Unit], every name unique and every reference to an earlier unit."""
+    if not isinstance(stages, list) or not stages:
+        raise RecipeError(f"{where}: expected a list of stages")
+    units, done = [], {}
+    for s, stage in enumerate(stages):
+        at = f"{where}[{s}]"
+        stage = _mapping(stage, at)
+        _check_keys(stage, {"name", "units"}, at)
+        if "name" not in stage or not isinstance(stage.get("units"), list):
+            raise RecipeError(f"{at}: a stage needs a name and a list of units")
+        for u, entry in enumerate(stage["units"]):
+            unit = _unit(entry, str(stage["name"]), f"{at}.units[{u}]")
+            if unit.name in done:
+                raise RecipeError(f"{at}.units[{u}].name: {unit.name!r} is used twice")
+            _check_references(unit, done, f"{at}.units[{u}]")
+            units.append(unit)
+            done[unit.name] = unit.kind
+    return units
+
+
+def load_recipe(path, root):
+    """Read and check a recipe YAML -> Recipe; RecipeError naming the key that is wrong."""
+    path, root = Path(path), Path(root)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (OSError, yaml.YAMLError) as error:
+        raise RecipeError(f"{path}: {error}") from error
+    data = _mapping(data, str(path))
+    _check_keys(data, TOP_KEYS, str(path))
+    if "work_dir" not in data:
+        raise RecipeError(f"{path}.work_dir: missing")
+    _check_overrides(data, str(path))
+    try:
+        units = _stage_units(data.get("stages"))
+    except RecipeError as error:
+        raise RecipeError(f"{path}: {error}") from None
+    kinds = {u.name: u.kind for u in units}
+    install = _mapping(data.get("install") or {}, f"{path}.install")
+    for model, unit in install.items():
+        if kinds.get(unit) not in MODEL_KINDS:
+            raise RecipeError(f"{path}: install.{model}: {unit!r} is no training unit")
+    def here(value, default):
+        return root / (value if value is not None else default)
+
+    return Recipe(path=path, root=root, work_dir=here(data["work_dir"], ""),
+                  world=here(data.get("world"), "config/worlds/office_penguin.yaml"),
+                  maps_dir=here(data.get("maps_dir"), "maps"),
+                  install_dir=here(data.get("install_dir"), "models/semantic_nav"),
+                  threads=int(data.get("threads", 2)), words=data.get("words"),
+                  install=dict(install), training=dict(data.get("training") or {}),
+                  network=dict(data.get("network") or {}), units=units)
+
+
+class Schedule:
+    """Estimated and measured durations -> the recipe's ETA."""
+
+    def __init__(self, units, done, clock=time.perf_counter):
+        self.estimates = {u.name: 60.0 * u.minutes for u in units}
+        self.order = [u.name for u in units]
+        self.pending = [u.name for u in units if u.name not in done]
+        self.measured, self.clock, self.began = {}, clock, clock()
+
+    def ratio(self):
+        """Measured / estimated duration of the units run so far (1 before any)."""
+        estimated = sum(self.estimates[name] for name in self.measured)
+        if not self.measured or estimated <= 0:
+            return 1.0
+        return sum(self.measured.values()) / estimated
+
+    def eta(self, current=None, current_remaining=None):
+        """Seconds left: the current unit's remaining time (measured; None: its scaled
+        estimate) plus the scaled estimates of the units after it."""
+        later = [n for n in self.pending if n != current]
+        left = self.ratio() * sum(self.estimates[n] for n in later)
+        if current is not None:
+            left += (current_remaining if current_remaining is not None
+                     else self.ratio() * self.estimates[current])
+        return left
+
+    def finished(self, name, seconds):
+        self.measured[name] = seconds
+        self.pending.remove(name)
+
+    def elapsed(self):
+        return self.clock() - self.began
+
+
+class UnitProgress:
+    """Progress lines of one unit: k/N parts done, elapsed, the unit's ETA and the recipe's."""
+
+    def __init__(self, label, name, schedule, report, every=1):
+        self.label, self.name, self.schedule, self.report = label, name, schedule, report
+        self.began, self.every = schedule.clock(), max(1, every)
+
+    def __call__(self, done, total, unit):
+        if done % self.every and done != total:
+            return
+        elapsed = self.schedule.clock() - self.began
+        remaining = elapsed / max(done, 1) * (total - done)
+        recipe = self.schedule.eta(self.name, remaining)
+        self.report(f"{self.label}: {done}/{total} {unit}, {format_duration(elapsed)} elapsed, "
+                    f"unit ETA {format_duration(remaining)}, recipe ETA "
+                    f"{format_duration(recipe)}")
+
+
+class RecipeRun:
+    """Runs a Recipe's units in order (resume: units with done/<unit>.json are skipped)."""
+
+    def __init__(self, recipe, report=print, clock=time.perf_counter):
+        self.recipe, self.report, self.clock = recipe, report, clock
+        self.done_dir = recipe.work_dir / "done"
+
+    def done(self):
+        """{unit name: its done record} of the units finished in earlier runs."""
+        return {u.name: json.loads((self.done_dir / f"{u.name}.json").read_text())
+                for u in self.recipe.units if (self.done_dir / f"{u.name}.json").is_file()}
+
+    def selected(self, only):
+        """The units of `only` (stage or unit names; None: all) -> [Unit]; RecipeError if a
+        name is neither."""
+        if not only:
+            return list(self.recipe.units)
+        names = {u.name for u in self.recipe.units} | set(self.recipe.stages())
+        unknown = [name for name in only if name not in names]
+        if unknown:
+            raise RecipeError(f"--only {unknown[0]}: no such stage or unit")
+        return [u for u in self.recipe.units if u.name in only or u.stage in only]
+
+    def run(self, only=None):
+        """Run the (selected) units not done yet -> {unit name: done record}."""
+        units, done = self.selected(only), self.done()
+        schedule = Schedule(units, done, self.clock)
+        self.report(f"recipe {self.recipe.path.name}: {len(units)} units, "
+                    f"{sum(u.name in done for u in units)} done earlier; estimate "
+                    f"{format_duration(schedule.eta())}; work directory {self.recipe.work_dir}")
+        from semnav_learning.recipe_units import UnitRunner
+        runner = UnitRunner(self.recipe, self.report)
+        for index, unit in enumerate(units, 1):
+            label = f"[{index}/{len(units)}] {unit.stage}/{unit.name}"
+            if unit.name in done:
+                self.report(f"{label}: done earlier ({format_duration(done[unit.name]['seconds'])}"
+                            "), skipped")
+                continue
+            self.report(f"{label} ({unit.kind}): started; recipe "
+                        f"{format_duration(schedule.elapsed())} elapsed, ETA "
+                        f"{format_duration(schedule.eta(unit.name))}")
+            began = self.clock()
+            result = runner.run(unit, UnitProgress(label, unit.name, schedule, self.report))
+            seconds = self.clock() - began
+            schedule.finished(unit.name, seconds)
+            done[unit.name] = {"unit": unit.name, "kind": unit.kind, "seconds": round(seconds, 1),
+                               "estimate_minutes": unit.minutes, **result}
+            self.done_dir.mkdir(parents=True, exist_ok=True)
+            (self.done_dir / f"{unit.name}.json").write_text(json.dumps(done[unit.name],
+                                                                        indent=1))
+            if unit.kind == "evaluate":
+                self.write_evaluations(done)
+            self.report(f"{label}: done in {format_duration(seconds)} (estimate "
+                        f"{format_duration(60 * unit.minutes)}); recipe "
+                        f"{format_duration(schedule.elapsed())} elapsed, ETA "
+                        f"{format_duration(schedule.eta())}")
+        return done
+
+    def write_evaluations(self, done):
+        """eval/summary.md: every evaluation done so far, its model and goals reached (the
+        same plan's episodes for every model of the recipe's `evaluate` units)."""
+        lines = ["| unit | model | goals | success rate |", "|---|---|---:|---:|"]
+        lines += [f"| {name} | {d['evaluated']} | {d['successes']}/{d['episodes']} | "
+                  f"{d['rate']:.4f} |" for name, d in done.items() if d["kind"] == "evaluate"]
+        path = self.recipe.work_dir / "eval" / "summary.md"
+        path.write_text("\n".join(lines) + "\n")
+        self.report(f"evaluations so far -> {path}")
+
+    def install(self):
+        """Copy the `install` models (+ their cards, with the recipe and unit named) to the
+        install directory -> [installed paths]; RecipeError if one has not been trained."""
+        done, installed = self.done(), []
+        missing = [unit for unit in self.recipe.install.values() if unit not in done]
+        if missing:
+            raise RecipeError(f"--install: unit {missing[0]} has not run yet")
+        self.recipe.install_dir.mkdir(parents=True, exist_ok=True)
+        for model, unit in self.recipe.install.items():
+            source = Path(done[unit]["model"])
+            target = self.recipe.install_dir / f"{model}.keras"
+            shutil.copyfile(source, target)
+            card = json.loads(source.with_suffix(".json").read_text())
+            card = {"recipe": str(self.recipe.path), "recipe_unit": unit, **card}
+            target.with_suffix(".json").write_text(json.dumps(card, indent=1, default=str))
+            self.report(f"installed {unit} -> {target}")
+            installed.append(target)
+        return installed
+
+
+def argument_parser(root, description=None):
+    """The options of scripts/train_recipe."""
+    parser = argparse.ArgumentParser(description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--recipe", type=Path,
+                        default=Path(root) / "config" / "semnav_recipe.yaml")
+    parser.add_argument("--install", action="store_true",
+                        help="after the run, copy the recipe's `install` models (and their "
+                             "cards) over the committed ones in models/semantic_nav/")
+    parser.add_argument("--only", nargs="+", metavar="NAME",
+                        help="run only these stages or units (their inputs must be done)")
+    parser.add_argument("--list", action="store_true",
+                        help="print the units, their estimates and what is done, then stop")
+    return parser
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def list_units(run, report):
+    """The units with their estimates and, where done, their measured durations."""
+    done = run.done()
+    for unit in run.recipe.units:
+        state = (f"done in {format_duration(done[unit.name]['seconds'])}"
+                 if unit.name in done else "to run")
+        report(f"{unit.stage}/{unit.name} ({unit.kind}): estimate "
+               f"{format_duration(60 * unit.minutes)}, {state}")
+    left = sum(60 * u.minutes for u in run.recipe.units if u.name not in done)
+    report(f"estimate of what is left: {format_duration(left)}")
+
+
+def main(root, description=None, argv=None, report=None):
+    """Parse, run (and with --install, install) -> exit status (0; 130 interrupted, the unit
+    running then not marked done; a bad recipe exits with its message)."""
+    args = argument_parser(root, description).parse_args(argv)
+    report = report or (lambda line: print(line, flush=True))
+    signal.signal(signal.SIGTERM, _interrupt)        # `kill` stops as Ctrl-C does
+    try:
+        run = RecipeRun(load_recipe(args.recipe, root), report=report)
+        if args.list:
+            list_units(run, report)
+            return 0
+        run.run(args.only)
+        if args.install:
+            run.install()
+    except RecipeError as error:
+        sys.exit(f"train_recipe: {error}")
+    except KeyboardInterrupt:
+        report("interrupted: the running unit is not marked done (rerun to resume)")
+        return 130
+    return 0

@@ -1,0 +1,203 @@
+"""The training recipe (semnav_learning.recipe) on a tiny recipe of the L floor: its units run in
+order through the library, a rerun skips the done ones, nothing is written outside the work
+directory without --install and --install copies the models with their cards, progress lines
+carry elapsed times and ETAs, and a malformed recipe is refused naming its key."""
+import json
+import re
+
+import pytest
+import yaml
+
+from semnav_learning.recipe import RecipeError, RecipeRun, Schedule, Unit, load_recipe, main
+from semnav_l_floor import write_l_floor
+from semnav_train_data import write_words
+from tamp_resources import resource
+
+ROOT = resource()
+URG_WORLD = ROOT / "config" / "worlds" / "office_penguin_urg.yaml"
+UNITS = ["l_records", "l_plan", "tiny_bc", "tiny_tuned", "tiny_dagger", "tiny_zw", "tiny_eval"]
+
+
+def tiny_recipe(folder):
+    """A recipe of seconds: L-floor records, a plan, two short trainings, a DAgger episode, Z_w
+    retraining and one evaluated episode; every path inside `folder`."""
+    maps = folder / "maps"
+    maps.mkdir(parents=True, exist_ok=True)
+    write_l_floor(maps)
+    recipe = {
+        "work_dir": str(folder / "work"), "world": str(URG_WORLD), "maps_dir": str(maps),
+        "install_dir": str(folder / "installed"), "words": str(write_words(folder / "words.txt")),
+        "threads": 1, "install": {"tiny": "tiny_zw"},
+        "training": {"epochs": 2, "batch_size": 4, "hold_steps": 10, "class_batches": 1,
+                     "class_batch_size": 16, "class_warmup_batches": 5,
+                     "class_monitor_every": 2, "class_monitor_size": 30},
+        "network": {"word_units": 4, "scan_units": 8, "fused_units": 8, "learning_rate": 0.01},
+        "stages": [
+            {"name": "datasets", "units": [
+                {"name": "l_records", "minutes": 0.2,
+                 "build": {"split": {"train": ["l_floor"], "validation": ["l_floor"]},
+                           "classes": [1, 4], "per_class": 1, "candidates": 12,
+                           "record_rate": 10, "workers": 1}},
+                {"name": "l_plan", "minutes": 0.05,
+                 "plan": {"floors": ["l_floor"], "per_class": 1, "classes": [1]}}]},
+            {"name": "seed_faithful", "units": [
+                {"name": "tiny_bc", "minutes": 0.2,
+                 "train": {"dataset": ["l_records"], "laser": "urg04lx"}}]},
+            {"name": "default", "units": [
+                {"name": "tiny_tuned", "minutes": 0.2,
+                 "train": {"dataset": ["l_records"], "laser": "urg04lx", "init": "tiny_bc",
+                           "stop_head": True, "training": {"epochs": 1}}},
+                {"name": "tiny_dagger", "minutes": 0.2,
+                 "dagger": {"model": "tiny_tuned", "floors": ["l_floor"], "per_class": 1,
+                            "classes": [1]}},
+                {"name": "tiny_zw", "minutes": 0.05,
+                 "classifier": {"init": "tiny_tuned", "batches": 2}}]},
+            {"name": "evaluation", "units": [
+                {"name": "tiny_eval", "minutes": 0.2,
+                 "evaluate": {"model": "tiny_zw", "plan": "l_one", "floors": ["l_floor"],
+                              "per_class": 1, "classes": [1], "laser": "urg04lx",
+                              "workers": 1}}]}]}
+    path = folder / "recipe.yaml"
+    path.write_text(yaml.safe_dump(recipe))
+    return path
+
+
+def files_under(folder):
+    return {p: p.stat().st_mtime_ns for p in folder.rglob("*") if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def first_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("recipe")
+    path = tiny_recipe(folder)
+    before = files_under(folder)
+    lines = []
+    done = RecipeRun(load_recipe(path, ROOT), report=lines.append).run()
+    return folder, path, before, lines, done
+
+
+def test_the_units_run_in_order_and_write_their_outputs(first_run):
+    folder, _, _, lines, done = first_run
+    started = [m[1] for m in (re.match(r"\[\d+/7\] \w+/(\w+) \(\w+\): started", line)
+                              for line in lines) if m]
+    assert started == UNITS and list(done) == UNITS
+    work = folder / "work"
+    assert (work / "datasets" / "l_records" / "train" / "l_floor.records").stat().st_size > 0
+    assert json.loads((work / "plans" / "l_plan.json").read_text())[0]["labels"] == [1]
+    for model in ("tiny_bc", "tiny_tuned", "tiny_zw"):
+        assert (work / "models" / f"{model}.keras").stat().st_size > 0, model
+        assert (work / "models" / f"{model}.json").is_file(), model
+    assert done["tiny_dagger"]["episodes"] == 1
+    assert (work / "dagger" / "tiny_dagger.records").is_file()
+    assert done["tiny_eval"]["episodes"] == 1 and done["tiny_eval"]["successes"] in (0, 1)
+    assert (work / "eval" / "summary.md").read_text().splitlines()[2].startswith(
+        f"| tiny_eval | tiny_zw | {done['tiny_eval']['successes']}/1 | ")
+    # the fine-tune started from tiny_bc: its card names that init
+    card = json.loads((work / "models" / "tiny_tuned.json").read_text())
+    assert card["args"]["init"] == str(work / "models" / "tiny_bc.keras")
+    assert card["args"]["stop_head"] and card["training"]["epochs"] == 1
+
+
+def test_nothing_is_written_outside_the_work_dir_without_install(first_run):
+    folder, _, before, _, _ = first_run
+    work = folder / "work"
+    after = {p: t for p, t in files_under(folder).items() if work not in p.parents}
+    assert after == before
+    assert not (folder / "installed").exists()
+
+
+def test_progress_lines_carry_elapsed_time_and_etas(first_run):
+    lines = first_run[3]
+    assert lines[0].startswith("recipe recipe.yaml: 7 units, 0 done earlier; estimate 1 min 06 s")
+    epochs = [line for line in lines if re.match(r"\[3/7\] seed_faithful/tiny_bc: \d/2 epochs, ",
+                                                 line)]
+    assert len(epochs) == 2 and all(", unit ETA " in line and ", recipe ETA " in line
+                                    for line in epochs)
+    assert any(re.match(r"\[1/7\] datasets/l_records: 2/2 floors, .* elapsed, unit ETA 0.0 s",
+                        line) for line in lines)
+    assert any(line.startswith("[5/7] default/tiny_dagger: 1/1 episodes") for line in lines)
+    assert any(line.startswith("[6/7] default/tiny_zw: 2/2 Z_w batches, ") for line in lines)
+    ends = [line for line in lines if re.match(r"\[\d/7\] \S+: done in .* \(estimate ", line)]
+    assert len(ends) == 7 and ends[-1].endswith("ETA 0.0 s")
+
+
+def test_a_rerun_skips_the_done_units(first_run):
+    folder, path, _, _, done = first_run
+    models = files_under(folder / "work" / "models")
+    lines = []
+    again = RecipeRun(load_recipe(path, ROOT), report=lines.append).run()
+    assert lines[0].endswith("7 units, 7 done earlier; estimate 0.0 s; work directory "
+                             f"{folder / 'work'}")
+    assert sum(line.endswith("skipped") for line in lines) == 7 and len(lines) == 8
+    assert again == done and files_under(folder / "work" / "models") == models
+
+
+def test_only_runs_the_named_units_and_install_copies_with_cards(first_run, capsys):
+    folder, path, _, _, _ = first_run
+    (folder / "work" / "done" / "l_plan.json").unlink()      # as if never run
+    assert main(ROOT, argv=["--recipe", str(path), "--only", "l_plan", "--install"]) == 0
+    printed = capsys.readouterr().out
+    assert "[1/1] datasets/l_plan (plan): started" in printed
+    installed = folder / "installed" / "tiny.keras"
+    assert installed.read_bytes() == (folder / "work" / "models" / "tiny_zw.keras").read_bytes()
+    card = json.loads(installed.with_suffix(".json").read_text())
+    assert card["recipe"] == str(path) and card["recipe_unit"] == "tiny_zw"
+    assert card["retrain_classifier"] == 2
+
+
+def test_the_schedule_scales_the_estimates_by_measured_time():
+    now = [0.0]
+    units = [Unit("s", name, "build", minutes, {}) for name, minutes in
+             (("a", 1.0), ("b", 2.0), ("c", 3.0))]
+    schedule = Schedule(units, done={}, clock=lambda: now[0])
+    assert schedule.eta() == 360.0
+    schedule.finished("a", 120.0)                          # twice the estimate
+    assert schedule.ratio() == 2.0 and schedule.eta() == 600.0
+    assert schedule.eta("b", 30.0) == 30.0 + 360.0
+
+
+def write(folder, recipe):
+    path = folder / "bad.yaml"
+    path.write_text(yaml.safe_dump(recipe))
+    return path
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda r: r["stages"][1]["units"][0]["train"].update(epoch=3),
+     r"stages\[1\]\.units\[0\]\.train\.epoch: unknown key"),
+    (lambda r: r["stages"][0]["units"][0]["build"].update(per_klass=3),
+     r"stages\[0\]\.units\[0\]\.build\.per_klass: unknown key"),
+    (lambda r: r["stages"][1]["units"][0]["train"].update(dataset=["nowhere"]),
+     r"stages\[1\]\.units\[0\]\.train\.dataset: 'nowhere' is not an earlier unit"),
+    (lambda r: r["stages"][2]["units"][2]["classifier"].pop("batches"),
+     r"stages\[2\]\.units\[2\]\.classifier\.batches: missing"),
+    (lambda r: r["stages"][0]["units"][0].update(minutes="soon"),
+     r"stages\[0\]\.units\[0\]\.minutes: expected a number"),
+    (lambda r: r["network"].update(fused=3), r"\.network\.fused: unknown key"),
+    (lambda r: r.update(install={"tiny": "l_plan"}), r"install\.tiny: 'l_plan' is no training"),
+    (lambda r: r.pop("work_dir"), r"work_dir: missing"),
+])
+def test_a_malformed_recipe_is_refused_naming_the_key(tmp_path, change, message):
+    recipe = yaml.safe_load(tiny_recipe(tmp_path).read_text())
+    change(recipe)
+    with pytest.raises(RecipeError, match=message):
+        load_recipe(write(tmp_path, recipe), ROOT)
+
+
+def test_the_command_line_exits_naming_the_key(tmp_path):
+    recipe = yaml.safe_load(tiny_recipe(tmp_path).read_text())
+    recipe["stages"][0]["units"][1]["plan"]["floor"] = ["x"]
+    with pytest.raises(SystemExit, match=r"train_recipe: .*plan\.floor: unknown key"):
+        main(ROOT, argv=["--recipe", str(write(tmp_path, recipe))])
+
+
+def test_the_workspace_recipe_loads():
+    recipe = load_recipe(ROOT / "config" / "semnav_recipe.yaml", ROOT)
+    assert recipe.stages() == ["datasets", "seed_faithful", "default", "evaluation"]
+    assert recipe.install == {"bc": "bc", "default": "default_zw"}
+    scratch = recipe.unit("default_scratch").args
+    assert scratch["stop_head"] and scratch["decision_head"] and scratch["count_input"]
+    assert scratch["door_width"] == 1.4 and scratch["mirror"] == 0.5 and "init" not in scratch
+    assert recipe.unit("default_aggregate").args["init"] == "default_scratch"
+    assert not any(u.kind in ("train", "dagger") and "office_ring" in str(u.args)
+                   for u in recipe.units)
