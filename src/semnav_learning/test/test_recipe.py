@@ -201,3 +201,16 @@ def test_the_workspace_recipe_loads():
     assert recipe.unit("default_aggregate").args["init"] == "default_scratch"
     assert not any(u.kind in ("train", "dagger") and "office_ring" in str(u.args)
                    for u in recipe.units)
+
+
+def test_sigterm_stops_the_run_but_only_ends_a_pool_worker():
+    import multiprocessing
+    import signal
+    from semnav_learning.recipe import _interrupt
+    with pytest.raises(KeyboardInterrupt):
+        _interrupt(signal.SIGTERM, None)
+    worker = multiprocessing.get_context("fork").Process(target=_interrupt,
+                                                          args=(signal.SIGTERM, None))
+    worker.start()
+    worker.join(10)
+    assert worker.exitcode == 128 + signal.SIGTERM           # no traceback, no KeyboardInterrupt

@@ -14,6 +14,8 @@ outside the work directory.
 import argparse
 import dataclasses
 import json
+import multiprocessing
+import os
 import re
 import shutil
 import signal
@@ -364,6 +366,10 @@ def argument_parser(root, description=None):
 
 
 def _interrupt(signum, frame):
+    """SIGTERM stops the run as Ctrl-C does; a pool worker (a dataset build's, inheriting this
+    handler) that its pool terminates just ends."""
+    if multiprocessing.parent_process() is not None:
+        os._exit(128 + signum)
     raise KeyboardInterrupt
 
 

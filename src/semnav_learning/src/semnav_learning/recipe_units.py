@@ -148,7 +148,8 @@ class UnitRunner:
 
         def episode_done(result):
             count[0] += 1
-            progress(count[0], total, "episodes")
+            if count[0] % 10 == 0 or count[0] == total:     # a line per 10 episodes
+                progress(count[0], total, "episodes")
 
         sequences, results = collect_round(
             floor_paths(self.recipe, args["floors"]), self.recipe.world, policy, sets,
