@@ -145,6 +145,15 @@ def test_only_runs_the_named_units_and_install_copies_with_cards(first_run, caps
     assert card["retrain_classifier"] == 2
 
 
+def test_only_refuses_a_unit_whose_inputs_have_not_run(tmp_path):
+    path = tiny_recipe(tmp_path)
+    with pytest.raises(RecipeError, match="unit tiny_bc needs l_records, which has not run"):
+        RecipeRun(load_recipe(path, ROOT), report=lambda line: None).run(["seed_faithful"])
+    assert not (tmp_path / "work" / "train").exists()
+    with pytest.raises(RecipeError, match="--only nothing: no such stage or unit"):
+        RecipeRun(load_recipe(path, ROOT), report=lambda line: None).run(["nothing"])
+
+
 def test_the_schedule_scales_the_estimates_by_measured_time():
     now = [0.0]
     units = [Unit("s", name, "build", minutes, {}) for name, minutes in

@@ -209,6 +209,19 @@ def load_recipe(path, root):
                   network=dict(data.get("network") or {}), units=units)
 
 
+def unit_inputs(unit, recipe):
+    """Names of the earlier units `unit` reads (references, dataset floors, a unit's model)."""
+    names = []
+    for (kind, key) in REFERENCES:
+        if unit.kind == kind and key in unit.args:
+            value = unit.args[key]
+            names += value if isinstance(value, list) else [value]
+    names += [str(f).partition(":")[0] for f in unit.args.get("floors", []) if ":" in str(f)]
+    if unit.kind == "evaluate" and unit.args["model"] in {u.name for u in recipe.units}:
+        names.append(unit.args["model"])
+    return list(dict.fromkeys(names))
+
+
 class Schedule:
     """Estimated and measured durations -> the recipe's ETA."""
 
@@ -284,9 +297,23 @@ class RecipeRun:
             raise RecipeError(f"--only {unknown[0]}: no such stage or unit")
         return [u for u in self.recipe.units if u.name in only or u.stage in only]
 
+    def check_inputs(self, units, done):
+        """Every unit to run names only units done earlier or run before it here; RecipeError
+        naming the first that is neither (e.g. --only a training whose dataset is not built)."""
+        ready = set(done)
+        for unit in units:
+            if unit.name in done:
+                continue
+            missing = [name for name in unit_inputs(unit, self.recipe) if name not in ready]
+            if missing:
+                raise RecipeError(f"unit {unit.name} needs {missing[0]}, which has not run "
+                                  f"(add it to --only or run the recipe without --only)")
+            ready.add(unit.name)
+
     def run(self, only=None):
         """Run the (selected) units not done yet -> {unit name: done record}."""
         units, done = self.selected(only), self.done()
+        self.check_inputs(units, done)
         schedule = Schedule(units, done, self.clock)
         self.report(f"recipe {self.recipe.path.name}: {len(units)} units, "
                     f"{sum(u.name in done for u in units)} done earlier; estimate "
