@@ -193,7 +193,8 @@ def test_interpolate_weights_mixes_every_layer_and_keeps_the_ends():
 
 
 def test_a_missing_model_names_make_train(tmp_path):
-    with pytest.raises(FileNotFoundError, match=r"model .*none\.keras not found: run `make train`"):
+    with pytest.raises(FileNotFoundError,
+                       match=r"model .*none\.keras not found: run `make train ARGS=--install`"):
         load_network(tmp_path / "none.keras")
 
 

@@ -100,7 +100,8 @@ def model_file(model_path=None):
     path = Path(model_path or os.environ.get("SEMNAV_MODEL", DEFAULT_MODEL))
     if not path.is_file():
         raise ModelMissingError(
-            f"semantic_nav model {path} not found: run `make train` (or pass a model path)")
+            f"semantic_nav model {path} not found: run `make train ARGS=--install` (or pass "
+            "a model path)")
     return path
 
 

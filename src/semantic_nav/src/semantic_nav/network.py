@@ -287,10 +287,10 @@ def load_network(path):
     error (Keras itself says "File not found" for any file that is not a zip archive)."""
     path = str(path)
     if not os.path.isfile(path):
-        raise FileNotFoundError(f"semantic_nav model {path} not found: run `make train` (or "
-                                "pass a model path)")
+        raise FileNotFoundError(f"semantic_nav model {path} not found: run "
+                                "`make train ARGS=--install` (or pass a model path)")
     fix = ("restore it (`git checkout -- models/semantic_nav/` for the committed models) or "
-           "rebuild it with `make train`")
+           "rebuild it with `make train ARGS=--install`")
     try:
         with zipfile.ZipFile(path) as archive:
             damaged = archive.testzip()      # the first member whose CRC does not match
