@@ -64,6 +64,8 @@ class VerbalNode:
         self._counts = {"accepted": 0, "refused": 0, "instructions": 0, "dropped": 0,
                         "dialogue_answers": 0, "not_taken": 0, "failed": 0}
         self._dialogue_open = False
+        self._dialogue_phones = set()  # phones that answered the open dialogue: still answers
+        #                                once the introduction registered them, until it closes
         self._last_not_taken = ""   # why the task planner last did not take a request
         self._last_failure = ""     # why the handling of an utterance last failed
         self._handling = None       # the utterance being handled by the work timer
@@ -103,6 +105,8 @@ class VerbalNode:
     def _on_dialogue(self, msg):
         with self._lock:
             self._dialogue_open = msg.data
+            if not msg.data:
+                self._dialogue_phones.clear()
 
     def _on_work(self, _event):
         while True:
@@ -133,9 +137,11 @@ class VerbalNode:
         sender = msg.ip or "an unknown phone"
         with self._lock:
             dialogue = self._dialogue_open
-        if dialogue and self.directory.lookup_by_ip(msg.ip) is None:
+            answered_before = msg.ip in self._dialogue_phones
+        if dialogue and (answered_before or self.directory.lookup_by_ip(msg.ip) is None):
             with self._lock:   # an unknown speaker's answer to the introduction node's question
                 self._counts["dialogue_answers"] += 1
+                self._dialogue_phones.add(msg.ip)
             rospy.loginfo("verbal: %r from %s answers the introduction dialogue; not a request",
                           msg.text, sender)
             return
