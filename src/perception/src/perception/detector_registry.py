@@ -30,10 +30,8 @@ class ModelEntry:
 
 
 def _darknet(settings):
-    return DarknetDetector(DarknetConfig(settings["cfg"], settings["weights"], settings["names"],
-                                         input_size=int(settings.get("input_size", 416)),
-                                         confidence_threshold=float(
-                                             settings.get("confidence_threshold", 0.25))))
+    """cfg, weights, names and any other DarknetConfig field (its defaults otherwise)."""
+    return DarknetDetector(DarknetConfig(**settings))
 
 
 DETECTORS = {

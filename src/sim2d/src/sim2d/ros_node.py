@@ -228,11 +228,11 @@ class SimNode:
                    and self._due(("camera", io.robot.name), io.robot.config.camera.rate)]
         markers_due = self._due("markers", self.config.marker_rate)
         diagnostics_due = self._due("diagnostics", self.config.diagnostics_rate)
-        scans_due = any(self._new_scans(io) for io in self.io)
-        if clock_due or odom_due or cameras or markers_due or diagnostics_due or scans_due:
+        new_scans = [self._new_scans(io) for io in self.io]
+        if clock_due or odom_due or cameras or markers_due or diagnostics_due or any(new_scans):
             self.clock_pub.publish(Clock(clock=conversions.stamp(now)))
-        for io in self.io:
-            self._publish_scans(io)
+        for io, scans in zip(self.io, new_scans):
+            self._publish_scans(io, scans)
             if odom_due:
                 self._publish_odometry(io, now)
             if io in cameras:
@@ -252,8 +252,8 @@ class SimNode:
         return [j for j, entry in enumerate(io.scans)
                 if io.robot.scans[j] is not None and io.robot.scans[j].count != entry[2]]
 
-    def _publish_scans(self, io):
-        for j in self._new_scans(io):
+    def _publish_scans(self, io, new_scans):
+        for j in new_scans:
             entry, scan = io.scans[j], io.robot.scans[j]
             entry[2] = scan.count
             entry[0].publish(conversions.scan_msg(scan, io.robot.laser_mounts[j].model, entry[1]))
