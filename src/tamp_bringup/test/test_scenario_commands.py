@@ -12,7 +12,7 @@ from tamp_bringup.scenario import load_scenario
 
 RESULT = {"requests": 3, "served": 2, "failed": 1, "instructions": 4,
           "states": {"done": 3, "failed": 1}, "reward": 1.23456,
-          "model": {"FCFS (model)": 0.5, "Ours(seed) (model)": 1.0},
+          "model": {"FCFS (model)": 0.5, "Ours(seed/node) (model)": 1.0},
           "order_problems": ["x before y"], "belief": {"Alice": 0.5, "Bob": 1.0},
           "searches": 2, "sources": {"perception": 10, "register": 1}}
 
@@ -21,7 +21,7 @@ def test_summary_lines_of_a_report():
     assert scenario_report_main.summary_lines(RESULT, Path("out")) == [
         "requests 3: served 2, failed 1; instructions 4 {'done': 3, 'failed': 1}",
         "reward of the run 1.235; model on the same arrivals: FCFS (model) 0.500, "
-        "Ours(seed) (model) 1.000",
+        "Ours(seed/node) (model) 1.000",
         "order: x before y",
         "belief accuracy: mean 0.75 (Alice 0.50, Bob 1.00); searches 2",
         "human_db history rows by source: perception 10, register 1",

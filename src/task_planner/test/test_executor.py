@@ -14,6 +14,7 @@ from task_planner.problem import Problem, schedule_reward
 from task_planner.ripple_planner import RipplePlanner
 from task_planner.robot_functions import load_robot_functions
 from task_planner.simulate import run_planner
+from task_planner.step_planner import StepRipplePlanner
 from task_planner.task_buffer import DONE, FAILED, PENDING, BufferConfig, TaskBuffer
 from tamp_resources import resource
 
@@ -295,3 +296,8 @@ def test_a_fault_while_idle_only_stops(line_graph, tmp_path):
     executor = make_executor(line_graph, PriorityFirst(), tmp_path)
     assert executor.fault(0.0, "KeyError: 'x'") == [StopMotion()]
     assert executor.log[-1] == (0.0, "fault: KeyError: 'x'")
+
+
+def test_a_step_planner_is_refused_with_a_reason(line_graph, tmp_path):
+    with pytest.raises(ValueError, match="decides every step along an edge"):
+        make_executor(line_graph, StepRipplePlanner(), tmp_path)

@@ -103,7 +103,9 @@ def graph_record(graph, config):
 def json_document(graph, config, static_trials, dynamic_trials=(), named_record=None):
     """The re-scoring document: `graph` and `trials` follow the issue's schema exactly;
     `named_case` (the Table 5-6 set) is one more trial; `dynamic_trials` entries also carry
-    `waits` ([route position, depart not before s]) because an idle robot waits for launches."""
+    `waits` ([route position, depart not before s]) because an idle robot waits for launches, and
+    so does any record of a step planner that turned on an edge (a repeated node in its route
+    costs no travel: the robot turned back to it)."""
     document = {"graph": graph_record(graph, config), "trials": list(static_trials),
                 "dynamic_trials": list(dynamic_trials)}
     if named_record is not None:
@@ -118,7 +120,7 @@ def run_trial(problem, planners, keep_waits=False):
         schedule = run_planner(problem, planner)
         schedules[planner.name] = schedule
         records[planner.name] = planner_record(problem, schedule)
-        if keep_waits:
+        if keep_waits or schedule.waits:  # a step planner's turns on an edge are waits
             records[planner.name]["waits"] = [[int(k), float(t)] for k, t in
                                               sorted(schedule.waits.items())]
         schedule.guard_activations = getattr(planner, "guard_activations", 0)

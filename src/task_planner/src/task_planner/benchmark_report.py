@@ -2,14 +2,14 @@
 import numpy as np
 
 from task_planner.metrics import reward_curve, similarity_cost
-from task_planner.planner_api import NODE
+from task_planner.planner_api import NODE, STEP
 from task_planner.planner_registry import (BENCH_DYNAMIC, BENCH_SCALING, BENCH_STATIC,
                                            BENCH_STATIC_FEW, display_order, entries, label)
 
 ORDER = display_order()  # rows, columns and curves in this order
 OPT, EXACT = label("opt"), label("exact_offline")
 # the per-node online planners, whose decision latency is tabled and plotted
-LATENCY_NAMES = tuple(e.label for e in entries(BENCH_SCALING) if e.kind == NODE)
+LATENCY_NAMES = tuple(e.label for e in entries(BENCH_SCALING) if e.kind in (NODE, STEP))
 
 
 def planner_legend():
@@ -46,6 +46,12 @@ def static_table(rows):
               "completion w/ decision [s]", "decision [ms]", "similarity cost to optimum",
               "% of exact (mean)", "% of exact (worst)"]
     return _table(header, out)
+
+
+def thesis_table(rows):
+    """`thesis_comparison.comparison_rows` as Markdown."""
+    return _table(["thesis", "planner", "Table 5-7 reward / Opt", "reward / optimum",
+                   "Table 5-9 similarity cost", "similarity cost"], rows)
 
 
 def opt_check(rows):

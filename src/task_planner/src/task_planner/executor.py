@@ -37,7 +37,7 @@ from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, MOVING, VE
                                             Navigate, Say, StopMotion, Verify, Wait)
 from task_planner.finding_people import FindingPeople
 from task_planner.instruction import HUMAN
-from task_planner.planner_api import NODE, kind_of
+from task_planner.planner_api import NODE, STEP, kind_of
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
 from task_planner.task_buffer import PENDING
@@ -98,6 +98,9 @@ class Executor(FindingPeople):
     def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0,
                  charging=None):
         self.buffer, self.graph, self.planner = buffer, graph, planner
+        if kind_of(planner) == STEP:
+            raise ValueError(f"planner {planner.name!r} decides every step along an edge; the "
+                             f"executor drives whole edges and runs node or target planners")
         self._node_planner = kind_of(planner) == NODE  # else a target planner (planner_api)
         self.charging = charging         # Charging, or None for a robot without a battery model
         self.people, self.functions = people, functions

@@ -1,4 +1,4 @@
-"""The planner interface: the two kinds of planner the executor and the simulation run.
+"""The planner interface: the three kinds of planner the simulation runs (the executor: two).
 
 A planner is reset with every new instruction set (`reset(problem)`, a `problem.Problem`) and is
 then asked, at the robot's node `node` and time `clock` [s], about the `available` instructions
@@ -6,10 +6,15 @@ then asked, at the robot's node `node` and time `clock` [s], about the `availabl
 
 - a node planner (`kind = NODE`) answers `decide(...) -> (action, value)`: ("serve", index) of an
   available instruction waiting on `node`, or ("move", neighbour) to drive one edge; it is asked
-  again at every node (the seed's Algorithm 4-2, the rollout planner);
+  again at every node (the seed's Algorithm 4-2 decided once per node, the rollout planner);
 - a target planner (`kind = TARGET`) answers `choose(...) -> index`: the robot drives the shortest
   path to that instruction's node and serves it, then asks again (the §5.3 dispatch rules, the
-  optima).
+  optima);
+- a step planner (`kind = STEP`) is asked at every step of every edge, given the robot's state
+  vector (`robot_state.RobotState` on its own `step_adj`, starting from `start_state()`) instead
+  of a node: `decide(state, clock, available) -> ("serve", index)` on a node, or
+  ("step", n) toward neighbouring node n, which may turn the robot back mid-edge (the seed's
+  Algorithm 4-2 as written). The executor drives whole edges with move_base and refuses it.
 
 A planner states its kind in the class attribute `kind` and its display name (tables, figures,
 the benchmark JSON's keys) in `name`; `kind_of` reads the kind and refuses an object that states
@@ -26,7 +31,8 @@ if TYPE_CHECKING:
 
 NODE = "node"      # decide(node, clock, available) -> ("serve", index) or ("move", neighbour)
 TARGET = "target"  # choose(node, clock, available) -> index
-KINDS = (NODE, TARGET)
+STEP = "step"      # decide(state, clock, available) -> ("serve", index) or ("step", neighbour)
+KINDS = (NODE, TARGET, STEP)
 
 
 class NodePlanner(Protocol):
@@ -52,7 +58,23 @@ class TargetPlanner(Protocol):
     def choose(self, node: int, clock: float, available: np.ndarray) -> int: ...
 
 
-Planner = NodePlanner | TargetPlanner
+class StepPlanner(Protocol):
+    """Decides every step along the edges, from the robot's state vector."""
+
+    kind: ClassVar[Literal["step"]]
+    name: str
+    step_adj: np.ndarray  # (V, V) edge lengths in steps, set by reset
+    step_s: float         # seconds per step
+
+    def reset(self, problem: Problem) -> None: ...
+
+    def start_state(self): ...
+
+    def decide(self, state, clock: float,
+               available: np.ndarray) -> tuple[Literal["serve", "step"], int]: ...
+
+
+Planner = NodePlanner | TargetPlanner | StepPlanner
 
 
 def kind_of(planner: Planner) -> str:

@@ -2,8 +2,9 @@
 
 `PLANNERS` maps a name (the executor node's `~planner`, `scripts/bench_executor --planner`) to a
 `PlannerEntry`: a factory from the planner settings (`config/task_planner.yaml`) and a seed, the
-planner's kind (`planner_api.NODE` or `TARGET`), its display name, a one-line description, its
-role (a §5.3 baseline, the seed's own planner, or improved beyond the seed) and where it runs.
+planner's kind (`planner_api.NODE`, `TARGET` or `STEP`), its display name, a one-line
+description, its role (a §5.3 baseline, the seed's own planner, or improved beyond the seed) and
+where it runs.
 The executor node, the scenario report's model figures and the planner benchmark take their
 planners from here, in registration order; adding a planner is one `PlannerEntry` below.
 `python3 -m task_planner.planner_registry` prints the registry.
@@ -14,9 +15,10 @@ from dataclasses import dataclass, field
 from task_planner.baselines import (FirstComeFirstServe, PlannedOrder, PriorityFirst,
                                     RandomOrder, ShortestTimeFirst, exhaustive_optimum)
 from task_planner.exact import ExactReplanner, warm_exact_optimum
-from task_planner.planner_api import NODE, TARGET, Planner, kind_of
+from task_planner.planner_api import KINDS, NODE, STEP, TARGET, Planner, kind_of
 from task_planner.ripple_planner import RipplePlanner
 from task_planner.rollout_planner import RolloutConfig, RolloutPlanner
+from task_planner.step_planner import StepRipplePlanner
 
 # role: what a planner is, relative to thesis 000
 BASELINE = "baseline"            # a comparison planner of the seed (§5.3)
@@ -72,7 +74,7 @@ class PlannerSettings:
 class PlannerEntry:
     name: str          # registry name: ~planner, --planner, the scenario report
     label: str         # the planner's display name (`planner.name`): tables, figures, JSON keys
-    kind: str          # planner_api.NODE or planner_api.TARGET
+    kind: str          # planner_api.NODE, TARGET or STEP
     role: str          # BASELINE, SEED_FAITHFUL or IMPROVED
     description: str   # one line
     factory: Callable[[PlannerSettings, int], Planner]  # (settings, seed of a random planner)
@@ -92,7 +94,7 @@ class PlannerEntry:
 
 def _registry(*entries):
     for entry in entries:
-        if entry.kind not in (NODE, TARGET) or entry.role not in ROLES \
+        if entry.kind not in KINDS or entry.role not in ROLES \
                 or not entry.uses <= set(USES):
             raise ValueError(f"planner '{entry.name}': bad kind, role or uses")
     for what in ("name", "label"):
@@ -119,10 +121,15 @@ PLANNERS = _registry(
                  "shortest first: the least travel plus service time from the robot's node",
                  lambda s, seed: ShortestTimeFirst(), frozenset((EXECUTOR,) + _BENCH_ONLINE)),
     PlannerEntry("seed", RipplePlanner.name, NODE, SEED_FAITHFUL,
-                 "the seed's ripple expected reward and value iteration (Algorithm 4-2), one edge "
-                 "per decision",
+                 "the seed's ripple expected reward and value iteration (Algorithm 4-2) decided "
+                 "once per node: one edge per decision",
                  lambda s, seed: RipplePlanner(step_s=s.step_s),
                  frozenset((EXECUTOR, SCENARIO_MODEL) + _BENCH_ONLINE)),
+    PlannerEntry("seed_step", StepRipplePlanner.name, STEP, SEED_FAITHFUL,
+                 "Algorithm 4-2 line by line: decided at every step along the edges from the "
+                 "robot's state vector, turning back mid-edge when that is worth more",
+                 lambda s, seed: StepRipplePlanner(step_s=s.step_s),
+                 frozenset((SCENARIO_MODEL,) + _BENCH_ONLINE)),
     PlannerEntry("rollout", RolloutPlanner.name, NODE, IMPROVED,
                  "rollouts of the reward-rate rule from the most promising first instructions, "
                  "one edge per decision",

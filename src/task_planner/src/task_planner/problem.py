@@ -4,7 +4,9 @@ Time model (seconds): the robot starts on `start_node` at t = 0 and drives graph
 `speed_mps`. At each route position it serves the instructions listed for that position in order;
 an instruction cannot start before its launch and takes `duration` seconds; its reward is
 Eq. 4-2 with t = completion - launch. Before leaving a position the robot may wait until a given
-time (idle robot waiting for the next launch in dynamic runs).
+time (idle robot waiting for the next launch in dynamic runs; a step planner's steps beyond the
+edge it finally drives). A node repeated in the route costs no travel: the robot left it and
+turned back, and the wait before says when it was back.
 """
 from dataclasses import dataclass, field
 
@@ -55,7 +57,8 @@ class Problem:
 class Schedule:
     """What a planner did: route, who was served where, and the resulting times and rewards."""
 
-    route: list                          # node indices, consecutive ones adjacent
+    route: list                          # node indices, consecutive ones adjacent or equal (the
+    #                                      robot left the node and turned back: see waits)
     served: list                         # [(instruction index, route position)] in service order
     waits: dict = field(default_factory=dict)  # route position -> depart not before [s]
     decision_before: list = field(default_factory=list)  # cumulative decision time per serve [s]
@@ -74,7 +77,7 @@ def score_route(problem, route, served, waits=None):
         by_position.setdefault(position, []).append(index)
     clock, completion = 0.0, {}
     for position, node in enumerate(route):
-        if position:
+        if position and route[position - 1] != node:  # a repeated node: left and came back
             length_s = problem.edge_s[route[position - 1], node]
             if length_s <= 0:
                 raise ValueError(f"route steps {route[position - 1]} -> {node}: not an edge")

@@ -1,11 +1,12 @@
-"""The seed's task planner: ripple-like expected reward and value iteration (thesis 000 §4.2.3).
+"""The seed's task planner decided once per node: ripple-like expected reward and value
+iteration (thesis 000 §4.2.3). `step_planner` decides at every step along the edges instead.
 
 Every pending instruction spreads an expected reward gamma * beta ** t over the graph, t being the
 step distance from its node (Fig. 4-6). The expansion depends on distance only and never on the
 time since launch (§4.2.4: no starvation of old instructions). At each decision the planner scores
 the state one step toward each neighbouring node by the accumulated expected reward (Eq. 4-4) and
-moves toward the best (Eq. 4-5, Algorithm 4-2). Instructions on the robot's node are served at
-once, highest initial reward first.
+drives the whole edge toward the best (Eq. 4-5, Algorithm 4-2). Instructions on the robot's node
+are served at once, highest initial reward first.
 
 Termination guard (ours): on a graph hub the accumulated field can peak away from any instruction
 node; the seed's rule then steps out and back forever. Returning to a node already decided on with
@@ -53,7 +54,7 @@ class RipplePlanner:
     """Per-node online planner of the seed (Algorithm 4-2) with the loop guard described above."""
 
     kind = NODE
-    name = "Ours(seed)"
+    name = "Ours(seed/node)"
 
     def __init__(self, step_s=1.0):
         self.step_s = step_s  # time step of the edge discretisation [s]

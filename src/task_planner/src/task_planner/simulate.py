@@ -1,10 +1,15 @@
 """Executes a planner on a problem, online: instructions appear at their launch times.
 
-Both kinds of `planner_api` are run, told apart by the kind the planner states (`kind_of`):
+The three kinds of `planner_api` are run, told apart by the kind the planner states (`kind_of`):
 - node planners (`decide(node, clock, available)` -> ('serve', i) or ('move', neighbour)) are asked
-  again at every node, like the seed's planner;
+  again at every node, like the seed's planner decided per node;
 - target planners (`choose(node, clock, available)` -> i) pick one instruction, the robot drives
-  the shortest path to it and serves it, then the planner is asked again.
+  the shortest path to it and serves it, then the planner is asked again;
+- step planners (`decide(state, clock, available)` -> ('serve', i) or ('step', neighbour)) are
+  asked at every step of `step_s` seconds along the edges and may turn back mid-edge. The
+  schedule keeps the same form: a leg from node to node is scored as its edge at the problem's
+  speed, and the steps spent beyond that edge (turning back and forth) as a wait before leaving
+  (the time is what counts); a leg that ends where it began repeats the node in the route.
 `available` holds the indices of launched, pending instructions whose predecessor is done. Wall
 time spent in the planner is measured per call (decision time).
 """
@@ -12,30 +17,35 @@ import time
 
 import numpy as np
 
-from task_planner.planner_api import NODE, kind_of
+from task_planner.planner_api import NODE, STEP, kind_of
 from task_planner.problem import Schedule, score_route
+from task_planner.robot_state import state_transition
 
 
 def run_planner(problem, planner):
     """Run `planner` (a planner_api planner) to completion on `problem`; returns a scored
     Schedule."""
-    node_planner = kind_of(planner) == NODE
+    kind = kind_of(planner)
     planner.reset(problem)
     run = _Run(problem)
+    if kind == STEP:
+        run.state = planner.start_state()
     while run.pending:
         available = run.available()
         if not len(available):
             run.wait_for_next_launch()
             continue
         started, started_cpu = time.perf_counter(), time.thread_time()
-        if node_planner:
+        if kind == NODE:
             action, value = planner.decide(run.node, run.clock, available)
+        elif kind == STEP:
+            action, value = planner.decide(run.state, run.clock, available)
         else:
             action, value = "target", planner.choose(run.node, run.clock, available)
         run.decision_calls.append(time.perf_counter() - started)
         run.decision_cpu_calls.append(time.thread_time() - started_cpu)
         run.decision_s += run.decision_calls[-1]
-        run.apply(action, value)
+        run.apply(action, value, planner)
     return run.finish()
 
 
@@ -48,6 +58,8 @@ class _Run:
         self.pending = set(range(problem.count))
         self.route, self.served, self.waits, self.decision_before = [self.node], [], {}, []
         self.decision_s, self.decision_calls, self.decision_cpu_calls = 0.0, [], []
+        self.state = None  # a step planner's robot_state.RobotState
+        self.leg = None    # a step planner's leg: [from node, depart time [s], steps taken]
 
     def available(self):
         p = self.problem
@@ -64,11 +76,13 @@ class _Run:
     def _stuck(self):
         raise RuntimeError("pending instructions can never become available")
 
-    def apply(self, action, value):
+    def apply(self, action, value, planner):
         if action == "serve":
             self._serve(value)
         elif action == "move":
             self._move(value)
+        elif action == "step":
+            self._step(value, planner)
         else:  # a target planner's choice: drive there, then serve
             for node in self.problem.graph.path(self.node, int(self.problem.node[value]))[1:]:
                 self._move(node)
@@ -82,8 +96,29 @@ class _Run:
         self.node = int(neighbour)
         self.route.append(self.node)
 
+    def _step(self, neighbour, planner):
+        """One step of a step planner; arriving on a node closes the leg (module docstring)."""
+        if self.state.node is not None:
+            self.leg = [self.node, self.clock, 0]
+        self.state = state_transition(planner.step_adj, self.state, int(neighbour))
+        self.leg[2] += 1
+        self.clock += planner.step_s
+        if self.state.node is None:
+            return
+        start, depart, steps = self.leg
+        end = self.state.node
+        direct = planner.step_adj[start, end] if end != start else 0
+        extra_s = (steps - direct) * planner.step_s
+        if extra_s > 0:
+            self.waits[len(self.route) - 1] = depart + extra_s
+        self.clock = depart + extra_s + (self.problem.edge_s[start, end] if end != start else 0.0)
+        self.node = int(end)
+        self.route.append(self.node)
+
     def _serve(self, index):
         p = self.problem
+        if self.state is not None and self.state.node is None:
+            raise RuntimeError(f"planner served instruction {index} from an edge")
         if index not in self.pending or p.node[index] != self.node:
             raise RuntimeError(f"planner served instruction {index} away from its node or twice")
         self.clock = max(self.clock, p.launch[index]) + p.duration[index]
