@@ -2,6 +2,7 @@
 import json
 import math
 from dataclasses import asdict, astuple
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -235,6 +236,35 @@ def test_mcnemar_exact_against_the_binomial_tail_by_hand():
     assert mcnemar_exact(9, 1) == pytest.approx(2 * (1 + 10) / 1024)  # 2 (C(10,0) + C(10,1)) / 2^10
     assert mcnemar_exact(3, 3) == 1.0                               # 2 · 42/64 > 1: capped
     assert mcnemar_exact(0, 0) == 1.0
+
+
+def _mcnemar_by_fractions(only_first, only_second):
+    """Independent exact reference: 2 · sum_{i<=k} C(n, i) / 2^n in rationals, capped at 1."""
+    n, k = only_first + only_second, min(only_first, only_second)
+    return float(min(Fraction(1), 2 * Fraction(sum(math.comb(n, i) for i in range(k + 1)), 2 ** n)))
+
+
+@pytest.mark.parametrize("only_first, only_second", [
+    (0, 1), (1, 0), (2, 7), (7, 2), (4, 6), (5, 5), (13, 30), (100, 140), (0, 200), (499, 524),
+    (300, 723)])
+def test_mcnemar_exact_matches_exact_fractions_below_1024_pairs(only_first, only_second):
+    assert mcnemar_exact(only_first, only_second) == \
+        pytest.approx(_mcnemar_by_fractions(only_first, only_second), rel=1e-12, abs=1e-300)
+
+
+@pytest.mark.parametrize("only_first, only_second", [(500, 524), (0, 1024), (2400, 2600),
+                                                     (2500, 2500), (5000, 0)])
+def test_mcnemar_exact_gives_a_p_value_from_1024_pairs_on(only_first, only_second):
+    p = mcnemar_exact(only_first, only_second)   # 2.0 ** 1024 overflows a float
+    assert isinstance(p, float) and 0.0 <= p <= 1.0
+    assert p == pytest.approx(_mcnemar_by_fractions(only_first, only_second), rel=1e-9,
+                              abs=1e-300)
+
+
+def test_mcnemar_exact_at_5000_pairs_matches_the_normal_approximation():
+    # 2400 vs 2600 of 5000: z = (2400 + 0.5 - 2500) / sqrt(5000/4) = -2.814; 2·Φ(z) = 0.00489
+    z = (2400 + 0.5 - 2500) / math.sqrt(5000 / 4)
+    assert mcnemar_exact(2400, 2600) == pytest.approx(math.erfc(-z / math.sqrt(2)), rel=0.02)
 
 
 def test_paired_comparison_counts_discordant_episodes_per_class():

@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy.stats import binomtest
 
 from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
@@ -377,11 +378,15 @@ def failure_places(outcomes, oracles):
 def mcnemar_exact(only_first, only_second):
     """Exact two-sided McNemar test on paired episodes: the discordant counts (episodes only
     the first / only the second policy reached) -> p, twice the binomial(n, 1/2) tail of the
-    smaller count, at most 1 (beyond the seed: two models on the same plan)."""
-    n, k = only_first + only_second, min(only_first, only_second)
+    smaller count, at most 1 (beyond the seed: two models on the same plan).
+
+    The tail is `scipy.stats.binomtest` (Fagerland, Lydersen & Laake, "The McNemar test for
+    binary matched-pairs data", BMC Med. Res. Methodol. 13:91, 2013), which stays finite for
+    any number of discordant pairs."""
+    n = only_first + only_second
     if n == 0:
         return 1.0
-    return min(1.0, 2.0 * sum(math.comb(n, i) for i in range(k + 1)) / 2.0 ** n)
+    return float(binomtest(only_first, n, 0.5, alternative="two-sided").pvalue)
 
 
 def paired_comparison(first, second):
