@@ -1,26 +1,51 @@
-"""Grid A*: 8-connected, octile heuristic, optional robot-radius inflation (the move_base mock's
-global planner and the task planner's graph edge lengths use it).
+"""Grid shortest paths: 8-connected, optional robot-radius inflation and per-cell cost (the
+move_base mock's global planner and the task planner's graph edge lengths use it).
 
 ROS-free. The grid is a boolean obstacle array indexed [row, col]; cells are square with side
 `resolution` metres. A diagonal step may not cut the corner of an obstacle (both orthogonal
 neighbours must be free), so a path never squeezes between two diagonally touching obstacles.
-The search runs on flat cell indices with compact arrays (array('d'), bytearray) and heapq, so no
-Python object is created per cell.
+
+The grid becomes a sparse graph (one node per cell of the grid padded by a blocked border) and
+the search is Dijkstra's algorithm in compiled code (`scipy.sparse.csgraph.dijkstra`; E. W.
+Dijkstra, "A note on two problems in connexion with graphs", Numer. Math. 1:269-271, 1959), run
+backwards from the goal: it gives the cost from every cell to that goal, a navigation function
+as navfn's (K. Konolige, "A gradient method for realtime robot control", IROS 2000), and the path
+descends it from the start, through optimal neighbours only, going straight on while that stays
+optimal. `astar` keeps its name as the callers' interface; its paths are optimal, as A*'s with
+an admissible heuristic.
+
+Graphs are cached by content (obstacles, resolution, robot radius, cell penalty; the last
+MAX_GRAPHS) and, per graph, cost fields by their root (the last MAX_FIELDS), so the usual call
+patterns build a graph once per map and search once per goal: many place pairs on one map
+(`task_planner.graph`), replanning towards one goal from a moving robot (the move_base mock).
+`clear_path_cache` empties the cache.
 """
-import heapq
 import math
-from array import array
-from dataclasses import dataclass
+import threading
+import zlib
+from collections import OrderedDict
+from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
 
 SQRT2 = math.sqrt(2.0)
+MAX_GRAPHS = 2         # grids (maps, costmaps) whose graphs are kept
+MAX_FIELDS = 8         # cost fields kept per graph (one per root)
+# the 8 moves (row step, column step), in increasing flat-index offset so CSR rows come sorted
+MOVES = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
+FINITE = np.finfo(float).max   # Dijkstra's limit: infinite weights (steps not allowed) stay out
+N_MOVES = len(MOVES)
+OPPOSITE = tuple(MOVES.index((-dr, -dc)) for dr, dc in MOVES)
+STEP = tuple(SQRT2 if dr and dc else 1.0 for dr, dc in MOVES)
+TIE_TOLERANCE = 1e-9   # relative: costs this close are equal (sums in another order)
 
 
 @dataclass(frozen=True)
 class GridPath:
-    """A* result: the (row, col) cells from start to goal and the path length in metres."""
+    """Shortest-path result: the (row, col) cells from start to goal and the length [m]."""
 
     cells: list      # [(row, col), ...] start first, goal last
     length_m: float  # sum of step lengths (1 or sqrt(2) cells) times the resolution [m]
@@ -36,7 +61,8 @@ def inflate_obstacles(obstacles, resolution, robot_radius):
     return distance_cells * resolution < robot_radius
 
 
-def _check_cell(name, cell, shape):
+def check_cell(name, cell, shape):
+    """ValueError when `cell` (row, col) lies outside a grid of `shape`."""
     row, col = cell
     if not (0 <= row < shape[0] and 0 <= col < shape[1]):
         raise ValueError(f"A*: {name} cell {cell} lies outside the {shape[0]}x{shape[1]} grid")
@@ -50,84 +76,174 @@ def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0, cell_penalty
         resolution: cell side [m].
         robot_radius: obstacles are inflated by this radius first [m]; 0 = no inflation.
         cell_penalty: optional float array (H, W) >= 0 added to the cost of entering a cell
-            [cells of length], as navfn adds costmap cost; the octile heuristic stays admissible.
+            [cells of length], as navfn adds costmap cost.
     Returns:
         GridPath, or None when the goal cannot be reached (or start/goal are blocked).
     """
-    blocked = inflate_obstacles(obstacles, resolution, robot_radius)
-    _check_cell("start", start, blocked.shape)
-    _check_cell("goal", goal, blocked.shape)
-    if blocked[start] or blocked[goal]:
+    with _LOCK:
+        graph = grid_graph(obstacles, resolution, robot_radius, cell_penalty)
+        check_cell("start", start, graph.blocked.shape)
+        check_cell("goal", goal, graph.blocked.shape)
+        if graph.blocked[start] or graph.blocked[goal]:
+            return None
+        width = graph.blocked.shape[1] + 2             # nodes of the padded grid
+        flat = graph.path((start[0] + 1) * width + start[1] + 1,
+                          (goal[0] + 1) * width + goal[1] + 1)
+    if flat is None:
         return None
-    padded = np.pad(blocked, 1, constant_values=True)  # border of obstacles: no bounds checks
-    width = padded.shape[1]
-    to_flat = lambda cell: (cell[0] + 1) * width + cell[1] + 1  # noqa: E731
+    return _grid_path([(index // width - 1, index % width - 1) for index in flat], resolution)
+
+
+@dataclass
+class GridGraph:
+    """One grid as a graph: its blocked cells (after inflation), the reversed step graph and
+    the cost fields computed on it so far (root node -> cost of every node to the root)."""
+
+    blocked: np.ndarray
+    reverse: csr_matrix   # edge v -> u weighs the step u -> v: step length + penalty of v
+    symmetric: bool       # no penalty: every step costs the same both ways
+    obstacles: np.ndarray  # the grid it was built from, before inflation
+    penalty: np.ndarray    # and its cell penalty (or None)
+    fields: OrderedDict = field(default_factory=OrderedDict)
+
+    def holds(self, obstacles, penalty):
+        """True when the graph was built from exactly these arrays."""
+        if (penalty is None) != (self.penalty is None):
+            return False
+        return np.array_equal(obstacles, self.obstacles) and (
+            penalty is None or np.array_equal(penalty, self.penalty))
+
+    def cost_to(self, root):
+        """Cost [cells of length] from every node to `root` (inf where it cannot be reached)."""
+        if root in self.fields:
+            self.fields.move_to_end(root)
+            return self.fields[root]
+        self.fields[root] = dijkstra(self.reverse, directed=True, indices=root, limit=FINITE)
+        if len(self.fields) > MAX_FIELDS:
+            self.fields.popitem(last=False)
+        return self.fields[root]
+
+    def path(self, start, goal):
+        """Flat node indices of a shortest path start -> goal, or None if there is none. When
+        steps cost the same both ways a field rooted at the start serves too, and a new field is
+        rooted at the start (callers measuring many pairs repeat the start: i < j loops)."""
+        if self.symmetric and goal not in self.fields:
+            backwards = self.descend(self.cost_to(start), goal, start)
+            return None if backwards is None else backwards[::-1]
+        return self.descend(self.cost_to(goal), start, goal)
+
+    def descend(self, cost, node, root):
+        """Nodes from `node` down the cost-to-`root` field to `root` (navfn's descent on its
+        potential, on the grid): each step goes to a neighbour through which the cost is
+        optimal, keeping the previous direction when it is one of them, else the direction
+        closest to the straight line to the root. None when `node` cannot reach `root`."""
+        if not math.isfinite(cost[node]):
+            return None
+        width = self.blocked.shape[1] + 2
+        weights, cost = memoryview(self.reverse.data), memoryview(cost)   # Python floats, fast
+        # per move: (node offset, slot of the step's weight in the neighbour's row, dr, dc, step)
+        moves = [(dr * width + dc, OPPOSITE[k] + N_MOVES * (dr * width + dc), dr, dc, STEP[k])
+                 for k, (dr, dc) in enumerate(MOVES)]
+        root_row, root_col = divmod(root, width)
+        nodes, move = [node], None
+        while node != root:
+            limit = cost[node] + TIE_TOLERANCE * max(1.0, cost[node])
+            if move is not None:                      # keep going straight when optimal
+                offset, slot = move[0], move[1]
+                if weights[N_MOVES * node + slot] + cost[node + offset] <= limit:
+                    node += offset
+                    nodes.append(node)
+                    continue
+            row, col = divmod(node, width)
+            best = None
+            for candidate in moves:
+                offset, slot, dr, dc, step = candidate
+                if weights[N_MOVES * node + slot] + cost[node + offset] > limit:
+                    continue                  # not optimal, not allowed, or unreachable
+                score = ((root_row - row) * dr + (root_col - col) * dc) / step
+                if best is None or score > best[0]:
+                    best = (score, candidate)
+            move = best[1]
+            node += move[0]
+            nodes.append(node)
+        return nodes
+
+
+def grid_graph(obstacles, resolution=1.0, robot_radius=0.0, cell_penalty=None):
+    """The cached GridGraph of a grid, built on first use (obstacles inflated by
+    `robot_radius`); ValueError for a cell penalty of another shape or below 0."""
+    obstacles = np.asarray(obstacles, dtype=bool)
     penalty = None
     if cell_penalty is not None:
-        cell_penalty = np.asarray(cell_penalty, dtype=float)
-        if cell_penalty.shape != blocked.shape or (cell_penalty < 0).any():
-            raise ValueError(f"A*: cell_penalty must be >= 0 with shape {blocked.shape}")
-        penalty = array("d", np.pad(cell_penalty, 1).ravel().tobytes())
-    parent = _search(padded.ravel().tobytes(), width, to_flat(start), to_flat(goal), penalty)
-    if parent is None:
-        return None
-    return _trace(parent, width, to_flat(start), to_flat(goal), resolution)
+        penalty = np.asarray(cell_penalty, dtype=float)
+        if penalty.shape != obstacles.shape or (penalty < 0).any():
+            raise ValueError(f"A*: cell_penalty must be >= 0 with shape {obstacles.shape}")
+    key = _cache_key(obstacles, resolution, robot_radius, penalty)
+    cached = _GRAPHS.get(key)
+    if cached is not None and cached.holds(obstacles, penalty):
+        _GRAPHS.move_to_end(key)
+        return cached
+    blocked = inflate_obstacles(obstacles, resolution, robot_radius)
+    graph = GridGraph(blocked, reverse_step_graph(blocked, penalty), penalty is None,
+                      obstacles.copy(), None if penalty is None else penalty.copy())
+    _GRAPHS[key] = graph
+    _GRAPHS.move_to_end(key)
+    if len(_GRAPHS) > MAX_GRAPHS:
+        _GRAPHS.popitem(last=False)
+    return graph
 
 
-def _search(blocked, width, start, goal, penalty=None):
-    """A* on flat indices; returns the parent array, or None if the goal is unreachable.
+def reverse_step_graph(blocked, penalty=None):
+    """Sparse graph of the allowed steps on the grid padded by one blocked cell, reversed: node
+    (r + 1) * (W + 2) + c + 1 is cell (r, c), and for each step u -> v between free cells
+    (diagonals only when both corner cells are free) the edge v -> u weighs the step length (1
+    or sqrt(2)) plus `penalty[v]`. Every node lists all 8 neighbours; a step that is not
+    allowed weighs infinity, which Dijkstra never takes, so the arrays need no compaction.
+    Dijkstra from a goal on it yields costs and next steps towards that goal."""
+    height, width = blocked.shape
+    free = np.pad(~blocked, 1, constant_values=False)
+    padded_width = width + 2
+    nodes = free.size
 
-    Ties in f are broken towards the larger g (the node nearer the goal), which on open grids
-    expands far fewer of the many equal-f cells without changing the optimal length.
-    """
-    goal_row, goal_col = divmod(goal, width)
-    # (offset, step length, corner offsets that must both be free for a diagonal; 0 = straight)
-    moves = ((1, 1.0, 0, 0), (-1, 1.0, 0, 0), (width, 1.0, 0, 0), (-width, 1.0, 0, 0),
-             (width + 1, SQRT2, width, 1), (width - 1, SQRT2, width, -1),
-             (-width + 1, SQRT2, -width, 1), (-width - 1, SQRT2, -width, -1))
-    octile = SQRT2 - 2.0
-    cost = array("d", [math.inf]) * len(blocked)
-    parent = array("l", [-1]) * len(blocked)
-    closed = bytearray(len(blocked))
-    cost[start] = 0.0
-    frontier = [(0.0, 0.0, start)]
-    push, pop = heapq.heappush, heapq.heappop
-    while frontier:
-        _, _, cell = pop(frontier)
-        if closed[cell]:
-            continue
-        if cell == goal:
-            return parent
-        closed[cell] = 1
-        base = cost[cell]
-        for offset, step, corner_a, corner_b in moves:
-            nxt = cell + offset
-            if blocked[nxt] or closed[nxt]:
-                continue
-            if corner_a and (blocked[cell + corner_a] or blocked[cell + corner_b]):
-                continue
-            new_cost = base + step
-            if penalty is not None:
-                new_cost += penalty[nxt]
-            if new_cost >= cost[nxt]:
-                continue
-            cost[nxt] = new_cost
-            parent[nxt] = cell
-            row, col = divmod(nxt, width)
-            dr = row - goal_row if row > goal_row else goal_row - row
-            dc = col - goal_col if col > goal_col else goal_col - col
-            heuristic = dr + dc + octile * (dr if dr < dc else dc)   # octile distance
-            push(frontier, (new_cost + heuristic, -new_cost, nxt))
-    return None
+    def shifted(dr, dc):
+        return free[1 + dr:height + 1 + dr, 1 + dc:width + 1 + dc]
+
+    weights = np.full((height + 2, padded_width, len(MOVES)), np.inf)
+    inner = weights[1:-1, 1:-1]
+    cost = np.zeros((height, width)) if penalty is None else penalty
+    for k, (dr, dc) in enumerate(MOVES):
+        allowed = shifted(0, 0) & shifted(dr, dc)
+        if dr and dc:
+            allowed &= shifted(dr, 0) & shifted(0, dc)
+        step = SQRT2 if dr and dc else 1.0
+        np.add(cost, step, out=inner[:, :, k], where=allowed)
+    offsets = np.array([dr * padded_width + dc for dr, dc in MOVES], dtype=np.int32)
+    indices = np.arange(nodes, dtype=np.int32)[:, None] + offsets
+    np.clip(indices, 0, nodes - 1, out=indices)       # border nodes: only infinite weights
+    indptr = np.arange(0, len(MOVES) * nodes + 1, len(MOVES), dtype=np.int32)
+    return csr_matrix((weights.ravel(), indices.ravel(), indptr), shape=(nodes, nodes))
 
 
-def _trace(parent, width, start, goal, resolution):
-    """Follow parents back from the goal; cells are returned in unpadded (row, col)."""
-    flat = [goal]
-    while flat[-1] != start:
-        flat.append(parent[flat[-1]])
-    flat.reverse()
-    cells = [(idx // width - 1, idx % width - 1) for idx in flat]
+def clear_path_cache():
+    """Forget every cached graph and cost field."""
+    with _LOCK:
+        _GRAPHS.clear()
+
+
+_GRAPHS = OrderedDict()   # cache key -> GridGraph, least recently used first
+_LOCK = threading.Lock()
+
+
+def _cache_key(obstacles, resolution, robot_radius, penalty):
+    """A cheap content key (CRC-32 of the arrays); GridGraph.holds confirms a hit exactly."""
+    key = (obstacles.shape, float(resolution), float(robot_radius),
+           zlib.crc32(np.ascontiguousarray(obstacles).view(np.uint8)))
+    if penalty is None:
+        return key + (None,)
+    return key + (zlib.crc32(np.ascontiguousarray(penalty).view(np.uint8)),)
+
+
+def _grid_path(cells, resolution):
     length = sum(SQRT2 if (a[0] != b[0] and a[1] != b[1]) else 1.0
                  for a, b in zip(cells, cells[1:]))
     return GridPath(cells=cells, length_m=length * resolution)
