@@ -7,8 +7,8 @@ import pytest
 
 keras = pytest.importorskip("keras")
 
-from semantic_nav.network import (CORNER_CLASSES, NetworkConfig, StepPolicy,  # noqa: E402
-                                  add_count_input, add_heads, build_network,
+from semantic_nav.network import (CORNER_CLASSES, NetworkConfig, SequenceLSTM,  # noqa: E402
+                                  StepPolicy, add_count_input, add_heads, build_network,
                                   has_count_input, has_head, has_stop_head,
                                   interpolate_weights, load_network, ModelFileError, relu,
                                   softmax)
@@ -230,3 +230,55 @@ def test_a_damaged_default_model_is_named_corrupt(tmp_path, damage):
     path.write_bytes(bytes(data))
     with pytest.raises(ModelFileError, match=rf"^semantic_nav model {path} is corrupt"):
         load_network(path)
+
+
+def _numpy_lstm(x, kernel, recurrent, bias):
+    """Independent reference: the LSTM equations (Hochreiter & Schmidhuber 1997; gates i, f, c, o
+    in Keras' column order) stepped in float64 over x (batch, T, d) from zero state."""
+    batch, steps, _ = x.shape
+    units = recurrent.shape[0]
+    h, c = np.zeros((batch, units)), np.zeros((batch, units))
+    out = np.empty((batch, steps, units))
+    gate = lambda z: 1.0 / (1.0 + np.exp(-z))  # noqa: E731
+    for t in range(steps):
+        z = x[:, t] @ kernel + h @ recurrent + bias
+        i, f, g, o = np.split(z, 4, axis=1)
+        c = gate(f) * c + gate(i) * np.tanh(g)
+        h = gate(o) * np.tanh(c)
+        out[:, t] = h
+    return out
+
+
+@pytest.mark.parametrize("model_file", ["default.keras", "bc.keras"])
+def test_lstm_fused_of_the_committed_models_matches_the_lstm_equations(model_file):
+    path = DEFAULT_MODEL.parent / model_file
+    if not path.is_file():
+        pytest.skip(f"no committed model {model_file}")
+    layer = load_network(str(path)).get_layer("lstm_fused")
+    assert isinstance(layer, SequenceLSTM)
+    kernel, recurrent, bias = (w.astype(np.float64) for w in layer.get_weights())
+    x = np.random.default_rng(4).normal(size=(2, 60, kernel.shape[0])).astype(np.float32)
+    out = keras.ops.convert_to_numpy(layer(x))
+    np.testing.assert_allclose(out, _numpy_lstm(x.astype(np.float64), kernel, recurrent, bias),
+                               atol=2e-5)
+
+
+def test_sequence_lstm_gradients_reach_its_keras_weights():
+    import torch
+    keras.utils.set_random_seed(5)
+    layer = SequenceLSTM(6)
+    x = torch.tensor(np.random.default_rng(6).normal(size=(2, 7, 3)), dtype=torch.float32)
+    layer.build(x.shape)
+    loss = (layer(x) ** 2).sum()
+    grads = torch.autograd.grad(loss, [w.value for w in (layer.kernel, layer.recurrent_kernel,
+                                                         layer.bias)])
+    assert all(float(g.abs().sum()) > 0.0 for g in grads)
+    # the bias gradient by central differences on the independent equations, in float64
+    kernel, recurrent, bias = (w.astype(np.float64) for w in layer.get_weights())
+    x64, eps = x.numpy().astype(np.float64), 1e-6
+    for index in (0, 7, 13, 20):            # one entry of each gate (units = 6)
+        step = np.zeros_like(bias)
+        step[index] = eps
+        numeric = ((_numpy_lstm(x64, kernel, recurrent, bias + step) ** 2).sum()
+                   - (_numpy_lstm(x64, kernel, recurrent, bias - step) ** 2).sum()) / (2 * eps)
+        assert float(grads[2][index]) == pytest.approx(numeric, rel=1e-3, abs=1e-4)

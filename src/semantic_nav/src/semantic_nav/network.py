@@ -33,7 +33,9 @@ instruction's corner number.
 `StepPolicy` re-implements the trained network in numpy for control: classify a simple
 instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
 """
+import functools
 import os
+import threading
 import zipfile
 from dataclasses import asdict, dataclass
 
@@ -80,11 +82,23 @@ class ConcatOverTime(keras.layers.Layer):
         return (batch, steps, k + m)
 
 
+@functools.cache
+def _lstm_shell(input_size, units, thread):
+    """A one-layer, batch-first torch.nn.LSTM without weights of its own (meta device), one per
+    thread (torch.func.functional_call swaps parameters in and out of the module it runs)."""
+    import torch
+    return torch.nn.LSTM(input_size, units, batch_first=True, device="meta")
+
+
 @keras.saving.register_keras_serializable(package="semantic_nav")
 class SequenceLSTM(keras.layers.Layer):
     """An LSTM returning the whole output sequence, with Keras' weights and gate order (i, f, c, o)
-    but run by torch's native LSTM kernel: keras.layers.LSTM on the torch backend steps a Python
-    loop on the CPU, about ten times slower for the hundreds of steps of a demonstration."""
+    but run by `torch.nn.LSTM` (whose gate order i, f, g, o is the same) through
+    `torch.func.functional_call` on the layer's own variables, so gradients reach them and the
+    weights stay Keras' (kernel, recurrent_kernel, bias). keras.layers.LSTM on the torch backend
+    steps a Python loop on the CPU, about ten times slower for the hundreds of steps of a
+    demonstration. (Hochreiter & Schmidhuber, "Long short-term memory", Neural Comput. 9(8),
+    1997; https://pytorch.org/docs/stable/generated/torch.nn.LSTM.html)"""
 
     def __init__(self, units, **kwargs):
         super().__init__(**kwargs)
@@ -103,13 +117,15 @@ class SequenceLSTM(keras.layers.Layer):
 
     def call(self, inputs):
         import torch
+        from torch.func import functional_call
         batch = inputs.shape[0]
         zeros = torch.zeros(1, batch, self.units, dtype=inputs.dtype, device=inputs.device)
         bias = self.bias.value
-        params = [self.kernel.value.t().contiguous(), self.recurrent_kernel.value.t().contiguous(),
-                  bias, torch.zeros_like(bias)]
-        output, _, _ = torch.lstm(inputs, (zeros, zeros), params, True, 1, 0.0, self.trainable,
-                                  False, True)
+        weights = {"weight_ih_l0": self.kernel.value.t().contiguous(),
+                   "weight_hh_l0": self.recurrent_kernel.value.t().contiguous(),
+                   "bias_ih_l0": bias, "bias_hh_l0": torch.zeros_like(bias)}
+        shell = _lstm_shell(inputs.shape[-1], self.units, threading.get_ident())
+        output, _ = functional_call(shell, weights, (inputs, (zeros, zeros)))
         return output
 
     def compute_output_shape(self, input_shape):
