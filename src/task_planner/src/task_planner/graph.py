@@ -155,6 +155,13 @@ def measure_edge_lengths(map_path, poses, pairs, robot_radius):
     return lengths
 
 
+def place_ids(graph_path):
+    """{place name: node id} of `<map>.graph.yaml`, ids in file order as `load_graph` numbers
+    them, without measuring edges; GraphError for a file the planner refuses."""
+    spec = _read_graph_spec(Path(graph_path))
+    return {node["name"]: index for index, node in enumerate(spec["nodes"])}
+
+
 def _content_hash(graph_path, map_path, robot_radius):
     digest = hashlib.sha256(f"radius={robot_radius}".encode())
     map_meta = yaml.safe_load(map_path.read_text())
