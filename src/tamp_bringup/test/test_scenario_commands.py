@@ -28,6 +28,11 @@ def test_summary_lines_of_a_report():
         "report: out/REPORT.md"]
 
 
+def test_summary_lines_end_with_the_replay_command():
+    lines = scenario_report_main.summary_lines(dict(RESULT, replay="roslaunch x"), "out")
+    assert lines[-2:] == ["report: out/REPORT.md", "replay in rviz: roslaunch x"]
+
+
 def test_summary_lines_leave_out_empty_belief_and_sources():
     result = dict(RESULT, order_problems=[], belief={}, sources={})
     lines = scenario_report_main.summary_lines(result, "out")
@@ -51,6 +56,21 @@ def test_report_arguments_of_a_run_directory_parse(tmp_path):
     assert args.record == tmp_path / "record.json"
     assert args.humans == tmp_path / "social_household_humans.sqlite"
     assert args.out_dir == tmp_path / "report" and args.exact_limit_s == 60.0
+
+
+def test_report_arguments_name_the_bag(tmp_path):
+    arguments = run_scenario_main.report_arguments(tmp_path, tmp_path / "r", tmp_path / "run.bag")
+    assert arguments[-2:] == ["--bag", str(tmp_path / "run.bag")]
+
+
+def test_a_run_goes_to_a_run_folder_under_build(tmp_path, monkeypatch):
+    monkeypatch.setenv("TAMP_WS", str(tmp_path))
+    args = run_scenario_main.parse_args([])
+    assert args.out_dir.parent == tmp_path / "build" / "scenario"
+    assert args.run_dir == args.out_dir / "run"
+    args = run_scenario_main.parse_args(["--out-dir", str(tmp_path / "o"),
+                                         "--run-dir", str(tmp_path / "r")])
+    assert (args.out_dir, args.run_dir) == (tmp_path / "o", tmp_path / "r")
 
 
 def test_launch_command_carries_the_scenario_and_the_switches(tmp_path):

@@ -104,6 +104,12 @@ def test_markdown_lists_every_instruction(tmp_path, line_graph):
     assert "| 1 | Bob | hi | " in text
     assert "| this run (simulator) | 1.840 | 2, 1, 3 |" in text
     assert "| FCFS (model) | 1.590 | 1, 2, 3 |" in text
+    assert "Replay in rviz" not in text
+    replayed = report_markdown(record, entries, figures, run_curve(entries, 0.0), [],
+                               dict(rewards="r.png", trajectory="t.png"),
+                               replay="roslaunch tamp_bringup replay.launch bag:=/r/run.bag")
+    assert "## Replay in rviz" in replayed
+    assert "\nroslaunch tamp_bringup replay.launch bag:=/r/run.bag\n" in replayed
 
 
 def test_model_figures_take_their_planners_from_the_registry():

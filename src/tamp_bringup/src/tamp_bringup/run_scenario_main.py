@@ -1,50 +1,34 @@
-"""Run a household scenario headless and write its report.
+"""Run a household scenario headless, record it and write its report.
 
-    scripts/run_scenario [SCENARIO.yaml] [--speed N] [--out-dir DIR] [--rviz]
+    scripts/run_scenario [SCENARIO.yaml] [--speed N] [--out-dir DIR] [--run-dir DIR] [--rviz]
                          [--no-self-instructions] [--no-patrol]
 
-Defaults: config/scenarios/household_day.yaml, speed 5, docs/demo. Starts its own roscore port
-and ROS_HOME (a temporary run directory, kept: the launch log, the record, the journals, a rosbag
-of the run), launches `roslaunch tamp_bringup social_household.launch` with the scenario node,
-waits for the scenario to end, then scripts/scenario_report writes REPORT.md and the PNGs. Run it
-with the workspace environment (source scripts/env.sh).
+Defaults: config/scenarios/household_day.yaml, speed 5, the run folder
+build/scenario/<UTC time>/ of the workspace. Starts its own roscore port and ROS_HOME (the run
+directory, DIR/run unless --run-dir: the launch log, the record, the journals, the logs and
+run.bag, a rosbag of the run that `roslaunch tamp_bringup replay.launch bag:=.../run.bag` replays
+in rviz), launches `roslaunch tamp_bringup social_household.launch` with the scenario node, prints
+a progress line with an ETA every 10 s until the scenario ends, then writes REPORT.md and the PNGs
+as scripts/scenario_report does. Run it with the workspace environment (source scripts/env.sh).
 """
 import argparse
 import json
 import os
-import signal
-import socket
 import subprocess
 import sys
-import tempfile
 import time
+from datetime import UTC, datetime
 from pathlib import Path
 
 from tamp_bringup import scenario_report_main
+from tamp_bringup.bag_record import (SCENARIO_TOPICS, RecordError, free_port, run_environment,
+                                     save_robot_description, sim_time_s, start_recorder, stop,
+                                     wait_for_master, wait_for_sim_time)
+from tamp_bringup.progress import SimRate, count_sent_requests, scenario_line
 from tamp_bringup.scenario import load_scenario
 
-BAG_TOPICS = ("/task_planner/instructions", "/task_planner/state", "/task_planner/markers",
-              "/robot/say", "/voice_message", "/humans/known", "/base_pose_ground_truth",
-              "/move_base/goal", "/move_base/result", "/clock")
-STOP_TIMEOUT_S = 30.0    # [s] SIGINT grace before a child is killed
-POLL_S = 0.5             # [s] period of the wait for the master
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("localhost", 0))
-        return s.getsockname()[1]
-
-
-def stop(process, timeout_s=STOP_TIMEOUT_S):
-    """SIGINT a running child, then kill it when it has not ended within `timeout_s`."""
-    if process is not None and process.poll() is None:
-        process.send_signal(signal.SIGINT)
-        try:
-            process.wait(timeout_s)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait()
+PROGRESS_S = 10.0        # [s] wall-clock period of the progress lines
+BAG_NAME = "run.bag"
 
 
 def parse_args(argv=None):
@@ -53,7 +37,12 @@ def parse_args(argv=None):
     parser.add_argument("scenario", nargs="?", type=Path,
                         default=Path("config/scenarios/household_day.yaml"))
     parser.add_argument("--speed", type=float, default=5.0, help="simulator speed-up")
-    parser.add_argument("--out-dir", type=Path, default=Path("docs/demo"))
+    parser.add_argument("--out-dir", type=Path, default=None,
+                        help="where REPORT.md and its plots go (default: a new run folder "
+                             "build/scenario/<UTC time>/ of the workspace)")
+    parser.add_argument("--run-dir", type=Path, default=None,
+                        help="ROS_HOME of the run: launch log, record, journals, logs, run.bag "
+                             "(default: OUT_DIR/run)")
     parser.add_argument("--rviz", action="store_true", help="watch it in rviz")
     parser.add_argument("--no-self-instructions", action="store_true",
                         help="the robot gives itself no instructions (only the requests)")
@@ -61,7 +50,19 @@ def parse_args(argv=None):
     args = parser.parse_args(argv)
     if not args.speed > 0:
         parser.error(f"--speed must be positive; got {args.speed}")
+    if args.out_dir is None:
+        args.out_dir = default_out_dir("scenario")
+    if args.run_dir is None:
+        args.run_dir = args.out_dir / "run"
+    args.out_dir, args.run_dir = args.out_dir.resolve(), args.run_dir.resolve()
     return args
+
+
+def default_out_dir(kind, now=None):
+    """build/<kind>/<UTC time>/ of the workspace (TAMP_WS, else the current directory)."""
+    now = now or datetime.now(UTC)
+    workspace = Path(os.environ.get("TAMP_WS", Path.cwd()))
+    return workspace / "build" / kind / now.strftime("%Y%m%d-%H%M%S")
 
 
 def scenario_path(args):
@@ -83,28 +84,47 @@ def launch_command(args, scenario, path, run_dir, port):
             f"utc_offset:={scenario.day_start_s:g}"]
 
 
-def report_arguments(run_dir, out_dir):
+def report_arguments(run_dir, out_dir, bag=None):
     """scenario_report's arguments for the files a run leaves in `run_dir`."""
-    return [str(run_dir / "record.json"), str(run_dir / "social_household_tasks.sqlite"),
-            "--humans", str(run_dir / "social_household_humans.sqlite"),
-            "--out-dir", str(out_dir)]
+    arguments = [str(run_dir / "record.json"), str(run_dir / "social_household_tasks.sqlite"),
+                 "--humans", str(run_dir / "social_household_humans.sqlite"),
+                 "--out-dir", str(out_dir)]
+    return arguments + (["--bag", str(bag)] if bag is not None else [])
 
 
-def run_launch(command, env, run_dir):
+def watch(launch, env, scenario, speed, log_path, started, period_s=PROGRESS_S):
+    """Wait for the launch to end, printing a progress line every `period_s`; its status."""
+    rate = SimRate(speed)
+    last_request = max(r.time_s for r in scenario.requests)
+    while True:
+        try:
+            return launch.wait(period_s)
+        except subprocess.TimeoutExpired:
+            pass
+        wall = time.monotonic() - started
+        sim = sim_time_s(env)
+        sent = count_sent_requests(log_path.read_text(errors="replace"))
+        started_sim = rate.first is not None
+        print(scenario_line(wall, sim, rate.update(wall, sim) if sim is not None else speed,
+                            last_request, scenario.timeout_s, len(scenario.requests), sent,
+                            started_sim), flush=True)
+
+
+def run_launch(command, env, run_dir, scenario, speed, started):
     """Run the launch to its end, recording a rosbag of the run; its exit status."""
     launch = bag = None
+    log_path = run_dir / "launch.log"
     try:
-        with open(run_dir / "launch.log", "w") as log:
+        with open(log_path, "w") as log:
             launch = subprocess.Popen(command, env=env, stdout=log, stderr=subprocess.STDOUT)
-        while launch.poll() is None and subprocess.run(
-                ["rostopic", "list"], env=env, capture_output=True).returncode != 0:
-            time.sleep(POLL_S)
-        # a rosbag of the run: what the robot was told, decided and did (not the sensor streams)
-        with open(run_dir / "rosbag.log", "w") as log:
-            bag = subprocess.Popen(["rosbag", "record", "-q", "-O", str(run_dir / "run.bag"),
-                                    *BAG_TOPICS, "__name:=scenario_bag"],
-                                   env=env, stdout=log, stderr=subprocess.STDOUT)
-        return launch.wait()
+        wait_for_master(env, launch)
+        wait_for_sim_time(env, launch)
+        bag = start_recorder(run_dir / BAG_NAME, SCENARIO_TOPICS, env, run_dir / "rosbag.log")
+        save_robot_description(run_dir / BAG_NAME, env)
+        return watch(launch, env, scenario, speed, log_path, started)
+    except RecordError as error:
+        print(f"[scenario] {error}; launch log {log_path}", file=sys.stderr)
+        return launch.poll() if launch.poll() is not None else 1
     finally:
         stop(bag)
         stop(launch)
@@ -114,14 +134,18 @@ def main(argv=None):
     args = parse_args(argv)
     path = scenario_path(args)
     scenario = load_scenario(path)
-    run_dir = Path(tempfile.mkdtemp(prefix="scenario_run."))
+    run_dir = args.run_dir
+    run_dir.mkdir(parents=True, exist_ok=True)
     port = free_port()
-    env = dict(os.environ, ROS_HOME=str(run_dir), ROS_LOG_DIR=str(run_dir / "log"),
-               ROS_MASTER_URI=f"http://localhost:{port}")
-    print(f"[scenario] {args.scenario} at speed {args.speed:g}, planner {scenario.planner} "
-          f"(run directory: {run_dir})", flush=True)
+    env = run_environment(run_dir, port)
+    last_request = max(r.time_s for r in scenario.requests)
+    print(f"[scenario] {args.scenario} at speed {args.speed:g}, planner {scenario.planner}: "
+          f"{len(scenario.requests)} requests by {last_request:g} s simulated, done when they "
+          f"are served (at most {last_request + scenario.timeout_s:g} s simulated); "
+          f"run directory {run_dir}", flush=True)
     started = time.monotonic()
-    status = run_launch(launch_command(args, scenario, path, run_dir, port), env, run_dir)
+    status = run_launch(launch_command(args, scenario, path, run_dir, port), env, run_dir,
+                        scenario, args.speed, started)
     print(f"[scenario] the launch ended after {time.monotonic() - started:.0f} s "
           f"(status {status})", flush=True)
     record = run_dir / "record.json"
@@ -133,6 +157,10 @@ def main(argv=None):
         return 1
     if not json.loads(record.read_text())["finished"]:
         print("[scenario] the scenario timed out", file=sys.stderr)
-    code = scenario_report_main.main(report_arguments(run_dir, args.out_dir))
+    bag = run_dir / BAG_NAME
+    code = scenario_report_main.main(
+        report_arguments(run_dir, args.out_dir, bag if bag.is_file() else None))
     print(f"[scenario] run directory (launch log, record, journals, rosbag): {run_dir}")
+    if not bag.is_file():
+        print(f"[scenario] no rosbag was written; see {run_dir / 'rosbag.log'}", file=sys.stderr)
     return code

@@ -214,8 +214,18 @@ def _cell(value, digits=1):
     return "-" if value is None else f"{value:.{digits}f}"
 
 
-def report_markdown(record, entries, figures, run, order_problems, files, belief_lines=()):
-    """REPORT.md text of one run; belief_lines: belief_report.belief_markdown's section."""
+def replay_markdown(replay):
+    """The report's section on replaying the run's rosbag in rviz (`replay`: the command)."""
+    return ["## Replay in rviz", "",
+            "The run's rosbag (tf, map, laser, odometry, plans, markers, people, the task "
+            "planner's state) replays in rviz with the scenario's view:", "",
+            "```bash", "source scripts/env.sh", replay, "```", ""]
+
+
+def report_markdown(record, entries, figures, run, order_problems, files, belief_lines=(),
+                    replay=None):
+    """REPORT.md text of one run; belief_lines: belief_report.belief_markdown's section;
+    replay: the command that replays the run's rosbag (None: no section)."""
     t0 = float(record["t0"])
     stats = summary(entries)
     lines = [f"# Scenario `{record['scenario']}`: what happened", "",
@@ -235,6 +245,7 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
              f"- accumulated reward earned (Eq. 4-2 at each completion): {stats['reward']:.3f}",
              "- order: " + ("respects chains (`previous_id`) and, at each place, priorities"
                             if not order_problems else "; ".join(order_problems)), "",
+             *(replay_markdown(replay) if replay else ()),
              *belief_lines,
              "## Accumulated reward", "",
              f"![reward]({files['rewards']})", "",
@@ -284,8 +295,9 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
 
 
 def write_report(record_path, journal_path, graph, settings, map_path, graph_path, out_dir,
-                 exact_time_limit_s=60.0, humans_path=None):
-    """Write REPORT.md, rewards.png and trajectory.png into `out_dir`; returns the summary."""
+                 exact_time_limit_s=60.0, humans_path=None, replay=None):
+    """Write REPORT.md, rewards.png and trajectory.png into `out_dir`; returns the summary.
+    replay: the command that replays the run's rosbag in rviz, said in the report."""
     record = load_record(record_path)
     entries = read_journal(journal_path)
     t0 = float(record["t0"])
@@ -304,7 +316,7 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
     sources = history_sources(humans_path) if humans_path else {}
     (out_dir / "REPORT.md").write_text(
         report_markdown(record, entries, figures, run, problems, files,
-                        belief_markdown(record, entries, searches, t0, sources)))
+                        belief_markdown(record, entries, searches, t0, sources), replay))
     return dict(summary(entries), order_problems=problems,
                 model={f.name: f.reward for f in figures}, belief=people_accuracy(record),
-                searches=len(searches), sources=sources)
+                searches=len(searches), sources=sources, replay=replay)

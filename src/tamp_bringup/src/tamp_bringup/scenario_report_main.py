@@ -8,6 +8,7 @@ import yaml
 from tamp_resources import resource
 from task_planner.graph import load_graph
 
+from tamp_bringup.bag_record import replay_command
 from tamp_bringup.scenario_report import write_report
 
 
@@ -19,13 +20,15 @@ def parse_args(argv=None):
     parser.add_argument("--out-dir", type=Path, default=workspace / "docs" / "demo")
     parser.add_argument("--humans", type=Path, default=None,
                         help="the run's human database (SQLite): its history rows by source")
+    parser.add_argument("--bag", type=Path, default=None,
+                        help="the run's rosbag: the report says how to replay it in rviz")
     parser.add_argument("--graph", type=Path, default=resource("maps", "household.graph.yaml"))
     parser.add_argument("--map", type=Path, default=resource("maps", "household.yaml"))
     parser.add_argument("--settings", type=Path, default=resource("config", "task_planner.yaml"))
     parser.add_argument("--exact-limit-s", type=float, default=60.0,
                         help="time limit of the exact optimum [s]")
     args = parser.parse_args(argv)
-    for name in ("record", "journal", "humans", "graph", "map", "settings"):
+    for name in ("record", "journal", "humans", "bag", "graph", "map", "settings"):
         path = getattr(args, name)
         if path is not None and not path.is_file():
             parser.error(f"{name.replace('_', '-')}: no such file: {path}")
@@ -50,6 +53,8 @@ def summary_lines(result, out_dir):
         lines.append("human_db history rows by source: " + ", ".join(
             f"{source} {count}" for source, count in result["sources"].items()))
     lines.append(f"report: {Path(out_dir) / 'REPORT.md'}")
+    if result.get("replay"):
+        lines.append(f"replay in rviz: {result['replay']}")
     return lines
 
 
@@ -57,8 +62,9 @@ def main(argv=None):
     args = parse_args(argv)
     settings = yaml.safe_load(args.settings.read_text())
     graph = load_graph(args.graph, float(settings["robot_radius_m"]))
+    replay = replay_command(args.bag.resolve()) if args.bag is not None else None
     result = write_report(args.record, args.journal, graph, settings, args.map, args.graph,
-                          args.out_dir, args.exact_limit_s, args.humans)
+                          args.out_dir, args.exact_limit_s, args.humans, replay)
     for line in summary_lines(result, args.out_dir):
         print(line)
     return 0
