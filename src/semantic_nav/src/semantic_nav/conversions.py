@@ -52,13 +52,14 @@ def doorway_marker(points, frame_id, stamp, size):
 
 
 def path_marker(points, frame_id, stamp, width):
-    """Driven path [(x, y)] -> a LINE_STRIP marker (red, `width` m)."""
+    """Driven path [(x, y)] -> a LINE_STRIP marker (green, `width` m; in rviz the laser is red,
+    odometry cyan)."""
     marker = Marker()
     marker.header.frame_id, marker.header.stamp = frame_id, stamp
     marker.ns, marker.id, marker.type, marker.action = "semantic_nav_path", 0, Marker.LINE_STRIP, \
         Marker.ADD
     marker.pose.orientation.w = 1.0
     marker.scale.x = width
-    marker.color.r, marker.color.a = 1.0, 1.0
+    marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.2, 0.9, 0.2, 1.0
     marker.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in points]
     return marker

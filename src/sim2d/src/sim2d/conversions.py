@@ -11,6 +11,10 @@ from visualization_msgs.msg import Marker
 
 WHEEL_JOINTS = ("left_wheel_joint", "right_wheel_joint")
 MARKER_HEIGHT = {"standing": 1.7, "sitting": 1.2, "lying": 0.3}   # [m] person cylinders
+# labels: text height [m] (rviz's top-down household view draws about 60 px per metre) and a
+# near-black colour that reads on the light floor of the map and on the orange object boxes
+PERSON_LABEL_SIZE, OBJECT_LABEL_SIZE = 0.26, 0.2
+LABEL_RGBA = (0.05, 0.05, 0.1, 1.0)
 
 
 def stamp(seconds):
@@ -136,7 +140,7 @@ def people_markers(seconds, people):
         markers.append(_marker(seconds, "people", i, Marker.CYLINDER, x, y, height / 2.0,
                                (2 * person.radius, 2 * person.radius, height), (r, g, b, 0.8)))
         markers.append(_marker(seconds, "people_labels", i, Marker.TEXT_VIEW_FACING, x, y,
-                               height + 0.25, (0.0, 0.0, 0.2), (1.0, 1.0, 1.0, 1.0),
+                               height + 0.25, (0.0, 0.0, PERSON_LABEL_SIZE), LABEL_RGBA,
                                text=f"{person.name}: {person.posture}, {person.activity}"))
     return markers
 
@@ -150,6 +154,6 @@ def object_markers(seconds, objects):
                                obj.elevation + obj.size[2] / 2.0, obj.size,
                                (0.9, 0.6, 0.2, 0.8), yaw))
         markers.append(_marker(seconds, "object_labels", i, Marker.TEXT_VIEW_FACING, x, y,
-                               obj.elevation + obj.size[2] + 0.1, (0.0, 0.0, 0.12),
-                               (1.0, 1.0, 1.0, 1.0), text=obj.label))
+                               obj.elevation + obj.size[2] + 0.1, (0.0, 0.0, OBJECT_LABEL_SIZE),
+                               LABEL_RGBA, text=obj.label))
     return markers
