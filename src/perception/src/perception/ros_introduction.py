@@ -10,7 +10,10 @@ the person with /human_db/register and says "Nice to meet you, NAME.".
 Which utterances are answers: while a dialogue is open, every utterance whose phone is not a
 registered person's (a stranger's phone, or the robot's own microphone, ip "") is an answer. The
 node says so on the latched ~dialogue_open (std_msgs/Bool), and verbal perception skips exactly
-those utterances then, so an answer never also becomes a refused request.
+those utterances then, so an answer never also becomes a refused request. When the last answer
+completes the dialogue, the latched ~answers_until (std_msgs/Time) gets that answer's stamp before
+the person is registered: whatever the new person says after it is a request, even while
+~dialogue_open still lingers (Time 0: no such limit, the open dialogue waits for answers).
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
 work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
@@ -26,7 +29,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import colours_from_msg, human_to_msg
 from human_db.errors import HumanDbError
 from floorplan.semantic_graph import load_graph
-from std_msgs.msg import Bool, String
+from std_msgs.msg import Bool, String, Time
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
@@ -37,6 +40,7 @@ from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
 from task_planner.ros_submit import SubmitClient
 
+from perception.conversions import utterance_time
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, seen_shirt)
 
@@ -106,12 +110,14 @@ class IntroductionNode:
         self.submit = SubmitClient(p.register_timeout)
         self.say = rospy.Publisher("robot/say", String, queue_size=5)
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
+        self.answers_until = rospy.Publisher("~answers_until", Time, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         sup.subscriber("humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
         sup.subscriber(p.humans_topic, HumanArray, self._on_known, queue_size=1)
         sup.subscriber("task_planner/state", TaskBufferState, self._on_state, queue_size=1)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         self._publish_open(False)
+        self.answers_until.publish(Time(rospy.Time(0)))
         self._timers = [sup.timer(p.period, self._on_work, worker="work",
                                   on_error=self._fail_dialogue),
                         sup.timer(1.0, self._on_diagnostics, worker="diagnostics")]
@@ -216,6 +222,7 @@ class IntroductionNode:
             self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
                                                  stranger.place)
             self._open_until = now
+            self.answers_until.publish(Time(rospy.Time(0)))  # answers until the dialogue ends
             self._count("dialogues")
             rospy.loginfo("introduction: meeting the stranger of #%d in %s; waiting for a name",
                           stranger.instruction_id, stranger.place)
@@ -232,6 +239,8 @@ class IntroductionNode:
             self._count("refused_answers")
         rospy.loginfo("introduction: heard %r from %s -> %s", msg.text, msg.ip or "microphone",
                       turn.state)
+        if turn.state == COMPLETE:  # before registering: a request may follow at once
+            self.answers_until.publish(Time(rospy.Time.from_sec(utterance_time(msg))))
         self._turn(turn, now)
 
     def _turn(self, turn, now):

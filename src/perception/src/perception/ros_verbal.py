@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import rospy
 from floorplan.semantic_graph import load_graph
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from std_msgs.msg import Bool, String
+from std_msgs.msg import Bool, String, Time
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
@@ -49,6 +49,8 @@ class VerbalParams:
     diagnostics_period: float = 1.0       # ~diagnostics_period [s]
     dialogue_topic: str = "introduction/dialogue_open"  # ~dialogue_topic: true while the
                                           # introduction node takes unknown speakers' answers
+    answers_until_topic: str = "introduction/answers_until"  # ~answers_until_topic: stamp of
+                                          # a completed dialogue's last answer (0: no limit)
 
 
 def read_params():
@@ -65,6 +67,7 @@ class VerbalNode:
                         "dialogue_answers": 0, "not_taken": 0, "failed": 0}
         self._dialogue_open = False
         self._dialogue_phones = set()  # phones that answered the open dialogue: still answers
+        self._answers_until = 0.0      # utterances stamped later are no answers (0: no limit)
         #                                once the introduction registered them, until it closes
         self._last_not_taken = ""   # why the task planner last did not take a request
         self._last_failure = ""     # why the handling of an utterance last failed
@@ -87,6 +90,8 @@ class VerbalNode:
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         sup.subscriber(self.params.dialogue_topic, Bool, self._on_dialogue, queue_size=1)
+        sup.subscriber(self.params.answers_until_topic, Time, self._on_answers_until,
+                       queue_size=1)
         self._timers = [
             sup.timer(self.params.period, self._on_work, worker="work",
                       on_error=self._fail_utterance),
@@ -107,6 +112,10 @@ class VerbalNode:
             self._dialogue_open = msg.data
             if not msg.data:
                 self._dialogue_phones.clear()
+
+    def _on_answers_until(self, msg):
+        with self._lock:
+            self._answers_until = msg.data.to_sec()
 
     def _on_work(self, _event):
         while True:
@@ -138,6 +147,8 @@ class VerbalNode:
         with self._lock:
             dialogue = self._dialogue_open
             answered_before = msg.ip in self._dialogue_phones
+            if self._answers_until and utterance_time(msg) > self._answers_until:
+                dialogue = False  # said after the completed dialogue's last answer: a request
         if dialogue and (answered_before or self.directory.lookup_by_ip(msg.ip) is None):
             with self._lock:   # an unknown speaker's answer to the introduction node's question
                 self._counts["dialogue_answers"] += 1
