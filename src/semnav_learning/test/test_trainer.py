@@ -111,6 +111,36 @@ def test_an_interrupt_saves_the_current_model(inputs):
     assert load_network(str(config.work_dir / "current.keras")).get_layer("lstm_fused")
 
 
+def test_an_interrupted_run_resumes_to_the_uninterrupted_result(inputs, first_run):
+    from semantic_nav.network import load_network
+
+    def stop_in_epoch_3(line):
+        if line.startswith("Epoch 3/"):
+            raise KeyboardInterrupt
+
+    config = tiny(inputs, "resumed", resume=True)
+    stopped = Trainer(config, report=stop_in_epoch_3).run()
+    assert stopped["interrupted"] and len(stopped["history"]) == 2
+    assert json.loads((config.work_dir / "checkpoint" / "state.json").read_text())["epoch"] == 2
+    lines = []
+    summary = Trainer(config, report=lines.append).run()
+    assert f"resuming after epoch 2/{EPOCHS} from {config.work_dir / 'checkpoint'}" in lines
+    assert not any(line.startswith(("Z_w warm-up", "Epoch 1/", "Epoch 2/")) for line in lines)
+    assert without_seconds(summary["history"]) == without_seconds(first_run[1]["history"])
+    resumed = load_network(str(config.work_dir / "current.keras")).get_weights()
+    straight = load_network(str(first_run[0].work_dir / "current.keras")).get_weights()
+    assert all(np.array_equal(a, b) for a, b in zip(resumed, straight, strict=True))
+
+
+def test_a_checkpoint_of_another_configuration_is_refused(inputs, first_run):
+    import shutil
+    config = tiny(inputs, "other_checkpoint", resume=True, seed=5)
+    config.work_dir.mkdir(parents=True)
+    shutil.copytree(first_run[0].work_dir / "checkpoint", config.work_dir / "checkpoint")
+    with pytest.raises(TrainingError, match="made with another configuration"):
+        Trainer(config, report=lambda line: None).run()
+
+
 def test_retraining_the_classifier_leaves_the_control_layers_alone(inputs, first_run):
     from semantic_nav.network import load_network
     init = first_run[0].work_dir / "current.keras"

@@ -99,7 +99,7 @@ class UnitRunner:
                              phrases=config / "semnav_phrases.yaml",
                              world_template=self.recipe.world, cache=self.work / "cache",
                              threads=self.recipe.threads, words=self.recipe.words,
-                             command=f"{self.recipe.path} unit {unit.name}",
+                             command=f"{self.recipe.path} unit {unit.name}", resume=True,
                              training=TrainingConfig(**training),
                              network=NetworkConfig(**network) if network else None)
 

@@ -68,6 +68,9 @@ def argument_parser(root, description=None):
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads")
     parser.add_argument("--work-dir", type=Path, default=root / "build" / "semnav_train" / "run")
+    parser.add_argument("--resume", action="store_true",
+                        help="go on from WORK_DIR/checkpoint (written after every epoch) when it "
+                             "is there: an interrupted run ends as the uninterrupted one would")
     parser.add_argument("--closed-loop-plan", type=Path, nargs="+", metavar="PLAN",
                         help="eval_semnav plan(s) (JSON) on validation floors, their episodes "
                              "driven after each epoch; never a test floor or a training floor")

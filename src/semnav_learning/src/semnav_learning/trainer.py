@@ -9,7 +9,10 @@ closed-loop monitor (`closed_loop_plan`) drives validation-floor episodes after 
 keeps the model that reached the most goals. A KeyboardInterrupt saves the current model.
 
 Everything of a run goes to `work_dir`: config.json (config and arguments), history.json,
-current.keras, lowest_loss.keras, best_validation.keras, best_closed_loop.keras, training.png.
+current.keras, lowest_loss.keras, best_validation.keras, best_closed_loop.keras, training.png,
+and checkpoint/, rewritten after every epoch (weights, both optimizers' state, the monitors, the
+history and the random generators' state): with `resume` an interrupted run goes on from its
+last finished epoch and ends as the uninterrupted run would.
 Progress goes to the `report` callback as lines, each stage with its ETA. Random numbers are drawn
 in a fixed order from `seed` (Keras's global seed and one numpy generator), so a run is repeated
 exactly by the same configuration.
@@ -75,6 +78,7 @@ class TrainerConfig:
     words: str = None             # GloVe text file or cache directory (None: default cache)
     door_width: float = 0.0       # close doorways narrower than this in record scans [m]
     command: str = ""             # the command line, for the model card
+    resume: bool = False          # go on from work_dir/checkpoint (same configuration) if there
     training: TrainingConfig = field(default_factory=TrainingConfig)  # defaults under the
                                   # fields above, as `network`
     network: object = None        # semantic_nav.network.NetworkConfig (None: its defaults)
@@ -366,17 +370,24 @@ class Trainer:
         velocity_loss, class_loss = (float(np.mean(x)) for x in zip(*losses))
         return velocity_loss, class_loss, decision_losses
 
-    def train(self, model, classifier, data, initial=None):
+    def train(self, model, classifier, data, initial=None, checkpoint=None):
         """The epoch loop with the monitors; appends one entry per epoch to self.history.
-        `initial`: the init model's closed-loop entry (closed_loop_before)."""
+        `initial`: the init model's closed-loop entry (closed_loop_before); `checkpoint`: the
+        state of a checkpoint restored into the model (restore_checkpoint), to go on from."""
         from semnav_learning.training import Monitor
         config, work = self.training, self.config.work_dir
         train_eps, valid_batches, closed_specs = data
         loss_monitor, valid_monitor = Monitor("loss"), Monitor("validation")
         closed_monitor = Monitor("closed_loop")
+        monitors = {"loss": loss_monitor, "valid": valid_monitor, "closed": closed_monitor}
         if initial:
             closed_monitor.update(initial["closed_loop"])
-        for epoch in range(1, config.epochs + 1):
+        first = 1
+        if checkpoint:
+            for name, monitor in monitors.items():
+                monitor.best = checkpoint["monitors"][name]
+            first = checkpoint["epoch"] + 1
+        for epoch in range(first, config.epochs + 1):
             began = time.perf_counter()
             velocity_loss, class_loss, decision_losses = self.train_epoch(
                 epoch, model, classifier, train_eps)
@@ -402,12 +413,67 @@ class Trainer:
                           f"{list(per_class.values())}, closed-loop monitor: "
                           f"{closed_monitor.best}")
             self.history.append({**entry, "seconds": round(time.perf_counter() - began, 1)})
+            self.save_checkpoint(model, classifier, epoch, monitors, initial)
             remaining = np.mean([h["seconds"] for h in self.history]) * (config.epochs - epoch)
             self.report(f"Epoch {epoch}/{config.epochs} - {self.history[-1]['seconds']}s, "
                         f"training ETA {format_duration(remaining)}\n"
                         f"loss: {velocity_loss:.6f} , valid: {valid}\n"
                         f"loss monitor: {loss_monitor.best:.6f} , valid monitor: "
                         f"{valid_monitor.best}" + closed)
+
+    def checkpoint_key(self):
+        """What a checkpoint must have been made with: the run's record (config.json)."""
+        return json.dumps(self.record, sort_keys=True, default=str)
+
+    def save_checkpoint(self, model, classifier, epoch, monitors, initial):
+        """work_dir/checkpoint after `epoch`: weights, the optimizers' variables, the torch and
+        numpy generators, monitors and history; written beside and renamed into place, so an
+        interrupt leaves the previous checkpoint whole."""
+        import torch
+        work = self.config.work_dir
+        temporary, final = work / "checkpoint.partial", work / "checkpoint"
+        shutil.rmtree(temporary, ignore_errors=True)
+        temporary.mkdir()
+        arrays = {f"weight_{k}": w for k, w in enumerate(model.get_weights())}
+        for name, net in (("model", model), ("classifier", classifier)):
+            arrays.update({f"{name}_optimizer_{k}": np.asarray(v)
+                           for k, v in enumerate(net.optimizer.variables)})
+        arrays["torch_rng"] = torch.get_rng_state().numpy()
+        np.savez(temporary / "arrays.npz", **arrays)
+        state = {"epoch": epoch, "key": self.checkpoint_key(), "history": self.history,
+                 "initial": initial, "rng": self.rng.bit_generator.state,
+                 "monitors": {name: m.best for name, m in monitors.items()}}
+        (temporary / "state.json").write_text(json.dumps(state, default=float))
+        shutil.rmtree(final, ignore_errors=True)
+        temporary.rename(final)
+
+    def checkpoint_state(self):
+        """The state of work_dir/checkpoint, or None without one; TrainingError if it was made
+        with another configuration."""
+        path = self.config.work_dir / "checkpoint" / "state.json"
+        if not path.is_file():
+            return None
+        state = json.loads(path.read_text())
+        if state["key"] != self.checkpoint_key():
+            raise TrainingError(f"{path.parent} was made with another configuration than this "
+                                "run's (see config.json there); delete it or run without resume")
+        return state
+
+    def restore_checkpoint(self, model, classifier, state):
+        """Weights, optimizer variables, generators and history of the checkpoint."""
+        import torch
+        arrays = np.load(self.config.work_dir / "checkpoint" / "arrays.npz")
+        model.set_weights([arrays[f"weight_{k}"] for k in range(len(model.get_weights()))])
+        for name, net in (("model", model), ("classifier", classifier)):
+            saved = sorted((int(key.rsplit("_", 1)[1]), key) for key in arrays.files
+                           if key.startswith(f"{name}_optimizer_"))
+            if saved:
+                net.optimizer.build(net.trainable_variables)
+                for variable, (_, key) in zip(net.optimizer.variables, saved, strict=True):
+                    variable.assign(arrays[key])
+        torch.set_rng_state(torch.from_numpy(arrays["torch_rng"]))
+        self.rng.bit_generator.state = state["rng"]
+        self.history = list(state["history"])
 
     def retrain_classifier(self, model):
         """Z_w-only batches on the init model, then its card. Z_w is the only input LSTM_fused
@@ -535,7 +601,8 @@ class Trainer:
         valid_rng = np.random.default_rng(c.seed + 1)  # fixed pairing for every epoch
         valid_batches = make_batches(valid_eps, self.sets, self.words, valid_rng, config,
                                      phases=[0] * len(valid_eps))
-        if not c.init:
+        checkpoint = self.checkpoint_state() if c.resume else None
+        if not c.init and checkpoint is None:
             self.warm_up_classifier(classifier)
         self.report(f"train: {len(train_eps)} records ({sum(len(e.commands) for e in train_eps)} "
                     f"samples at {config.record_rate:g} Hz) -> {config.control_rate:g} Hz; "
@@ -543,9 +610,15 @@ class Trainer:
         began = time.perf_counter()
         interrupted, initial = False, None
         try:
-            if closed_specs and c.init:
+            if checkpoint is not None:
+                self.restore_checkpoint(model, classifier, checkpoint)
+                initial = checkpoint["initial"]
+                self.report(f"resuming after epoch {checkpoint['epoch']}/{config.epochs} from "
+                            f"{c.work_dir / 'checkpoint'}")
+            elif closed_specs and c.init:
                 initial = self.closed_loop_before(model, closed_specs)
-            self.train(model, classifier, (train_eps, valid_batches, closed_specs), initial)
+            self.train(model, classifier, (train_eps, valid_batches, closed_specs), initial,
+                       checkpoint)
         except KeyboardInterrupt:
             interrupted = True
             self.report("interrupted: saving the current model")
