@@ -8,13 +8,13 @@
   next to the complete history (the answer of /task_planner/get_buffer) for comparison.
 """
 import io
-import statistics
 import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import genpy
+import numpy as np
 
 from task_planner.conversions import buffer_to_msg
 from task_planner.instruction import Instruction
@@ -28,24 +28,42 @@ def flood(count):
             for k in range(1, count + 1)]
 
 
+@dataclass(frozen=True)
+class JournalFigures:
+    elapsed_s: float     # wall time of journalling the whole flood [s]
+    journalled: int      # instructions found on re-opening the journal
+    call_ms: tuple       # wall time of each submit / submit_many call [ms]
+
+
 def journal_flood(mode, count, burst, synchronous):
-    """Journal `count` instructions one commit each (`mode` "one commit each") or in bursts;
-    returns (wall time [s], instructions found on re-opening the journal)."""
+    """Journal `count` instructions one commit each (`mode` "one commit each") or in bursts of
+    `burst` (one transaction each) in a fresh journal -> JournalFigures."""
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "buffer.sqlite"
         buffer = TaskBuffer(path, BufferConfig(synchronous=synchronous))
         instructions = flood(count)
-        started = time.perf_counter()
         if mode == "one commit each":
-            for instruction in instructions:
-                buffer.submit(instruction, now=instruction.start_time)
+            calls = [(buffer.submit, instruction, instruction.start_time)
+                     for instruction in instructions]
         else:
-            for first in range(0, count, burst):
-                buffer.submit_many(instructions[first:first + burst], now=first / count)
+            calls = [(buffer.submit_many, instructions[first:first + burst], first / count)
+                     for first in range(0, count, burst)]
+        times = []
+        started = time.perf_counter()
+        for call, what, now in calls:
+            began = time.perf_counter()
+            call(what, now=now)
+            times.append(1000.0 * (time.perf_counter() - began))
         elapsed = time.perf_counter() - started
         buffer.close()
         journalled = len(TaskBuffer(path).records())
-    return elapsed, journalled
+    return JournalFigures(elapsed, journalled, tuple(times))
+
+
+def percentiles(values_ms):
+    """(p50, p99, max) of the times [ms]."""
+    return (float(np.percentile(values_ms, 50)), float(np.percentile(values_ms, 99)),
+            float(max(values_ms)))
 
 
 def long_running_buffer(records, open_count, recent_finished=50, path=":memory:"):
@@ -85,19 +103,17 @@ def serialised_size(msg):
 class MessageFigures:
     instructions: int    # instruction states in the message
     size_bytes: int      # serialised size [bytes]
-    build_ms: float      # median wall time of buffer_to_msg over the repeats [ms]
-    build_max_ms: float  # slowest of the repeats [ms]
+    build_ms: tuple      # wall time of each buffer_to_msg over the repeats [ms]
 
 
 def message_figures(buffer, complete, repeats):
-    """Build the message `repeats` times; its size and the median and slowest build time."""
+    """Build the message `repeats` times -> its size and every build time."""
     times, msg = [], None
     for _ in range(repeats):
         started = time.perf_counter()
         msg = buffer_to_msg(buffer, genpy.Time(0), complete=complete)
-        times.append(time.perf_counter() - started)
-    return MessageFigures(len(msg.instructions), serialised_size(msg),
-                          1000.0 * statistics.median(times), 1000.0 * max(times))
+        times.append(1000.0 * (time.perf_counter() - started))
+    return MessageFigures(len(msg.instructions), serialised_size(msg), tuple(times))
 
 
 def state_message(records=20000, open_count=10, recent_finished=50, repeats=20):
@@ -105,3 +121,23 @@ def state_message(records=20000, open_count=10, recent_finished=50, repeats=20):
     buffer = long_running_buffer(records, open_count, recent_finished)
     return (message_figures(buffer, False, repeats),
             message_figures(buffer, True, max(1, repeats // 10)))
+
+
+def report_lines(args):
+    """The lines `scripts/bench_task_buffer` prints for its parsed options."""
+    lines = []
+    for mode in ("one commit each", f"bursts of {args.burst}"):
+        figures = journal_flood(mode, args.count, args.burst, args.synchronous)
+        p50, p99, slowest = percentiles(figures.call_ms)
+        lines.append(f"{mode:>18}: {args.count} instructions in {figures.elapsed_s:.3f} s "
+                     f"({1000 * figures.elapsed_s / args.count:.3f} ms each), per call p50 "
+                     f"{p50:.3f} ms, p99 {p99:.3f} ms, max {slowest:.3f} ms; journalled "
+                     f"{figures.journalled}/{args.count} (synchronous={args.synchronous})")
+    bounded, complete = state_message(args.records, args.open, args.recent, args.repeats)
+    for name, figures in (("state (bounded)", bounded), ("get_buffer (all)", complete)):
+        p50, p99, slowest = percentiles(figures.build_ms)
+        lines.append(f"{name:>18}: {args.records} records ({args.open} open) -> "
+                     f"{figures.instructions} instructions, {figures.size_bytes} bytes, built in "
+                     f"p50 {p50:.2f} ms, p99 {p99:.2f} ms, max {slowest:.2f} ms "
+                     f"({len(figures.build_ms)} builds)")
+    return lines
