@@ -49,7 +49,9 @@ def test_layers_bench_scan_and_timing_helpers():
     kept = np.delete(ranges, np.arange(0, 1081, 50))
     assert kept.min() >= 0.2 and kept.max() < 8.0
     calls = []
-    assert bench_layers.per_call(lambda: calls.append(1), 7) >= 0.0 and len(calls) == 7
+    times = bench_layers.per_call(lambda: calls.append(1), 7)
+    assert len(times) == len(calls) == 7 and np.all(times >= 0.0)
+    assert re.fullmatch(r"p50 \d+ µs, p99 \d+ µs", bench_layers.spread_us(times))
     with pytest.raises(SystemExit):
         bench_layers.main(ROOT, argv=["--steps", "3"])        # it has no options
 
@@ -73,8 +75,8 @@ def test_control_bench_untrained_prints_both_lasers(capsys):
     assert lines[0] == "model: untrained network (same shape)"
     laser_lines = [line for line in lines if not line.startswith(" ")][1:3]
     assert [line.split(" (")[0] for line in laser_lines] == ["utm30lx", "urg04lx"]
-    assert all(re.search(r"beams\): control step median [\d.]+ ms, .* over 4 steps \(budget "
-                         r"\d+ ms\)", line) for line in laser_lines)
+    assert all(re.search(r"beams\): control step p50 [\d.]+ ms, p99 [\d.]+ ms, .* over 4 "
+                         r"steps \(budget \d+ ms\)", line) for line in laser_lines)
     assert lines[-2].startswith("Keras model, one step") and lines[-1].startswith("start(")
 
 

@@ -44,14 +44,19 @@ def follower(model):
     return DirectionFollower(StepPolicy.from_keras(model), load_word_vectors(None))
 
 
-def median_ms(function, calls):
-    """Median wall time of `calls` calls of `function` [ms]."""
+def call_ms(function, calls):
+    """Wall time of each of `calls` calls of `function` [ms] (an array)."""
     times = []
     for _ in range(calls):
         began = time.perf_counter()
         function()
         times.append(time.perf_counter() - began)
-    return 1e3 * float(np.median(times))
+    return 1e3 * np.array(times)
+
+
+def spread(ms):
+    """"p50 X ms, p99 Y ms" of call times [ms]."""
+    return f"p50 {np.percentile(ms, 50):.3f} ms, p99 {np.percentile(ms, 99):.3f} ms"
 
 
 def scans(template, floor, count, raycast):
@@ -95,34 +100,34 @@ def bench_laser(policy, laser_name, templates, floor, steps):
     ranges, laser = scans(templates[laser_name], floor, steps,
                           "table" if laser_name == "utm30lx" else "march")
     ms = step_times_ms(policy, ranges, laser)
-    print(f"{laser_name} ({laser.beams} beams): control step median {np.median(ms):.3f} ms, "
-          f"p90 {np.percentile(ms, 90):.3f} ms, max {ms.max():.3f} ms over {len(ms)} steps "
+    print(f"{laser_name} ({laser.beams} beams): control step {spread(ms)}, "
+          f"max {ms.max():.3f} ms over {len(ms)} steps "
           f"(budget {policy.control_period * 1e3:.0f} ms)")
     cycle = iter(ranges)
-    doors = median_ms(lambda: close_doorways(next(cycle), laser, policy.config.doors),
-                      len(ranges))
-    print(f"  of which closing the doorways: median {doors:.3f} ms")
+    doors = call_ms(lambda: close_doorways(next(cycle), laser, policy.config.doors),
+                    len(ranges))
+    print(f"  of which closing the doorways: {spread(doors)}")
     cycle = iter(ranges)
-    guard = median_ms(lambda: guard_velocity(0.4, 0.5, scan_points(next(cycle), laser)),
-                      len(ranges))
-    print(f"  of which the collision guard (v 0.4 m/s, ω 0.5 rad/s): median {guard:.3f} ms")
+    guard = call_ms(lambda: guard_velocity(0.4, 0.5, scan_points(next(cycle), laser)),
+                    len(ranges))
+    print(f"  of which the collision guard (v 0.4 m/s, ω 0.5 rad/s): {spread(guard)}")
     wall = blocked_scan(templates, floor, laser_name)
     v_move = policy.config.postprocess.v_move
-    steered = median_ms(lambda: steer_around(0.4, 0.0, scan_points(wall, laser), v_move,
-                                             policy.config.guard, 0.5), 200)
+    steered = call_ms(lambda: steer_around(0.4, 0.0, scan_points(wall, laser), v_move,
+                                           policy.config.guard, 0.5), 200)
     print(f"  the guard's worst case (a wall 0.36 m ahead, every arc tried on the base's "
-          f"path from ω 0.5 rad/s): median {steered:.3f} ms")
+          f"path from ω 0.5 rad/s): {spread(steered)}")
 
 
 def keras_step_ms(model, calls=100):
-    """Median time of one Keras step (words + one scan, no state kept) [ms]."""
+    """Times of one Keras step (words + one scan, no state kept) [ms]."""
     from semantic_nav.network import CORNER_CLASSES, has_count_input
     rng = np.random.default_rng(0)
     inputs = {"words": rng.normal(size=(1, 6, 50)).astype(np.float32),
               "scans": rng.random((1, 1, 881)).astype(np.float32)}
     if has_count_input(model):      # the corner count (corner_count.CornerCounter): 0 here
         inputs["counts"] = np.eye(CORNER_CLASSES, dtype=np.float32)[[[0]]]
-    return median_ms(lambda: model.predict_on_batch(inputs), calls)
+    return call_ms(lambda: model.predict_on_batch(inputs), calls)
 
 
 def main(root, description=None, argv=None):
@@ -139,7 +144,7 @@ def main(root, description=None, argv=None):
     for laser_name in ("utm30lx", "urg04lx"):
         bench_laser(policy, laser_name, templates, floor, args.steps)
     keras = keras_step_ms(model)
-    print(f"Keras model, one step (words + one scan, no state kept): median {keras:.3f} ms")
+    print(f"Keras model, one step (words + one scan, no state kept): {spread(keras)}")
     began = time.perf_counter()
     policy.start(SENTENCE)
     print(f"start(sentence): {1e3 * (time.perf_counter() - began):.2f} ms (split, GloVe, LSTM_w)")

@@ -16,11 +16,19 @@ SENTENCE = "Go straight to the end of this aisle, and then turn left at the seco
 
 
 def per_call(function, repeats):
-    """Mean wall time of one call of `function` over `repeats` calls [s]."""
-    began = time.perf_counter()
+    """Wall time of each of `repeats` calls of `function` [s] (an array)."""
+    times = []
     for _ in range(repeats):
+        began = time.perf_counter()
         function()
-    return (time.perf_counter() - began) / repeats
+        times.append(time.perf_counter() - began)
+    return np.array(times)
+
+
+def spread_us(seconds):
+    """"p50 X µs, p99 Y µs" of call times [s]."""
+    return (f"p50 {1e6 * np.percentile(seconds, 50):.0f} µs, "
+            f"p99 {1e6 * np.percentile(seconds, 99):.0f} µs")
 
 
 def dropout_scan(beams, rng):
@@ -45,13 +53,13 @@ def main(root, description=None, argv=None):
         ranges = dropout_scan(model.beams, rng)
         seconds = per_call(lambda: preprocess_scan(ranges, model, canonical, config), 2000)
         print(f"laser layer {name} -> canonical {canonical.steps} beams: "
-              f"{1e6 * seconds:.0f} µs per scan")
+              f"{spread_us(seconds)} per scan")
     began = time.perf_counter()
     vectors = load_word_vectors()
     print(f"GloVe compact cache ({len(vectors.index)} words, {vectors.dim}-d): "
           f"loaded in {time.perf_counter() - began:.2f} s")
     seconds = per_call(lambda: convert_instruction(SENTENCE, vectors), 2000)
-    print(f"instruction layer (2 simple instructions, 14 words): {1e6 * seconds:.0f} µs")
+    print(f"instruction layer (2 simple instructions, 14 words): {spread_us(seconds)}")
     sets = load_phrase_sets(config_dir / "semnav_phrases.yaml")
     for split in SPLITS:
         began = time.perf_counter()
