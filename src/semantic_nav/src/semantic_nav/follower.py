@@ -130,7 +130,7 @@ def _step_policy(model):
     """A StepPolicy, a Keras model of build_network, or anything with classify, step, reset."""
     if all(hasattr(model, name) for name in ("classify", "step", "reset")):
         return model
-    from semantic_nav.network import StepPolicy
+    from semantic_nav.step_policy import StepPolicy
     return StepPolicy.from_keras(model)
 
 
@@ -162,9 +162,9 @@ class DirectionFollower:
         if isinstance(config, (str, Path)):
             config = load_follower_config(config)
         path = model_file(model_path)
-        from semantic_nav.network import StepPolicy, load_network
+        from semantic_nav.step_policy import load_step_policy   # numpy + h5py: no Keras, torch
         from semantic_nav.word_vectors import WordVectors, load_word_vectors
-        policy = StepPolicy.from_keras(load_network(str(path)))
+        policy = load_step_policy(path)
         if not isinstance(word_vectors, WordVectors):
             word_vectors = load_word_vectors(word_vectors)
         return cls(policy, word_vectors, config)

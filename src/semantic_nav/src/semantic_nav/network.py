@@ -30,14 +30,15 @@ beams (corner_count.CornerCounter, the same counter in training and control), jo
 at LSTM_fused. Counting is then done outside the network: it only has to tie the count to the
 instruction's corner number.
 
-`StepPolicy` re-implements the trained network in numpy for control: classify a simple
-instruction once, then one scan in, one command out, with the LSTM_fused state kept between steps.
+`step_policy.StepPolicy` (re-exported here) re-implements the trained network in numpy for
+control: classify a simple instruction once, then one scan in, one command out, with the
+LSTM_fused state kept between steps; `step_policy.load_step_policy` reads a saved model without
+Keras.
 """
 import functools
 import os
 import threading
-import zipfile
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 
 import numpy as np
 
@@ -45,27 +46,9 @@ os.environ.setdefault("KERAS_BACKEND", "torch")
 import keras  # noqa: E402  (the backend must be chosen before the import)
 
 from semantic_nav.instruction_classes import NUM_CLASSES  # noqa: E402  (Table 3.1-1: ten)
-
-CORNER_CLASSES = 4  # count input: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
-
-
-@dataclass
-class NetworkConfig:
-    """Layer sizes of Fig. 2.2.4 (kept small: CPU training, a model file of a few hundred kB)."""
-
-    word_dim: int = 50        # GloVe dimension (6B-50d cache; the seed used 100)
-    beams: int = 881          # canonical scan length (laser_layer: UTM-30LX steps 100 … 980)
-    word_units: int = 32      # LSTM_w state size
-    scan_units: int = 64      # width of the FC ReLU layer (Z_s)
-    fused_units: int = 64     # LSTM_fused state size
-    class_loss_weight: float = 0.2   # weight of the Z_w cross-entropy next to the (v, ω) MSE
-    learning_rate: float = 2e-3      # Adam
-    stop_head: bool = False          # beyond the seed: sigmoid "standing at the goal" output
-    stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
-    decision_head: bool = False      # beyond the seed: "distance to the decision" output
-    decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
-    count_input: bool = False        # beyond the seed: corners counted so far as an input
-
+from semantic_nav.step_policy import (CORNER_CLASSES, ModelFileError,  # noqa: E402,F401
+                                      NetworkConfig, StepPolicy, check_model_file,
+                                      lstm_step, relu, sigmoid, softmax)
 
 @keras.saving.register_keras_serializable(package="semantic_nav")
 class ConcatOverTime(keras.layers.Layer):
@@ -290,11 +273,6 @@ def network_config_dict(config):
     return asdict(config)
 
 
-class ModelFileError(ValueError):
-    """A model file that exists but cannot be loaded (corrupt, truncated, not a .keras archive,
-    or not one of our networks); the message names the file and the underlying error."""
-
-
 def load_network(path):
     """Load a saved .keras model (custom layers registered above).
 
@@ -302,115 +280,9 @@ def load_network(path):
     cannot be loaded is a ModelFileError naming it as corrupt or unreadable, with the underlying
     error (Keras itself says "File not found" for any file that is not a zip archive)."""
     path = str(path)
-    if not os.path.isfile(path):
-        raise FileNotFoundError(f"semantic_nav model {path} not found: run "
-                                "`make train ARGS=--install` (or pass a model path)")
-    fix = ("restore it (`git checkout -- models/semantic_nav/` for the committed models) or "
-           "rebuild it with `make train ARGS=--install`")
-    try:
-        with zipfile.ZipFile(path) as archive:
-            damaged = archive.testzip()      # the first member whose CRC does not match
-    except (zipfile.BadZipFile, OSError, EOFError) as error:
-        raise ModelFileError(f"semantic_nav model {path} is corrupt or unreadable (not a "
-                             f".keras zip archive: {type(error).__name__}: {error}); "
-                             f"{fix}") from error
-    if damaged is not None:
-        raise ModelFileError(f"semantic_nav model {path} is corrupt (member {damaged!r} fails "
-                             f"its CRC check); {fix}")
+    fix = check_model_file(path)
     try:
         return keras.saving.load_model(path, compile=False)
     except Exception as error:  # noqa: BLE001 - Keras raises many kinds; each is named
         raise ModelFileError(f"semantic_nav model {path} is corrupt or unreadable (Keras: "
                              f"{type(error).__name__}: {error}); {fix}") from error
-
-
-# ---------------------------------------------------------------- numpy single-step path
-
-def sigmoid(x):
-    return 1.0 / (1.0 + np.exp(-x))
-
-
-def softmax(z):
-    """Eq. 2.2-11 (first): sigma(Z)_i = e^{z_i} / sum_k e^{z_k}."""
-    e = np.exp(z - np.max(z, axis=-1, keepdims=True))
-    return e / np.sum(e, axis=-1, keepdims=True)
-
-
-def relu(z):
-    """Eq. 2.2-11 (second): sigma(Z)_i = max(0, z_i)."""
-    return np.maximum(z, 0.0)
-
-
-def lstm_step(x, h, c, kernel, recurrent, bias):
-    """One LSTM step (Keras gate order i, f, c, o; tanh / sigmoid) -> (h, c)."""
-    gates = x @ kernel + h @ recurrent + bias
-    i, f, g, o = np.split(gates, 4, axis=-1)
-    c = sigmoid(f) * c + sigmoid(i) * np.tanh(g)
-    return sigmoid(o) * np.tanh(c), c
-
-
-class StepPolicy:
-    """The trained network in numpy (float64): classify once, then one command per scan."""
-
-    def __init__(self, weights, config):
-        self.config = config
-        self.w = {name: np.asarray(value, dtype=np.float64) for name, value in weights.items()}
-        self.reset()
-
-    @classmethod
-    def from_keras(cls, model, config=None):
-        """Copy the weights of a Keras model built by build_network."""
-        weights = {}
-        for layer in ("lstm_w", "lstm_fused"):
-            kernel, recurrent, bias = model.get_layer(layer).get_weights()
-            weights.update({f"{layer}/kernel": kernel, f"{layer}/recurrent": recurrent,
-                            f"{layer}/bias": bias})
-        heads = ("instruction_class", "fc_scan", "velocity") + (
-            ("stop",) if has_stop_head(model) else ())
-        for layer in heads:
-            kernel, bias = model.get_layer(layer).get_weights()
-            weights.update({f"{layer}/kernel": kernel, f"{layer}/bias": bias})
-        if config is None:
-            config = NetworkConfig(
-                word_dim=weights["lstm_w/kernel"].shape[0],
-                beams=weights["fc_scan/kernel"].shape[0],
-                word_units=weights["lstm_w/recurrent"].shape[0],
-                scan_units=weights["fc_scan/kernel"].shape[1],
-                fused_units=weights["lstm_fused/recurrent"].shape[0],
-                stop_head="stop/kernel" in weights,
-                count_input=weights["lstm_fused/kernel"].shape[0] == (
-                    NUM_CLASSES + weights["fc_scan/kernel"].shape[1] + CORNER_CLASSES))
-        return cls(weights, config)
-
-    def reset(self):
-        """Clear the LSTM_fused memory (§2.2.5.2: a new simple instruction starts)."""
-        units = self.config.fused_units
-        self.h, self.c = np.zeros(units), np.zeros(units)
-        self.stop_probability = None
-
-    def classify(self, word_vectors):
-        """LSTM_w over the word vectors (n, word_dim) of one simple instruction -> Z_w (10,)."""
-        w = self.w
-        h = c = np.zeros(self.config.word_units)
-        for x in np.asarray(word_vectors, dtype=np.float64):
-            h, c = lstm_step(x, h, c, w["lstm_w/kernel"], w["lstm_w/recurrent"], w["lstm_w/bias"])
-        return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
-
-    def step(self, z_w, scan, counts=None):
-        """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
-        With a stop head, `stop_probability` holds its output for this step (else None).
-        A network with the count input needs `counts` (one-hot, CORNER_CLASSES)."""
-        w = self.w
-        z_s = relu(np.asarray(scan, dtype=np.float64) @ w["fc_scan/kernel"] + w["fc_scan/bias"])
-        parts = [z_w, z_s]
-        if self.config.count_input:
-            if counts is None:
-                raise ValueError("this network has the corner-count input: step() needs counts")
-            parts.append(np.asarray(counts, dtype=np.float64))
-        x = np.concatenate(parts)
-        self.h, self.c = lstm_step(x, self.h, self.c, w["lstm_fused/kernel"],
-                                   w["lstm_fused/recurrent"], w["lstm_fused/bias"])
-        out = self.h @ w["velocity/kernel"] + w["velocity/bias"]
-        if "stop/kernel" in w:
-            self.stop_probability = float(sigmoid(self.h @ w["stop/kernel"] + w["stop/bias"])[0])
-        return float(out[0]), float(out[1])

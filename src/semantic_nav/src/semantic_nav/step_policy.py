@@ -1,0 +1,225 @@
+"""The trained network in numpy for control (thesis 002 §2.2.4, Fig. 2.2.4), without Keras.
+
+`StepPolicy` re-implements the network of `network.build_network` in numpy (float64): classify a
+simple instruction once (LSTM_w, softmax Z_w), then one scan in, one command out (FC ReLU Z_s,
+LSTM_fused with its state kept between steps, linear (v, ω)). `load_step_policy` reads a saved
+.keras file's weights with h5py alone, so the control node imports neither Keras nor torch
+(`network` needs them to build, train and save models; it re-exports what is here).
+"""
+import io
+import json
+import os
+import re
+import zipfile
+from dataclasses import dataclass
+
+import numpy as np
+
+from semantic_nav.instruction_classes import NUM_CLASSES
+
+CORNER_CLASSES = 4  # count input: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
+
+
+@dataclass
+class NetworkConfig:
+    """Layer sizes of Fig. 2.2.4 (kept small: CPU training, a model file of a few hundred kB)."""
+
+    word_dim: int = 50        # GloVe dimension (6B-50d cache; the seed used 100)
+    beams: int = 881          # canonical scan length (laser_layer: UTM-30LX steps 100 … 980)
+    word_units: int = 32      # LSTM_w state size
+    scan_units: int = 64      # width of the FC ReLU layer (Z_s)
+    fused_units: int = 64     # LSTM_fused state size
+    class_loss_weight: float = 0.2   # weight of the Z_w cross-entropy next to the (v, ω) MSE
+    learning_rate: float = 2e-3      # Adam
+    stop_head: bool = False          # beyond the seed: sigmoid "standing at the goal" output
+    stop_loss_weight: float = 1.0    # weight of its binary cross-entropy
+    decision_head: bool = False      # beyond the seed: "distance to the decision" output
+    decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
+    count_input: bool = False        # beyond the seed: corners counted so far as an input
+
+
+def sigmoid(x):
+    return 1.0 / (1.0 + np.exp(-x))
+
+
+def softmax(z):
+    """Eq. 2.2-11 (first): sigma(Z)_i = e^{z_i} / sum_k e^{z_k}."""
+    e = np.exp(z - np.max(z, axis=-1, keepdims=True))
+    return e / np.sum(e, axis=-1, keepdims=True)
+
+
+def relu(z):
+    """Eq. 2.2-11 (second): sigma(Z)_i = max(0, z_i)."""
+    return np.maximum(z, 0.0)
+
+
+def lstm_step(x, h, c, kernel, recurrent, bias):
+    """One LSTM step (Keras gate order i, f, c, o; tanh / sigmoid) -> (h, c)."""
+    gates = x @ kernel + h @ recurrent + bias
+    i, f, g, o = np.split(gates, 4, axis=-1)
+    c = sigmoid(f) * c + sigmoid(i) * np.tanh(g)
+    return sigmoid(o) * np.tanh(c), c
+
+
+class StepPolicy:
+    """The trained network in numpy (float64): classify once, then one command per scan."""
+
+    def __init__(self, weights, config):
+        self.config = config
+        self.w = {name: np.asarray(value, dtype=np.float64) for name, value in weights.items()}
+        self.reset()
+
+    @classmethod
+    def from_keras(cls, model, config=None):
+        """Copy the weights of a Keras model built by build_network."""
+        weights = {}
+        for layer in ("lstm_w", "lstm_fused"):
+            kernel, recurrent, bias = model.get_layer(layer).get_weights()
+            weights.update({f"{layer}/kernel": kernel, f"{layer}/recurrent": recurrent,
+                            f"{layer}/bias": bias})
+        names = {layer.name for layer in model.layers}
+        heads = ("instruction_class", "fc_scan", "velocity") + (
+            ("stop",) if "stop" in names else ())
+        for layer in heads:
+            kernel, bias = model.get_layer(layer).get_weights()
+            weights.update({f"{layer}/kernel": kernel, f"{layer}/bias": bias})
+        return cls.from_weights(weights, config)
+
+    @classmethod
+    def from_weights(cls, weights, config=None):
+        """From {"<layer>/kernel" | "/recurrent" | "/bias": array}; the layer sizes (config)
+        follow from the arrays' shapes unless given."""
+        if config is None:
+            config = NetworkConfig(
+                word_dim=weights["lstm_w/kernel"].shape[0],
+                beams=weights["fc_scan/kernel"].shape[0],
+                word_units=weights["lstm_w/recurrent"].shape[0],
+                scan_units=weights["fc_scan/kernel"].shape[1],
+                fused_units=weights["lstm_fused/recurrent"].shape[0],
+                stop_head="stop/kernel" in weights,
+                count_input=weights["lstm_fused/kernel"].shape[0] == (
+                    NUM_CLASSES + weights["fc_scan/kernel"].shape[1] + CORNER_CLASSES))
+        return cls(weights, config)
+
+    def reset(self):
+        """Clear the LSTM_fused memory (§2.2.5.2: a new simple instruction starts)."""
+        units = self.config.fused_units
+        self.h, self.c = np.zeros(units), np.zeros(units)
+        self.stop_probability = None
+
+    def classify(self, word_vectors):
+        """LSTM_w over the word vectors (n, word_dim) of one simple instruction -> Z_w (10,)."""
+        w = self.w
+        h = c = np.zeros(self.config.word_units)
+        for x in np.asarray(word_vectors, dtype=np.float64):
+            h, c = lstm_step(x, h, c, w["lstm_w/kernel"], w["lstm_w/recurrent"], w["lstm_w/bias"])
+        return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
+
+    def step(self, z_w, scan, counts=None):
+        """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
+        With a stop head, `stop_probability` holds its output for this step (else None).
+        A network with the count input needs `counts` (one-hot, CORNER_CLASSES)."""
+        w = self.w
+        z_s = relu(np.asarray(scan, dtype=np.float64) @ w["fc_scan/kernel"] + w["fc_scan/bias"])
+        parts = [z_w, z_s]
+        if self.config.count_input:
+            if counts is None:
+                raise ValueError("this network has the corner-count input: step() needs counts")
+            parts.append(np.asarray(counts, dtype=np.float64))
+        x = np.concatenate(parts)
+        self.h, self.c = lstm_step(x, self.h, self.c, w["lstm_fused/kernel"],
+                                   w["lstm_fused/recurrent"], w["lstm_fused/bias"])
+        out = self.h @ w["velocity/kernel"] + w["velocity/bias"]
+        if "stop/kernel" in w:
+            self.stop_probability = float(sigmoid(self.h @ w["stop/kernel"] + w["stop/bias"])[0])
+        return float(out[0]), float(out[1])
+
+
+class ModelFileError(ValueError):
+    """A model file that exists but cannot be loaded (corrupt, truncated, not a .keras archive,
+    or not one of our networks); the message names the file and the underlying error."""
+
+
+FIX = ("restore it (`git checkout -- models/semantic_nav/` for the committed models) or "
+       "rebuild it with `make train ARGS=--install`")
+
+
+def check_model_file(path):
+    """A .keras file that is there and a whole zip archive -> the advice for a file that then
+    fails to load; FileNotFoundError naming `make train` if missing, ModelFileError if not a
+    zip archive or a member fails its CRC check."""
+    path = str(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"semantic_nav model {path} not found: run "
+                                "`make train ARGS=--install` (or pass a model path)")
+    try:
+        with zipfile.ZipFile(path) as archive:
+            damaged = archive.testzip()      # the first member whose CRC does not match
+    except (zipfile.BadZipFile, OSError, EOFError) as error:
+        raise ModelFileError(f"semantic_nav model {path} is corrupt or unreadable (not a "
+                             f".keras zip archive: {type(error).__name__}: {error}); "
+                             f"{FIX}") from error
+    if damaged is not None:
+        raise ModelFileError(f"semantic_nav model {path} is corrupt (member {damaged!r} fails "
+                             f"its CRC check); {FIX}")
+    return FIX
+
+
+CONTROL_LAYERS = ("lstm_w", "lstm_fused", "instruction_class", "fc_scan", "velocity", "stop")
+RECURRENT = ("lstm_w", "lstm_fused")
+
+
+def _snake_case(name):
+    """Keras' to_snake_case: "SequenceLSTM" -> "sequence_lstm", "LSTM" -> "lstm"."""
+    name = re.sub(r"(.)([A-Z][a-z]+)", r"\1_\2", name)
+    return re.sub(r"([a-z])([A-Z])", r"\1_\2", name).lower()
+
+
+def weight_groups(layers):
+    """Where Keras 3 stores each layer's variables in model.weights.h5: the layers of config.json
+    in order, named by their class in snake case with _1, _2, ... for repeats (an LSTM's under
+    its cell). [(class name, layer name)] -> {layer name: group path}."""
+    seen, groups = {}, {}
+    for class_name, name in layers:
+        base = _snake_case(class_name)
+        count = seen.get(base, 0)
+        seen[base] = count + 1
+        path = f"layers/{base}" + (f"_{count}" if count else "")
+        groups[name] = path + ("/cell" if class_name == "LSTM" else "")
+    return groups
+
+
+def read_keras_weights(path):
+    """The control layers' weights of a saved .keras model, read with h5py (no Keras):
+    {"<layer>/kernel" | "/recurrent" | "/bias": array}."""
+    import h5py
+    check_model_file(path)
+    try:
+        with zipfile.ZipFile(path) as archive:
+            config = json.loads(archive.read("config.json"))
+            data = io.BytesIO(archive.read("model.weights.h5"))
+        layers = [(layer["class_name"], layer["config"]["name"])
+                  for layer in config["config"]["layers"]]
+        groups = weight_groups(layers)
+        weights = {}
+        with h5py.File(data, "r") as h5:
+            for name in CONTROL_LAYERS:
+                if name not in groups:
+                    continue
+                values = h5[f"{groups[name]}/vars"]
+                arrays = [np.asarray(values[str(k)]) for k in range(len(values))]
+                keys = ("kernel", "recurrent", "bias") if name in RECURRENT else ("kernel", "bias")
+                weights.update({f"{name}/{key}": array for key, array in zip(keys, arrays,
+                                                                               strict=True)})
+        for name in ("lstm_w", "lstm_fused", "instruction_class", "fc_scan", "velocity"):
+            if f"{name}/kernel" not in weights:
+                raise KeyError(f"no layer {name!r}")
+    except (KeyError, ValueError, OSError, TypeError) as error:
+        raise ModelFileError(f"semantic_nav model {path} is corrupt or unreadable (not one of "
+                             f"our networks: {type(error).__name__}: {error}); {FIX}") from error
+    return weights
+
+
+def load_step_policy(path):
+    """A StepPolicy of the saved .keras model at `path`, without Keras."""
+    return StepPolicy.from_weights(read_keras_weights(path))
