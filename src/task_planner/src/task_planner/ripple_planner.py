@@ -50,6 +50,22 @@ def ripple_field(gamma, beta, nodes, shortest_steps, step_s):
     return np.sum(gamma[:, None] * np.power(beta[:, None], exponents), axis=0)
 
 
+def step_graph(problem, step_s):
+    """(edge lengths in steps of speed * step_s metres, shortest paths in steps) of a problem's
+    graph: the discretisation both readings of Algorithm 4-2 plan on."""
+    step_adj = step_adjacency(problem.graph.adjacency, problem.speed_mps * step_s)
+    return step_adj, floyd_warshall(step_adj)[0]
+
+
+def serve_here(problem, available, node):
+    """The available instruction to serve on `node` first (highest initial reward, then id), or
+    None when none waits there (the thesis gives no order)."""
+    here = available[problem.node[available] == node]
+    if not len(here):
+        return None
+    return int(here[np.lexsort((problem.ids[here], -problem.gamma[here]))[0]])
+
+
 class RipplePlanner:
     """Per-node online planner of the seed (Algorithm 4-2) with the loop guard described above."""
 
@@ -61,17 +77,16 @@ class RipplePlanner:
 
     def reset(self, problem):
         self.problem = problem
-        self.step_adj = step_adjacency(problem.graph.adjacency, problem.speed_mps * self.step_s)
-        self.shortest_steps = floyd_warshall(self.step_adj)[0]
+        self.step_adj, self.shortest_steps = step_graph(problem, self.step_s)
         self.guard_activations = 0
         self._visited, self._known, self._locked = set(), None, None
 
     def decide(self, node, clock, available):
         """('serve', index) if an instruction waits on `node`, else ('move', neighbouring node)."""
         p = self.problem
-        here = available[p.node[available] == node]
-        if len(here):
-            return "serve", int(here[np.lexsort((p.ids[here], -p.gamma[here]))[0]])
+        first = serve_here(p, available, node)
+        if first is not None:
+            return "serve", first
         known = frozenset(available.tolist())
         if known != self._known:
             self._visited, self._known, self._locked = set(), known, None

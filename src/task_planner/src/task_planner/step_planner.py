@@ -22,11 +22,10 @@ steps along the shortest path to the single strongest ripple term until the set 
 """
 import numpy as np
 
-from task_planner.graph import floyd_warshall
 from task_planner.planner_api import STEP
-from task_planner.ripple_planner import best_neighbour, expected_reward
+from task_planner.ripple_planner import best_neighbour, expected_reward, serve_here, step_graph
 from task_planner.robot_state import (neighbouring_nodes, state_at_node, state_transition,
-                                      step_adjacency, steps_to_instructions)
+                                      steps_to_instructions)
 
 
 class RippleField:
@@ -85,8 +84,7 @@ class StepRipplePlanner:
 
     def reset(self, problem):
         self.problem = problem
-        self.step_adj = step_adjacency(problem.graph.adjacency, problem.speed_mps * self.step_s)
-        self.shortest_steps = floyd_warshall(self.step_adj)[0]
+        self.step_adj, self.shortest_steps = step_graph(problem, self.step_s)
         self.field = RippleField(self.shortest_steps, self.step_s)
         self.guard_activations = 0
         self._visited, self._known, self._locked = set(), None, None
@@ -100,10 +98,9 @@ class StepRipplePlanner:
         step toward neighbouring node n (`state_transition(step_adj, state, n)` is the next
         state)."""
         p = self.problem
-        if state.node is not None:
-            here = available[p.node[available] == state.node]
-            if len(here):
-                return "serve", int(here[np.lexsort((p.ids[here], -p.gamma[here]))[0]])
+        first = None if state.node is None else serve_here(p, available, state.node)
+        if first is not None:
+            return "serve", first
         self.field.sync(available, p.gamma, p.beta, p.node)
         known = frozenset(available.tolist())
         if known != self._known:
