@@ -70,9 +70,3 @@ def test_the_follower_loads_without_keras_or_torch():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
 
-
-def test_node_bench_helpers_measure_this_process():
-    import os
-    from semantic_nav.bench_node_main import free_port, rss_mib
-    assert 20 < rss_mib(os.getpid()) < 4096
-    assert 1024 <= free_port() <= 65535

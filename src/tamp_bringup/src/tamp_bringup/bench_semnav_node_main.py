@@ -6,8 +6,6 @@ start to that line and the node's resident memory (VmRSS) a second later, p50 an
 runs.
 """
 import argparse
-import os
-import socket
 import subprocess
 import sys
 import tempfile
@@ -16,13 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
+from tamp_bringup.bag_record import free_port, run_environment, stop
+
 READY = "semantic_nav: ready"
-
-
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(("localhost", 0))
-        return sock.getsockname()[1]
 
 
 def rss_mib(pid):
@@ -60,16 +54,14 @@ def main(root, description=None, argv=None):
     node = Path(root) / "src" / "semantic_nav" / "nodes" / "semantic_nav"
     port = free_port()
     with tempfile.TemporaryDirectory() as home:
-        env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{port}", ROS_HOME=home,
-                   ROS_HOSTNAME="localhost")
+        env = run_environment(Path(home), port)
         core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL)
         try:
             time.sleep(3.0)   # the master and rosout come up
             runs = [start_once(node, env, args.timeout) for _ in range(args.runs)]
         finally:
-            core.terminate()
-            core.wait(10)
+            stop(core)
     starts, memory = np.array([r[0] for r in runs]), np.array([r[1] for r in runs])
     print(f"semantic_nav node, {args.runs} starts: ready after p50 {np.median(starts):.2f} s, "
           f"max {starts.max():.2f} s; RSS p50 {np.median(memory):.0f} MiB, "
