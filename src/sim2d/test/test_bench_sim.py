@@ -57,3 +57,38 @@ def test_a_tiny_run_writes_every_figure(tmp_path, capsys):
     assert figures["table_accuracy"]["beams"] > 1000 and figures["build"] == {}
     printed = capsys.readouterr().out
     assert "real-time factor: penguin" in printed and "step time: penguin p50" in printed
+
+
+def test_crowds_stand_apart_in_free_space_and_walk_in_sight():
+    from tamp_resources import resource
+    from sim2d.bench_crowd import FREE_CLEARANCE, crowd_world
+    from sim2d.raycast import segments_clear
+    world = crowd_world(resource("config", "worlds") / "office_penguin.yaml", 3, 5, 60.0)
+    assert [r.name for r in world.robots] == ["penguin1", "penguin2", "penguin3"]
+    assert len(world.people) == 5
+    spots = [r.state.pose[:2] for r in world.robots] + [p.pose[:2] for p in world.people]
+    for i, (x, y) in enumerate(spots):
+        assert world.geometry.clearance(x, y) >= FREE_CLEARANCE
+        assert all(np.hypot(x - u, y - v) > 1.5 for u, v in spots[i + 1:])
+    for person in world.people:
+        turn = person.schedule[0].pose
+        assert segments_clear(world.geometry, *person.pose[:2], [turn[:2]])[0]
+        assert [e.time for e in person.schedule] == [1.0, 21.0, 41.0]
+
+
+def test_windowed_and_every_beam_crowds_drive_the_same_run(capsys):
+    """The two overlays see the same ranges, so the steered robots take the same paths; the
+    --crowd table prints one row per robots x people."""
+    from tamp_resources import resource
+    from sim2d.bench_crowd import crowd_world, run_crowd
+    template = resource("config", "worlds") / "office_penguin.yaml"
+    runs = []
+    for windowed in (True, False):
+        world = crowd_world(template, 3, 6, 3.0)
+        start = np.array([r.state.pose[:2] for r in world.robots])
+        factor, scans = run_crowd(world, 3.0, bench.steer, windowed)
+        assert factor > 0 and scans == 3 * 120          # UTM-30LX at 40 Hz
+        runs.append([r.state.pose for r in world.robots])
+        moved = np.hypot(*(np.array(runs[-1])[:, :2] - start).T)
+        assert (moved > 0.3).all()                      # driving, so the scans change
+    np.testing.assert_allclose(runs[0], runs[1], atol=1e-9)

@@ -7,10 +7,10 @@ from sim2d_fixtures import LASER_DIR
 from sensor_msgs.msg import JointState
 
 from sim2d.camera import CameraFrame, ObjectDetection, SkeletonDetection
-from sim2d.conversions import (encoder_msg, frame_msg, scan_msg, wheel_command,
-                               yaw_quaternion)
+from sim2d.conversions import (ObjectMarkers, encoder_msg, frame_msg, object_markers, scan_msg,
+                               wheel_command, yaw_quaternion)
 from sim2d.laser import find_laser_model
-from sim2d.world import Scan
+from sim2d.world import Scan, SimObject
 
 
 def test_scan_message_carries_the_model_and_inf():
@@ -57,3 +57,18 @@ def test_perception_frame_keeps_boxes_keypoints_and_shirt_colour():
 def test_yaw_quaternion_is_unit_and_half_angle():
     q = yaw_quaternion(math.pi / 2)
     assert (q.z, q.w) == pytest.approx((math.sqrt(0.5), math.sqrt(0.5)))
+
+
+def test_object_markers_are_rebuilt_only_for_changed_objects():
+    cup = SimObject("cup", "cup", (1.0, 2.0, 0.0), 0.7, (0.1, 0.1, 0.12))
+    sofa = SimObject("sofa", "couch", (3.0, 1.0, 1.5), 0.0, (2.0, 0.9, 0.8))
+    cache = ObjectMarkers()
+    first = cache.update(1.0, [cup, sofa])
+    fresh = object_markers(1.0, [cup, sofa])
+    assert [(m.ns, m.id, m.pose, m.scale, m.text) for m in first] == \
+        [(m.ns, m.id, m.pose, m.scale, m.text) for m in fresh]
+    cup.pose = (1.5, 2.0, 0.0)               # carried away: its markers move, the sofa's are kept
+    second = cache.update(2.0, [cup, sofa])
+    assert second[0].pose.position.x == pytest.approx(1.5)
+    assert second[0] is not first[0] and second[2] is first[2]
+    assert all(m.header.stamp.to_sec() == pytest.approx(2.0) for m in second)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from sim2d_fixtures import LASER_DIR, room_grid
 
-from sim2d.laser import LaserSensor, circle_ranges, find_laser_model
+from sim2d.laser import LaserSensor, circle_ranges, find_laser_model, overlay_circles
 from floorplan.occupancy_map import OCCUPIED, OccupancyMap
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, ray_march
 
@@ -94,6 +94,27 @@ def test_circle_ranges_hits_the_near_side_of_a_person():
     r = circle_ranges(0.0, 0.0, np.array([0.0, math.pi / 2]), [(2.0, 0.0, 0.2)])
     assert r[0] == pytest.approx(1.8)
     assert np.isinf(r[1])
+
+
+@pytest.mark.parametrize("fan", [(-2.356, 0.004363, 1081),          # UTM-30LX, 270 degrees
+                                 (-math.pi, 2 * math.pi / 360, 360)])   # a full circle
+def test_windowed_circles_hit_what_every_beam_against_every_circle_hits(fan):
+    """overlay_circles casts each circle only on its angular window; circle_ranges casts every
+    circle on every beam. Random crowds around a laser at random headings, seam included."""
+    angle_min, increment, beams = fan
+    local = angle_min + np.arange(beams) * increment
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        lx, ly, lyaw = rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-4, 4)
+        circles = np.column_stack([lx + rng.uniform(-8, 8, 25), ly + rng.uniform(-8, 8, 25),
+                                   rng.uniform(0.05, 1.0, 25)])
+        circles[0, :2] = lx + 0.1, ly             # the laser inside a circle: unseen, as before
+        circles[1, :2] = lx - 2.0, ly + 1e-3      # straddling the fan's +-pi seam (yaw 0)
+        base = rng.uniform(0.5, 30.0, beams)
+        windowed = overlay_circles(base, lx, ly, lyaw, circles, np.cos(local), np.sin(local),
+                                   angle_min, increment)
+        every = np.minimum(base, circle_ranges(lx, ly, local + lyaw, circles))
+        np.testing.assert_allclose(windowed, every, rtol=0, atol=1e-9)
 
 
 def test_segments_clear_only_where_no_wall_is_crossed(geometry):

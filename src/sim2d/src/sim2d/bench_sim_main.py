@@ -6,6 +6,9 @@
    30+ objects, camera detections at the configured camera rate.
 Also: accuracy of the range table against exact ray marching on the same floor. Step times are
 reported as mean, p50 and p99 [us].
+--crowd instead: 1, 4 and 8 Penguins with 0, 10 and 20 walking people on the largest floor
+(sim2d.bench_crowd), each with the windowed overlay of robots and people and with every beam
+cast against every one of them.
 Prints the figures; --plot writes the Penguin's path over the map as a PNG.
 """
 import argparse
@@ -21,6 +24,7 @@ from floorplan.semantic_graph import load_graph
 from supervision.latency import percentile
 from tamp_resources import resource
 
+from sim2d.bench_crowd import bench_crowds
 from sim2d.raycast import RangeTable, ray_march
 from sim2d.world import World
 
@@ -181,6 +185,12 @@ def parse_args(argv=None):
     parser.add_argument("--build-table", action="store_true",
                         help="also time building the Penguin floor's range table from scratch "
                              "and one exact ray-marched scan")
+    parser.add_argument("--crowd", action="store_true",
+                        help="only the crowded-world table (robots x people, two overlays)")
+    parser.add_argument("--crowd-world", type=Path,
+                        default=worlds / "semnav_office_wings_urg04lx.yaml",
+                        help="world whose map and first robot the crowds copy (default: "
+                             "office_wings, 44 x 30 m, the Penguin with a URG-04LX)")
     parser.add_argument("--json", type=Path, help="also write the figures here")
     parser.add_argument("--plot", type=Path, help="PNG of the Penguin's path over the map")
     parser.add_argument("--scan-plot", type=Path,
@@ -188,15 +198,36 @@ def parse_args(argv=None):
     args = parser.parse_args(argv)
     if args.accuracy_scans < 1:
         parser.error(f"--accuracy-scans must be at least 1; got {args.accuracy_scans}")
-    for option in ("penguin_world", "household_world"):
+    for option in ("penguin_world", "household_world", "crowd_world"):
         if not getattr(args, option).is_file():
             parser.error(f"--{option.replace('_', '-')}: no such world file: "
                          f"{getattr(args, option)}")
     return args
 
 
+def crowd_main(args):
+    """The --crowd table: real-time factor of world.step per robots x people."""
+    print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
+          f"{shown(args.crowd_world)}, {args.seconds:.0f} s simulated per run")
+    print("robots  people  windowed  every beam  speed-up  scans")
+    rows = []
+    for row in bench_crowds(args.crowd_world.resolve(), steer, args.seconds):
+        rows.append(row)
+        print(f"{row['robots']:6d}  {row['people']:6d}  {row['windowed']:7.0f}x  "
+              f"{row['every_beam']:9.0f}x  {row['windowed'] / row['every_beam']:7.2f}x  "
+              f"{row['scans']:5d}", flush=True)
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+    if args.json:
+        args.json.write_text(json.dumps(dict(world=shown(args.crowd_world),
+                                             sim_seconds=args.seconds, crowds=rows),
+                                        indent=2) + "\n")
+    return 0
+
+
 def main(argv=None):
     args = parse_args(argv)
+    if args.crowd:
+        return crowd_main(args)
     print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     penguin, world, path = bench_penguin(args.penguin_world.resolve(), args.seconds)
     print("penguin  :", json.dumps(penguin))

@@ -95,6 +95,58 @@ def circle_ranges(ox, oy, angles, circles):
     return np.where(hit, t, np.inf).min(axis=0)
 
 
+def beam_windows(bearings, halves, angle_min, increment, num_beams):
+    """Per circle, the beams of a fan (beam i at angle_min + i * increment) that can reach it:
+    its bearing +- its angular half-width, one beam of margin each side (the exact test decides
+    the tangent beams). -> (circle index, beam index) pairs as two flat int arrays. A window
+    across the fan's +-pi seam is split in two, so a 360-degree laser loses no beam."""
+    two_pi = 2.0 * math.pi
+    start = np.mod(bearings - halves - angle_min, two_pi)          # [0, 2 pi) from beam 0
+    first = np.ceil(start / increment).astype(np.int64) - 1
+    last = np.floor((start + 2.0 * halves) / increment).astype(np.int64) + 1
+    # the part past 2 pi wraps to the fan's start (only a full circle has beams there)
+    wrap_last = np.floor((start + 2.0 * halves - two_pi) / increment).astype(np.int64) + 1
+    lows = np.concatenate([np.maximum(first, 0), np.zeros_like(first)])
+    highs = np.concatenate([np.minimum(last, num_beams - 1), np.minimum(wrap_last, num_beams - 1)])
+    owners = np.concatenate([np.arange(len(bearings))] * 2)
+    keep = highs >= lows
+    lows, highs, owners = lows[keep], highs[keep], owners[keep]
+    counts = highs - lows + 1
+    circle = np.repeat(owners, counts)
+    # beam = low of its window + position inside the window
+    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    return circle, np.repeat(lows, counts) + offsets
+
+
+def overlay_circles(ranges, lx, ly, lyaw, circles, cos_beam, sin_beam, angle_min, increment,
+                    reach=math.inf):
+    """`ranges` with circles [(x, y, r)] overlaid, each cast only on the beams of its angular
+    window (beam_windows), in the laser frame with the beams' precomputed cos / sin: the same
+    hits as circle_ranges at a cost that grows with the beams the circles cover, not with
+    circles x beams. A laser inside a circle sees none of it (as circle_ranges); a circle
+    wholly beyond `reach` [m] is skipped (its hits would be out of the laser's range)."""
+    c = np.asarray(circles, dtype=float)
+    dx, dy = c[:, 0] - lx, c[:, 1] - ly
+    d2, r2 = dx * dx + dy * dy, c[:, 2] * c[:, 2]
+    seen = (d2 > r2) & (d2 < (reach + c[:, 2]) ** 2)
+    if not seen.any():
+        return ranges
+    dx, dy, d2, r2 = dx[seen], dy[seen], d2[seen], r2[seen]
+    cy, sy = math.cos(lyaw), math.sin(lyaw)
+    fx, fy = cy * dx + sy * dy, -sy * dx + cy * dy                # centres in the laser frame
+    halves = np.arcsin(np.sqrt(r2 / d2))
+    circle, beam = beam_windows(np.arctan2(fy, fx), halves, angle_min, increment, len(ranges))
+    if not len(beam):
+        return ranges
+    along = fx[circle] * cos_beam[beam] + fy[circle] * sin_beam[beam]
+    perp2 = d2[circle] - along * along
+    t = along - np.sqrt(np.maximum(r2[circle] - perp2, 0.0))
+    hit = (perp2 <= r2[circle]) & (t > 0)
+    out = np.array(ranges, dtype=float)
+    np.minimum.at(out, beam[hit], t[hit])
+    return out
+
+
 def box_ranges(ox, oy, angles, boxes):
     """Ranges [m] along each ray to the nearest axis-aligned box [(x0, y0, x1, y1)] (slab
     method, exact), inf if none is hit; 0 for a ray starting inside a box."""
@@ -128,6 +180,11 @@ class LaserSensor:
         self.table = table                            # RangeTable or None (ray marching)
         self.rng = np.random.default_rng(seed)
         self.angles = model.beam_angles()
+        self._cos, self._sin = np.cos(self.angles), np.sin(self.angles)
+        self.windowed = True     # circles cast on their angular window; False: on every beam
+        # circles farther than this are not cast: beyond range_max with room for the range
+        # noise that could bring a hit back under it
+        self._reach = 1.25 * model.range_max + 1.0
         # one pool per scan component, read at random offsets: N(0, 1) range noise, and the
         # same noise pre-scaled by noise_std with +inf where a beam drops out (one add per scan)
         normal = self.rng.standard_normal(NOISE_POOL + model.num_beams)
@@ -166,8 +223,12 @@ class LaserSensor:
             ranges = self.table.cast(lx, ly, world_angles)
         if ranges is None:
             ranges = ray_march(self.geometry, lx, ly, world_angles, self.model.range_max)
-        if len(circles):
+        if len(circles) and not self.windowed:
             ranges = np.minimum(ranges, circle_ranges(lx, ly, world_angles, circles))
+        elif len(circles):
+            ranges = overlay_circles(ranges, lx, ly, lyaw, circles, self._cos, self._sin,
+                                     self.model.angle_min, self.model.angle_increment,
+                                     self._reach)
         if len(boxes):
             ranges = np.minimum(ranges, box_ranges(lx, ly, world_angles, boxes))
         return ranges

@@ -11,6 +11,7 @@ stops beating.
 import math
 import threading
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import rospy
@@ -23,6 +24,7 @@ from sensor_msgs.msg import JointState, LaserScan
 from std_msgs.msg import Bool
 from tamp_msgs.msg import PerceptionFrame
 from tamp_msgs.srv import SetDoor, SetDoorResponse
+from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 
 from supervision.ros_params import config_from_params
@@ -31,6 +33,16 @@ from supervision.ros_supervisor import Supervisor
 from sim2d import conversions
 from sim2d.kinematics import DIFFERENTIAL, twist_to_wheels
 from sim2d.world import CACHE_DIR, CommandError, World
+
+def in_loop_publisher(topic, msg_type):
+    """A publisher the loop feeds every step, writing in the loop's thread (queue_size None).
+    A queue hands each message to a thread per subscriber and yields after every one (rospy's
+    QueuedConnection); at 50x real time those thread switches halved the node's speed.
+    Subscribers read on threads of their own, so a write waits only on a frozen subscriber, and
+    the supervision status then shows the loop not beating."""
+    with warnings.catch_warnings():   # rospy warns that queue_size None is synchronous
+        warnings.simplefilter("ignore", SyntaxWarning)
+        return rospy.Publisher(topic, msg_type, queue_size=None)
 
 
 @dataclass
@@ -67,6 +79,7 @@ class RobotIO:
     scans: list = field(default_factory=list)    # [(publisher, frame_id, last count)]
     command: tuple = None            # ("twist", vx, vy, wz) or ("wheels", left, right)
     command_time: float = -1e9       # [s] sim time of the last command
+    stalled: bool = None             # last published on `stall` (latched: sent on change)
 
 
 class SimNode:
@@ -98,10 +111,11 @@ class SimNode:
         if not (self.config.step > 0):
             rospy.logfatal("sim2d: ~step must be > 0, got %s", self.config.step)
             return False
-        self.clock_pub = rospy.Publisher("/clock", Clock, queue_size=10)
+        self.clock_pub = in_loop_publisher("/clock", Clock)
         self.marker_pub = rospy.Publisher("sim2d/markers", MarkerArray, queue_size=1, latch=True)
+        self.object_markers = conversions.ObjectMarkers()
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
-        self.tf = tf2_ros.TransformBroadcaster()
+        self.tf_pub = in_loop_publisher("/tf", TFMessage)
         self.static_tf = tf2_ros.StaticTransformBroadcaster()
         statics = []
         for robot in self.world.robots:
@@ -119,10 +133,10 @@ class SimNode:
     def _make_interfaces(self, io):
         rc, p = io.robot.config, io.prefix
         for mount in io.robot.laser_mounts:
-            io.scans.append([rospy.Publisher(p + mount.topic, LaserScan, queue_size=5),
+            io.scans.append([in_loop_publisher(p + mount.topic, LaserScan),
                              self.frame(io, mount.frame), 0])
-        io.odom_pub = rospy.Publisher(p + "odom", Odometry, queue_size=10)
-        io.truth_pub = rospy.Publisher(p + "base_pose_ground_truth", Odometry, queue_size=10)
+        io.odom_pub = in_loop_publisher(p + "odom", Odometry)
+        io.truth_pub = in_loop_publisher(p + "base_pose_ground_truth", Odometry)
         io.stall_pub = rospy.Publisher(p + "stall", Bool, queue_size=1, latch=True)
         if rc.drive != DIFFERENTIAL or self.config.diff_drive_cmd_vel:
             self.sup.subscriber(p + "cmd_vel", Twist, lambda msg, io=io: self._on_twist(msg, io),
@@ -130,10 +144,9 @@ class SimNode:
         if rc.drive == DIFFERENTIAL:
             self.sup.subscriber(p + "wheel_command", JointState,
                                 lambda msg, io=io: self._on_wheels(msg, io), queue_size=1)
-            io.joint_pub = rospy.Publisher(p + "joint_states", JointState, queue_size=10)
+            io.joint_pub = in_loop_publisher(p + "joint_states", JointState)
         if io.robot.camera is not None:
-            io.camera_pub = rospy.Publisher(p + "camera/detections", PerceptionFrame,
-                                            queue_size=2)
+            io.camera_pub = in_loop_publisher(p + "camera/detections", PerceptionFrame)
 
     def _static_transforms(self, io):
         base = self.frame(io, "base_link")
@@ -242,7 +255,7 @@ class SimNode:
         if markers_due:
             self.marker_pub.publish(MarkerArray(
                 markers=conversions.people_markers(now, self.world.people)
-                + conversions.object_markers(now, list(self.world.objects.values()))))
+                + self.object_markers.update(now, list(self.world.objects.values()))))
         if diagnostics_due:
             self._publish_diagnostics(now)
 
@@ -269,8 +282,10 @@ class SimNode:
                                                     yaw=pose[2])]
             if self.config.publish_map_odom:
                 transforms.append(self._map_to_odom(now, odom, state.pose, pose))
-            self.tf.sendTransform(transforms)
-        io.stall_pub.publish(Bool(data=state.stalled))
+            self.tf_pub.publish(TFMessage(transforms))
+        if state.stalled != io.stalled:
+            io.stall_pub.publish(Bool(data=state.stalled))
+            io.stalled = state.stalled
         if robot.config.drive == DIFFERENTIAL:
             wheels = robot.config.wheels
             speeds = twist_to_wheels(state.twist[0], state.twist[2], wheels)
