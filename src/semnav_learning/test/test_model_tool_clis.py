@@ -70,6 +70,19 @@ def test_classify_main_on_lines_and_its_errors(tiny, tmp_path, capsys):
         classify_cli.main(ROOT, argv=["--model", str(tmp_path / "none.keras")], lines=[])
 
 
+def test_blind_set_through_main_prints_the_score_and_names_a_bad_file(tiny, tmp_path, capsys):
+    argv = ["--model", str(tiny["model"]), "--words", str(tiny["words"])]
+    blind = tmp_path / "blind.yaml"
+    blind.write_text("entries: [{text: turn left, classes: [3]}, {text: zzyzx, classes: [1]}]")
+    assert classify_cli.main(ROOT, argv=[*argv, "--blind", str(blind)]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0].startswith("blind set: ") and "/2 = " in printed[0]
+    assert any("'zzyzx': meant 1, read refused" in line for line in printed)
+    blind.write_text("entries: [{text: go}]")
+    with pytest.raises(SystemExit, match="--blind: .*blind.yaml: entries.0..classes"):
+        classify_cli.main(ROOT, argv=[*argv, "--blind", str(blind)])
+
+
 def test_fit_report_has_a_row_per_turning_class(tiny, capsys):
     assert fit_report_cli.main(ROOT, argv=[
         "--model", str(tiny["model"]), "--dataset", str(tiny["data"]), "--words",

@@ -22,6 +22,10 @@ def argument_parser(root, description=None):
     parser.add_argument("--phrases", type=Path,
                         default=Path(root) / "config" / "semnav_phrases.yaml",
                         help="phrase sets of --held-out (default: config/semnav_phrases.yaml)")
+    parser.add_argument("--blind", type=Path, metavar="FILE",
+                        help="instead of stdin: how many directions of a blind set (e.g. "
+                             "config/semnav_blind_directions.yaml) are read as meant, and which "
+                             "are not")
     parser.add_argument("--seed", type=int, default=0)
     return parser
 
@@ -45,6 +49,27 @@ def phrasing_accuracy(follower, sets, split, count, seed):
                                     for label, (h, n) in score.per_class.items()))
     for text, missed, used in score.missed_phrases():
         print(f"  missed {missed:4d} of {used:4d} sentences with {text!r}")
+    return score.accuracy
+
+
+def blind_accuracy(follower, path):
+    """Print the blind set's score (semnav_learning.blind_set) -> the accuracy."""
+    from semantic_nav.follower import UnknownInstructionError
+    from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
+                                                check_followable)
+    from semnav_learning.blind_set import (BlindSetError, format_blind_score, load_blind_set,
+                                           score_blind_set)
+    try:
+        entries = load_blind_set(path)
+    except BlindSetError as error:
+        sys.exit(f"classify_instruction: --blind: {error}")
+    def read(text):   # as the robot reads it: refuse what it must not try, then classify
+        check_followable(text, follower.word_vectors)
+        return follower.start(text)
+
+    score = score_blind_set(entries, read, (UnknownInstructionError, UnfollowableInstruction,
+                                            InstructionError))
+    print("\n".join(format_blind_score(score)))
     return score.accuracy
 
 
@@ -76,5 +101,8 @@ def main(root, description=None, argv=None, lines=None):
         sys.exit(str(error))
     if args.held_out:
         phrasing_accuracy(follower, sets, args.split, args.held_out, args.seed)
+        return 0
+    if args.blind:
+        blind_accuracy(follower, args.blind)
         return 0
     return classify_lines(follower, sys.stdin if lines is None else lines)
