@@ -32,6 +32,7 @@ from supervision.ros_supervisor import Supervisor
 
 from sim2d import conversions
 from sim2d.kinematics import DIFFERENTIAL, twist_to_wheels
+from sim2d.pacing import Pacer, PacerConfig
 from sim2d.world import CACHE_DIR, CommandError, World
 
 def in_loop_publisher(topic, msg_type):
@@ -91,6 +92,7 @@ class SimNode:
         self.door_changes = []   # [(name, closed)] requested, applied by the loop
         self.last = {}
         self.started_wall = None
+        self.pacer = None
         self.sup = None
 
     def setup(self, sup=None):
@@ -313,17 +315,21 @@ class SimNode:
             status.message = "stalled against an obstacle" if state.stalled else "ok"
             status.values = [KeyValue("bumps", str(state.bumps)),
                              KeyValue("real_time_factor", f"{factor:.2f}"),
+                             KeyValue("slips", str(self.pacer.slips)),
+                             KeyValue("seconds_lost", f"{self.pacer.seconds_lost:.2f}"),
                              KeyValue("closed_doors", ",".join(
                                  n for n, closed in self.world.doors.items() if closed))]
             array.status.append(status)
         self.diag_pub.publish(array)
 
     def spin(self):
-        """Step and publish until shutdown, keeping sim time = speed x wall time."""
+        """Step and publish until shutdown, keeping sim time = speed x wall time (pacing.Pacer:
+        no racing to catch up after a stall; a speed it cannot hold is logged once)."""
         self.started_wall = time.monotonic()
         speed, step = self.config.speed, self.config.step
         wall_step = step / speed if speed > 0 else step   # [s] of wall time a paced pass takes
         self.sup.worker("loop", wall_step)
+        self.pacer = Pacer(PacerConfig(speed), self.world.time, self.started_wall)
         behind_warned = False
         while not rospy.is_shutdown():
             with self.sup.guard("loop", f"sim time {self.world.time:.3f} s") as failure:
@@ -333,10 +339,12 @@ class SimNode:
             if failure:
                 time.sleep(wall_step)   # a pass that keeps failing must not spin the CPU
                 continue
-            if speed > 0:
-                lag = self.world.time / speed - (time.monotonic() - self.started_wall)
-                if lag > 0:
-                    time.sleep(lag)
-                elif lag < -0.5 and not behind_warned:
-                    rospy.logwarn("sim2d: cannot keep speed %.1f (%.2f s behind)", speed, -lag)
-                    behind_warned = True
+            now = time.monotonic()
+            pause = self.pacer.delay(self.world.time, now)
+            if pause > 0:
+                time.sleep(pause)
+            achieved = self.pacer.shortfall(self.world.time, now)
+            if achieved is not None and not behind_warned:
+                rospy.logwarn("sim2d: cannot keep speed %.1f: %.2f over the last %.0f s of wall "
+                              "time", speed, achieved, self.pacer.config.window)
+                behind_warned = True
