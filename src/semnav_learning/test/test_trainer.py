@@ -111,6 +111,20 @@ def test_an_interrupt_saves_the_current_model(inputs):
     assert load_network(str(config.work_dir / "current.keras")).get_layer("lstm_fused")
 
 
+def test_an_interrupt_before_the_first_epoch_ends_writes_no_model(inputs):
+    lines = []
+
+    def report(line):
+        lines.append(line)
+        if line.startswith("Epoch 1/"):
+            raise KeyboardInterrupt                     # before any model was selected
+
+    out = inputs[2] / "models" / "early.keras"
+    summary = Trainer(tiny(inputs, "early", out=out), report=report).run()
+    assert summary["interrupted"] and summary["history"] == []
+    assert not out.exists() and any(f"{out} not written" in line for line in lines)
+
+
 def test_an_interrupted_run_resumes_to_the_uninterrupted_result(inputs, first_run):
     from semantic_nav.network import load_network
 

@@ -557,8 +557,13 @@ class Trainer:
         if self.history:
             plot_history(self.history, c.work_dir / "training.png", initial)
         if c.out:
+            selected = c.work_dir / f"{c.select}.keras"
+            if interrupted and not selected.is_file():   # stopped before any epoch chose one
+                self.report(f"interrupted before a {c.select} model: {c.out} not written "
+                            f"(current.keras is in {c.work_dir})")
+                return
             c.out.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(c.work_dir / f"{c.select}.keras", c.out)
+            shutil.copyfile(selected, c.out)
             self.write_model_card()
             self.report(f"{c.select} model -> {c.out}")
 
