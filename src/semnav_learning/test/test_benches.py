@@ -29,10 +29,11 @@ def test_expert_bench_on_the_l_floor_is_reproducible(tmp_path):
 def test_expert_bench_reports_share_and_failures():
     bench = bench_expert.FloorBench(ok=3, per_class=Counter({2: 1, 1: 3}), steps=[100, 300, 200,
                                                                                   400],
-                                    failures=[((1.0, 2.0, 0.5), 2, False, 0.21)], seconds=1.25)
+                                    failures=[((1.0, 2.0, 0.5), 2, False, 0.21)], seconds=1.25,
+                                    demo_ms=[10.0, 20.0, 30.0, 40.0])
     assert bench_expert.report_lines("f", bench) == [
         "f: 3/4 = 75.0 % reach the goal without touching a wall; 250 commands per demo; "
-        "1.2 s; per class {1: 3, 2: 1}",
+        "1.2 s; a demo p50 25.0 ms, p99 39.7 ms; per class {1: 3, 2: 1}",
         "  failed: start (1.0, 2.0, 0.5) class 2 reached=False min clearance 0.21 m"]
 
 

@@ -26,6 +26,7 @@ class FloorBench:
     steps: list = field(default_factory=list)             # commands per rehearsal
     failures: list = field(default_factory=list)  # (start, class, reached, min clearance [m])
     seconds: float = 0.0
+    demo_ms: list = field(default_factory=list)   # wall time of each rehearsal [ms]
 
     @property
     def total(self):
@@ -59,9 +60,11 @@ def bench_floor(path, starts, seed):
         for label in CLASS_IDS:
             offset = (rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2),
                       math.radians(rng.uniform(-8, 8)))
+            t0 = time.perf_counter()
             demo = rehearse(oracle, start, label, ExpertConfig(), rng, offset)
             if demo is None:
                 continue
+            bench.demo_ms.append((time.perf_counter() - t0) * 1e3)
             bench.per_class[label] += 1
             bench.steps.append(len(demo.poses))
             if demo.reached and demo.min_clearance >= oracle.config.robot_radius:
@@ -77,7 +80,9 @@ def report_lines(name, bench):
     """The lines of one floor: its success share, then one per failure."""
     lines = [f"{name}: {bench.ok}/{bench.total} = {100.0 * bench.ok / bench.total:.1f} % reach "
              f"the goal without touching a wall; {np.mean(bench.steps):.0f} commands per demo; "
-             f"{bench.seconds:.1f} s; per class {dict(sorted(bench.per_class.items()))}"]
+             f"{bench.seconds:.1f} s; a demo p50 {np.percentile(bench.demo_ms, 50):.1f} ms, "
+             f"p99 {np.percentile(bench.demo_ms, 99):.1f} ms; "
+             f"per class {dict(sorted(bench.per_class.items()))}"]
     lines += [f"  failed: start {start} class {label} reached={reached} min clearance "
               f"{clearance} m" for start, label, reached, clearance in bench.failures]
     return lines
