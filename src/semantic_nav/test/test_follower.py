@@ -114,11 +114,15 @@ def test_any_beam_count_is_interpolated(words, beams):
 
 
 def test_unknown_words_are_named(words):
-    follower = DirectionFollower(ScriptedPolicy([]), words)
+    seed = DirectionFollower(ScriptedPolicy([]), words, FollowerConfig(splitting="seed"))
     with pytest.raises(UnknownInstructionError, match="blorp"):
-        follower.start("turn left, then blorp zindle")
+        seed.start("turn left, blorp zindle")       # a simple instruction of unknown words
+    spoken = DirectionFollower(ScriptedPolicy([]), words)
+    spoken.start("turn left, then blorp zindle")   # names no motion: joined, its words skipped
+    assert spoken.instructions == ["turn left blorp zindle"]
+    assert spoken.unknown_words == ["blorp", "zindle"]
     with pytest.raises(UnknownInstructionError):
-        follower.start("  ,  ")
+        spoken.start("  ,  ")
 
 
 def test_step_before_start_is_an_error(words):
@@ -221,11 +225,15 @@ def test_follower_config_file(tmp_path):
     assert not no_guard.guard.enabled and no_guard.postprocess == PostprocessConfig()
     assert shipped.doors.width == 1.4 and no_guard.doors.width == 0.0
     assert shipped.one_hot_class and not no_guard.one_hot_class     # the seed feeds the softmax
+    assert (shipped.splitting, no_guard.splitting) == ("spoken", "seed")
     no_doors = load_follower_config(ROOT / "config" / "semnav_follower_no_doors.yaml")
     assert no_doors == FollowerConfig(doors=DoorConfig(width=0.0), one_hot_class=False)
     bad = tmp_path / "bad.yaml"
     bad.write_text("guard:\n  radius: 0.3\n  margn: 0.1\n")
     with pytest.raises(ValueError, match="margn"):
+        load_follower_config(bad)
+    bad.write_text("splitting: words\n")
+    with pytest.raises(ValueError, match="splitting: one of seed, spoken"):
         load_follower_config(bad)
     bad.write_text("postprocess:\n  halt_steps: many\n")
     with pytest.raises(ValueError, match="halt_steps"):

@@ -33,8 +33,35 @@ def test_split_spoken_text_without_punctuation():
 def test_and_alone_does_not_split():
     assert split_instruction("Go straight to the end and turn right") == [
         "go straight to the end and turn right"]
-    assert split_instruction("turn left at the corner and stop, please") == [
+    assert split_instruction("turn left at the corner and stop, please", "seed") == [
         "turn left at the corner and stop", "please"]
+
+
+def test_spoken_splitting_ends_instructions_at_connectives():
+    assert split_instruction("turn right and after that go back") == ["turn right", "go back"]
+    assert split_instruction("take a left, once you're there go straight to the end") == [
+        "take a left", "go straight to the end"]
+    assert split_instruction("go to the end and turn right once you are there") == [
+        "go to the end and turn right"]
+
+
+def test_spoken_splitting_joins_pieces_that_name_no_motion():
+    assert split_instruction("Hey robot, hang a left") == ["hey robot hang a left"]
+    assert split_instruction("at the second corner, turn left") == [
+        "at the second corner turn left"]
+    assert split_instruction("turn left at the corner and stop, please") == [
+        "turn left at the corner and stop please"]
+    assert split_instruction("turn around. um, ok. go to the end") == [
+        "turn around", "um ok go to the end"]
+    assert split_instruction("thanks, please") == ["thanks please"]    # nothing to join to
+
+
+def test_seed_splitting_is_punctuation_only():
+    assert split_instruction("Hey robot, hang a left", "seed") == ["hey robot", "hang a left"]
+    assert split_instruction("go to the end then turn left", "seed") == [
+        "go to the end then turn left"]
+    with pytest.raises(InstructionError, match="unknown splitting 'words'"):
+        split_instruction("turn left", "words")
 
 
 def test_empty_sentence_is_a_clear_error():

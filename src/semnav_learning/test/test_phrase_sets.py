@@ -1,5 +1,6 @@
 """Phrase-set generator (thesis 002 §3.2) on the seed's three worked examples and its splits."""
 from collections import Counter
+from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
@@ -7,8 +8,10 @@ import yaml
 
 from semantic_nav.instruction_layer import split_instruction, tokenise
 from semantic_nav.instruction_classes import CLASS_IDS
-from semnav_learning.phrase_sets import (SETS, Phrase, PhraseSetError, compose, enumerate_sentences,
-                                      load_phrase_sets, sample_sentence, score_phrasings)
+from semnav_learning.phrase_sets import (OPTIONAL_SETS, SETS, Phrase, PhraseSetError, _choices,
+                                         compose, enumerate_sentences, enumerate_texts,
+                                         load_phrase_sets, recipes, sample_sentence,
+                                         score_phrasings)
 from semantic_nav.word_vectors import WordVectorsError, load_compact_cache
 from tamp_resources import resource
 
@@ -20,9 +23,30 @@ def sets():
     return load_phrase_sets(CONFIG)
 
 
+@dataclass
+class Generated:
+    """One pass over every training sentence of a class (millions in all: kept as texts)."""
+
+    texts: set = field(default_factory=set)
+    labels: set = field(default_factory=set)
+    count: int = 0
+    held_out_phrases: int = 0
+    every_97th: list = field(default_factory=list)
+
+
 @pytest.fixture(scope="module")
 def train_sentences(sets):
-    return {label: list(enumerate_sentences(sets, label, "train")) for label in CLASS_IDS}
+    out = {}
+    for label in CLASS_IDS:
+        g = out[label] = Generated()
+        for i, sentence in enumerate(enumerate_sentences(sets, label, "train")):
+            g.texts.add(sentence.text)
+            g.labels.add(sentence.label)
+            g.count += 1
+            g.held_out_phrases += any(p.held_out for p in sentence.phrases)
+            if i % 97 == 0:
+                g.every_97th.append(sentence)
+    return out
 
 
 def _find(sets, name, text):
@@ -36,7 +60,7 @@ def test_worked_example_class_1(sets, train_sentences):
                         _find(sets, "suffix", "please")])
     assert sentence.label == 1
     assert sentence.text == "could you go straight till the end please"
-    assert sentence in train_sentences[1]
+    assert sentence.text in train_sentences[1].texts
 
 
 def test_worked_example_class_2(sets, train_sentences):
@@ -45,7 +69,7 @@ def test_worked_example_class_2(sets, train_sentences):
                         _find(sets, "class_turn", "make a right turn"),
                         _find(sets, "suffix", "please")])
     assert sentence.label == 2
-    assert sentence in train_sentences[2]
+    assert sentence.text in train_sentences[2].texts
 
 
 def test_worked_example_class_5(sets, train_sentences):
@@ -54,10 +78,36 @@ def test_worked_example_class_5(sets, train_sentences):
                         _find(sets, "class_turn", "make a right turn"),
                         _find(sets, "suffix_turn_change", "at the second intersection")])
     assert sentence.label == 5
-    assert sentence in train_sentences[5]
+    assert sentence.text in train_sentences[5].texts
     left = compose([sentence.phrases[0], _find(sets, "class_turn", "make a left turn"),
                     sentence.phrases[2]])
     assert left.label == 6
+
+
+def test_directions_as_people_give_them(sets):
+    """Beyond the seed's sets: counting by passing, "the N-th right", "all the way down and"."""
+    left, right = (_find(sets, "class_turn", t) for t in ("turn left", "make a right"))
+    passing = _find(sets, "prefix_turn_change", "pass one corner and")
+    assert compose([passing, left, _find(sets, "suffix_turn_next", "at the next one")]).label == 6
+    assert compose([_find(sets, "prefix_turn_change", "pass two corners and"), right]).label == 7
+    assert compose([_find(sets, "class_turn_counted", "take the second right")]).label == 5
+    assert compose([_find(sets, "class_turn_counted", "skip two lefts and take the one after")]
+                   ).label == 8
+    down = compose([_find(sets, "class1", "go all the way down"), _find(sets, "end_join", "and"),
+                    _find(sets, "class_turn", "make a left")])
+    assert (down.text, down.label) == ("go all the way down and make a left", 10)
+
+
+def test_phrase_files_without_the_optional_sets_still_load(tmp_path):
+    config = yaml.safe_load(CONFIG.read_text())
+    for name in OPTIONAL_SETS:
+        del config[name]
+    plain = tmp_path / "seed_sets.yaml"
+    plain.write_text(yaml.safe_dump(config))
+    sets = load_phrase_sets(plain)
+    assert all(sets[name] == [] for name in OPTIONAL_SETS)
+    rng = np.random.default_rng(1)
+    assert all(sample_sentence(sets, label, rng).label == label for label in CLASS_IDS)
 
 
 def test_suffix_turn_kinds(sets):
@@ -69,27 +119,30 @@ def test_suffix_turn_kinds(sets):
 
 
 def test_every_class_is_generated_with_its_own_label(train_sentences):
-    for label, sentences in train_sentences.items():
-        assert len(sentences) > 100, label
-        assert {s.label for s in sentences} == {label}
+    for label, generated in train_sentences.items():
+        assert generated.count > 100, label
+        assert generated.labels == {label}
 
 
 def test_enumeration_counts_follow_the_set_sizes(sets, train_sentences):
     # Class 4 = (prefix + none) x class4 x (suffix + none), training phrases only
     n = Counter(p.set_name for p in (p for v in sets.values() for p in v) if p.split == "train")
-    assert len(train_sentences[4]) == (n["prefix"] + 1) * n["class4"] * (n["suffix"] + 1)
+    assert train_sentences[4].count == (n["prefix"] + 1) * n["class4"] * (n["suffix"] + 1)
     turns_right = sum(1 for p in sets["class_turn"] if p.split == "train" and p.tag == "right")
-    assert len(train_sentences[2]) == ((n["prefix"] + 1) * (n["prefix_turn"] + 1) * turns_right
+    assert train_sentences[2].count == ((n["prefix"] + 1) * (n["prefix_turn"] + 1) * turns_right
                                        * (n["suffix_turn_keep"] + 1) * (n["suffix"] + 1))
 
 
 def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
     for label in CLASS_IDS:
-        train = {s.text for s in train_sentences[label]}
-        held = list(enumerate_sentences(sets, label, "held_out"))
-        assert held and all(any(p.held_out for p in s.phrases) for s in held)
-        assert not train & {s.text for s in held}
-        assert not any(p.held_out for s in train_sentences[label] for p in s.phrases)
+        held = list(enumerate_texts(sets, label, "held_out"))
+        assert held and not train_sentences[label].texts & set(held)
+        assert train_sentences[label].held_out_phrases == 0
+    # enumerate_texts yields exactly enumerate_sentences' texts (here on the smallest class)
+    assert Counter(enumerate_texts(sets, 4, "held_out")) == Counter(
+        s.text for s in enumerate_sentences(sets, 4, "held_out"))
+    assert all(any(p.held_out for p in s.phrases)
+               for s in enumerate_sentences(sets, 1, "held_out"))
 
 
 def test_validation_phrasings_are_neither_trained_on_nor_tested(sets, train_sentences):
@@ -99,9 +152,13 @@ def test_validation_phrasings_are_neither_trained_on_nor_tested(sets, train_sent
         assert all(s.label == label for s in sentences)
         assert all(any(p.split == "validation" for p in s.phrases) for s in sentences)
         assert not any(p.held_out for s in sentences for p in s.phrases)
-        assert not {s.text for s in sentences} & {s.text for s in train_sentences[label]}
-    held = [s for label in CLASS_IDS for s in enumerate_sentences(sets, label, "held_out")]
-    assert not any(p.split == "validation" for s in held for p in s.phrases)
+        assert not {s.text for s in sentences} & train_sentences[label].texts
+    # held-out sentences draw only on training and held-out phrases
+    for label in CLASS_IDS:
+        for recipe in recipes(label):
+            for slot in recipe:
+                assert not any(p is not None and p.split == "validation"
+                               for p in _choices(sets, slot, "held_out"))
 
 
 def test_held_out_sampling_ignores_validation_phrases(tmp_path):
@@ -120,8 +177,8 @@ def test_held_out_sampling_ignores_validation_phrases(tmp_path):
 
 
 def test_generated_sentences_are_single_simple_instructions(train_sentences):
-    for sentences in train_sentences.values():
-        for sentence in sentences[::97]:
+    for generated in train_sentences.values():
+        for sentence in generated.every_97th:
             assert split_instruction(sentence.text) == [sentence.text]
 
 

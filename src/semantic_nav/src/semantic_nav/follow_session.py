@@ -62,7 +62,8 @@ class FollowSession:
         before the follower is started: the robot does not move."""
         try:
             check_followable(sentence, getattr(follower, "word_vectors", None))
-            self.parts = split_instruction(sentence)
+            config = getattr(follower, "config", None)
+            self.parts = split_instruction(sentence, getattr(config, "splitting", "spoken"))
             self.classes = list(follower.start(sentence))
         except UnfollowableInstruction as error:
             raise InstructionRefused(f"cannot follow {sentence!r}: {error}",

@@ -18,7 +18,8 @@ from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_acti
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.instruction_layer import InstructionError, sentence_vector, split_instruction
+from semantic_nav.instruction_layer import (SPLITTINGS, InstructionError, sentence_vector,
+                                            split_instruction)
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from tamp_resources import resource
@@ -42,6 +43,9 @@ class FollowerConfig:
 
     control_period: float = 0.1     # s between steps (the records are subsampled to 10 Hz)
     one_hot_class: bool = True      # beyond the seed: LSTM_fused gets Z_w's class as one-hot
+    splitting: str = "spoken"       # instruction_layer.split_instruction: "seed" = at
+                                    # punctuation (§3.1); "spoken" also at connectives, with
+                                    # motionless pieces joined (beyond the seed)
     laser_config: str = str(DEFAULT_LASER_CONFIG)   # canonical scan + preprocessing
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
     guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
@@ -91,6 +95,9 @@ def load_follower_config(path):
     for name, cls in sections.items():
         if name in data:
             setattr(config, name, _section(cls, data[name], f"{where}: {name}"))
+    if config.splitting not in SPLITTINGS:
+        raise ValueError(f"{where}.splitting: one of {', '.join(SPLITTINGS)}, got "
+                         f"{config.splitting!r}")
     return config
 
 
@@ -173,7 +180,7 @@ class DirectionFollower:
         """Split and classify a sentence; resets memory. Returns the class (1..10) of each simple
         instruction. UnknownInstructionError if a simple instruction has no known word."""
         try:
-            parts = split_instruction(sentence)
+            parts = split_instruction(sentence, self.config.splitting)
         except InstructionError as error:
             raise UnknownInstructionError(str(error)) from error
         vectors, unknown = [], []

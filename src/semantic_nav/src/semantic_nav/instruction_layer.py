@@ -9,9 +9,12 @@ from semantic_nav.instruction_classes import MAX_CORNER
 
 # §3.1: "we simply use punctuation marks to split sentences into simple instruction".
 PUNCTUATION = re.compile(r"[.,;:!?\n]+")
-# Spoken text (speech recognition) has no punctuation: "then" / "and then" also end an instruction.
-# "and" alone never splits: "go straight to the end and turn right" is one instruction (class 9).
-THEN = re.compile(r"\b(?:and\s+)?then\b")
+# Beyond the seed ("spoken" splitting): spoken text (speech recognition) has no punctuation, and
+# people chain directions with connectives: "then", "after that" and "once you're there" also end
+# an instruction. "and" alone never splits: "go straight to the end and turn right" is one
+# instruction (class 9).
+THEN = re.compile(r"\b(?:and\s+)?(?:then|after\s+that|once\s+you(?:'re|\s+are)\s+there|"
+                  r"once\s+there)\b")
 LEADING_CONNECTIVE = re.compile(r"^(?:and\s+then|then|and)\b\s*")
 TRAILING_CONNECTIVE = re.compile(r"\s*\b(?:and|and\s+then|then)$")
 # Lower-case tokens as in GloVe 6B: words, numbers, clitics ('s, 'd) and n't split off.
@@ -40,20 +43,55 @@ class SentenceVector:
     oov: list = field(default_factory=list)  # tokens without a word vector (skipped)
 
 
-def split_instruction(sentence):
-    """§3.1: split a sentence into simple instructions at punctuation and at "(and) then"."""
+SPLITTINGS = ("seed", "spoken")
+# A piece naming none of these asks for no motion ("hey robot", "please", "if you don't mind",
+# "at the second junction"): "spoken" splitting joins it to the next piece (the last to the one
+# before), so a comma after a greeting or a fronted "at the second corner, turn left" does not
+# make an instruction of its own.
+MOTION_WORDS = frozenset("""
+left right lefts rights straight back around round forward forwards ahead down along turn turns
+go goes walk drive head move continue keep follow take make hang proceed pass skip return
+reverse spin flip carry roll veer bear swing u-turn backward backwards come
+""".split())
+
+
+def split_instruction(sentence, splitting="spoken"):
+    """§3.1: split a sentence into simple instructions at punctuation ("seed"; a leading or
+    trailing "and" / "then" is dropped). "spoken" (beyond the seed, the default) also splits at
+    "(and) then", "after that" and "once you're there" and joins a piece that names no motion
+    (MOTION_WORDS) to its neighbour."""
     if not isinstance(sentence, str):
         raise InstructionError(f"instruction must be text, got {type(sentence).__name__}")
+    if splitting not in SPLITTINGS:
+        raise InstructionError(f"unknown splitting {splitting!r} (one of {', '.join(SPLITTINGS)})")
     parts = []
     for clause in PUNCTUATION.split(sentence.lower()):
-        for piece in THEN.split(clause):
+        pieces = THEN.split(clause) if splitting == "spoken" else [clause]
+        for piece in pieces:
             piece = " ".join(piece.split())
             piece = TRAILING_CONNECTIVE.sub("", LEADING_CONNECTIVE.sub("", piece))
             if TOKEN.search(piece):
                 parts.append(piece)
     if not parts:
         raise InstructionError(f"instruction {sentence!r} has no words")
-    return parts
+    return join_fragments(parts) if splitting == "spoken" else parts
+
+
+def join_fragments(parts):
+    """Pieces that name no motion joined to the next piece (the last to the one before); a
+    sentence with no motion at all stays one piece."""
+    joined, pending = [], []
+    for part in parts:
+        pending.append(part)
+        if MOTION_WORDS & set(TOKEN.findall(part)):
+            joined.append(" ".join(pending))
+            pending = []
+    if pending:
+        if joined:
+            joined[-1] = " ".join([joined[-1], *pending])
+        else:
+            joined.append(" ".join(pending))
+    return joined
 
 
 def tokenise(text):

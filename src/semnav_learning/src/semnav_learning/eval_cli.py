@@ -201,8 +201,10 @@ def main(root, description=None, argv=None):
     template = laser_templates(root)[args.laser]
     policy_spec = PolicySpec(kind=args.policy, model_path=args.model, config=config)
     outcomes, seconds = run(specs, policy_spec, template, args.workers, name)
-    title = (f"**{name}** ({args.policy}{' ' + args.model if args.model else ''}, {args.laser}, "
-             f"{floor_names}, seed {args.seed})")
+    # the model's file as the follower finds it: --model, else $SEMNAV_MODEL, else the default
+    model = args.model or os.environ.get("SEMNAV_MODEL") or "models/semantic_nav/default.keras"
+    title = (f"**{name}** ({args.policy}{' ' + model if args.policy == 'model' else ''}, "
+             f"{args.laser}, {floor_names}, seed {args.seed})")
     result = {"args": {k: str(v) for k, v in vars(args).items()},
               "policy": report(outcomes, seconds, title, oracles)}
     reference = None

@@ -12,7 +12,13 @@ from semantic_nav.instruction_classes import (CLASS_IDS, CLASSES, NUM_CLASSES, S
 
 SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_keep",
         "suffix_turn_change", "class4", "others")
+# Beyond the seed's sets, optional in a phrase file (empty when left out): "the second right"
+# (class_turn_counted), counting by passing ("pass one corner and" + a class_turn phrase +
+# "at the next one": prefix_turn_change, suffix_turn_next), and "go all the way down and make a
+# left" (a class1 phrase + end_join + a class_turn phrase).
+OPTIONAL_SETS = ("class_turn_counted", "prefix_turn_change", "suffix_turn_next", "end_join")
 CHANGE_KINDS = TURN_AT   # kind-B tags: ("second", "third", "end")
+COUNTED_KINDS = tuple(kind for kind in TURN_AT if kind != "end")   # ("second", "third")
 # core phrase set of a class that is not a turn -> the class: {"class1": 1, "class4": 4}
 CORE_SET_CLASS = {c.phrase_set: c.number for c in CLASSES if c.motion != TURN}
 # train: the only phrases training sees; validation: phrases that choose between trained
@@ -70,6 +76,17 @@ def load_phrase_sets(path):
                           for side in SIDES]
     sets["suffix_turn_change"] = [p for kind in CHANGE_KINDS for p in _phrases(
         config["suffix_turn_change"][kind], "suffix_turn_change", kind)]
+    optional = {name: config.get(name) for name in OPTIONAL_SETS}
+    sets["class_turn_counted"] = [
+        Phrase("class_turn_counted", p.text.format(dir=side), p.split, (side, kind))
+        for kind in COUNTED_KINDS if optional["class_turn_counted"]
+        for p in _phrases(optional["class_turn_counted"][kind], "class_turn_counted")
+        for side in SIDES]
+    sets["prefix_turn_change"] = [
+        p for kind in COUNTED_KINDS if optional["prefix_turn_change"]
+        for p in _phrases(optional["prefix_turn_change"][kind], "prefix_turn_change", kind)]
+    for name in ("suffix_turn_next", "end_join"):
+        sets[name] = _phrases(optional[name], name) if optional[name] else []
     others = config["others"]
     sets["others"] = [Phrase("others", " ".join(str(t).lower().split()), split, int(label))
                       for split in SPLITS for label, texts in (others.get(split) or {}).items()
@@ -92,6 +109,12 @@ def label_of(phrases):
     by_set = {p.set_name: p for p in phrases}
     if "others" in by_set:
         return by_set["others"].tag
+    if "class_turn_counted" in by_set:
+        return TURN_CLASSES[by_set["class_turn_counted"].tag]
+    if "class_turn" in by_set and "class1" in by_set:        # "go all the way down and ..."
+        return TURN_CLASSES[(by_set["class_turn"].tag, "end")]
+    if "class_turn" in by_set and "prefix_turn_change" in by_set:
+        return TURN_CLASSES[(by_set["class_turn"].tag, by_set["prefix_turn_change"].tag)]
     for set_name, label in CORE_SET_CLASS.items():
         if set_name in by_set:
             return label
@@ -126,7 +149,16 @@ def recipes(label):
     turn = (prefix, Slot("prefix_turn", optional=True), Slot(cls.phrase_set, cls.side))
     if cls.at is None:
         return [turn + (Slot("suffix_turn_keep", optional=True), suffix)]
-    return [turn + (Slot("suffix_turn_change", cls.at), suffix)] + others
+    extra = []
+    if cls.at == "end":
+        extra.append((prefix, Slot("class1"), Slot("end_join"), Slot(cls.phrase_set, cls.side),
+                      suffix))
+    else:
+        extra.append((prefix, Slot("prefix_turn_change", cls.at), Slot(cls.phrase_set, cls.side),
+                      Slot("suffix_turn_next", optional=True), suffix))
+        extra.append((prefix, Slot("prefix_turn", optional=True),
+                      Slot("class_turn_counted", (cls.side, cls.at)), suffix))
+    return [turn + (Slot("suffix_turn_change", cls.at), suffix)] + extra + others
 
 
 def _choices(sets, slot, split):
@@ -151,6 +183,31 @@ def enumerate_sentences(sets, label, split="train"):
             if split != "train" and not any(p.split == split for p in phrases):
                 continue
             yield compose(phrases)
+
+
+def enumerate_texts(sets, label, split="train"):
+    """The texts of enumerate_sentences(sets, label, split), without building a Sentence each
+    (checks over every sentence: millions with the wider sets). A combination of a validation or
+    held-out split is enumerated by the first slot that takes a phrase of the split: slots before
+    it take training phrases (or nothing), that slot a phrase of the split, later slots any."""
+    if label not in CLASS_IDS or split not in SPLITS:
+        raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
+
+    def texts(slot, splits):
+        pool = [p for p in _choices(sets, slot, split) if p is None or p.split in splits]
+        return [p.text if p is not None else None for p in pool]
+
+    for recipe in recipes(label):
+        if split == "train":
+            layouts = [[texts(slot, ("train",)) for slot in recipe]]
+        else:
+            layouts = [[texts(slot, ("train",)) for slot in recipe[:k]]
+                       + [[t for t in texts(recipe[k], (split,)) if t is not None]]
+                       + [texts(slot, ("train", split)) for slot in recipe[k + 1:]]
+                       for k in range(len(recipe))]
+        for pools in layouts:
+            for combination in itertools.product(*pools):
+                yield " ".join(t for t in combination if t is not None)
 
 
 def sample_sentence(sets, label, rng, split="train"):
