@@ -7,7 +7,7 @@ import pytest
 
 from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
                                          step_failed)
-from semantic_nav.follower import FollowerCommand
+from semantic_nav.follower import FollowerCommand, UnknownInstructionError
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.word_vectors import WordVectors
 
@@ -23,6 +23,8 @@ class ScriptedFollower:
     def start(self, sentence):
         if "flibber" in sentence:
             raise ValueError("unknown words: flibber")
+        if "blorp" in sentence:
+            raise UnknownInstructionError("reads with only 0.40 confidence", ["blorp"])
         self.calls = 0
         return self.classes
 
@@ -145,3 +147,10 @@ def test_a_raising_step_fails_the_session_with_its_progress_and_a_spoken_reason(
                               "failed (RuntimeError: network exploded). I am staying here.")
     assert step_failed(KeyError("x")).message == "control step failed: KeyError: 'x'"
     assert step_failed(KeyError("x")).completed == 0
+
+
+def test_a_refusal_for_unknown_words_says_which_words():
+    with pytest.raises(InstructionRefused) as refused:
+        FollowSession(ScriptedFollower([3]), "turn blorp left", now=0.0, max_duration=60.0)
+    assert refused.value.spoken == "Sorry, I did not understand 'blorp'. I am staying here."
+    assert "0.40 confidence" in str(refused.value)

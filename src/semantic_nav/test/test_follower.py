@@ -125,6 +125,28 @@ def test_unknown_words_are_named(words):
         spoken.start("  ,  ")
 
 
+class SpreadPolicy(ScriptedPolicy):
+    """Z_w of ScriptedPolicy, spread to `confidence` on its class."""
+
+    def __init__(self, confidence):
+        super().__init__([])
+        self.confidence = confidence
+
+    def classify(self, vectors):
+        z = super().classify(vectors)
+        return z * self.confidence + (1.0 - z) * (1.0 - self.confidence) / 9.0
+
+
+def test_unknown_words_are_skipped_only_when_the_rest_reads_with_confidence(words):
+    sure = DirectionFollower(SpreadPolicy(0.95), words)
+    assert sure.start("turn blorp left") == [3] and sure.unknown_words == ["blorp"]
+    unsure = DirectionFollower(SpreadPolicy(0.6), words)
+    assert unsure.start("turn left") == [3]               # every word known: followed
+    with pytest.raises(UnknownInstructionError, match="only 0.60 confidence") as refused:
+        unsure.start("turn blorp left")
+    assert refused.value.words == ["blorp"]
+
+
 def test_step_before_start_is_an_error(words):
     with pytest.raises(RuntimeError, match="start"):
         DirectionFollower(ScriptedPolicy([]), words).step(np.ones(683), urg())

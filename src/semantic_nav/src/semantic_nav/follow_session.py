@@ -12,6 +12,7 @@ import numpy as np
 
 from supervision.health import fault_text
 
+from semantic_nav.follower import UnknownInstructionError
 from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
                                             check_followable, split_instruction)
 
@@ -68,6 +69,11 @@ class FollowSession:
         except UnfollowableInstruction as error:
             raise InstructionRefused(f"cannot follow {sentence!r}: {error}",
                                      error.spoken) from error
+        except UnknownInstructionError as error:
+            heard = " ".join(error.words)
+            spoken = (f"Sorry, I did not understand {heard!r}. I am staying here." if heard
+                      else "Sorry, I did not understand those directions. I am staying here.")
+            raise InstructionRefused(f"cannot follow {sentence!r}: {error}", spoken) from error
         except (InstructionError, ValueError) as error:
             raise InstructionRefused(f"cannot follow {sentence!r}: {error}",
                                      "Sorry, I did not understand those directions. I am "

@@ -18,8 +18,8 @@ from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_acti
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.instruction_layer import (SPLITTINGS, InstructionError, sentence_vector,
-                                            split_instruction)
+from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError,
+                                            sentence_vector, split_instruction)
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from tamp_resources import resource
@@ -30,7 +30,13 @@ DEFAULT_LASER_CONFIG = ROOT / "config" / "semnav_laser.yaml"
 
 
 class UnknownInstructionError(ValueError):
-    """A sentence the instruction layer cannot turn into word vectors (no known word)."""
+    """A sentence the follower will not follow for its words: a simple instruction with no known
+    word, or one whose remaining words classify without confidence; `words` are the words it
+    did not know."""
+
+    def __init__(self, message, words=()):
+        super().__init__(message)
+        self.words = list(words)
 
 
 class ModelMissingError(FileNotFoundError):
@@ -43,6 +49,9 @@ class FollowerConfig:
 
     control_period: float = 0.1     # s between steps (the records are subsampled to 10 Hz)
     one_hot_class: bool = True      # beyond the seed: LSTM_fused gets Z_w's class as one-hot
+    unknown_min_confidence: float = 0.9   # a simple instruction with words outside the
+                                    # vocabulary is followed (those words skipped) only when
+                                    # Z_w's largest probability is at least this; else refused
     splitting: str = "spoken"       # instruction_layer.split_instruction: "seed" = at
                                     # punctuation (§3.1); "spoken" also at connectives, with
                                     # motionless pieces joined (beyond the seed)
@@ -189,11 +198,20 @@ class DirectionFollower:
                 converted = sentence_vector(part, self.word_vectors)
             except InstructionError as error:
                 raise UnknownInstructionError(
-                    f"unknown instruction {part!r} (in {sentence!r}): {error}") from error
+                    f"unknown instruction {part!r} (in {sentence!r}): {error}",
+                    TOKEN.findall(part)) from error
             vectors.append(converted.vectors)
-            unknown.extend(converted.oov)
-        self.instructions = parts
+            unknown.append(converted.oov)
         z_w = [self.policy.classify(v) for v in vectors]
+        for part, oov, z in zip(parts, unknown, z_w):
+            if oov and float(np.max(z)) < self.config.unknown_min_confidence:
+                raise UnknownInstructionError(
+                    f"{part!r} (in {sentence!r}): without the unknown word(s) "
+                    f"{', '.join(oov)} it reads as class {CLASS_IDS[int(np.argmax(z))]} with "
+                    f"only {float(np.max(z)):.2f} confidence (< "
+                    f"{self.config.unknown_min_confidence})", oov)
+        unknown = [word for oov in unknown for word in oov]
+        self.instructions = parts
         self.classes = [CLASS_IDS[int(np.argmax(z))] for z in z_w]
         self.z_w = [class_one_hot(z) for z in z_w] if self.config.one_hot_class else z_w
         self.unknown_words = unknown
