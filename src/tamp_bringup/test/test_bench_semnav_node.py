@@ -1,7 +1,8 @@
 """scripts/bench_semnav_node's helpers."""
 import os
 
-from tamp_bringup.bench_semnav_node_main import free_port, rss_mib
+from tamp_bringup.bag_record import free_port
+from tamp_bringup.bench_semnav_node_main import rss_mib
 
 
 def test_node_bench_helpers_measure_this_process():

@@ -14,11 +14,13 @@ background job of a non-interactive shell, `nohup`), and it then dies with
 `TypeError: 'Handlers' object is not callable`. `record` handles SIGINT itself (it closes the
 bag) whatever it inherited.
 """
+import contextlib
 import os
 import shlex
 import signal
 import socket
 import subprocess
+import tempfile
 import time
 from pathlib import Path
 
@@ -128,6 +130,21 @@ def wait_until(check, launch, timeout_s, what):
 def wait_for_master(env, launch, timeout_s=60.0):
     wait_until(lambda: ros_tool(["rostopic", "list"], env) is not None, launch, timeout_s,
                "ROS master")
+
+
+@contextlib.contextmanager
+def own_roscore(timeout_s=60.0):
+    """A roscore on a free port with a temporary ROS_HOME, until the block ends -> the
+    environment of its clients (run_environment)."""
+    with tempfile.TemporaryDirectory() as home:
+        env = run_environment(Path(home), free_port())
+        core = subprocess.Popen(["roscore", "-p", env["ROS_MASTER_URI"].rsplit(":", 1)[1]],
+                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            wait_for_master(env, core, timeout_s)
+            yield env
+        finally:
+            stop(core)
 
 
 def wait_for_sim_time(env, launch, timeout_s=60.0):

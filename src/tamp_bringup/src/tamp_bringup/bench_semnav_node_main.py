@@ -8,13 +8,12 @@ runs.
 import argparse
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-from tamp_bringup.bag_record import free_port, run_environment, stop
+from tamp_bringup.bag_record import own_roscore
 
 READY = "semantic_nav: ready"
 
@@ -52,16 +51,8 @@ def main(root, description=None, argv=None):
     parser.add_argument("--timeout", type=float, default=60.0, help="per start [s]")
     args = parser.parse_args(argv)
     node = Path(root) / "src" / "semantic_nav" / "nodes" / "semantic_nav"
-    port = free_port()
-    with tempfile.TemporaryDirectory() as home:
-        env = run_environment(Path(home), port)
-        core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                                stderr=subprocess.DEVNULL)
-        try:
-            time.sleep(3.0)   # the master and rosout come up
-            runs = [start_once(node, env, args.timeout) for _ in range(args.runs)]
-        finally:
-            stop(core)
+    with own_roscore() as env:
+        runs = [start_once(node, env, args.timeout) for _ in range(args.runs)]
     starts, memory = np.array([r[0] for r in runs]), np.array([r[1] for r in runs])
     print(f"semantic_nav node, {args.runs} starts: ready after p50 {np.median(starts):.2f} s, "
           f"max {starts.max():.2f} s; RSS p50 {np.median(memory):.0f} MiB, "

@@ -13,13 +13,12 @@ import argparse
 import os
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from tamp_bringup.bag_record import free_port, run_environment, stop
+from tamp_bringup.bag_record import own_roscore, stop
 
 CASES = {
     # name: (world file under tamp_resources' config/worlds, launch file or None = node alone)
@@ -164,19 +163,11 @@ def main(root, description=None, argv=None):
                         help="wall seconds from start to the window (loading, range tables)")
     parser.add_argument("--in-process-seconds", type=float, default=5.0)
     args = parser.parse_args(argv)
-    port = free_port()
-    with tempfile.TemporaryDirectory() as home:
-        env = run_environment(Path(home), port)
+    with own_roscore() as env:
         os.environ.update(env)   # the listener (rospy) in this process joins the same master
-        core = subprocess.Popen(["roscore", "-p", str(port)], env=env,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        try:
-            time.sleep(3.0)   # the master and rosout come up
-            listener = Listener()
-            with open(Path(home) / "nodes.log", "w") as log:
-                for name in args.cases:
-                    result = run_case(root, name, listener, env, args, log)
-                    print(line(name, result), flush=True)
-        finally:
-            stop(core)
+        listener = Listener()
+        with open(Path(env["ROS_HOME"]) / "nodes.log", "w") as log:
+            for name in args.cases:
+                result = run_case(root, name, listener, env, args, log)
+                print(line(name, result), flush=True)
     return 0
