@@ -83,13 +83,17 @@ def crowd_world_data(template, robots, people, seconds, seed=0):
     return data
 
 
-def crowd_world(template, robots, people, seconds, seed=0):
+def world_from_data(template, data):
+    """A World of crowd_world_data `data`, with the template's laser models (<world
+    dir>/../lasers, as World.from_file's default)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "crowd.yaml"
-        path.write_text(yaml.safe_dump(crowd_world_data(template, robots, people, seconds,
-                                                        seed)))
-        # the template's laser models: <world dir>/../lasers, as World.from_file's default
+        path.write_text(yaml.safe_dump(data))
         return World.from_file(str(path), str(Path(template).resolve().parent.parent / "lasers"))
+
+
+def crowd_world(template, robots, people, seconds, seed=0):
+    return world_from_data(template, crowd_world_data(template, robots, people, seconds, seed))
 
 
 def run_crowd(world, seconds, steer, windowed=True):
@@ -117,8 +121,9 @@ def bench_crowds(template, steer, seconds, robot_counts=(1, 4, 8), people_counts
     for robots in robot_counts:
         for people in people_counts:
             row = {"robots": robots, "people": people}
+            data = crowd_world_data(template, robots, people, seconds)
             for windowed in (True, False):
-                world = crowd_world(template, robots, people, seconds)
+                world = world_from_data(template, data)
                 factor, scans = run_crowd(world, seconds, steer, windowed)
                 row["windowed" if windowed else "every_beam"] = factor
                 row["scans"] = scans
