@@ -62,6 +62,12 @@ def _phrases(entry, set_name, tag=None):
             for split in SPLITS for text in entry.get(split) or []]
 
 
+def _by_kind(entry, set_name, kinds):
+    """The phrases of a set split by kind ({kind: {train: ..., held_out: ...}}), each tagged
+    with its kind; [] for a set left out."""
+    return [p for kind in kinds for p in _phrases(entry[kind], set_name, kind)] if entry else []
+
+
 def load_phrase_sets(path):
     """config/semnav_phrases.yaml -> {set name: [Phrase]} (class_turn expanded to both sides)."""
     config = yaml.safe_load(Path(path).read_text())
@@ -74,17 +80,15 @@ def load_phrase_sets(path):
     sets["class_turn"] = [Phrase("class_turn", p.text.format(dir=side), p.split, side)
                           for p in _phrases(config["class_turn"], "class_turn")
                           for side in SIDES]
-    sets["suffix_turn_change"] = [p for kind in CHANGE_KINDS for p in _phrases(
-        config["suffix_turn_change"][kind], "suffix_turn_change", kind)]
+    sets["suffix_turn_change"] = _by_kind(config["suffix_turn_change"], "suffix_turn_change",
+                                          CHANGE_KINDS)
     optional = {name: config.get(name) for name in OPTIONAL_SETS}
     sets["class_turn_counted"] = [
-        Phrase("class_turn_counted", p.text.format(dir=side), p.split, (side, kind))
-        for kind in COUNTED_KINDS if optional["class_turn_counted"]
-        for p in _phrases(optional["class_turn_counted"][kind], "class_turn_counted")
+        Phrase("class_turn_counted", p.text.format(dir=side), p.split, (side, p.tag))
+        for p in _by_kind(optional["class_turn_counted"], "class_turn_counted", COUNTED_KINDS)
         for side in SIDES]
-    sets["prefix_turn_change"] = [
-        p for kind in COUNTED_KINDS if optional["prefix_turn_change"]
-        for p in _phrases(optional["prefix_turn_change"][kind], "prefix_turn_change", kind)]
+    sets["prefix_turn_change"] = _by_kind(optional["prefix_turn_change"], "prefix_turn_change",
+                                          COUNTED_KINDS)
     for name in ("suffix_turn_next", "end_join"):
         sets[name] = _phrases(optional[name], name) if optional[name] else []
     others = config["others"]
