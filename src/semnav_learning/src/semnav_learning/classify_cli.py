@@ -54,21 +54,16 @@ def phrasing_accuracy(follower, sets, split, count, seed):
 
 def blind_accuracy(follower, path):
     """Print the blind set's score (semnav_learning.blind_set) -> the accuracy."""
-    from semantic_nav.follower import UnknownInstructionError
-    from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
-                                                check_followable)
+    from semantic_nav.follow_session import FollowSession, InstructionRefused
     from semnav_learning.blind_set import (BlindSetError, format_blind_score, load_blind_set,
                                            score_blind_set)
     try:
         entries = load_blind_set(path)
     except BlindSetError as error:
         sys.exit(f"classify_instruction: --blind: {error}")
-    def read(text):   # as the robot reads it: refuse what it must not try, then classify
-        check_followable(text, follower.word_vectors)
-        return follower.start(text)
-
-    score = score_blind_set(entries, read, (UnknownInstructionError, UnfollowableInstruction,
-                                            InstructionError))
+    # as the node reads a sentence: its refusals, its splitting, Z_w
+    score = score_blind_set(entries, lambda text: FollowSession(follower, text, 0.0, 0.0).classes,
+                            (InstructionRefused,))
     print("\n".join(format_blind_score(score)))
     return score.accuracy
 
