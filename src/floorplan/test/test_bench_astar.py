@@ -1,4 +1,7 @@
 """scripts/bench_astar's logic: both planners on the household map, figures and equal lengths."""
+import re
+
+import numpy as np
 import pytest
 
 from floorplan import bench_astar_main as bench
@@ -13,7 +16,14 @@ def test_household_benchmark_prints_both_planners_and_equal_lengths(capsys):
         assert pattern in out
     assert out.count("reference A* (pure Python)") == 4 and out.count("p99") == 8
     assert "21 calls" in out and "3 calls" in out           # C(7, 2) place pairs, --pairs 3
-    assert out.count("lengths that differ: 0") == 4
+    assert out.count("lengths that differ: 0") == 5
+    whole = out.splitlines()[-1]          # the map's sum over its four patterns
+    assert whole.startswith("  household, all patterns: reference ")
+    totals = [float(t) for t in re.findall(r"total +([0-9.]+) ms", out)]
+    old, new = sum(totals[0::2]), sum(totals[1::2])      # reference, csgraph, per pattern
+    shown = [float(v) for v in re.findall(r"([0-9.]+) ms", whole)]
+    assert shown == pytest.approx([old, new], abs=0.21)   # each total rounded to 0.1 ms
+    assert f"speed-up {old / new:.1f}x" in whole or f"speed-up {shown[0] / shown[1]:.1f}x" in whole
 
 
 def test_a_length_that_differs_is_counted(monkeypatch):
@@ -26,7 +36,7 @@ def test_a_length_that_differs_is_counted(monkeypatch):
     monkeypatch.setattr(bench, "PLANNERS", (("a", lambda *a, **k: Path()),
                                             ("b", lambda *a, **k: Longer())))
     lines = []
-    _, differ = bench.report("x", [((), {}), ((), {})], lines.append)
+    _, _, differ = bench.report("x", [((), {}), ((), {})], lines.append)
     assert differ == 2 and "lengths that differ: 2" in lines[-1]
 
 
@@ -38,3 +48,21 @@ def test_bad_arguments_are_named(argv, message, capsys):
     with pytest.raises(SystemExit):
         bench.main(argv)
     assert message in capsys.readouterr().err
+
+
+def test_connected_pair_skips_cells_that_cannot_reach_each_other():
+    blocked = np.zeros((6, 9), dtype=bool)
+    blocked[:, 4] = True                                   # two rooms, no door
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        start, goal = bench.connected_pair(blocked, 1.0, rng)
+        assert (start[1] < 4) == (goal[1] < 4) and start != goal   # two cells of one room
+    with pytest.raises(RuntimeError, match="no connected pair"):
+        bench.connected_pair(_isolated_cells(), 1.0, rng, tries=5)
+
+
+def _isolated_cells():
+    """A 3x3 grid whose free cells (corners) touch no other free cell, even diagonally."""
+    blocked = np.ones((3, 3), dtype=bool)
+    blocked[0, 0] = blocked[2, 2] = False
+    return blocked

@@ -12,7 +12,7 @@ the path lengths they find:
 - `replan`: the move_base mock's pattern: one goal, starts every `--stride` cells along the path
   towards it, on the map inflated by 0.4 m with a navfn-style cell penalty (cost factor 3,
   costmap_2d decay 10 /m up to 0.75 m); for the place pair with the longest route and the one
-  farthest apart in a straight line (or a random pair when the map has no graph);
+  farthest apart in a straight line (or a random connected pair when the map has no graph);
 - `random`: `--pairs` independent pairs of free cells on the map inflated by 0.4 m.
 
 The cache starts empty for each pattern, so graph building counts in the first call.
@@ -96,7 +96,7 @@ def percentile_ms(times, q):
 
 def report(name, calls, out=print):
     """Times both planners over `calls`; prints their figures and the length comparison.
-    Returns (reference total / new total, number of lengths that differ)."""
+    Returns (reference total [s], new total [s], number of lengths that differ)."""
     out(f"  {name}: {len(calls)} calls")
     results = []
     for label, planner in PLANNERS:
@@ -113,30 +113,43 @@ def report(name, calls, out=print):
         f"{np.percentile(old_times, 50) / np.percentile(new_times, 50):.1f}x; paths found "
         f"{len(found)}/{len(calls)}, total length {sum(found):.3f} m, lengths that differ: "
         f"{differ}")
-    return speedup, differ
+    return sum(old_times), sum(new_times), differ
 
 
 def bench_map(name, pairs, seed, stride, out=print):
-    """All patterns on maps/<name>.yaml; returns the number of lengths that differ."""
+    """All patterns on maps/<name>.yaml, then their sum for the whole map; returns the number
+    of lengths that differ."""
     grid = load_map(resource("maps", f"{name}.yaml"))
     out(f"{name}: {grid.height}x{grid.width} cells at {grid.resolution} m")
     blocked = inflate_obstacles(grid.occupied_mask(), grid.resolution, PLANNER_RADIUS)
     rng = np.random.default_rng(seed)
     graph_file = resource("maps", f"{name}.graph.yaml")
-    differ, goals = 0, []
+    results = []
     if graph_file.is_file():
         calls = place_calls(grid, load_graph(graph_file))
-        differ += report(f"places (every pair, robot radius {GRAPH_RADIUS} m)", calls, out)[1]
+        results.append(report(f"places (every pair, robot radius {GRAPH_RADIUS} m)", calls, out))
         goals = replan_pairs(calls, blocked, grid.resolution)
     else:
-        goals = [("a random pair", random_calls(blocked, grid.resolution, 1, rng)[0][0][1:3])]
+        goals = [("a random connected pair", connected_pair(blocked, grid.resolution, rng))]
     for what, (start, goal) in goals:
-        differ += report(f"replan ({what}: one goal, a start every {stride} cells, cost "
-                         f"penalty)", replan_calls(blocked, grid.resolution, start, goal, stride),
-                         out)[1]
-    differ += report(f"random (independent pairs, inflated by {PLANNER_RADIUS} m)",
-                     random_calls(blocked, grid.resolution, pairs, rng), out)[1]
+        results.append(report(f"replan ({what}: one goal, a start every {stride} cells, cost "
+                              f"penalty)",
+                              replan_calls(blocked, grid.resolution, start, goal, stride), out))
+    results.append(report(f"random (independent pairs, inflated by {PLANNER_RADIUS} m)",
+                          random_calls(blocked, grid.resolution, pairs, rng), out))
+    old, new, differ = (sum(column) for column in zip(*results))
+    out(f"  {name}, all patterns: reference {1e3 * old:.1f} ms, csgraph {1e3 * new:.1f} ms, "
+        f"speed-up {old / new:.1f}x, lengths that differ: {differ}")
     return differ
+
+
+def connected_pair(blocked, resolution, rng, tries=100):
+    """A random pair of distinct free cells joined by a path (drawn until one is)."""
+    for _ in range(tries):
+        (_, start, goal, _), _ = random_calls(blocked, resolution, 1, rng)[0]
+        if start != goal and astar(blocked, start, goal, resolution) is not None:
+            return start, goal
+    raise RuntimeError(f"bench_astar: no connected pair of free cells in {tries} draws")
 
 
 def replan_pairs(calls, blocked, resolution):
