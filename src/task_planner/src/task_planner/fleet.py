@@ -1,0 +1,241 @@
+"""Several robots serving one instruction set (thesis 000 Chapter 6, future work: "expand the
+system with regard to multiple robots"), ROS-free.
+
+Timing rule of a fleet (the single robot's rule of `problem`, per robot): robot r stands on
+`starts[r].node` and is free from `starts[r].free_at`; it drives shortest paths at the problem's
+speed and serves its instructions one after the other. An instruction starts no earlier than its
+launch, its robot's arrival and its predecessor's completion (`previous_id`, served by any robot),
+takes its `duration`, and earns Eq. 4-2 at its completion. The fleet's reward is the sum.
+
+`run_fleet` runs an allocator online: instructions appear at their launch, the robot that is free
+first decides next, and an instruction a robot decided to serve is claimed (no other robot takes
+it). Allocators: `PerRobotPlanners` (the seed's planner extended greedily: each robot runs a
+single-robot planner on the instructions nobody has claimed) and `SequentialAuction`. The exact
+optimum over all assignments and orders is `fleet_exact.fleet_exact_optimum`.
+"""
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from task_planner.planner_api import NODE, TARGET, kind_of
+from task_planner.reward import decayed_reward
+
+
+@dataclass(frozen=True)
+class RobotStart:
+    """Where a robot stands and from when it is free [s] (busy until then)."""
+
+    node: int
+    free_at: float = 0.0
+
+
+class FleetDeadlock(ValueError):
+    """The robots' orders and the instruction chains wait on each other."""
+
+
+def check_starts(problem, starts):
+    """ValueError naming the robot whose start is outside the graph or not a finite time."""
+    if not starts:
+        raise ValueError("a fleet needs at least one robot")
+    for r, start in enumerate(starts):
+        if not 0 <= start.node < problem.graph.size:
+            raise ValueError(f"robot {r}: start node {start.node} is not in the graph")
+        if not np.isfinite(start.free_at) or start.free_at < 0:
+            raise ValueError(f"robot {r}: free_at must be a finite time >= 0, "
+                             f"got {start.free_at}")
+
+
+def fleet_completion(problem, orders, starts):
+    """Completion time [s] of every served instruction (dict index -> time) when robot r serves
+    `orders[r]` in order under the fleet's timing rule.
+
+    Raises FleetDeadlock when an instruction's predecessor is served by nobody or the orders and
+    chains wait on each other; ValueError when an instruction is in two orders.
+    """
+    check_starts(problem, starts)
+    if len(orders) != len(starts):
+        raise ValueError(f"{len(orders)} orders for {len(starts)} robots")
+    listed = [int(i) for order in orders for i in order]
+    if len(set(listed)) != len(listed):
+        raise ValueError("an instruction is in two orders (or twice in one)")
+    p = problem
+    position, node = [0] * len(orders), [s.node for s in starts]
+    clock, done = [float(s.free_at) for s in starts], {}
+    while len(done) < len(listed):
+        progressed = False
+        for r, order in enumerate(orders):
+            while position[r] < len(order):
+                i = int(order[position[r]])
+                before = int(p.predecessor[i])
+                if before >= 0 and before not in done:
+                    if before not in listed:
+                        raise FleetDeadlock(f"instruction {p.ids[i]} is served but its "
+                                            f"predecessor {p.ids[before]} is not")
+                    break
+                arrive = clock[r] + p.travel_s[node[r], p.node[i]]
+                start = max(arrive, p.launch[i], done.get(before, 0.0))
+                clock[r], node[r] = start + p.duration[i], int(p.node[i])
+                done[i] = clock[r]
+                position[r] += 1
+                progressed = True
+        if not progressed:
+            raise FleetDeadlock("the robots' orders and the instruction chains wait on each "
+                                "other")
+    return done
+
+
+def completion_reward(problem, completion):
+    """Sum of Eq. 4-2 over a dict index -> completion time [s]."""
+    if not completion:
+        return 0.0
+    index = np.fromiter(completion, dtype=int)
+    finish = np.fromiter(completion.values(), dtype=float)
+    return float(decayed_reward(problem.gamma[index], problem.beta[index],
+                                finish - problem.launch[index]).sum())
+
+
+def fleet_reward(problem, orders, starts):
+    """The fleet's accumulated reward (sum of Eq. 4-2) of serving `orders`."""
+    return completion_reward(problem, fleet_completion(problem, orders, starts))
+
+
+@dataclass
+class FleetRun:
+    """What an allocator did: each robot's service order and every completion time."""
+
+    orders: list                                     # per robot: instruction indices in order
+    completion: dict                                 # index -> completion time [s]
+    decision_calls: list = field(default_factory=list)   # wall time of each decision [s]
+
+    def reward(self, problem):
+        return completion_reward(problem, self.completion)
+
+
+@dataclass
+class FleetView:
+    """What an allocator may know when robot `robot` decides: every robot's node and the time it
+    is free, the instructions launched so far that nobody has claimed (`open`), and the
+    completion times of the claimed ones (`done`, possibly in the future)."""
+
+    robot: int
+    nodes: list
+    clocks: list
+    open: np.ndarray
+    done: dict
+
+
+def run_fleet(problem, starts, allocator):
+    """Run `allocator` online on `problem` with robots at `starts`; returns a FleetRun.
+
+    The free robot with the earliest clock decides: it is given the instructions it could start
+    now (launched, unclaimed, predecessor completed). The allocator answers ("serve", i) for one
+    on the robot's node, ("move", neighbour), ("target", i) (drive there and serve it; claimed at
+    once) or ("wait", None) (decide again after the next event: a launch, a completion, another
+    robot becoming free).
+    """
+    check_starts(problem, starts)
+    p = problem
+    allocator.reset(p, starts)
+    robots = [_Robot(s.node, float(s.free_at)) for s in starts]
+    pending, done = set(range(p.count)), {}
+    run = FleetRun(orders=[[] for _ in starts], completion=done)
+    while pending:
+        r = min(range(len(robots)), key=lambda k: (robots[k].clock, robots[k].yielded, k))
+        robot = robots[r]
+        available = _available(p, pending, done, robot.clock)
+        if not len(available):
+            robot.clock = _next_event(p, pending, done, robots, robot.clock)
+            continue
+        view = FleetView(r, [b.node for b in robots], [b.clock for b in robots],
+                         _known(p, pending, robot.clock), done)
+        started = time.perf_counter()
+        action, value = allocator.decide(view, available)
+        run.decision_calls.append(time.perf_counter() - started)
+        if action == "wait":
+            later = _next_event(p, pending, done, robots, robot.clock, strict=True)
+            if later is not None:
+                robot.clock = later
+            elif any(b.clock == robot.clock and not b.yielded
+                     for k, b in enumerate(robots) if k != r):
+                robot.yielded = True          # let the others at this time decide first
+            else:
+                raise RuntimeError(f"allocator: robot {r} waits while instructions are "
+                                   f"available and nothing else can happen")
+            continue
+        for b in robots:
+            b.yielded = False
+        if action == "move":
+            length_s = p.edge_s[robot.node, value]
+            if length_s <= 0:
+                raise RuntimeError(f"allocator moved robot {r} from node {robot.node} to "
+                                   f"non-neighbour {value}")
+            robot.clock += length_s
+            robot.node = int(value)
+            continue
+        index = int(value)
+        if index not in available:
+            raise RuntimeError(f"allocator gave robot {r} instruction {index}, which it cannot "
+                               f"start now")
+        if action == "serve" and p.node[index] != robot.node:
+            raise RuntimeError(f"allocator served instruction {index} away from its node")
+        robot.clock += p.travel_s[robot.node, p.node[index]]
+        robot.node = int(p.node[index])
+        robot.clock = max(robot.clock, p.launch[index]) + p.duration[index]
+        pending.discard(index)
+        done[index] = robot.clock
+        run.orders[r].append(index)
+    return run
+
+
+@dataclass
+class _Robot:
+    node: int
+    clock: float
+    yielded: bool = False    # waited at this clock for the others to decide first
+
+
+def _available(p, pending, done, clock):
+    return np.array(sorted(i for i in pending if p.launch[i] <= clock and (
+        p.predecessor[i] < 0 or done.get(int(p.predecessor[i]), np.inf) <= clock)), dtype=int)
+
+
+def _known(p, pending, clock):
+    return np.array(sorted(i for i in pending if p.launch[i] <= clock), dtype=int)
+
+
+def _next_event(p, pending, done, robots, clock, strict=False):
+    """The earliest time after `clock` at which something may change: a launch, a completion,
+    another robot's clock. None (strict) or RuntimeError when there is none."""
+    times = [p.launch[i] for i in pending if p.launch[i] > clock]
+    times += [t for t in done.values() if t > clock]
+    times += [b.clock for b in robots if b.clock > clock]
+    if times:
+        return float(min(times))
+    if strict:
+        return None
+    raise RuntimeError("pending instructions can never become available")
+
+
+class PerRobotPlanners:
+    """The seed's planner extended to a fleet greedily: every robot runs its own single-robot
+    planner (a node or target planner of `planner_registry`) on the instructions nobody has
+    claimed. Robots do not coordinate; two may head for the same instruction, and the one that
+    arrives first serves it."""
+
+    def __init__(self, make_planner, name):
+        self.make_planner, self.name = make_planner, name
+
+    def reset(self, problem, starts):
+        self.planners = [self.make_planner() for _ in starts]
+        for planner in self.planners:
+            planner.reset(problem)
+
+    def decide(self, view, available):
+        planner = self.planners[view.robot]
+        node, clock = view.nodes[view.robot], view.clocks[view.robot]
+        if kind_of(planner) == NODE:
+            return planner.decide(node, clock, available)
+        if kind_of(planner) == TARGET:
+            return "target", planner.choose(node, clock, available)
+        raise ValueError(f"{planner.name}: a fleet robot runs node or target planners")

@@ -1,0 +1,130 @@
+"""Sequential single-item auction over a fleet (S. Koenig et al., "The power of sequential
+single-item auctions for agent coordination", AAAI 2006), re-run online whenever a robot is free.
+
+Each round, every robot bids for every unallocated instruction, and the highest bid over all
+robots and instructions wins. Up to `insertion_limit` open instructions a bid is the reward the
+robot's plan gains by taking it (Eq. 4-2 summed over its plan, the instruction inserted where it
+earns most); above it, a bid is the reward rate of appending it (its reward over the time from the
+plan's end to its completion, the rollout planner's rule), which keeps a decision O(n^2 k).
+Rounds go on until every instruction that can be planned is allocated. A successor is auctioned
+once its predecessor is done, claimed or allocated, and starts after that predecessor's (planned)
+completion. The free robot then serves the first instruction of its plan; the other plans are
+provisional, the auction is re-run at every decision, so new instructions count at once.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+_TIE = 1e-12   # gains closer than this are equal (the lower robot, then instruction, wins)
+_MIN_STEP_S = 1e-9   # guards the reward rate of an instruction that takes no time
+
+
+@dataclass
+class AuctionConfig:
+    insertion_limit: int = 15   # open instructions up to which bids try every insertion point;
+    #                             above it, bids append (the auction stays O(n^2 k) per decision)
+
+
+class SequentialAuction:
+    """Online fleet allocator: the sequential single-item auction, re-run at every decision."""
+
+    name = "Auction"
+
+    def __init__(self, config=None):
+        self.config = config or AuctionConfig()
+
+    def reset(self, problem, starts):
+        self.problem = problem
+
+    def decide(self, view, available):
+        plans = self.allocate(view)
+        mine = plans[view.robot]
+        startable = set(available.tolist())
+        if mine and mine[0] in startable:
+            return "target", mine[0]
+        others_act = any(plan and plan[0] in startable for r, plan in enumerate(plans)
+                         if r != view.robot)
+        if mine or others_act:
+            return "wait", None             # its first needs a predecessor, or others serve all
+        return "target", self._best_alone(view, available)
+
+    def allocate(self, view):
+        """Every robot's plan (instruction indices in order) after the auction."""
+        p = self.problem
+        plans = [[] for _ in view.nodes]
+        planned = dict(view.done)            # index -> (planned) completion time
+        open_items = [int(i) for i in view.open]
+        insertion = len(open_items) <= self.config.insertion_limit
+        values = [0.0] * len(plans)
+        while True:
+            ready = [i for i in open_items if i not in planned and (
+                p.predecessor[i] < 0 or int(p.predecessor[i]) in planned)]
+            if not ready:
+                return plans
+            if insertion:
+                gain, r, plan, finish, value = self._best_insertion(view, plans, values,
+                                                                    planned, ready)
+            else:
+                gain, r, plan, finish, value = self._best_append(view, plans, values,
+                                                                 planned, ready)
+            plans[r], values[r] = plan, value
+            planned.update(zip(plan, finish))
+
+    def _best_insertion(self, view, plans, values, planned, ready):
+        best = None
+        for r, plan in enumerate(plans):
+            for i in ready:
+                before = int(self.problem.predecessor[i])
+                lowest = plan.index(before) + 1 if before in plan else 0
+                for at in range(lowest, len(plan) + 1):
+                    trial = plan[:at] + [i] + plan[at:]
+                    finish, value = self._timeline(view, r, trial, planned)
+                    gain = value - values[r]
+                    if best is None or gain > best[0] + _TIE:
+                        best = (gain, r, trial, finish, value)
+        return best
+
+    def _best_append(self, view, plans, values, planned, ready):
+        """Append bids of every robot for every ready instruction, as arrays."""
+        p = self.problem
+        items = np.array(ready)
+        ends = [self._end(view, r, plan, planned) for r, plan in enumerate(plans)]
+        node = np.array([e[0] for e in ends])
+        clock = np.array([e[1] for e in ends])
+        before = p.predecessor[items]
+        after = np.array([planned.get(int(b), 0.0) if b >= 0 else 0.0 for b in before])
+        finish = np.maximum(np.maximum(clock[:, None] + p.travel_s[node][:, p.node[items]],
+                                       p.launch[items]), after) + p.duration[items]
+        gain = p.gamma[items] * np.power(p.beta[items], finish - p.launch[items])
+        rate = gain / np.maximum(finish - clock[:, None], _MIN_STEP_S)
+        r, k = np.unravel_index(int(np.argmax(rate)), rate.shape)
+        plan = plans[r] + [int(items[k])]
+        finish_r, value = self._timeline(view, r, plan, planned)
+        return float(gain[r, k]), int(r), plan, finish_r, value
+
+    def _end(self, view, r, plan, planned):
+        if not plan:
+            return view.nodes[r], view.clocks[r]
+        return int(self.problem.node[plan[-1]]), planned[plan[-1]]
+
+    def _timeline(self, view, r, plan, planned):
+        """(completion times, reward) of robot r serving `plan` from where it is free."""
+        p = self.problem
+        node, clock, finish, value, own = view.nodes[r], view.clocks[r], [], 0.0, {}
+        for i in plan:
+            before = int(p.predecessor[i])
+            after = own.get(before, planned.get(before, 0.0)) if before >= 0 else 0.0
+            clock = max(clock + p.travel_s[node, p.node[i]], p.launch[i], after) + p.duration[i]
+            node = int(p.node[i])
+            own[i] = clock
+            finish.append(clock)
+            value += p.gamma[i] * p.beta[i] ** (clock - p.launch[i])
+        return finish, value
+
+    def _best_alone(self, view, available):
+        """The available instruction that earns robot `view.robot` most, served next."""
+        p, r = self.problem, view.robot
+        finish = np.maximum(view.clocks[r] + p.travel_s[view.nodes[r], p.node[available]],
+                            p.launch[available]) + p.duration[available]
+        gain = p.gamma[available] * np.power(p.beta[available], finish - p.launch[available])
+        return int(available[int(np.argmax(gain))])

@@ -1,0 +1,120 @@
+"""Exact fleet optimum: the label-setting DP of `exact` extended to k robots (the reference the
+fleet allocators are measured against), for small sets.
+
+A label is (every robot's time, reward, every robot's order) after serving a set S of instructions
+with the robots standing on given nodes. It is extended by one instruction served next by one
+robot, layer by layer (|S| = 0, 1, ...), under the fleet's timing rule (`fleet`). Within a (S,
+nodes) key, a label whose robots are all free no later, whose chain heads (served instructions
+with an unserved successor) were completed no later and whose reward is no lower dominates
+another. A label is dropped when its reward plus an admissible bound (each remaining instruction
+served as if the robot that can reach it first drove there directly next) cannot beat the best
+complete assignment known, seeded by the auction. Robots with the same start are interchangeable,
+so robot r takes instructions only once robot r - 1 with the same start has one. The result is
+optimal over every assignment and order that respects the chains, with full knowledge of the
+launches (a clairvoyant bound for online allocators).
+"""
+import time
+
+import numpy as np
+
+from task_planner.baselines import PlannerTooLarge
+from task_planner.exact import SolverTimeout
+from task_planner.fleet import check_starts, fleet_reward, run_fleet
+from task_planner.fleet_auction import SequentialAuction
+
+_TOLERANCE = 1e-12
+
+
+def fleet_exact_optimum(problem, starts, max_instructions=12, time_limit_s=None):
+    """(orders per robot, reward) of the best assignment and order of every instruction.
+
+    Raises PlannerTooLarge above `max_instructions` and SolverTimeout past `time_limit_s`.
+    """
+    check_starts(problem, starts)
+    p, k = problem, len(starts)
+    if p.count > max_instructions:
+        raise PlannerTooLarge(f"fleet exact optimum: {p.count} instructions exceed the limit "
+                              f"of {max_instructions}")
+    seed = run_fleet(p, starts, SequentialAuction()).orders
+    best_orders, best_reward = [list(o) for o in seed], fleet_reward(p, seed, starts)
+    deadline = None if time_limit_s is None else time.perf_counter() + time_limit_s
+    twin = [r > 0 and starts[r] == starts[r - 1] for r in range(k)]
+    heads = {int(b) for b in p.predecessor if b >= 0}
+    empty = tuple(() for _ in range(k))
+    start = (tuple(float(s.free_at) for s in starts), 0.0, empty, {})
+    layer = {(0, tuple(s.node for s in starts)): [start]}
+    for _ in range(p.count):
+        following = {}
+        for (served, nodes), labels in layer.items():
+            if deadline is not None and time.perf_counter() > deadline:
+                raise SolverTimeout(f"fleet exact optimum: {p.count} instructions, {k} robots: "
+                                    f"time limit exceeded")
+            for label in labels:
+                if label[1] + _bound(p, served, nodes, label) < best_reward - _TOLERANCE:
+                    continue
+                _extend(p, served, nodes, label, twin, heads, following)
+        layer = following
+    for labels in layer.values():
+        for clocks, reward, orders, _ in labels:
+            if reward > best_reward + _TOLERANCE:
+                best_reward, best_orders = reward, [list(o) for o in orders]
+    return best_orders, best_reward
+
+
+def _extend(p, served, nodes, label, twin, heads, following):
+    """Every label with one more instruction served by one robot, added without dominated ones."""
+    clocks, reward, orders, done = label
+    for i in range(p.count):
+        before = int(p.predecessor[i])
+        if served >> i & 1 or (before >= 0 and not served >> before & 1):
+            continue
+        after = done.get(before, 0.0)
+        for r in range(len(nodes)):
+            if twin[r] and not orders[r - 1]:
+                continue
+            finish = max(clocks[r] + p.travel_s[nodes[r], p.node[i]], p.launch[i], after) \
+                + p.duration[i]
+            gain = p.gamma[i] * p.beta[i] ** (finish - p.launch[i])
+            new_done = done
+            if i in heads:
+                new_done = dict(done)
+                new_done[i] = finish
+            key = (served | 1 << i, nodes[:r] + (int(p.node[i]),) + nodes[r + 1:])
+            new = (clocks[:r] + (finish,) + clocks[r + 1:], reward + gain,
+                   orders[:r] + (orders[r] + (i,),) + orders[r + 1:], new_done)
+            _insert(following.setdefault(key, []), new, p, key[0])
+
+
+def _open_heads(p, served, done):
+    """Completion times of served chain heads whose successor is not served yet."""
+    return {h: t for h, t in done.items()
+            if any(int(b) == h and not served >> s & 1 for s, b in enumerate(p.predecessor))}
+
+
+def _dominates(a, b, p, served):
+    if a[1] < b[1] or any(x > y for x, y in zip(a[0], b[0])):
+        return False
+    heads_a, heads_b = _open_heads(p, served, a[3]), _open_heads(p, served, b[3])
+    return all(heads_a[h] <= heads_b[h] for h in heads_b)
+
+
+def _insert(labels, label, p, served):
+    """Keep `labels` free of dominated labels."""
+    if any(_dominates(other, label, p, served) for other in labels):
+        return
+    labels[:] = [o for o in labels if not _dominates(label, o, p, served)]
+    labels.append(label)
+
+
+def _bound(p, served, nodes, label):
+    """Admissible bound on the reward still to come: each remaining instruction finished when
+    the first robot able to reach it could, driving there directly next."""
+    remaining = np.array([i for i in range(p.count) if not served >> i & 1], dtype=int)
+    if not len(remaining):
+        return 0.0
+    clocks, _, _, done = label
+    arrive = (np.array(clocks)[:, None] + p.travel_s[list(nodes)][:, p.node[remaining]]).min(0)
+    after = np.array([done.get(int(p.predecessor[i]), 0.0) for i in remaining])
+    finish = np.maximum(np.maximum(arrive, p.launch[remaining]), after) + p.duration[remaining]
+    return float((p.gamma[remaining] * np.power(p.beta[remaining],
+                                                finish - p.launch[remaining])).sum())
