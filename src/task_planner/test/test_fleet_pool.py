@@ -1,0 +1,132 @@
+"""The fleet's shared pool: claims are exclusive across processes, a dead robot's claims return
+after its lease, and nothing is served twice or lost."""
+import multiprocessing
+import os
+import signal
+import sqlite3
+import time
+
+import pytest
+
+from task_planner.fleet_pool import CLAIMED, DONE, FleetPool, FleetPoolError, LeaseLost
+
+FORK = multiprocessing.get_context("fork")
+
+
+def test_a_claim_is_exclusive_until_its_lease_runs_out():
+    pool = FleetPool(":memory:", lease_s=10.0)
+    pool.add([1, 2])
+    assert pool.claim("a", 1, now=0.0)
+    assert not pool.claim("b", 1, now=5.0)             # a holds it
+    assert pool.claimable(5.0) == [2]
+    assert pool.renew("a", now=9.0) == [1]             # held until 19
+    assert not pool.claim("b", 1, now=15.0)
+    assert pool.claimable(19.5) == [1, 2]              # a stopped renewing
+    assert pool.claim("b", 1, now=19.5)
+    with pytest.raises(LeaseLost, match="robot 'a' does not hold instruction 1 .* held by 'b'"):
+        pool.complete("a", 1, now=20.0)
+    pool.complete("b", 1, now=21.0)
+    entry = pool.entries()[0]
+    assert (entry.state, entry.robot, entry.completion_time, entry.claims) == (DONE, "b", 21.0, 2)
+    assert not pool.claim("a", 1, now=100.0)           # done stays done
+    assert pool.renew("a", now=100.0) == []
+
+
+def test_released_and_bad_requests():
+    pool = FleetPool(":memory:", lease_s=1.0)
+    pool.add([7])
+    pool.add([7])                                      # already there: left as it is
+    assert pool.claim("a", 7, 0.0)
+    pool.release("a", 7)
+    assert pool.claimable(0.1) == [7]
+    with pytest.raises(LeaseLost, match="instruction 8 at 0.000 s: not in the pool"):
+        pool.complete("a", 8, 0.0)
+    with pytest.raises(FleetPoolError, match="non-empty string"):
+        pool.claim("", 7, 0.0)
+    with pytest.raises(FleetPoolError, match="lease_s must be > 0"):
+        FleetPool(":memory:", lease_s=0)
+
+
+def test_a_foreign_file_is_refused(tmp_path):
+    path = tmp_path / "other.db"
+    db = sqlite3.connect(path)
+    db.execute("CREATE TABLE people (name TEXT)")
+    db.commit()
+    db.close()
+    with pytest.raises(FleetPoolError, match="other.db: not a task buffer journal"):
+        FleetPool(path)
+
+
+def _claim_everything(path, robot, ids, queue):
+    pool = FleetPool(path, lease_s=1000.0)
+    queue.put((robot, [i for i in ids if pool.claim(robot, i, now=1.0)]))
+
+
+def test_processes_racing_for_the_same_ids_never_share_one(tmp_path):
+    path = str(tmp_path / "pool.db")
+    ids = list(range(1, 201))
+    FleetPool(path).add(ids)
+    queue = FORK.Queue()
+    workers = [FORK.Process(target=_claim_everything, args=(path, f"r{k}", ids[::1 - 2 * (k % 2)],
+                                                            queue)) for k in range(4)]
+    for w in workers:
+        w.start()
+    results = dict(queue.get(timeout=60) for _ in workers)
+    for w in workers:
+        w.join(timeout=10)
+    won = [i for got in results.values() for i in got]
+    assert sorted(won) == ids                          # every id once, by exactly one robot
+
+
+def _serve(path, robot, lease_s, service_s, hang_after, log):
+    """A robot's loop: claim what is claimable, serve it (sleep), complete it; with `hang_after`
+    it stops for good after that many claims, holding the last (killed there by the test)."""
+    pool = FleetPool(path, lease_s=lease_s)
+    claimed = 0
+    while True:
+        now = time.time()
+        ids = pool.claimable(now)
+        if not ids:
+            if all(e.state == DONE for e in pool.entries()):
+                return
+            time.sleep(0.02)
+            continue
+        got = next((i for i in ids if pool.claim(robot, i, now)), None)
+        if got is None:
+            continue
+        claimed += 1
+        if claimed == hang_after:
+            log.put((robot, "holds", got))
+            time.sleep(600)
+        time.sleep(service_s)
+        pool.complete(robot, got, time.time())
+        log.put((robot, "done", got))
+
+
+def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
+    path = str(tmp_path / "pool.db")
+    ids = list(range(1, 31))
+    pool = FleetPool(path, lease_s=0.5)
+    pool.add(ids)
+    log = FORK.Queue()
+    a = FORK.Process(target=_serve, args=(path, "a", 0.5, 0.02, 4, log))
+    b = FORK.Process(target=_serve, args=(path, "b", 0.5, 0.02, None, log))
+    a.start()
+    b.start()
+    events = []
+    while not any(event[1] == "holds" for event in events):
+        events.append(log.get(timeout=30))
+    held = next(event[2] for event in events if event[1] == "holds")
+    os.kill(a.pid, signal.SIGKILL)                     # dies holding `held`
+    a.join(timeout=10)
+    b.join(timeout=60)
+    assert b.exitcode == 0
+    while not log.empty():
+        events.append(log.get(timeout=5))
+    served = [(robot, i) for robot, what, i in events if what == "done"]
+    assert sorted(i for _, i in served) == ids         # each served once, none lost
+    assert ("b", held) in served
+    entries = {e.id: e for e in pool.entries()}
+    assert all(e.state == DONE for e in entries.values())
+    assert entries[held].robot == "b" and entries[held].claims == 2
+    assert not any(e.state == CLAIMED for e in entries.values())
