@@ -66,5 +66,34 @@ def test_online_counter_joins_the_other_side_of_a_crossroad_and_resets():
     assert counter.observe((1.0, 1.0)) == 0 and counter.travel == 0.0
 
 
+def _online_counts(sides_per_step, side):
+    counter = CornerCounter(CornerCountConfig(min_width=1.0))
+    counter.reset(side=side)
+    seen = []
+    for sides in sides_per_step:
+        seen.append(counter.observe(sides))
+        counter.advance(0.1)
+    return seen
+
+
+def test_one_side_counts_only_its_branches_each_once():
+    """Branches alternate left 2-4 m, right 6-8 m, left 10-12 m, right 14-16 m, then a
+    crossroad 18-20 m; 0.1 m per step. Over both sides the second right branch is the fourth
+    corner; counting the right side only it is the second."""
+    def side(step, spans):
+        return 4.0 if any(a <= step * 0.1 < b for a, b in spans) else 1.0
+
+    left, right = [(2, 4), (10, 12), (18, 20)], [(6, 8), (14, 16), (18, 20)]
+    steps = [(side(k, left), side(k, right)) for k in range(220)]
+    both = _online_counts(steps, None)
+    rights = _online_counts(steps, "right")
+    lefts = _online_counts(steps, "left")
+    assert both[150] == 3 and both[-1] == 3          # capped: 5 corners
+    assert [rights[k] for k in (69, 71, 149, 151, 189, 191)] == [0, 1, 1, 2, 2, 3]
+    assert [lefts[k] for k in (29, 31, 109, 111, 189, 191)] == [0, 1, 1, 2, 2, 3]
+    with pytest.raises(ValueError, match="side must be None, 'left' or 'right', got 'up'"):
+        CornerCounter().reset(side="up")
+
+
 def test_one_hot_counts():
     assert one_hot_counts([0, 3, 1], 3).tolist() == [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]

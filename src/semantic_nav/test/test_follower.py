@@ -357,3 +357,50 @@ def test_default_model_counts_corners_in_words_and_numerals():
     assert follower.start("make a right two corners down") == [5]
     assert follower.start("take a left turn at corner number three") == [8]
     assert follower.start("go straight to the end, then turn right at the 3rd corner") == [1, 7]
+
+
+def test_the_second_right_counts_the_right_side_only():
+    """The default model reads both as class 5; "the second right" counts the right-hand
+    branches only (a left opening leaves the count alone), "the second corner" every corner.
+    Without side counting (the seed's follower) both count corners; without the corner count
+    the network gets 0 throughout."""
+    from semantic_nav.word_vectors import WordVectorsError
+    try:
+        follower = DirectionFollower.from_files()
+    except (ModelMissingError, WordVectorsError) as error:
+        pytest.skip(str(error))
+    laser = urg()
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    left = np.abs(angles - math.pi / 2) <= math.radians(40)    # a branch 1.7 m wide at 1 m
+    ahead = np.abs(angles) <= math.radians(60)
+
+    def counts_past_a_left_opening(sentence):
+        """Corridor walls 1 m to each side, open ahead; the left side open from step 5 to 64."""
+        assert follower.start(sentence) == [5]
+        counted = []
+        for step in range(70):
+            ranges = np.full(laser.beams, 1.0)
+            ranges[ahead] = 5.6
+            ranges[left] = 4.0 if 5 <= step < 65 else 1.0
+            counted.append(follower.step(ranges, laser).corners)
+        return follower.countings, max(counted)
+
+    assert counts_past_a_left_opening("take the second right") == (["side"], 0)
+    assert counts_past_a_left_opening("turn right at the second corner") == (["corners"], 1)
+    follower.config = FollowerConfig(side_counting=False)
+    assert counts_past_a_left_opening("take the second right") == (["corners"], 1)
+
+
+def test_without_the_corner_count_the_network_gets_zero(words):
+    policy = CountingPolicy(40)
+    follower = DirectionFollower(policy, words, FollowerConfig(corner_count=False,
+                                                               doors=DoorConfig(width=0.0)))
+    follower.start("go straight to the end")
+    laser = urg()
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    left = np.abs(angles - math.pi / 2) <= math.radians(5)
+    for step in range(40):
+        ranges = np.full(laser.beams, 2.0)
+        ranges[left] = 4.0 if 5 <= step < 35 else 2.0
+        command = follower.step(ranges, laser)
+    assert command.corners == 1 and set(policy.counts) == {0}   # counted, not given

@@ -16,7 +16,7 @@ from semnav_learning.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationC
                                      plan_episodes, success_table)
 from semnav_learning.episodes import chain_goals
 from semnav_learning.phrase_sets import load_phrase_sets
-from semnav_learning.route_oracle import RouteOracle
+from semnav_learning.route_oracle import RouteOracle, branches_on_side
 from semnav_l_floor import write_l_floor
 from tamp_resources import resource
 
@@ -282,3 +282,31 @@ def test_paired_comparison_counts_discordant_episodes_per_class():
         paired_comparison(first, [first[0], episode(7, 9, True), *first[2:]])
     with pytest.raises(ValueError, match="4 and 3 episodes"):
         paired_comparison(first, first[:3])
+
+
+def test_a_plan_counts_one_side_where_its_sentence_says_so(tmp_path):
+    """On the alternating floor the class 5 episodes whose sentence counts the right-hand
+    branches ("take the second right") are judged by that count; the others by the corners."""
+    from semnav_alternating_floor import alternating_floor_world
+    _, oracle = alternating_floor_world(tmp_path)
+    floor = str(tmp_path / "alternating.yaml")
+    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
+    specs = plan_episodes({floor: oracle}, 40, sets, np.random.default_rng(4),
+                          EvaluationConfig(), classes=(5,))
+    side = [s for s in specs if s.countings == ("side",)]
+    corners = [s for s in specs if s.countings == ("corners",)]
+    assert side and corners and len(side) + len(corners) == len(specs)
+    counted = [p.text.format(dir="right") for p in sets["class_turn_counted"]]
+    assert all(any(text in s.sentence for text in counted) for s in side)
+    differ = 0
+    for spec in side:      # judged at the second right-hand branch of the start's corridor
+        goal = chain_goals(oracle, spec.start, spec.labels, spec.countings)[-1].goal
+        walk = oracle.walk(spec.start)
+        branch = branches_on_side(walk, "right")[1]
+        assert math.dist(goal.pose[:2], walk.point(branch.centre)) < walk.half_width + 1.5
+        corner_goal = oracle.goal(spec.start, 5, walk)
+        differ += corner_goal is None or math.dist(goal.pose[:2], corner_goal.pose[:2]) > 1.0
+    assert differ > 0                      # somewhere the two countings part
+    old = tmp_path / "old_plan.json"       # a plan written before countings: corners
+    old.write_text(json.dumps([{k: v for k, v in asdict(side[0]).items() if k != "countings"}]))
+    assert load_plan(old)[0].countings == ()

@@ -61,7 +61,7 @@ def test_classify_main_on_lines_and_its_errors(tiny, tmp_path, capsys):
     status = classify_cli.main(ROOT, argv=argv, lines=["turn left\n", "zzyzx\n"])
     printed = capsys.readouterr().out.splitlines()
     assert status == 1 and printed[1].startswith("unknown: ")
-    assert all(int(c) in range(1, 11) for c in printed[0].split())
+    assert all(int(c.split(":")[0]) in range(1, 11) for c in printed[0].split())
     (tmp_path / "bad.yaml").write_text("[unclosed")
     with pytest.raises(SystemExit, match="classify_instruction: --phrases .*bad.yaml"):
         classify_cli.main(ROOT, argv=[*argv, "--held-out", "5", "--phrases",
@@ -141,3 +141,17 @@ def test_mix_refuses_missing_files_other_shapes_and_a_bad_alpha(tiny, tmp_path):
     with pytest.raises(SystemExit, match=r"a.keras and .*wide.keras: layer '\w+': weight shapes"):
         mix_cli.main(["--base", str(tiny["model"]), "--tuned", str(wide), "--out", out])
     assert not (tmp_path / "m.keras").exists()
+
+
+class CountingFive(AlwaysOne):
+    """Reads every sentence as "go straight" then class 5, counting one side when it says so."""
+
+    def start(self, text):
+        self.countings = ["corners", "side" if "second right" in text else "corners"]
+        return [1, 5]
+
+
+def test_classify_prints_how_a_counted_class_counts(capsys):
+    assert classify_cli.classify_lines(CountingFive(), ["go on then take the second right\n",
+                                                        "go on then right at corner two\n"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["1 5:side", "1 5:corners"]

@@ -90,12 +90,14 @@ def test_directions_as_people_give_them(sets):
     passing = _find(sets, "prefix_turn_change", "pass one corner and")
     assert compose([passing, left, _find(sets, "suffix_turn_next", "at the next one")]).label == 6
     assert compose([_find(sets, "prefix_turn_change", "pass two corners and"), right]).label == 7
-    assert compose([_find(sets, "class_turn_counted", "take the second right")]).label == 5
+    second_right = compose([_find(sets, "class_turn_counted", "take the second right")])
+    assert (second_right.label, second_right.counting) == (5, "side")
     assert compose([_find(sets, "class_turn_counted", "skip two lefts and take the one after")]
                    ).label == 8
     down = compose([_find(sets, "class1", "go all the way down"), _find(sets, "end_join", "and"),
                     _find(sets, "class_turn", "make a left")])
     assert (down.text, down.label) == ("go all the way down and make a left", 10)
+    assert compose([passing, left]).counting == "corners"      # corners over both sides
 
 
 def test_phrase_files_without_the_optional_sets_still_load(tmp_path):

@@ -12,6 +12,11 @@ degrees round each side (±90°) is "open" when it reaches `open_range` (a branc
 the wall line); an opening that stays open for `min_width` metres of travel (integrated from v)
 is a branch (narrower: a door); an opening that overlaps one already counted on the other side
 is the same corner (a crossroad), as route_oracle.group_corners.
+
+Counting one side ("take the second right": instruction_classes.COUNT_SIDE): the counter counts
+the branches on that side only, each opening once, and the openings on the other side not at
+all, as route_oracle.nth_branch_on_side. The network then turns where the count reaches the
+instruction's corner number, which is that side's N-th branch.
 """
 from dataclasses import dataclass
 
@@ -44,6 +49,9 @@ def side_ranges(ranges, angle_min, angle_increment, window_deg):
     return out
 
 
+SIDE_COLUMNS = {"left": 0, "right": 1}   # columns of side_ranges
+
+
 class CornerCounter:
     """Corners counted step by step: a corner counts once one of its openings has run for
     min_width; an opening that overlaps an opening already counted on the other side belongs to
@@ -54,8 +62,12 @@ class CornerCounter:
         self.config = config or CornerCountConfig()
         self.reset()
 
-    def reset(self):
-        """A new simple instruction: nothing counted, no travel."""
+    def reset(self, side=None):
+        """A new simple instruction: nothing counted, no travel; `side` "left" / "right" counts
+        the branches on that side only, None every corner over both sides."""
+        if side not in (None, *SIDE_COLUMNS):
+            raise ValueError(f"side must be None, 'left' or 'right', got {side!r}")
+        self.side = side
         self.travel = 0.0
         self.count = 0
         self.run_start = [None, None]     # travel where each side's current opening began
@@ -67,6 +79,8 @@ class CornerCounter:
         max_count)."""
         config = self.config
         for side in range(2):
+            if self.side is not None and side != SIDE_COLUMNS[self.side]:
+                continue                      # one side counted: the other is not looked at
             is_open = bool(sides[side] >= config.open_range)
             start = self.run_start[side]
             if not is_open:
@@ -80,8 +94,9 @@ class CornerCounter:
             if not self.counted[side] and self.travel - start >= config.min_width:
                 self.counted[side] = True
                 other = 1 - side
-                same = (self.run_start[other] is not None and self.counted[other]) or \
-                    start <= self.corner_end
+                same = self.side is None and (
+                    (self.run_start[other] is not None and self.counted[other])
+                    or start <= self.corner_end)
                 self.count += 0 if same else 1
         return min(self.count, config.max_count)
 

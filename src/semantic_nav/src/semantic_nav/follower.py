@@ -17,8 +17,8 @@ from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_acti
                                           scan_points, steer_around)
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
-from semantic_nav.instruction_classes import CLASS_IDS
-from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError,
+from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE
+from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError, counting_mode,
                                             sentence_vector, split_instruction)
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
@@ -55,6 +55,12 @@ class FollowerConfig:
     splitting: str = "spoken"       # instruction_layer.split_instruction: "seed" = at
                                     # punctuation (§3.1); "spoken" also at connectives, with
                                     # motionless pieces joined (beyond the seed)
+    side_counting: bool = True      # beyond the seed: "the second right" counts the branches on
+                                    # the turning side only (instruction_layer.counting_mode);
+                                    # false: every count over both sides (Table 3.1-1)
+    corner_count: bool = True       # beyond the seed: a count-input network gets the corners
+                                    # counted so far; false: a count of 0 throughout (what the
+                                    # network decides without the rule-based counter)
     laser_config: str = str(DEFAULT_LASER_CONFIG)   # canonical scan + preprocessing
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
     guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
@@ -166,7 +172,7 @@ class DirectionFollower:
         self._sent_w = 0.0      # ω of the last command sent (the guard's estimate of the base's)
         self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)   # in the current sentence
         self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
-        self.instructions, self.z_w, self.classes = [], [], []
+        self.instructions, self.z_w, self.classes, self.countings = [], [], [], []
         self.unknown_words = []
         self.index = 0
 
@@ -213,6 +219,8 @@ class DirectionFollower:
         unknown = [word for oov in unknown for word in oov]
         self.instructions = parts
         self.classes = [CLASS_IDS[int(np.argmax(z))] for z in z_w]
+        self.countings = [counting_mode(part, label) if self.config.side_counting
+                          else COUNT_CORNERS for part, label in zip(parts, self.classes)]
         self.z_w = [class_one_hot(z) for z in z_w] if self.config.one_hot_class else z_w
         self.unknown_words = unknown
         self.index = 0
@@ -226,7 +234,10 @@ class DirectionFollower:
         """A new simple instruction: LSTM_fused's memory and the corner count start afresh."""
         self.policy.reset()
         if self.counter is not None:
-            self.counter.reset()
+            side = None
+            if self.index < len(self.countings) and self.countings[self.index] == COUNT_SIDE:
+                side = SIDE[self.classes[self.index]]
+            self.counter.reset(side=side)
 
     @property
     def done(self):
@@ -245,7 +256,8 @@ class DirectionFollower:
         ranges = self._close_doorways(ranges, laser)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
         if self.counter is not None:
-            counts = one_hot_counts(self.counter.observe(self._sides(ranges, laser)),
+            counted = self.counter.observe(self._sides(ranges, laser))
+            counts = one_hot_counts(counted if self.config.corner_count else 0,
                                     self.counter.config.max_count)
             output = self.policy.step(self.z_w[self.index], scan, counts)
         else:

@@ -108,6 +108,14 @@ def get(number):
                          f"({CLASS_IDS[0]}..{CLASS_IDS[-1]})") from None
 
 
+# Counting modes of the counted classes (5-8), beyond the seed: "turn right at the second
+# corner" counts the corners over both sides (Table 3.1-1), "take the second right" counts the
+# branches on the turning side only. The instruction layer tells them apart
+# (instruction_layer.counting_mode); the class stays the same.
+COUNT_CORNERS, COUNT_SIDE = "corners", "side"
+COUNTINGS = (COUNT_CORNERS, COUNT_SIDE)
+
+
 # Derived tables.
 SIDE = {c.number: c.side for c in CLASSES if c.side}                  # turn class -> side
 TURN_CLASSES = {(c.side, c.at): c.number for c in CLASSES if c.motion == TURN}  # -> turn class

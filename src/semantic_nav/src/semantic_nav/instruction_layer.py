@@ -5,7 +5,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from semantic_nav.instruction_classes import MAX_CORNER
+from semantic_nav.instruction_classes import (COUNT_CORNERS, COUNT_SIDE, COUNTING_IDS,
+                                              MAX_CORNER)
 
 # §3.1: "we simply use punctuation marks to split sentences into simple instruction".
 PUNCTUATION = re.compile(r"[.,;:!?\n]+")
@@ -125,6 +126,34 @@ def sentence_vector(text, word_vectors):
 def convert_instruction(sentence, word_vectors):
     """Split a sentence and convert each simple instruction: list of SentenceVector, in order."""
     return [sentence_vector(part, word_vectors) for part in split_instruction(sentence)]
+
+
+# ---------------------------------------------------------------- counting one side or both
+# Beyond the seed: "the second right" names the second branch on the right, "the second corner"
+# the second corner over both sides. A side word used as a noun after an ordinal ("the second
+# right", "the third left-hand turning"), an ordinal thing on a side ("the second opening on your
+# right") and counting by passing a side's branches ("skip the first right", "pass two lefts")
+# count one side; everything else counts corners. Tokens as `tokenise` gives them.
+SIDE_NOUNS = r"(?:right|left|rights|lefts|right-hand|left-hand)"
+ORDINALS = r"(?:second|third)"
+SIDE_THINGS = (r"(?:turn|turns|turning|turnings|opening|openings|branch|branches|exit|exits|"
+               r"hallway|hallways|corridor|corridors|hall|passage|way|one|street|road)")
+CORNER_NOUNS = r"(?:corner|corners|intersection|intersections|junction|junctions|crossing|" \
+               r"crossings|crossroad|crossroads)"
+ONE_SIDE_COUNTS = re.compile(
+    rf"\b{ORDINALS} {SIDE_NOUNS}\b(?! {CORNER_NOUNS}\b)"
+    rf"|\b{ORDINALS} {SIDE_THINGS} (?:on|to) (?:the|your|its) {SIDE_NOUNS}\b"
+    rf"|\b(?:skip|skipping|pass|passing|miss|missing|ignore|ignoring|past|after) (?:the )?"
+    rf"(?:first|one|two) {SIDE_NOUNS}\b(?! {CORNER_NOUNS}\b)")
+
+
+def counting_mode(text, label=None):
+    """COUNT_SIDE when the simple instruction `text` counts the branches on one side (module
+    comment above), else COUNT_CORNERS; always COUNT_CORNERS for a class `label` that counts
+    nothing (not 5-8)."""
+    if label is not None and label not in COUNTING_IDS:
+        return COUNT_CORNERS
+    return COUNT_SIDE if ONE_SIDE_COUNTS.search(" ".join(tokenise(text))) else COUNT_CORNERS
 
 
 # ---------------------------------------------------------------- directions the robot can follow

@@ -70,14 +70,19 @@ def blind_accuracy(follower, path):
 
 def classify_lines(follower, lines):
     """Print the classes of each non-blank line (`unknown: <reason>` for unknown words) ->
-    exit status: 1 if a line had unknown words, else 0."""
+    exit status: 1 if a line had unknown words, else 0. A counted class (5-8) shows how it
+    counts: "5:corners" (over both sides) or "5:side" ("take the second right")."""
     from semantic_nav.follower import UnknownInstructionError
+    from semantic_nav.instruction_classes import COUNTING_IDS
     status = 0
     for line in lines:
         if not line.strip():
             continue
         try:
-            print(" ".join(str(c) for c in follower.start(line.strip())), flush=True)
+            classes = follower.start(line.strip())
+            countings = getattr(follower, "countings", None) or [None] * len(classes)
+            print(" ".join(f"{c}:{how}" if c in COUNTING_IDS and how else str(c)
+                           for c, how in zip(classes, countings)), flush=True)
         except UnknownInstructionError as error:
             print(f"unknown: {error}", flush=True)
             status = 1

@@ -52,7 +52,7 @@ def visited_states(world, oracle, policy, spec, max_route_offset=None):
     memory says it has not reached the corner yet; those labels contradict the instruction
     and teach the network to turn around instead of to count."""
     robot = world.robots[0]
-    parts = chain_goals(oracle, spec.start, spec.labels)
+    parts = chain_goals(oracle, spec.start, spec.labels, spec.countings)
     result = run_episode(world, robot.name, policy, spec.start, spec.sentence, parts,
                          labeller=ExpertLabeller(parts), record_scans=True)
     samples = [Sample(float(v), float(w), tuple(np.round(ranges.astype(np.float64),

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from semnav_learning.expert import ExpertConfig, ExpertDriver, expert_route
-from semantic_nav.instruction_classes import END_TURN, STRAIGHT, TURN, ids
+from semantic_nav.instruction_classes import COUNT_CORNERS, END_TURN, STRAIGHT, TURN, ids
 from semantic_nav.laser_layer import model_from_scan
 from semnav_learning.route_oracle import OracleError
 
@@ -77,27 +77,30 @@ class ChainPart:
             else 0.0
 
 
-def chain_goals(oracle, start, labels):
-    """Oracle goal of each part, each from the previous part's goal pose -> [ChainPart].
+def chain_goals(oracle, start, labels, countings=()):
+    """Oracle goal of each part, each from the previous part's goal pose -> [ChainPart];
+    `countings`: per part, COUNT_CORNERS (the default for parts left out) or COUNT_SIDE.
 
     A turn right after "go straight to the end" is the turn at the corner at the end (the class
     9 / 10 goal of the walk that class 1 followed): standing in that corner, the oracle's own
     axis search would look into the branch. Raises EpisodeError when a part's class is not
     applicable where it starts."""
     parts, pose, walk = [], tuple(float(v) for v in start), None
-    for label in labels:
+    countings = tuple(countings) + (COUNT_CORNERS,) * (len(labels) - len(countings))
+    for label, counting in zip(labels, countings):
         previous = parts[-1].label if parts else None
         if previous == STRAIGHT_TO_END and label in TURN_AT_END:
             goal = oracle.goal(None, TURN_AT_END[label], walk)
             route_label = TURN_AT_END[label]
         else:
             walk = oracle.walk(pose)
-            goal = oracle.goal(pose, label, walk)
+            goal = oracle.goal(pose, label, walk, counting)
             route_label = label
         if goal is None:
             raise EpisodeError(f"class {label} is not applicable from "
                                f"({pose[0]:.2f}, {pose[1]:.2f}, {pose[2]:.2f})")
-        route = expert_route(walk, route_label, goal.pose)
+        route = expert_route(walk, route_label, goal.pose,
+                             counting if route_label == label else COUNT_CORNERS)
         if route_label != label:          # start where the previous part ended
             route = np.vstack([np.array(pose[:2]), route[1:]])
         parts.append(ChainPart(label, goal, route))
@@ -105,10 +108,10 @@ def chain_goals(oracle, start, labels):
     return parts
 
 
-def chain_applies(oracle, start, labels):
+def chain_applies(oracle, start, labels, countings=()):
     """Whether every part of the chain `labels` is applicable from `start` (chain_goals)."""
     try:
-        chain_goals(oracle, start, labels)
+        chain_goals(oracle, start, labels, countings)
         return True
     except (EpisodeError, OracleError):
         return False

@@ -113,7 +113,8 @@ def path_panels(outcomes, reference, oracles, success=True):
         if outcome is None:
             continue
         oracle = oracles[outcome.spec.floor]
-        goal = chain_goals(oracle, outcome.spec.start, outcome.spec.labels)[-1].goal
+        goal = chain_goals(oracle, outcome.spec.start, outcome.spec.labels,
+                           outcome.spec.countings)[-1].goal
         expert = by_key.get(id(outcome.spec))
         title = (f"class {label}: {'success' if outcome.success else outcome.reason}: "
                  f"\"{outcome.spec.sentence}\"")

@@ -23,8 +23,8 @@ from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
                                    chain_goals, run_episode)
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
-from semantic_nav.instruction_classes import (CLASS_IDS, COUNTING_IDS, END_TURN, STRAIGHT,
-                                              TURN, get, ids)
+from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNTING_IDS, END_TURN,
+                                              STRAIGHT, TURN, get, ids)
 from semnav_learning.phrase_sets import sample_sentence
 from semnav_learning.route_oracle import (OracleError, RouteOracle, branches_on_side,
                                        counting_matters, goal_branch)
@@ -53,6 +53,8 @@ class EpisodeSpec:
     labels: tuple            # class per simple instruction
     sentence: str
     held_out: bool           # sentence uses a held-out phrasing
+    countings: tuple = ()    # per part: instruction_classes.COUNT_CORNERS (also for parts left
+    #                          out) or COUNT_SIDE ("take the second right"), as the oracle counts
 
 
 @dataclass
@@ -151,10 +153,22 @@ def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASS_IDS)
             if pose is None:
                 pose = start
             split = "held_out" if held[i] else "train"
-            sentence = sample_sentence(sets, label, rng, split).text
+            sentence = applicable_sentence(sets, label, rng, split, oracles[floor], pose)
             specs.append(EpisodeSpec(str(floor), tuple(float(v) for v in pose), (label,),
-                                     sentence, bool(held[i])))
+                                     sentence.text, bool(held[i]), (sentence.counting,)))
     return specs
+
+
+def applicable_sentence(sets, label, rng, split, oracle, pose, tries=50):
+    """A sentence of class `label` (phrase_sets.sample_sentence) whose counting applies at
+    `pose`: one that counts the branches on one side ("take the second right") is redrawn
+    where that side has too few branches (counting corners applies: the start was drawn so)."""
+    for _ in range(tries):
+        sentence = sample_sentence(sets, label, rng, split)
+        if sentence.counting == COUNT_CORNERS or chain_applies(oracle, pose, (label,),
+                                                                 (sentence.counting,)):
+            return sentence
+    raise EpisodeError(f"class {label}: no {split} sentence applies at {pose} in {tries} draws")
 
 
 def plan_chain_episodes(oracles, labels, sentence, count, rng, config=None, per_start=4):
@@ -223,7 +237,8 @@ def load_plan(path):
         data = json.loads(Path(path).read_text())
         entries = [e["spec"] for e in data["episodes"]] if isinstance(data, dict) else data
         return [EpisodeSpec(e["floor"], tuple(e["start"]), tuple(e["labels"]), e["sentence"],
-                            bool(e["held_out"])) for e in entries]
+                            bool(e["held_out"]), tuple(e.get("countings", ())))
+                for e in entries]
     except (json.JSONDecodeError, KeyError, TypeError) as error:
         raise ValueError(f"{path}: not an evaluation plan ({type(error).__name__}: {error})") \
             from None
@@ -241,7 +256,7 @@ def run_spec(spec):
     """One episode in this worker -> EpisodeOutcome."""
     world, oracle = _world(spec.floor)
     robot = world.robots[0]
-    parts = chain_goals(oracle, spec.start, spec.labels)
+    parts = chain_goals(oracle, spec.start, spec.labels, spec.countings)
     if _WORKER["policy_spec"].kind == "expert":
         policy = ExpertPolicy(parts, lambda: robot.state.pose)
     else:

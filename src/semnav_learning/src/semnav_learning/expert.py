@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from semantic_nav.instruction_classes import BACK, STRAIGHT, get
+from semantic_nav.instruction_classes import BACK, COUNT_CORNERS, STRAIGHT, get
 from semnav_learning.route_oracle import goal_branch
 
 
@@ -45,8 +45,9 @@ def recorded_stop_steps(config):
     return int(math.ceil(config.stop_duration * config.rate - 1e-9))
 
 
-def expert_route(walk, label, goal_pose):
-    """Polyline (N, 2) the person follows: centre line, junction centre, into the branch."""
+def expert_route(walk, label, goal_pose, counting=COUNT_CORNERS):
+    """Polyline (N, 2) the person follows: centre line, junction centre, into the branch
+    (`counting`: route_oracle.goal_branch's)."""
     origin = np.asarray(walk.origin, dtype=float)
     goal = np.array(goal_pose[:2], dtype=float)
     motion = get(label).motion
@@ -54,7 +55,7 @@ def expert_route(walk, label, goal_pose):
         return origin[None, :]
     if motion == STRAIGHT:
         return np.vstack([origin, goal])
-    junction = walk.point(goal_branch(walk, label).centre)
+    junction = walk.point(goal_branch(walk, label, counting).centre)
     return np.vstack([origin, junction, goal])
 
 

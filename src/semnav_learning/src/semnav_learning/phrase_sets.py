@@ -7,8 +7,9 @@ from pathlib import Path
 
 import yaml
 
-from semantic_nav.instruction_classes import (CLASS_IDS, CLASSES, NUM_CLASSES, SIDES, TURN,
-                                              TURN_AT, TURN_CLASSES, get)
+from semantic_nav.instruction_classes import (CLASS_IDS, CLASSES, COUNT_CORNERS, COUNT_SIDE,
+                                              NUM_CLASSES, SIDES, TURN, TURN_AT, TURN_CLASSES,
+                                              get)
 
 SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_keep",
         "suffix_turn_change", "class4", "others")
@@ -51,6 +52,13 @@ class Sentence:
     text: str
     label: int
     phrases: tuple
+
+    @property
+    def counting(self):
+        """COUNT_SIDE when a class_turn_counted phrase says it ("take the second right": the
+        branches on one side are counted), else COUNT_CORNERS: what the route oracle counts."""
+        counted = any(p.set_name == "class_turn_counted" for p in self.phrases)
+        return COUNT_SIDE if counted else COUNT_CORNERS
 
 
 def _phrases(entry, set_name, tag=None):

@@ -25,7 +25,8 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from semantic_nav.instruction_classes import BACK, BY_ID, CLASS_IDS, STRAIGHT, TURN, get
+from semantic_nav.instruction_classes import (BACK, BY_ID, CLASS_IDS, COUNT_CORNERS, COUNT_SIDE,
+                                              COUNTINGS, STRAIGHT, TURN, get)
 
 
 class OracleError(ValueError):
@@ -303,11 +304,17 @@ def _turn_goal(walk, branch, config):
     return (float(xy[0]), float(xy[1]), math.remainder(heading, 2 * math.pi))
 
 
-def goal_branch(walk, label):
-    """The branch a turn class (2, 3, 5-10) turns into, or None when there is none."""
+def goal_branch(walk, label, counting=COUNT_CORNERS):
+    """The branch a turn class (2, 3, 5-10) turns into, or None when there is none. With
+    `counting` COUNT_SIDE, classes 5-8 count the branches on their side only ("the second
+    right": the second right-hand branch, nth_branch_on_side)."""
     cls = get(label)
     if cls.motion != TURN:
         raise OracleError(f"instruction class {label} is not a turn")
+    if counting not in COUNTINGS:
+        raise OracleError(f"unknown counting {counting!r} (one of {', '.join(COUNTINGS)})")
+    if counting == COUNT_SIDE and cls.corner is not None:
+        return nth_branch_on_side(walk, cls.side, cls.corner)
     if cls.at is None:
         return nth_branch_on_side(walk, cls.side, 1)
     if cls.at == "end":
@@ -347,8 +354,9 @@ def counting_matters(walk, label):
     return branch is not None and branch is not one_side_branch(walk, label)
 
 
-def goal_pose(walk, label, config):
-    """Table 3.1-1 class -> goal pose (x, y, yaw), or None when not applicable here."""
+def goal_pose(walk, label, config, counting=COUNT_CORNERS):
+    """Table 3.1-1 class -> goal pose (x, y, yaw), or None when not applicable here
+    (`counting`: goal_branch's)."""
     motion = get(label).motion
     if motion == STRAIGHT:
         s_end = walk.front - config.stop_margin
@@ -359,7 +367,7 @@ def goal_pose(walk, label, config):
     if motion == BACK:
         xy = walk.origin
         return (float(xy[0]), float(xy[1]), math.remainder(walk.axis + math.pi, 2 * math.pi))
-    branch = goal_branch(walk, label)
+    branch = goal_branch(walk, label, counting)
     return None if branch is None else _turn_goal(walk, branch, config)
 
 
@@ -373,12 +381,13 @@ class RouteOracle:
     def walk(self, start):
         return walk_corridor(self.field, start, self.config)
 
-    def goal(self, start, label, walk=None):
-        """Goal region of class `label` from `start`, or None ("not applicable here")."""
+    def goal(self, start, label, walk=None, counting=COUNT_CORNERS):
+        """Goal region of class `label` from `start`, or None ("not applicable here");
+        `counting`: COUNT_SIDE for "the second right" (goal_branch)."""
         if label not in BY_ID:
             raise OracleError(f"unknown instruction class {label!r} "
                               f"({CLASS_IDS[0]}..{CLASS_IDS[-1]})")
-        pose = goal_pose(walk or self.walk(start), label, self.config)
+        pose = goal_pose(walk or self.walk(start), label, self.config, counting)
         if pose is None:
             return None
         return Goal(pose, self.config.goal_radius,
