@@ -5,6 +5,7 @@ import pytest
 
 from perception import bench_verbal_main as bench
 from perception.request_corpus import CorpusCase
+from perception.speech_synthesis import Voice, voice_of
 from perception.stt import Transcript
 
 ALEX = "192.168.1.110"
@@ -15,12 +16,12 @@ WRONG = CorpusCase("Chat with me, I feel bad.", ALEX, "encourage", "negative", "
 
 
 def test_voice_specs_and_their_errors():
-    assert bench.voice_of("en-us:150").name == "en-us"
-    assert bench.voice_of("en-us:150").words_per_min == 150
-    assert bench.voice_of("en").words_per_min == bench.Voice.words_per_min
+    assert voice_of("en-us:150").name == "en-us"
+    assert voice_of("en-us:150").words_per_min == 150
+    assert voice_of("en").words_per_min == Voice.words_per_min
     for bad in ("en:fast", ":150", "en:0"):
         with pytest.raises(ValueError, match=f"voice '{bad}'"):
-            bench.voice_of(bad)
+            voice_of(bad)
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from supervision.health import Health
 
-from perception.speech_metrics import normalise_words, word_edit_distance, word_error_rate
+from perception.speech_metrics import (misheard_words, normalise_words, word_alignment,
+                                       word_edit_distance, word_error_rate)
 from perception.speech_synthesis import synthesise
 from perception.stt import (AudioError, ModelMissing, SpeechToText, pcm16_to_float, read_wav,
                             resample, whisper_model_dir)
@@ -76,6 +77,19 @@ def test_read_wav_refuses_8_bit_and_non_wav(tmp_path):
     (tmp_path / "t.wav").write_text("not audio")
     with pytest.raises(AudioError, match="cannot read WAV file .*t.wav"):
         read_wav(tmp_path / "t.wav")
+
+
+def test_word_alignment_lists_the_edits_by_hand():
+    said, heard = "turn left at the second corner".split(), "turn lift at second corner".split()
+    assert word_alignment(said, heard) == [
+        ("turn", "turn"), ("left", "lift"), ("at", "at"), ("the", None), ("second", "second"),
+        ("corner", "corner")]
+    pairs = word_alignment("a b c".split(), "a x c d".split())
+    assert sum(a != b for a, b in pairs) == word_edit_distance("a b c".split(),
+                                                               "a x c d".split())
+    assert misheard_words("Take the 2nd right.", "Take the second right, then.") == [
+        ("2nd", "second"), (None, "then")]
+    assert misheard_words("go on", "go on") == []
 
 
 def test_word_error_rate_by_hand():

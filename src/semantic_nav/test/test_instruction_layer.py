@@ -222,3 +222,38 @@ def test_on_glove_6b_foreign_directions_are_refused_and_english_ones_pass():
             check_followable(sentence, vectors)
     for sentence in ENGLISH:
         check_followable(sentence, vectors)
+
+
+def test_words_outside_the_phrase_vocabulary_are_skipped(tmp_path):
+    from semantic_nav.instruction_layer import phrase_vocabulary
+    phrases = tmp_path / "phrases.yaml"
+    phrases.write_text("class_turn:\n  train: [\"take a {dir}\", \"turn {dir}\"]\n"
+                       "class_turn_counted:\n  second:\n    train: [\"skip two {dir}s\"]\n")
+    vocabulary = phrase_vocabulary(phrases)
+    assert vocabulary == {"take", "a", "right", "left", "turn", "skip", "two", "rights", "lefts"}
+    words = WordVectors(["take", "a", "lift", "left", "turn"], np.eye(5, dtype=np.float32), "t")
+    vector = sentence_vector("take a lift turn", words, vocabulary)
+    assert vector.oov == ["lift"] and vector.vectors.shape == (3, 5)
+    assert sentence_vector("take a lift turn", words).oov == []          # every GloVe word
+    with pytest.raises(InstructionError, match="vocabulary of t and the phrase sets"):
+        sentence_vector("lift", words, vocabulary)
+    (tmp_path / "empty.yaml").write_text("{}\n")
+    with pytest.raises(InstructionError, match="empty.yaml: no phrases in it"):
+        phrase_vocabulary(tmp_path / "empty.yaml")
+    with pytest.raises(InstructionError, match="phrase vocabulary .*none.yaml"):
+        phrase_vocabulary(tmp_path / "none.yaml")
+
+
+def test_the_default_follower_skips_a_misheard_side():
+    """Speech recognition hears "lift" for "left": a GloVe word outside the phrase sets, so the
+    follower skips it and names it, as it does a word GloVe does not know."""
+    from semantic_nav.follower import DirectionFollower, ModelMissingError
+    from semantic_nav.word_vectors import WordVectorsError
+    try:
+        follower = DirectionFollower.from_files()
+    except (ModelMissingError, WordVectorsError) as error:
+        pytest.skip(str(error))
+    follower.start("robot move forward and take a lift turn for me")
+    assert follower.unknown_words == ["lift"]
+    assert follower.start("robot please take the second right for me") == [5]
+    assert follower.unknown_words == []

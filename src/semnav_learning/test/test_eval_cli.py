@@ -61,6 +61,8 @@ def test_first_of_each_class_keeps_plan_order_within_a_class():
     kept = first_of_each_class(specs, 2)
     assert [(s.labels[0], s.start[0]) for s in kept] == [(1, 1.0), (1, 3.0), (3, 0.0),
                                                          (3, 2.0), (9, 5.0)]
+    after = first_of_each_class(specs, 2, skip=1)           # --skip 1 --first 2
+    assert [(s.labels[0], s.start[0]) for s in after] == [(1, 3.0), (3, 2.0), (3, 4.0)]
 
 
 def test_chain_without_a_sentence_is_refused(tmp_path):

@@ -31,7 +31,7 @@ from perception.request_corpus import case_passes, function_matches, load_corpus
 from perception.requests import load_keyword_config
 from perception.sentiment import SentimentAnalyzer
 from perception.speech_metrics import normalise_words, word_error_rate
-from perception.speech_synthesis import Voice, synthesise
+from perception.speech_synthesis import synthesise, voice_of
 from perception.stt import SpeechToText, SttConfig, read_wav
 from perception.verbal_instructions import DictPeopleDirectory, InstructionBuilder, VerbalPipeline
 from task_planner.reward import load_priorities
@@ -40,14 +40,6 @@ PRIORITIES = ("config", "priorities.yaml")
 # SHA-256 of lowercase slurs that Whisper has produced from espeak speech here; masked in the
 # report (stored as hashes so the words themselves are not in the source).
 MASKED_WORDS = {"08a841e996781e9e77d30a4e4420a8f501a280b00624e6d1224bf54aaff73eba"}
-
-
-def voice_of(spec):
-    """Voice of a `name[:words-per-minute]` spec; ValueError naming the spec when malformed."""
-    name, _, wpm = spec.partition(":")
-    if not name or (wpm and not wpm.isdigit()) or (wpm and int(wpm) <= 0):
-        raise ValueError(f"voice {spec!r} is not NAME or NAME:WORDS_PER_MINUTE (e.g. en:175)")
-    return Voice(name=name, words_per_min=int(wpm or Voice.words_per_min))
 
 
 def _voice_argument(spec):

@@ -34,3 +34,39 @@ def word_error_rate(references, hypotheses):
     if words == 0:
         raise ValueError("references hold no words")
     return edits / words
+
+
+def word_alignment(reference, hypothesis):
+    """A minimal-edit alignment of two word lists -> [(reference word or None, hypothesis word
+    or None)]: equal pairs, substitutions, deletions (None heard) and insertions (None said).
+    Its edits are word_edit_distance's; ties prefer a substitution, then a deletion."""
+    rows, cols = len(reference) + 1, len(hypothesis) + 1
+    cost = [[0] * cols for _ in range(rows)]
+    for i in range(rows):
+        cost[i][0] = i
+    for j in range(cols):
+        cost[0][j] = j
+    for i in range(1, rows):
+        for j in range(1, cols):
+            cost[i][j] = min(cost[i - 1][j] + 1, cost[i][j - 1] + 1,
+                             cost[i - 1][j - 1] + (reference[i - 1] != hypothesis[j - 1]))
+    pairs, i, j = [], len(reference), len(hypothesis)
+    while i or j:
+        if i and j and cost[i][j] == cost[i - 1][j - 1] + (reference[i - 1] != hypothesis[j - 1]):
+            pairs.append((reference[i - 1], hypothesis[j - 1]))
+            i, j = i - 1, j - 1
+        elif i and cost[i][j] == cost[i - 1][j] + 1:
+            pairs.append((reference[i - 1], None))
+            i -= 1
+        else:
+            pairs.append((None, hypothesis[j - 1]))
+            j -= 1
+    return pairs[::-1]
+
+
+def misheard_words(reference, hypothesis):
+    """The word edits of one transcript: [(said, heard)] with None for a word dropped (heard) or
+    added (said), both normalised (normalise_words)."""
+    return [(said, heard) for said, heard in word_alignment(normalise_words(reference),
+                                                           normalise_words(hypothesis))
+            if said != heard]

@@ -18,6 +18,14 @@ class Voice:
     pitch: int = 50           # espeak-ng pitch, 0..99 (its default)
 
 
+def voice_of(spec):
+    """Voice of a `name[:words-per-minute]` spec; ValueError naming the spec when malformed."""
+    name, _, wpm = spec.partition(":")
+    if not name or (wpm and not wpm.isdigit()) or (wpm and int(wpm) <= 0):
+        raise ValueError(f"voice {spec!r} is not NAME or NAME:WORDS_PER_MINUTE (e.g. en:175)")
+    return Voice(name=name, words_per_min=int(wpm or Voice.words_per_min))
+
+
 def _tool(name):
     path = shutil.which(name)
     if path is None:

@@ -19,7 +19,8 @@ from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE
 from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError, counting_mode,
-                                            sentence_vector, split_instruction)
+                                            phrase_vocabulary, sentence_vector,
+                                            split_instruction)
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from tamp_resources import resource
@@ -27,6 +28,7 @@ from tamp_resources import resource
 ROOT = resource()
 DEFAULT_MODEL = ROOT / "models" / "semantic_nav" / "default.keras"
 DEFAULT_LASER_CONFIG = ROOT / "config" / "semnav_laser.yaml"
+DEFAULT_PHRASES = ROOT / "config" / "semnav_phrases.yaml"
 
 
 class UnknownInstructionError(ValueError):
@@ -61,6 +63,12 @@ class FollowerConfig:
     corner_count: bool = True       # beyond the seed: a count-input network gets the corners
                                     # counted so far; false: a count of 0 throughout (what the
                                     # network decides without the rule-based counter)
+    phrase_vocabulary: str = str(DEFAULT_PHRASES)   # beyond the seed: words outside these
+                                    # phrase sets are skipped like words outside GloVe (then
+                                    # unknown_min_confidence decides); "" = every GloVe word
+    common_words_known: int = 500   # GloVe's this many most frequent words ("your", "just")
+                                    # are known besides the phrase sets' words: function words
+                                    # name no direction
     laser_config: str = str(DEFAULT_LASER_CONFIG)   # canonical scan + preprocessing
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
     guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
@@ -105,8 +113,9 @@ def load_follower_config(path):
     sections = {"postprocess": PostprocessConfig, "guard": GuardConfig, "doors": DoorConfig}
     top = {k: v for k, v in data.items() if k not in sections}
     config = _section(FollowerConfig, top, where)
-    if "laser_config" in top:    # relative to the file, like the world files' paths
-        config.laser_config = str((path.parent / top["laser_config"]).resolve())
+    for key in ("laser_config", "phrase_vocabulary"):   # relative to the file, like the
+        if top.get(key):                                 # world files' paths
+            setattr(config, key, str((path.parent / top[key]).resolve()))
     for name, cls in sections.items():
         if name in data:
             setattr(config, name, _section(cls, data[name], f"{where}: {name}"))
@@ -164,6 +173,11 @@ class DirectionFollower:
         self.control_period = self.config.control_period
         self.policy = _step_policy(model)
         self.word_vectors = word_vectors
+        self.vocabulary = None
+        if self.config.phrase_vocabulary:   # GloVe 6B's rows are in frequency order
+            common = {w for w, row in word_vectors.index.items()
+                      if row < self.config.common_words_known}
+            self.vocabulary = phrase_vocabulary(self.config.phrase_vocabulary) | common
         _, self.canonical, self.preprocess = load_laser_config(self.config.laser_config)
         self.halting = HaltingCounter(self.config.postprocess)
         # beyond the seed: a network with the count input gets the corners counted so far
@@ -201,7 +215,7 @@ class DirectionFollower:
         vectors, unknown = [], []
         for part in parts:
             try:
-                converted = sentence_vector(part, self.word_vectors)
+                converted = sentence_vector(part, self.word_vectors, self.vocabulary)
             except InstructionError as error:
                 raise UnknownInstructionError(
                     f"unknown instruction {part!r} (in {sentence!r}): {error}",

@@ -2,6 +2,7 @@
 instructions -> tokens -> sentence vectors (one GloVe vector per word)."""
 import re
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -110,17 +111,46 @@ def numeral_as_word(token):
     return token
 
 
-def sentence_vector(text, word_vectors):
+def sentence_vector(text, word_vectors, vocabulary=None):
     """§2.2.3.2: the sentence vector of one simple instruction; unknown words are skipped and
-    counted (word_vectors.oov_counts). InstructionError if no word is known."""
+    counted (word_vectors.oov_counts). Beyond the seed, with a `vocabulary` (phrase_vocabulary)
+    words outside it are skipped too ("take a lift turn": speech recognition's "lift" for
+    "left" is a GloVe word the phrase sets never use). InstructionError if no word is left."""
     tokens = tokenise(text)
     if not tokens:
         raise InstructionError(f"simple instruction {text!r} has no words")
-    vectors, unknown = word_vectors.lookup(tokens)
+    outside = [t for t in tokens if vocabulary is not None and t not in vocabulary]
+    vectors, unknown = word_vectors.lookup([t for t in tokens if t not in outside])
+    skipped = [t for t in tokens if t in outside or t in unknown]
     if vectors.shape[0] == 0:
-        raise InstructionError(f"no word of {text!r} is in the vocabulary of "
-                               f"{word_vectors.source} (unknown: {', '.join(unknown)})")
-    return SentenceVector(text=text, tokens=tokens, vectors=vectors, oov=unknown)
+        where = f"{word_vectors.source}" + (" and the phrase sets" if vocabulary else "")
+        raise InstructionError(f"no word of {text!r} is in the vocabulary of {where} "
+                               f"(unknown: {', '.join(skipped)})")
+    return SentenceVector(text=text, tokens=tokens, vectors=vectors, oov=skipped)
+
+
+def phrase_vocabulary(path):
+    """Every word of a phrase-set file (config/semnav_phrases.yaml: every set and split, "{dir}"
+    as right and left), as `tokenise` gives them -> frozenset. InstructionError naming the file
+    when it cannot be read."""
+    import yaml
+    try:
+        data = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as error:
+        raise InstructionError(f"phrase vocabulary {path}: {error}") from None
+    words, stack = set(), [data]
+    while stack:
+        value = stack.pop()
+        if isinstance(value, str):
+            for side in ("right", "left"):
+                words.update(tokenise(value.replace("{dir}", side)))
+        elif isinstance(value, dict):
+            stack.extend(value.values())
+        elif isinstance(value, list):
+            stack.extend(value)
+    if not words:
+        raise InstructionError(f"phrase vocabulary {path}: no phrases in it")
+    return frozenset(words)
 
 
 def convert_instruction(sentence, word_vectors):

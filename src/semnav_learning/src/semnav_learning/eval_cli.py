@@ -21,6 +21,7 @@ from semnav_learning.evaluation import (EvaluationConfig, PolicySpec, breakdown,
                                         plan_chain_episodes, plan_episodes, success_table)
 from semnav_learning.phrase_sets import load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
+from semnav_learning.spoken import DEFAULT_VOICES, speak_specs, spoken_report
 
 COMMAND = "scripts/eval_semnav"
 TEST_FLOORS = ("office_ring", "office_comb")   # never used in training
@@ -58,11 +59,19 @@ def argument_parser(root, description=None):
     parser.add_argument("--docs", type=Path, default=root / "docs" / "semantic_nav" / "eval")
     parser.add_argument("--first", type=int, help="run only the first N episodes of each class "
                         "of the plan")
+    parser.add_argument("--skip", type=int, default=0, metavar="K",
+                        help="leave out the first K episodes of each class of the plan (before "
+                             "--first): another subset of the same plan")
     parser.add_argument("--chain", type=int, nargs="+", metavar="CLASS",
                         help="instead of the per-class table: --episodes-per-class episodes of "
                              "one chained instruction of these classes, e.g. --chain 1 3 "
                              "--sentence \"go straight to the end, then turn left\"")
     parser.add_argument("--sentence", help="the sentence of --chain")
+    parser.add_argument("--spoken", nargs="*", metavar="VOICE",
+                        help="speak each sentence with espeak-ng (these voice:words-per-minute "
+                             f"in turn; none given: {' '.join(DEFAULT_VOICES)}), transcribe it "
+                             "with Whisper tiny.en and follow the transcript; lists the "
+                             "misheard words")
     parser.add_argument("--plan", type=Path, help="episode plan (JSON, or an earlier --json "
                         "result): reused when it exists (same episodes for every model and "
                         "laser), else written")
@@ -151,10 +160,26 @@ def episode_specs(args, phrases):
     return specs, floors, oracles
 
 
-def first_of_each_class(specs, count):
-    """The first `count` specs of each (last) class, classes in ascending order."""
+def first_of_each_class(specs, count, skip=0):
+    """The first `count` specs of each (last) class after its first `skip`, classes in ascending
+    order."""
     return [s for label in sorted({s.labels[-1] for s in specs})
-            for s in [s for s in specs if s.labels[-1] == label][:count]]
+            for s in [s for s in specs if s.labels[-1] == label][skip:skip + count]]
+
+
+def spoken_specs(specs, voices):
+    """speak_specs with a progress bar; a bad voice, missing espeak-ng / sox or Whisper model
+    exits with its message."""
+    from perception.speech_synthesis import SynthesisUnavailable, voice_of
+    from perception.stt import ModelMissing
+    try:
+        for voice in voices:
+            voice_of(voice)
+        with tqdm(total=len(specs), unit="sentence", desc="speak + transcribe",
+                  file=sys.stderr) as bar:
+            return speak_specs(specs, voices, progress=bar.update)
+    except (ValueError, SynthesisUnavailable, ModelMissing) as error:
+        sys.exit(f"eval_semnav: --spoken: {error}")
 
 
 def follower_config(path):
@@ -195,8 +220,11 @@ def main(root, description=None, argv=None):
     args = argument_parser(root, description).parse_args(argv)
     config = follower_config(args.follower_config)   # a bad file fails before any floor loads
     specs, floors, oracles = episode_specs(args, Path(root) / "config" / "semnav_phrases.yaml")
-    if args.first:
-        specs = first_of_each_class(specs, args.first)
+    if args.first or args.skip:
+        specs = first_of_each_class(specs, args.first or len(specs), args.skip)
+    heard = None
+    if args.spoken is not None:
+        specs, heard = spoken_specs(specs, args.spoken or list(DEFAULT_VOICES))
     name = args.name or f"{args.policy}_{args.laser}"
     floor_names = ", ".join(Path(f).stem for f in floors)
     template = laser_templates(root)[args.laser]
@@ -208,6 +236,10 @@ def main(root, description=None, argv=None):
              f"{args.laser}, {floor_names}, seed {args.seed})")
     result = {"args": {k: str(v) for k, v in vars(args).items()},
               "policy": report(outcomes, seconds, title, oracles)}
+    if heard is not None:
+        lines = spoken_report(heard, outcomes)
+        print("\n".join(lines))
+        result["spoken"] = {"report": lines, "heard": [asdict(h) for h in heard]}
     reference = None
     if args.expert_reference and args.policy != "expert":
         reference, ref_seconds = run(specs, PolicySpec(kind="expert"), template, args.workers,
