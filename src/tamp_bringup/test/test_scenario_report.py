@@ -4,8 +4,9 @@ import pytest
 from bringup_factories import instruction
 
 from tamp_bringup.scenario_report import (MODEL_PLANNERS, arrivals_problem, check_order,
-                                          model_figures, read_journal, report_markdown,
-                                          run_curve, summary, timeline_rows)
+                                          fleet_figures, fleet_markdown, model_figures,
+                                          read_journal, report_markdown, run_curve, summary,
+                                          timeline_rows)
 from task_planner.planner_registry import SCENARIO_MODEL, planner_names
 from task_planner.task_buffer import BufferConfig, TaskBuffer
 
@@ -80,6 +81,20 @@ def test_model_figures_on_the_same_arrivals(tmp_path, line_graph):
     assert exact.order == (2, 1, 3)
     assert exact.reward == pytest.approx(1.84049)
     assert exact.curve[0] == (2.0, 3.0, 5.0)
+
+
+def test_one_robot_or_two_on_the_same_arrivals(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=2))
+    problem = arrivals_problem(line_graph, entries, speed_mps=1.0, start_node=0, t0=0.0)
+    fleet = fleet_figures(problem, SETTINGS)
+    # two robots from A: 1 and 2 both done at 2 s (0.5 + 1.0), 3 on C after 2 at 4 s (0.9^4)
+    assert fleet["exact"] == {1: pytest.approx(1.84049), 2: pytest.approx(2.1561)}
+    for name in ("seed", "rollout", "auction"):
+        assert all(fleet[name][k] <= fleet["exact"][k] + 1e-9 for k in (1, 2))
+    assert fleet["auction"][2] == pytest.approx(2.1561)
+    lines = fleet_markdown(fleet)
+    assert lines[0] == "## One robot or two (model)"
+    assert "| exact | 1.840 | 2.156 |" in lines
 
 
 def test_arrivals_are_shifted_to_the_scenario_start(tmp_path, line_graph):

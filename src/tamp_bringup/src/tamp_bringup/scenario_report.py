@@ -4,7 +4,8 @@ Input: the run record written by `ros_scenario.py` (JSON: requests sent, moves, 
 ground-truth trajectory, the start place) and the executor's SQLite journal (read-only). Output:
 counts, a timeline, the accumulated-reward curve of the run, and, on the same arrivals (each
 instruction's launch time), what FCFS, the seed's planner and the exact optimum earn in the
-planners' model (`problem.py`: graph edges at `speed_mps`, service = `duration`, Eq. 4-2).
+planners' model (`problem.py`: graph edges at `speed_mps`, service = `duration`, Eq. 4-2), and
+what one robot and two earn there under each fleet allocator (`task_planner.fleet`).
 """
 import json
 import sqlite3
@@ -17,6 +18,9 @@ from task_planner.baselines import PlannerTooLarge
 from tamp_bringup.belief_report import (belief_markdown, history_sources, people_accuracy,
                                         read_searches)
 from task_planner.exact import SolverTimeout, exact_optimum
+from task_planner.fleet import RobotStart, run_fleet
+from task_planner.fleet_exact import fleet_exact_optimum
+from task_planner.fleet_registry import FLEET_ALLOCATORS, make_allocator
 from task_planner.instruction import HUMAN, Instruction, InvalidInstruction
 from task_planner.metrics import reward_curve
 from task_planner.planner_registry import SCENARIO_MODEL, entries, make_planner
@@ -106,6 +110,44 @@ def model_figures(problem, settings, exact_time_limit_s=60.0):
     except (SolverTimeout, PlannerTooLarge):
         pass  # the report says the optimum is missing
     return figures
+
+
+FLEET_SIZES = (1, 2)
+
+
+def fleet_figures(problem, settings, exact_time_limit_s=60.0):
+    """{allocator name: {robots: accumulated reward}} on the run's arrivals, every robot starting
+    where the run's robot started, and "exact" for the fleet optimum (arrivals known in advance)
+    where it finishes within the limits."""
+    starts = {k: [RobotStart(problem.start_node)] * k for k in FLEET_SIZES}
+    figures = {name: {k: run_fleet(problem, starts[k], make_allocator(name, settings))
+                      .reward(problem) for k in FLEET_SIZES} for name in FLEET_ALLOCATORS}
+    exact = {}
+    for k in FLEET_SIZES:
+        try:
+            exact[k] = fleet_exact_optimum(problem, starts[k],
+                                           time_limit_s=exact_time_limit_s)[1]
+        except (SolverTimeout, PlannerTooLarge):
+            continue
+    figures["exact"] = exact
+    return figures
+
+
+def fleet_markdown(fleet):
+    """The report's section comparing one robot with two on the run's arrivals."""
+    lines = ["## One robot or two (model)", "",
+             "The same arrivals served by a fleet in the planners' model (`task_planner.fleet`: "
+             "each robot drives graph edges at `speed_mps` from the run's start place; a "
+             "successor starts after its predecessor, whoever served it), online under each "
+             "fleet allocator of `fleet_registry`, and the exact fleet optimum with every launch "
+             "known (`fleet_exact`, up to 12 instructions). Accumulated reward (Eq. 4-2):", "",
+             "| allocator | " + " | ".join(f"{k} robot{'s' if k > 1 else ''}"
+                                           for k in FLEET_SIZES) + " |",
+             "|---|" + "---|" * len(FLEET_SIZES)]
+    for name, rewards in fleet.items():
+        cells = [f"{rewards[k]:.3f}" if k in rewards else "not computed" for k in FLEET_SIZES]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return lines + [""]
 
 
 def run_curve(entries, t0):
@@ -223,9 +265,10 @@ def replay_markdown(replay):
 
 
 def report_markdown(record, entries, figures, run, order_problems, files, belief_lines=(),
-                    replay=None):
+                    replay=None, fleet=None):
     """REPORT.md text of one run; belief_lines: belief_report.belief_markdown's section;
-    replay: the command that replays the run's rosbag (None: no section)."""
+    replay: the command that replays the run's rosbag (None: no section); fleet:
+    fleet_figures (None: no section)."""
     t0 = float(record["t0"])
     stats = summary(entries)
     lines = [f"# Scenario `{record['scenario']}`: what happened", "",
@@ -270,7 +313,8 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
         (e for e in entries if e.state == "done"), key=lambda e: e.completion_s)]
     lines.append(f"| this run (simulator) | {run[1][-1] if run[1] else 0.0:.3f} | "
                  f"{', '.join(map(str, done_order))} |")
-    lines += ["", "## Timeline", "",
+    lines += [""] + (fleet_markdown(fleet) if fleet else [])
+    lines += ["## Timeline", "",
               "Times in seconds of simulated time since the scenario start; launch = when the "
               "person spoke (the instruction's `start_time`), start = robot function began, "
               "end = done/failed.", "",
@@ -304,6 +348,7 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
     problem = arrivals_problem(graph, entries, float(settings["speed_mps"]),
                                graph.index(record["start_place"]), t0)
     figures = model_figures(problem, settings, exact_time_limit_s)
+    fleet = fleet_figures(problem, settings, exact_time_limit_s)
     run = run_curve(entries, t0)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -316,7 +361,8 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
     sources = history_sources(humans_path) if humans_path else {}
     (out_dir / "REPORT.md").write_text(
         report_markdown(record, entries, figures, run, problems, files,
-                        belief_markdown(record, entries, searches, t0, sources), replay))
+                        belief_markdown(record, entries, searches, t0, sources), replay, fleet))
     return dict(summary(entries), order_problems=problems,
-                model={f.name: f.reward for f in figures}, belief=people_accuracy(record),
+                model={f.name: f.reward for f in figures}, fleet=fleet,
+                belief=people_accuracy(record),
                 searches=len(searches), sources=sources, replay=replay)
