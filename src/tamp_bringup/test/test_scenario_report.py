@@ -92,6 +92,8 @@ def test_one_robot_or_two_on_the_same_arrivals(tmp_path, line_graph):
     for name in ("seed", "rollout", "auction"):
         assert all(fleet[name][k] <= fleet["exact"][k] + 1e-9 for k in (1, 2))
     assert fleet["auction"][2] == pytest.approx(2.1561)
+    known = fleet_figures(problem, SETTINGS, single_exact=1.5)    # one robot's taken as given
+    assert known["exact"] == {1: 1.5, 2: pytest.approx(2.1561)}
     lines = fleet_markdown(fleet)
     assert lines[0] == "## One robot or two (model)"
     assert "| exact | 1.840 | 2.156 |" in lines
