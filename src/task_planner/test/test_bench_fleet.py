@@ -22,6 +22,7 @@ def test_a_small_run_prints_every_part_and_allocator():
 @pytest.mark.parametrize("argv, message", [
     (["--sets", "0"], "--sets: must be a positive integer; got '0'"),
     (["--robots", "2,x"], "--robots: must be positive integers separated by commas"),
+    (["--count", "13"], "--count: the exact optimum takes sets of up to 12 instructions"),
 ])
 def test_bad_arguments_are_named(argv, message, capsys):
     with pytest.raises(SystemExit):

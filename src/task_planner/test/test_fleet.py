@@ -124,3 +124,30 @@ def test_the_auction_comes_within_5_percent_of_the_optimum(star_graph):
 def test_an_unknown_allocator_is_named():
     with pytest.raises(ValueError, match="unknown fleet allocator 'nope' .*auction"):
         make_allocator("nope")
+
+
+def chained_problem(graph, rng, count, spread_s):
+    """Instructions of which 40 % follow an earlier one, durations 0-7 s, whole-second launches."""
+    instructions = []
+    for k in range(count):
+        before = int(rng.integers(1, k + 1)) if k and rng.random() < 0.4 else 0
+        instructions.append(make_instruction(
+            k + 1, int(rng.integers(graph.size)), gamma=float(rng.choice([1, 3, 8])),
+            beta=float(rng.choice([0.9, 0.94, 0.98])), duration=int(rng.integers(0, 8)),
+            start_time=float(np.round(rng.uniform(0, spread_s))), previous_id=before))
+    return Problem(graph, tuple(instructions), speed_mps=0.5)
+
+
+@pytest.mark.parametrize("name", list(FLEET_ALLOCATORS))
+def test_no_allocator_stalls_on_chains_across_robots(star_graph, line_graph, name):
+    """300 chained sets, two or three robots on one node: every run ends with each instruction
+    served once (the auction once planned two robots into waiting on each other's chains in 2
+    of these sets)."""
+    rng = np.random.default_rng(7)
+    for trial in range(300):
+        graph = line_graph if trial % 2 else star_graph
+        problem = chained_problem(graph, rng, int(rng.integers(6, 15)),
+                                  float(rng.choice([0.0, 30.0])))
+        starts = [RobotStart(0)] * int(rng.integers(2, 4))
+        run = run_fleet(problem, starts, make_allocator(name))
+        assert sorted(i for order in run.orders for i in order) == list(range(problem.count))

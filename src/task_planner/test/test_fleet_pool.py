@@ -53,7 +53,7 @@ def test_a_foreign_file_is_refused(tmp_path):
     db.execute("CREATE TABLE people (name TEXT)")
     db.commit()
     db.close()
-    with pytest.raises(FleetPoolError, match="other.db: not a task buffer journal"):
+    with pytest.raises(FleetPoolError, match="fleet pool .*other.db: not a fleet pool"):
         FleetPool(path)
 
 
@@ -78,29 +78,37 @@ def test_processes_racing_for_the_same_ids_never_share_one(tmp_path):
     assert sorted(won) == ids                          # every id once, by exactly one robot
 
 
-def _serve(path, robot, lease_s, service_s, hang_after, log):
+def _serve(path, robot, lease_s, service_s, hang_after, log_path):
     """A robot's loop: claim what is claimable, serve it (sleep), complete it; with `hang_after`
-    it stops for good after that many claims, holding the last (killed there by the test)."""
+    it stops for good after that many claims, holding the last (killed there by the test).
+    Events go to the robot's own file, line by line: a multiprocessing queue shared with a
+    process killed while writing could stay locked."""
     pool = FleetPool(path, lease_s=lease_s)
     claimed = 0
-    while True:
-        now = time.time()
-        ids = pool.claimable(now)
-        if not ids:
-            if all(e.state == DONE for e in pool.entries()):
-                return
-            time.sleep(0.02)
-            continue
-        got = next((i for i in ids if pool.claim(robot, i, now)), None)
-        if got is None:
-            continue
-        claimed += 1
-        if claimed == hang_after:
-            log.put((robot, "holds", got))
-            time.sleep(600)
-        time.sleep(service_s)
-        pool.complete(robot, got, time.time())
-        log.put((robot, "done", got))
+    with open(log_path, "a", buffering=1) as log:
+        while True:
+            now = time.time()
+            ids = pool.claimable(now)
+            if not ids:
+                if all(e.state == DONE for e in pool.entries()):
+                    return
+                time.sleep(0.02)
+                continue
+            got = next((i for i in ids if pool.claim(robot, i, now)), None)
+            if got is None:
+                continue
+            claimed += 1
+            if claimed == hang_after:
+                log.write(f"holds {got}\n")
+                time.sleep(600)
+            time.sleep(service_s)
+            pool.complete(robot, got, time.time())
+            log.write(f"done {got}\n")
+
+
+def _events(log_path):
+    text = log_path.read_text() if log_path.exists() else ""
+    return [(what, int(i)) for what, i in (line.split() for line in text.splitlines())]
 
 
 def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
@@ -108,22 +116,21 @@ def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
     ids = list(range(1, 31))
     pool = FleetPool(path, lease_s=0.5)
     pool.add(ids)
-    log = FORK.Queue()
-    a = FORK.Process(target=_serve, args=(path, "a", 0.5, 0.02, 4, log))
-    b = FORK.Process(target=_serve, args=(path, "b", 0.5, 0.02, None, log))
+    logs = {robot: tmp_path / f"{robot}.log" for robot in ("a", "b")}
+    a = FORK.Process(target=_serve, args=(path, "a", 0.5, 0.02, 3, logs["a"]))
+    b = FORK.Process(target=_serve, args=(path, "b", 0.5, 0.02, None, logs["b"]))
     a.start()
     b.start()
-    events = []
-    while not any(event[1] == "holds" for event in events):
-        events.append(log.get(timeout=30))
-    held = next(event[2] for event in events if event[1] == "holds")
+    deadline = time.monotonic() + 30
+    while not any(what == "holds" for what, _ in _events(logs["a"])):
+        assert time.monotonic() < deadline and a.is_alive(), "robot a never held an instruction"
+        time.sleep(0.01)
+    held = next(i for what, i in _events(logs["a"]) if what == "holds")
     os.kill(a.pid, signal.SIGKILL)                     # dies holding `held`
     a.join(timeout=10)
     b.join(timeout=60)
     assert b.exitcode == 0
-    while not log.empty():
-        events.append(log.get(timeout=5))
-    served = [(robot, i) for robot, what, i in events if what == "done"]
+    served = [(robot, i) for robot in logs for what, i in _events(logs[robot]) if what == "done"]
     assert sorted(i for _, i in served) == ids         # each served once, none lost
     assert ("b", held) in served
     entries = {e.id: e for e in pool.entries()}

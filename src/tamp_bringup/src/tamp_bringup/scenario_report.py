@@ -93,6 +93,7 @@ def _figures(name, problem, schedule):
 
 
 MODEL_PLANNERS = tuple((e.name, f"{e.label} (model)") for e in entries(SCENARIO_MODEL))
+EXACT_LABEL = "Exact optimum (model, arrivals known)"
 
 
 def model_figures(problem, settings, exact_time_limit_s=60.0):
@@ -105,7 +106,7 @@ def model_figures(problem, settings, exact_time_limit_s=60.0):
         order = exact_optimum(problem, int(settings.get("exact_max_instructions", 40)),
                               initial_order=[index for index, _ in schedules["fcfs"].served],
                               time_limit_s=exact_time_limit_s)
-        figures.append(_figures("Exact optimum (model, arrivals known)", problem,
+        figures.append(_figures(EXACT_LABEL, problem,
                                 order_to_schedule(problem, order)))
     except (SolverTimeout, PlannerTooLarge):
         pass  # the report says the optimum is missing
@@ -314,7 +315,7 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
     for figure in figures:
         lines.append(f"| {figure.name} | {figure.reward:.3f} | "
                      f"{', '.join(map(str, figure.order))} |")
-    if not any(f.name.startswith("Exact") for f in figures):
+    if not any(f.name == EXACT_LABEL for f in figures):
         lines.append("| Exact optimum | not computed (time limit or size) | |")
     done_order = [e.instruction.id for e in sorted(
         (e for e in entries if e.state == "done"), key=lambda e: e.completion_s)]
@@ -355,7 +356,7 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
     problem = arrivals_problem(graph, entries, float(settings["speed_mps"]),
                                graph.index(record["start_place"]), t0)
     figures = model_figures(problem, settings, exact_time_limit_s)
-    single = [f.reward for f in figures if f.name.startswith("Exact")]
+    single = [f.reward for f in figures if f.name == EXACT_LABEL]
     fleet = fleet_figures(problem, settings, single[0] if single else None)
     run = run_curve(entries, t0)
     out_dir = Path(out_dir)

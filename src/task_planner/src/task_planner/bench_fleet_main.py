@@ -30,6 +30,7 @@ START_NODE = 0            # the household's charging place
 ROBOT_RADIUS_M = 0.25     # config/task_planner.yaml robot_radius_m
 ARRIVAL_COUNT = 20
 ARRIVAL_GAP_S = 20.0      # mean time between Poisson launches [s]
+EXACT_MAX = 12            # fleet_exact_optimum's default limit on instructions
 
 
 def household():
@@ -171,6 +172,9 @@ def parser():
 
 def main(argv=None, out=print):
     args = parser().parse_args(argv)
+    if args.count > EXACT_MAX:
+        parser().error(f"--count: the exact optimum takes sets of up to {EXACT_MAX} "
+                       f"instructions; got {args.count}")
     graph, priorities, config = household()
     rng = np.random.default_rng(args.seed)
     exact_part(graph, priorities, config, args.sets, args.count, rng, out)

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from task_planner.reward import decayed_reward
+
 _TIE = 1e-12   # gains closer than this are equal (the lower robot, then instruction, wins)
 _MIN_STEP_S = 1e-9   # guards the reward rate of an instruction that takes no time
 
@@ -37,16 +39,23 @@ class SequentialAuction:
         self.problem = problem
 
     def decide(self, view, available):
+        """The first instruction of this robot's plan; wait while it needs a predecessor that
+        is claimed (done later) or while only other robots' plans can start. Plans whose chains
+        wait on each other across robots (the bids see only planned times) are broken by serving
+        the first startable instruction of its own plan, else the one that earns it most."""
         plans = self.allocate(view)
         mine = plans[view.robot]
         startable = set(available.tolist())
         if mine and mine[0] in startable:
             return "target", mine[0]
-        others_act = any(plan and plan[0] in startable for r, plan in enumerate(plans)
-                         if r != view.robot)
-        if mine or others_act:
-            return "wait", None             # its first needs a predecessor, or others serve all
-        return "target", self._best_alone(view, available)
+        before = int(self.problem.predecessor[mine[0]]) if mine else -1
+        if before in view.done:
+            return "wait", None             # its predecessor is being served: done later
+        if any(plan and plan[0] in startable for r, plan in enumerate(plans)
+               if r != view.robot):
+            return "wait", None             # the others start what they planned
+        own = [i for i in mine if i in startable]
+        return "target", own[0] if own else self._best_alone(view, available)
 
     def allocate(self, view):
         """Every robot's plan (instruction indices in order) after the auction."""
@@ -62,11 +71,10 @@ class SequentialAuction:
             if not ready:
                 return plans
             if insertion:
-                gain, r, plan, finish, value = self._best_insertion(view, plans, values,
-                                                                    planned, ready)
+                r, plan, finish, value = self._best_insertion(view, plans, values, planned,
+                                                              ready)
             else:
-                gain, r, plan, finish, value = self._best_append(view, plans, values,
-                                                                 planned, ready)
+                r, plan, finish, value = self._best_append(view, plans, values, planned, ready)
             plans[r], values[r] = plan, value
             planned.update(zip(plan, finish))
 
@@ -82,7 +90,7 @@ class SequentialAuction:
                     gain = value - values[r]
                     if best is None or gain > best[0] + _TIE:
                         best = (gain, r, trial, finish, value)
-        return best
+        return best[1:]
 
     def _best_append(self, view, plans, values, planned, ready):
         """Append bids of every robot for every ready instruction, as arrays."""
@@ -95,12 +103,12 @@ class SequentialAuction:
         after = np.array([planned.get(int(b), 0.0) if b >= 0 else 0.0 for b in before])
         finish = np.maximum(np.maximum(clock[:, None] + p.travel_s[node][:, p.node[items]],
                                        p.launch[items]), after) + p.duration[items]
-        gain = p.gamma[items] * np.power(p.beta[items], finish - p.launch[items])
+        gain = decayed_reward(p.gamma[items], p.beta[items], finish - p.launch[items])
         rate = gain / np.maximum(finish - clock[:, None], _MIN_STEP_S)
         r, k = np.unravel_index(int(np.argmax(rate)), rate.shape)
         plan = plans[r] + [int(items[k])]
         finish_r, value = self._timeline(view, r, plan, planned)
-        return float(gain[r, k]), int(r), plan, finish_r, value
+        return int(r), plan, finish_r, value
 
     def _end(self, view, r, plan, planned):
         if not plan:
@@ -118,7 +126,7 @@ class SequentialAuction:
             node = int(p.node[i])
             own[i] = clock
             finish.append(clock)
-            value += p.gamma[i] * p.beta[i] ** (clock - p.launch[i])
+            value += p.gamma[i] * p.beta[i] ** (clock - p.launch[i])   # Eq. 4-2, scalar: hot loop
         return finish, value
 
     def _best_alone(self, view, available):
@@ -126,5 +134,5 @@ class SequentialAuction:
         p, r = self.problem, view.robot
         finish = np.maximum(view.clocks[r] + p.travel_s[view.nodes[r], p.node[available]],
                             p.launch[available]) + p.duration[available]
-        gain = p.gamma[available] * np.power(p.beta[available], finish - p.launch[available])
+        gain = decayed_reward(p.gamma[available], p.beta[available], finish - p.launch[available])
         return int(available[int(np.argmax(gain))])

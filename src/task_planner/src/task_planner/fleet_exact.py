@@ -21,6 +21,7 @@ from task_planner.baselines import PlannerTooLarge
 from task_planner.exact import SolverTimeout
 from task_planner.fleet import check_starts, fleet_reward, run_fleet
 from task_planner.fleet_auction import SequentialAuction
+from task_planner.reward import decayed_reward
 
 _TOLERANCE = 1e-12
 
@@ -74,7 +75,7 @@ def _extend(p, served, nodes, label, twin, heads, following):
                 continue
             finish = max(clocks[r] + p.travel_s[nodes[r], p.node[i]], p.launch[i], after) \
                 + p.duration[i]
-            gain = p.gamma[i] * p.beta[i] ** (finish - p.launch[i])
+            gain = p.gamma[i] * p.beta[i] ** (finish - p.launch[i])   # Eq. 4-2: hot loop
             new_done = done
             if i in heads:
                 new_done = dict(done)
@@ -116,5 +117,5 @@ def _bound(p, served, nodes, label):
     arrive = (np.array(clocks)[:, None] + p.travel_s[list(nodes)][:, p.node[remaining]]).min(0)
     after = np.array([done.get(int(p.predecessor[i]), 0.0) for i in remaining])
     finish = np.maximum(np.maximum(arrive, p.launch[remaining]), after) + p.duration[remaining]
-    return float((p.gamma[remaining] * np.power(p.beta[remaining],
-                                                finish - p.launch[remaining])).sum())
+    return float(decayed_reward(p.gamma[remaining], p.beta[remaining],
+                                finish - p.launch[remaining]).sum())

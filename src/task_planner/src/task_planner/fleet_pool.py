@@ -1,14 +1,15 @@
 """The instructions a fleet shares, claimed under leases in one SQLite file (WAL), ROS-free.
 
-Several executors (processes, possibly on several machines sharing the file's directory) serve one
-pool of instruction ids. A robot claims an instruction before it drives there: the claim is one
-`BEGIN IMMEDIATE` transaction that succeeds only while nobody holds the instruction, so no two
-robots ever hold it at once. A claim is a lease of `lease_s` seconds, renewed by its robot while
-it works (`renew`); a robot that dies stops renewing, and once its lease has run out the
-instruction is claimable again, so nothing it held is lost. `complete` closes an instruction only
-for the robot whose lease still holds it: a robot that lost its lease (stalled past it, the
-instruction served by another) is told so (`LeaseLost`) and must not serve it, so nothing is
-served twice. Times are passed in by the caller [s] (wall or ROS time, one clock for the fleet).
+Several executors (processes on one host: SQLite's WAL needs shared memory, so the file must not
+sit on a network file system) serve one pool of instruction ids. A robot claims an instruction
+before it drives there: the claim is one `BEGIN IMMEDIATE` transaction that succeeds only while
+nobody holds the instruction, so no two robots ever hold it at once. A claim is a lease of
+`lease_s` seconds, renewed by its robot while it works (`renew`); a robot that dies stops
+renewing, and once its lease has run out the instruction is claimable again, so nothing it held
+is lost. `complete` closes an instruction only for the robot whose lease still holds it: a robot
+that lost its lease (stalled past it, the instruction served by another) is told so
+(`LeaseLost`) and must not serve it, so nothing is served twice. Times are passed in by the
+caller [s] (wall or ROS time, one clock for the fleet).
 """
 from dataclasses import dataclass
 
@@ -48,7 +49,7 @@ class FleetPool:
             raise FleetPoolError(f"lease_s must be > 0, got {lease_s}")
         self.lease_s = float(lease_s)
         try:
-            self._db = open_journal(str(path), synchronous, (_TABLE,))
+            self._db = open_journal(str(path), synchronous, (_TABLE,), "fleet pool")
         except JournalFileError as error:
             raise FleetPoolError(str(error)) from error
         self._db.execute(f"PRAGMA busy_timeout={BUSY_TIMEOUT_MS}")

@@ -32,12 +32,12 @@ def foreign_tables(found, expected):
     return sorted(name for name, columns in found.items() if expected.get(name) != columns)
 
 
-def open_journal(path, synchronous, statements):
+def open_journal(path, synchronous, statements, what="task buffer journal"):
     """An autocommit sqlite3 connection (WAL, PRAGMA synchronous) to the journal at `path`, its
     tables made by `statements` (CREATE TABLE IF NOT EXISTS ...); JournalFileError when the file
-    is unreadable or foreign (module docstring)."""
+    is unreadable or foreign (module docstring); `what` names the file's kind in messages."""
     path = str(path)
-    where = f"task buffer journal {path}"
+    where = f"{what} {path}"
     try:
         db = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
     except sqlite3.Error as error:
@@ -51,7 +51,7 @@ def open_journal(path, synchronous, statements):
         foreign = foreign_tables(found, expected)
         if foreign:
             raise JournalFileError(
-                f"{where}: not a task buffer journal: holds tables {sorted(found)} ("
+                f"{where}: not a {what}: holds tables {sorted(found)} ("
                 f"{', '.join(foreign)} not as in the journal's {', '.join(sorted(expected))}); "
                 "refusing to use it, the file is left untouched")
         db.execute("PRAGMA journal_mode=WAL")
