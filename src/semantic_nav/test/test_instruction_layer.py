@@ -257,3 +257,27 @@ def test_the_default_follower_skips_a_misheard_side():
     assert follower.unknown_words == ["lift"]
     assert follower.start("robot please take the second right for me") == [5]
     assert follower.unknown_words == []
+
+
+@pytest.mark.parametrize("text, counting", [
+    ("take the second right", "side"),
+    ("take the 2nd left", "side"),
+    ("go down and take the third left-hand turning", "side"),
+    ("take the second right hand turn", "side"),
+    ("turn at the second opening on your right", "side"),
+    ("take the second on the right", "side"),
+    ("skip the first right and take the next one", "side"),
+    ("pass two lefts and turn left", "side"),
+    ("let one left go by and take the next", "side"),
+    ("turn right at the second corner", "corners"),
+    ("turn right at the second right-hand corner", "corners"),
+    ("turn right at the second right hand corner", "corners"),
+    ("turn right at the second corner on the right", "corners"),
+    ("skip the first right corner and turn right at the next", "corners"),
+    ("at the second junction turn left", "corners"),
+    ("turn left after the second corner", "corners"),
+])
+def test_counting_mode(text, counting):
+    from semantic_nav.instruction_layer import counting_mode
+    assert counting_mode(text) == counting
+    assert counting_mode(text, label=2) == "corners"       # class 2 counts nothing

@@ -310,3 +310,15 @@ def test_a_plan_counts_one_side_where_its_sentence_says_so(tmp_path):
     old = tmp_path / "old_plan.json"       # a plan written before countings: corners
     old.write_text(json.dumps([{k: v for k, v in asdict(side[0]).items() if k != "countings"}]))
     assert load_plan(old)[0].countings == ()
+
+
+def test_failure_place_counts_as_the_episode_does(tmp_path):
+    """On the alternating floor a robot that ends in the first right-hand branch, asked for
+    "the second right", stopped at opening 1 of 2 (goal: 2); asked for "the second corner"
+    (the first right-hand branch) it would have been at its goal's opening."""
+    from semnav_alternating_floor import START, alternating_floor_world
+    _, oracle = alternating_floor_world(tmp_path)
+    walk = oracle.walk(START)
+    end = (12.0, 3.0)                                   # in the branch at x 11-13 m, south
+    assert failure_place(walk, 5, end, counting="side") == "opening 1 of 2 on its side (goal: 2)"
+    assert failure_place(walk, 5, end) == "opening 1 of 2 on its side (goal: 1)"

@@ -241,3 +241,16 @@ def test_every_phrase_word_has_a_glove_vector(sets):
         pytest.skip(str(error))
     words = {w for phrases in sets.values() for p in phrases for w in tokenise(p.text)}
     assert sorted(w for w in words if w not in vectors) == []
+
+
+def test_the_follower_counts_as_the_phrase_sets_say(sets):
+    """The counting the evaluation judges a sentence by (the phrase set it was built with) is
+    the counting the follower reads from its words, for sentences of classes 5-8 of every
+    split."""
+    from semantic_nav.instruction_layer import counting_mode
+    rng = np.random.default_rng(0)
+    for split in ("train", "validation", "held_out"):
+        for label in (5, 6, 7, 8):
+            for _ in range(300):
+                sentence = sample_sentence(sets, label, rng, split)
+                assert counting_mode(sentence.text, label) == sentence.counting, sentence.text

@@ -11,15 +11,9 @@ def normalise_words(text):
 
 
 def word_edit_distance(reference, hypothesis):
-    """Levenshtein distance between two word lists (substitutions, deletions, insertions)."""
-    previous = list(range(len(hypothesis) + 1))
-    for i, ref_word in enumerate(reference, start=1):
-        current = [i]
-        for j, hyp_word in enumerate(hypothesis, start=1):
-            current.append(min(previous[j] + 1, current[j - 1] + 1,
-                               previous[j - 1] + (ref_word != hyp_word)))
-        previous = current
-    return previous[-1]
+    """Levenshtein distance between two word lists (substitutions, deletions, insertions): the
+    edits of their word_alignment."""
+    return sum(said != heard for said, heard in word_alignment(reference, hypothesis))
 
 
 def word_error_rate(references, hypotheses):
@@ -39,7 +33,8 @@ def word_error_rate(references, hypotheses):
 def word_alignment(reference, hypothesis):
     """A minimal-edit alignment of two word lists -> [(reference word or None, hypothesis word
     or None)]: equal pairs, substitutions, deletions (None heard) and insertions (None said).
-    Its edits are word_edit_distance's; ties prefer a substitution, then a deletion."""
+    Minimal: its edits are the Levenshtein distance; ties prefer a substitution, then a
+    deletion."""
     rows, cols = len(reference) + 1, len(hypothesis) + 1
     cost = [[0] * cols for _ in range(rows)]
     for i in range(rows):

@@ -162,19 +162,24 @@ def convert_instruction(sentence, word_vectors):
 # Beyond the seed: "the second right" names the second branch on the right, "the second corner"
 # the second corner over both sides. A side word used as a noun after an ordinal ("the second
 # right", "the third left-hand turning"), an ordinal thing on a side ("the second opening on your
-# right") and counting by passing a side's branches ("skip the first right", "pass two lefts")
-# count one side; everything else counts corners. Tokens as `tokenise` gives them.
-SIDE_NOUNS = r"(?:right|left|rights|lefts|right-hand|left-hand)"
+# right", "the second on the right") and counting by passing a side's branches ("skip the first
+# right", "pass two lefts", "let one left go by") count one side; everything else counts corners
+# ("the second right-hand corner" too). Tokens as `tokenise` gives them.
+HAND = r"(?:-hand| hand)?s?"                 # "right-hand", "right hand", "rights"
+SIDE_NOUNS = rf"(?:right|left){HAND}"
 ORDINALS = r"(?:second|third)"
 SIDE_THINGS = (r"(?:turn|turns|turning|turnings|opening|openings|branch|branches|exit|exits|"
                r"hallway|hallways|corridor|corridors|hall|passage|way|one|street|road)")
 CORNER_NOUNS = r"(?:corner|corners|intersection|intersections|junction|junctions|crossing|" \
                r"crossings|crossroad|crossroads)"
+# a side noun not naming a corner ("the second right-hand corner" counts corners)
+SIDE_NOT_CORNER = rf"(?:right|left)(?!{HAND} {CORNER_NOUNS}\b){HAND}\b"
 ONE_SIDE_COUNTS = re.compile(
-    rf"\b{ORDINALS} {SIDE_NOUNS}\b(?! {CORNER_NOUNS}\b)"
-    rf"|\b{ORDINALS} {SIDE_THINGS} (?:on|to) (?:the|your|its) {SIDE_NOUNS}\b"
+    rf"\b{ORDINALS} {SIDE_NOT_CORNER}"
+    rf"|\b{ORDINALS} (?:{SIDE_THINGS} )?(?:on|to) (?:the|your|its) {SIDE_NOUNS}\b"
     rf"|\b(?:skip|skipping|pass|passing|miss|missing|ignore|ignoring|past|after) (?:the )?"
-    rf"(?:first|one|two) {SIDE_NOUNS}\b(?! {CORNER_NOUNS}\b)")
+    rf"(?:first|one|two) {SIDE_NOT_CORNER}"
+    rf"|\blet (?:the )?(?:first|one|two) {SIDE_NOUNS} (?:go|pass)\b")
 
 
 def counting_mode(text, label=None):

@@ -23,8 +23,8 @@ from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
                                    chain_goals, run_episode)
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
-from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNTING_IDS, END_TURN,
-                                              STRAIGHT, TURN, get, ids)
+from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, COUNTING_IDS,
+                                              END_TURN, STRAIGHT, TURN, get, ids)
 from semnav_learning.phrase_sets import sample_sentence
 from semnav_learning.route_oracle import (OracleError, RouteOracle, branches_on_side,
                                        counting_matters, goal_branch)
@@ -321,13 +321,16 @@ def format_table(rows, total, title=""):
 def counting_breakdown(outcomes, oracles):
     """Classes 5-8 (single-part episodes) split by whether counting the corners over both sides
     matters from their start (route_oracle.counting_matters) -> {"matters" / "alike":
-    {"tests", "successes"}}: a policy that counts one side only fails the first group."""
+    {"tests", "successes"}}: a policy that counts one side only fails the first group.
+    Episodes whose sentence counts one side ("take the second right") are left out."""
     groups = {}
     for outcome in outcomes:
         labels = outcome.spec.labels
         if len(labels) != 1 or labels[0] not in COUNTING_IDS:
             continue
         label = labels[0]
+        if outcome.spec.countings[:1] == (COUNT_SIDE,):
+            continue               # counted on one side: the other side does not count
         walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
         group = groups.setdefault("matters" if counting_matters(walk, label) else "alike",
                                   {"tests": 0, "successes": 0})
@@ -336,7 +339,7 @@ def counting_breakdown(outcomes, oracles):
     return groups
 
 
-def failure_place(walk, label, end, margin=0.3):
+def failure_place(walk, label, end, margin=0.3, counting=COUNT_CORNERS):
     """Where a failed single instruction of class 1, 2, 3 or 5-10 ended, against the oracle's
     walk from its start -> "through the wall ahead" when the final position `end` (x, y) lies
     beyond the wall that ends the walked corridor (the robot went through a door there); for
@@ -347,7 +350,7 @@ def failure_place(walk, label, end, margin=0.3):
 
     Beyond the seed: tells a policy that counts the openings of one side only (it reaches
     opening M' != M) from one that misses or overshoots the turn, and both from one that takes
-    a door at the corridor's end for more corridor."""
+    a door at the corridor's end for more corridor. `counting`: the episode's (goal_branch)."""
     along, lateral = walk.frame(end)
     if along > walk.front + margin:
         return "through the wall ahead"
@@ -357,7 +360,7 @@ def failure_place(walk, label, end, margin=0.3):
             "short of the corridor's end"
     side = cls.side
     branches = branches_on_side(walk, side)
-    goal = goal_branch(walk, label)
+    goal = goal_branch(walk, label, counting)
     if abs(lateral) > walk.half_width + margin:
         if (lateral > 0) != (side == "left"):
             return "other side"
@@ -384,7 +387,8 @@ def failure_places(outcomes, oracles):
                 or not outcome.path:
             continue
         walk = oracles[outcome.spec.floor].walk(outcome.spec.start)
-        place = failure_place(walk, labels[0], outcome.path[-1][:2])
+        countings = outcome.spec.countings or (COUNT_CORNERS,)
+        place = failure_place(walk, labels[0], outcome.path[-1][:2], counting=countings[0])
         counts = places.setdefault(labels[0], {})
         counts[place] = counts.get(place, 0) + 1
     return dict(sorted(places.items()))
