@@ -17,6 +17,8 @@ import time
 
 import numpy as np
 
+from supervision.latency import summarise
+from task_planner.bench_executor_main import positive
 from task_planner.benchmark import BenchConfig, random_instructions
 from task_planner.fleet import RobotStart, run_fleet
 from task_planner.fleet_exact import fleet_exact_optimum
@@ -107,8 +109,9 @@ def scaling_part(graph, priorities, config, counts, robots, sets, rng, out=print
     out("  | instructions | robots | " + " | ".join(
         f"{n}: reward, decision p50 / p99 [ms]" for n in FLEET_ALLOCATORS) + " |")
     for (count, k), row in table.items():
-        cells = [f"{reward:.2f}, {1e3 * np.percentile(calls, 50):.2f} / "
-                 f"{1e3 * np.percentile(calls, 99):.2f}" for reward, calls in row.values()]
+        cells = [f"{reward:.2f}, {ms.p50:.2f} / {ms.p99:.2f}"
+                 for reward, ms in ((r, summarise(1e3 * c for c in calls))
+                                    for r, calls in row.values())]
         out(f"  | {count} | {k} | " + " | ".join(cells) + " |")
     return table
 
@@ -144,27 +147,20 @@ def int_list(text):
     return values
 
 
-def positive_int(text):
-    value = int(text) if text.strip().isdigit() else 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer; got {text!r}")
-    return value
-
-
 def parser():
     p = argparse.ArgumentParser(prog="bench_fleet", description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--sets", type=positive_int, default=20,
+    p.add_argument("--sets", type=positive, default=20,
                    help="static sets compared with the exact optimum (default: %(default)s)")
-    p.add_argument("--count", type=positive_int, default=10,
+    p.add_argument("--count", type=positive, default=10,
                    help="instructions per set compared with the optimum (default: %(default)s)")
     p.add_argument("--counts", type=int_list, default=[10, 20, 50, 100, 200],
                    help="instruction counts of the scaling part (default: 10,20,50,100,200)")
     p.add_argument("--robots", type=int_list, default=[2, 3, 5],
                    help="robot counts of the scaling part (default: 2,3,5)")
-    p.add_argument("--scaling-sets", type=positive_int, default=3,
+    p.add_argument("--scaling-sets", type=positive, default=3,
                    help="sets per count and robot count (default: %(default)s)")
-    p.add_argument("--arrival-sets", type=positive_int, default=20,
+    p.add_argument("--arrival-sets", type=positive, default=20,
                    help="Poisson arrival sets (default: %(default)s)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default: %(default)s)")
     return p

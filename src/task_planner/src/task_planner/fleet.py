@@ -46,6 +46,14 @@ def check_starts(problem, starts):
                              f"got {start.free_at}")
 
 
+def service_end(problem, node, clock, index, after=0.0):
+    """The timing rule of one service: a robot free at `clock` [s] on `node` drives the shortest
+    path to instruction `index`, starts no earlier than its launch and `after` (its
+    predecessor's completion), and is done after its duration -> completion [s]."""
+    arrive = clock + problem.travel_s[node, problem.node[index]]
+    return max(arrive, problem.launch[index], after) + problem.duration[index]
+
+
 def fleet_completion(problem, orders, starts):
     """Completion time [s] of every served instruction (dict index -> time) when robot r serves
     `orders[r]` in order under the fleet's timing rule.
@@ -73,9 +81,8 @@ def fleet_completion(problem, orders, starts):
                         raise FleetDeadlock(f"instruction {p.ids[i]} is served but its "
                                             f"predecessor {p.ids[before]} is not")
                     break
-                arrive = clock[r] + p.travel_s[node[r], p.node[i]]
-                start = max(arrive, p.launch[i], done.get(before, 0.0))
-                clock[r], node[r] = start + p.duration[i], int(p.node[i])
+                clock[r] = service_end(p, node[r], clock[r], i, done.get(before, 0.0))
+                node[r] = int(p.node[i])
                 done[i] = clock[r]
                 position[r] += 1
                 progressed = True

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from task_planner.fleet import service_end
 from task_planner.reward import decayed_reward
 
 _TIE = 1e-12   # gains closer than this are equal (the lower robot, then instruction, wins)
@@ -122,7 +123,7 @@ class SequentialAuction:
         for i in plan:
             before = int(p.predecessor[i])
             after = own.get(before, planned.get(before, 0.0)) if before >= 0 else 0.0
-            clock = max(clock + p.travel_s[node, p.node[i]], p.launch[i], after) + p.duration[i]
+            clock = service_end(p, node, clock, i, after)
             node = int(p.node[i])
             own[i] = clock
             finish.append(clock)

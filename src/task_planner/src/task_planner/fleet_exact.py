@@ -19,7 +19,7 @@ import numpy as np
 
 from task_planner.baselines import PlannerTooLarge
 from task_planner.exact import SolverTimeout
-from task_planner.fleet import check_starts, fleet_reward, run_fleet
+from task_planner.fleet import check_starts, fleet_reward, run_fleet, service_end
 from task_planner.fleet_auction import SequentialAuction
 from task_planner.reward import decayed_reward
 
@@ -40,7 +40,10 @@ def fleet_exact_optimum(problem, starts, max_instructions=12, time_limit_s=None)
     best_orders, best_reward = [list(o) for o in seed], fleet_reward(p, seed, starts)
     deadline = None if time_limit_s is None else time.perf_counter() + time_limit_s
     twin = [r > 0 and starts[r] == starts[r - 1] for r in range(k)]
-    heads = {int(b) for b in p.predecessor if b >= 0}
+    heads = {}                         # chain head -> bit mask of its successors
+    for s, b in enumerate(p.predecessor):
+        if b >= 0:
+            heads[int(b)] = heads.get(int(b), 0) | 1 << s
     empty = tuple(() for _ in range(k))
     start = (tuple(float(s.free_at) for s in starts), 0.0, empty, {})
     layer = {(0, tuple(s.node for s in starts)): [start]}
@@ -73,8 +76,7 @@ def _extend(p, served, nodes, label, twin, heads, following):
         for r in range(len(nodes)):
             if twin[r] and not orders[r - 1]:
                 continue
-            finish = max(clocks[r] + p.travel_s[nodes[r], p.node[i]], p.launch[i], after) \
-                + p.duration[i]
+            finish = service_end(p, nodes[r], clocks[r], i, after)
             gain = p.gamma[i] * p.beta[i] ** (finish - p.launch[i])   # Eq. 4-2: hot loop
             new_done = done
             if i in heads:
@@ -83,27 +85,28 @@ def _extend(p, served, nodes, label, twin, heads, following):
             key = (served | 1 << i, nodes[:r] + (int(p.node[i]),) + nodes[r + 1:])
             new = (clocks[:r] + (finish,) + clocks[r + 1:], reward + gain,
                    orders[:r] + (orders[r] + (i,),) + orders[r + 1:], new_done)
-            _insert(following.setdefault(key, []), new, p, key[0])
+            _insert(following.setdefault(key, []), new, _open_heads(key[0], heads))
 
 
-def _open_heads(p, served, done):
-    """Completion times of served chain heads whose successor is not served yet."""
-    return {h: t for h, t in done.items()
-            if any(int(b) == h and not served >> s & 1 for s, b in enumerate(p.predecessor))}
+def _open_heads(served, heads):
+    """The served chain heads (`heads`: head -> its successors' bits) with a successor not
+    served yet."""
+    return [h for h, successors in heads.items()
+            if served >> h & 1 and served & successors != successors]
 
 
-def _dominates(a, b, p, served):
-    if a[1] < b[1] or any(x > y for x, y in zip(a[0], b[0])):
-        return False
-    heads_a, heads_b = _open_heads(p, served, a[3]), _open_heads(p, served, b[3])
-    return all(heads_a[h] <= heads_b[h] for h in heads_b)
+def _dominates(a, b, open_heads):
+    """Label a is free no later on every robot, has its open chain heads done no later, and
+    earned no less than label b."""
+    return a[1] >= b[1] and all(x <= y for x, y in zip(a[0], b[0])) and all(
+        a[3][h] <= b[3][h] for h in open_heads)
 
 
-def _insert(labels, label, p, served):
-    """Keep `labels` free of dominated labels."""
-    if any(_dominates(other, label, p, served) for other in labels):
+def _insert(labels, label, open_heads):
+    """Keep `labels` (of one key) free of dominated labels."""
+    if any(_dominates(other, label, open_heads) for other in labels):
         return
-    labels[:] = [o for o in labels if not _dominates(label, o, p, served)]
+    labels[:] = [o for o in labels if not _dominates(label, o, open_heads)]
     labels.append(label)
 
 
