@@ -10,6 +10,7 @@ from sensor_msgs.msg import LaserScan
 from supervision.health import ERROR, Health
 
 from semantic_nav.follower import FollowerCommand
+from semantic_nav.instruction_layer import split_instruction
 from semantic_nav.ros_follower import FollowerNode, NodeParams
 
 SENTENCE = "go straight to the end, then turn left"
@@ -30,6 +31,7 @@ class Follower:
     def start(self, sentence):
         if self.broken == "start":
             raise RuntimeError("network exploded")
+        self.instructions = split_instruction(sentence)
         return [1, 3]
 
     def step(self, ranges, laser):

@@ -14,7 +14,7 @@ from supervision.health import fault_text
 
 from semantic_nav.follower import UnknownInstructionError
 from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
-                                            check_followable, split_instruction)
+                                            check_followable)
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
 
@@ -63,9 +63,8 @@ class FollowSession:
         before the follower is started: the robot does not move."""
         try:
             check_followable(sentence, getattr(follower, "word_vectors", None))
-            config = getattr(follower, "config", None)
-            self.parts = split_instruction(sentence, getattr(config, "splitting", "spoken"))
             self.classes = list(follower.start(sentence))
+            self.parts = list(follower.instructions)    # the simple instructions it follows
         except UnfollowableInstruction as error:
             raise InstructionRefused(f"cannot follow {sentence!r}: {error}",
                                      error.spoken) from error

@@ -7,6 +7,7 @@ the halting counter has ended every simple instruction.
     follower.start("go straight to the end, then turn left")
     every follower.control_period seconds: command = follower.step(scan.ranges, laser_model)
 """
+import itertools
 import os
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
@@ -174,10 +175,9 @@ class DirectionFollower:
         self.policy = _step_policy(model)
         self.word_vectors = word_vectors
         self.vocabulary = None
-        if self.config.phrase_vocabulary:   # GloVe 6B's rows are in frequency order
-            common = {w for w, row in word_vectors.index.items()
-                      if row < self.config.common_words_known}
-            self.vocabulary = phrase_vocabulary(self.config.phrase_vocabulary) | common
+        if self.config.phrase_vocabulary:   # index keys in row order; GloVe 6B: by frequency
+            common = itertools.islice(word_vectors.index, self.config.common_words_known)
+            self.vocabulary = phrase_vocabulary(self.config.phrase_vocabulary).union(common)
         _, self.canonical, self.preprocess = load_laser_config(self.config.laser_config)
         self.halting = HaltingCounter(self.config.postprocess)
         # beyond the seed: a network with the count input gets the corners counted so far
