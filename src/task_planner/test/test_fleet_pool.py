@@ -3,10 +3,10 @@ after its lease, and nothing is served twice or lost."""
 import multiprocessing
 import os
 import signal
-import sqlite3
 import time
 
 import pytest
+from planner_factories import execute_sql
 
 from task_planner.fleet_pool import CLAIMED, DONE, FleetPool, FleetPoolError, LeaseLost
 
@@ -49,10 +49,7 @@ def test_released_and_bad_requests():
 
 def test_a_foreign_file_is_refused(tmp_path):
     path = tmp_path / "other.db"
-    db = sqlite3.connect(path)
-    db.execute("CREATE TABLE people (name TEXT)")
-    db.commit()
-    db.close()
+    execute_sql(path, "CREATE TABLE people (name TEXT)")
     with pytest.raises(FleetPoolError, match="fleet pool .*other.db: not a fleet pool"):
         FleetPool(path)
 

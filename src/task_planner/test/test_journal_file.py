@@ -2,7 +2,7 @@
 import sqlite3
 
 import pytest
-from planner_factories import make_instruction
+from planner_factories import execute_sql, make_instruction
 
 from task_planner.task_buffer import TaskBuffer, TaskBufferError
 
@@ -40,11 +40,8 @@ def _journal(tmp_path):
 
 def test_another_programs_sqlite_file_is_refused_naming_its_tables(tmp_path):
     path = tmp_path / "humans.sqlite"
-    db = sqlite3.connect(path)
-    db.execute("CREATE TABLE humans (id INTEGER PRIMARY KEY, name TEXT)")
-    db.execute("CREATE TABLE history (id INTEGER PRIMARY KEY, time REAL)")
-    db.commit()
-    db.close()
+    execute_sql(path, "CREATE TABLE humans (id INTEGER PRIMARY KEY, name TEXT)",
+                "CREATE TABLE history (id INTEGER PRIMARY KEY, time REAL)")
     message = _refused_untouched(path, r"not a task buffer journal: holds tables "
                                        r"\['history', 'humans'\] \(history, humans not as in the "
                                        r"journal's instructions, robot_state, searches\)")
@@ -54,10 +51,7 @@ def test_another_programs_sqlite_file_is_refused_naming_its_tables(tmp_path):
 
 def test_a_foreign_instructions_table_is_refused(tmp_path):
     path = tmp_path / "todo.sqlite"
-    db = sqlite3.connect(path)
-    db.execute("CREATE TABLE instructions (id INTEGER PRIMARY KEY, what TEXT)")
-    db.commit()
-    db.close()
+    execute_sql(path, "CREATE TABLE instructions (id INTEGER PRIMARY KEY, what TEXT)")
     _refused_untouched(path, r"holds tables \['instructions'\] \(instructions not as in")
 
 
@@ -78,10 +72,7 @@ def test_a_truncated_journal_is_refused_by_name(tmp_path, keep):
 def test_our_journal_reopens_and_an_older_one_without_searches_is_accepted(tmp_path):
     path = _journal(tmp_path)
     assert len(TaskBuffer(path).records()) == 39
-    db = sqlite3.connect(path)
-    db.execute("DROP TABLE searches")
-    db.commit()
-    db.close()
+    execute_sql(path, "DROP TABLE searches")
     assert len(TaskBuffer(path).records()) == 39
     assert _tables(path) == ["instructions", "robot_state", "searches"]
     empty = tmp_path / "empty.sqlite"
@@ -91,10 +82,7 @@ def test_our_journal_reopens_and_an_older_one_without_searches_is_accepted(tmp_p
 
 def test_a_corrupt_row_is_quarantined_naming_the_row(tmp_path):
     path = _journal(tmp_path)
-    db = sqlite3.connect(path)
-    db.execute("UPDATE instructions SET gamma = -5 WHERE id = 3")
-    db.commit()
-    db.close()
+    execute_sql(path, "UPDATE instructions SET gamma = -5 WHERE id = 3")
     buffer = TaskBuffer(path)
     assert [i for i, _ in buffer.quarantined] == [3]
     assert buffer.quarantined[0][1].startswith("quarantined: journal row 3 is no valid "
