@@ -113,6 +113,23 @@ def test_person_on_the_goal_moves_it_while_driving_and_back_when_they_leave():
     assert core.free_goal(goal, pose) == (goal, "")
 
 
+def test_a_moved_goal_is_kept_while_it_stays_free():
+    grid = two_rooms()
+    world = grid.occupied_mask().copy()
+    rows, cols = np.ogrid[:60, :80]
+    world[np.hypot(rows - 20, cols - 30) <= 4] = True   # a 0.2 m person on (1.5, 1.0)
+    core = make_core(grid)
+    pose, requested = (0.6, 2.4, 0.0), (1.5, 1.0, 0.0)
+    core.observe(synthetic_scan(world, grid, pose), pose)
+    searched = core.free_goal(requested, pose)
+    assert searched[1].startswith("goal (1.50, 1.00) is closer than the robot radius")
+    free_elsewhere = ((1.0, 1.0, 0.0), "moved before")  # 0.5 m from the person: free
+    assert searched[0][:2] != free_elsewhere[0][:2]
+    assert core.free_goal(requested, pose, kept=free_elsewhere) == free_elsewhere
+    on_the_person = ((1.5, 1.05, 0.0), "moved before")
+    assert core.free_goal(requested, pose, kept=on_the_person) == searched
+
+
 def test_person_on_the_goal_with_no_free_pose_near_aborts_naming_the_radius():
     grid = two_rooms()
     world = grid.occupied_mask().copy()

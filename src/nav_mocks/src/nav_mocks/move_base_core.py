@@ -10,11 +10,13 @@ straight, slowly, in the direction that gains the most clearance without coming 
 obstacle it is already within the collision radius of, then replans from there.
 
 A goal in an obstacle or closer than the robot radius to one (e.g. a person standing on a place's
-pose) is moved to the nearest free pose reachable from the robot within goal_search_radius of
-it, keeping the requested heading (`global_planner.nearest_free_cell`). The search runs when the
-goal arrives and at every replan, always from the requested goal, so the goal returns there when
-the obstacle leaves. The move is reported in `StepResult.goal_note`; when no free pose is found
-the goal is REJECTED (on arrival) or ABORTED (later), the reason naming the goal and the radius.
+pose) is moved to the nearest free pose reachable from the robot within goal_search_radius of it,
+keeping the requested heading (`global_planner.nearest_free_cell`). The search runs when the goal
+arrives and at every replan, always from the requested goal, so the goal returns there when the
+obstacle leaves; a moved goal that is still free is kept, so a goal beside another robot does not
+jump from side to side of it as its laser marks flicker. The move is reported in
+`StepResult.goal_note`; when no free pose is found the goal is REJECTED (on arrival) or ABORTED
+(later), the reason naming the goal and the radius.
 """
 import math
 from dataclasses import dataclass, field
@@ -142,11 +144,12 @@ class MoveBaseCore:
                             progress_pose=pose, progress_time=now)
         return ACTIVE, note
 
-    def free_goal(self, requested, pose):
+    def free_goal(self, requested, pose, kept=None):
         """(goal, note) for a robot at `pose`: the requested goal and "" when its cell is free;
-        when it lies in an obstacle or closer than the robot radius to one, the nearest free
-        cell reachable from the robot within goal_search_radius, with the requested heading,
-        and a note saying so; (None, reason naming the goal and the radius) when there is none.
+        when it lies in an obstacle or closer than the robot radius to one, `kept` (goal, note)
+        when its goal's cell is free (a goal moved before), else the nearest free cell reachable
+        from the robot within goal_search_radius, with the requested heading, and a note saying
+        so; (None, reason naming the goal and the radius) when there is none.
         """
         x, y, yaw = requested
         grid = self.costmap.grid
@@ -154,6 +157,8 @@ class MoveBaseCore:
         blocked = self.planner.blocked_cells(pose[:2])
         if not blocked[row, col]:
             return requested, ""
+        if kept is not None and not blocked[grid.world_to_cell(kept[0][0], kept[0][1])]:
+            return kept
         lethal = self.costmap.costs()[row, col] == LETHAL_OBSTACLE
         what = ("lies in an obstacle" if lethal
                 else "is closer than the robot radius to an obstacle")
@@ -217,7 +222,8 @@ class MoveBaseCore:
         to recover), else run the next recovery behaviour (abort when none is left)."""
         run.last_plan_time = now
         try:
-            target, note = self.free_goal(run.requested or run.goal, pose)
+            moved = (run.goal, run.goal_note) if run.goal_note else None
+            target, note = self.free_goal(run.requested or run.goal, pose, kept=moved)
             if target is None:
                 raise NoPath(note)
             if target != run.goal:
