@@ -8,14 +8,20 @@ import time
 import pytest
 from planner_factories import execute_sql
 
-from task_planner.fleet_pool import CLAIMED, DONE, FleetPool, FleetPoolError, LeaseLost
+from task_planner.fleet_pool import (CANCELLED, CLAIMED, DONE, FAILED, FleetPool, FleetPoolError,
+                                     LeaseLost)
+from task_planner.instruction import Instruction
 
 FORK = multiprocessing.get_context("fork")
 
 
+def _instructions(ids, **fields):
+    return [Instruction(id=i, gamma=1.0, beta=0.99, destination=i % 5, **fields) for i in ids]
+
+
 def test_a_claim_is_exclusive_until_its_lease_runs_out():
     pool = FleetPool(":memory:", lease_s=10.0)
-    pool.add([1, 2])
+    pool.share(_instructions([1, 2]))
     assert pool.claim("a", 1, now=0.0)
     assert not pool.claim("b", 1, now=5.0)             # a holds it
     assert pool.claimable(5.0) == [2]
@@ -34,8 +40,8 @@ def test_a_claim_is_exclusive_until_its_lease_runs_out():
 
 def test_released_and_bad_requests():
     pool = FleetPool(":memory:", lease_s=1.0)
-    pool.add([7])
-    pool.add([7])                                      # already there: left as it is
+    pool.share(_instructions([7]))
+    assert pool.share(_instructions([7])) == {}        # already there: left as it is
     assert pool.claim("a", 7, 0.0)
     pool.release("a", 7)
     assert pool.claimable(0.1) == [7]
@@ -45,6 +51,55 @@ def test_released_and_bad_requests():
         pool.claim("", 7, 0.0)
     with pytest.raises(FleetPoolError, match="lease_s must be > 0"):
         FleetPool(":memory:", lease_s=0)
+
+
+def test_shared_instructions_reach_every_robot_in_order_and_ids_are_the_fleets():
+    pool = FleetPool(":memory:")
+    first = _instructions([3, 1], text="bring water")
+    assert pool.share(first) == {}
+    seq, seen = pool.since(0)
+    assert seen == first                               # as shared, every field kept
+    assert pool.since(seq) == (seq, [])
+    assert pool.next_id() == 4                         # above every shared id
+    assert pool.next_id() == 5                         # handed out, though not shared yet
+    assert pool.next_id(above=9) == 10
+    later = _instructions([4])
+    pool.share(later)
+    assert pool.since(seq) == (seq + 1, later)
+    other = _instructions([4], text="another request")
+    assert pool.share(other) == {4: "instruction 4: the fleet pool holds another instruction "
+                                    "under this id (let the fleet choose: id 0)"}
+    assert pool.since(seq)[1] == later                 # the first one stays
+
+
+def test_closing_failing_and_cancelling_are_seen_by_every_robot():
+    pool = FleetPool(":memory:", lease_s=10.0)
+    pool.share(_instructions([1, 2, 3, 4]))
+    assert pool.claim("a", 1, 0.0) and pool.claim("a", 2, 0.0) and pool.claim("b", 3, 0.0)
+    assert pool.held_by_others("b", 1.0) == {1, 2}
+    assert pool.held_by_others("a", 1.0) == {3}
+    assert pool.held_by_others("a", 10.5) == set()     # b's lease ran out
+    pool.complete("a", 1, 2.0)
+    pool.fail("a", 2, 3.0)
+    assert pool.cancel("b", 4, 4.0)                    # open: closed for everyone
+    assert not pool.cancel("b", 1, 5.0)                # done stays done
+    with pytest.raises(LeaseLost, match="instruction 3 .* held by 'b'"):
+        pool.fail("a", 3, 5.0)
+    closed = pool.closed([1, 2, 3, 4, 99])
+    assert {i: (e.state, e.robot) for i, e in closed.items()} == {
+        1: (DONE, "a"), 2: (FAILED, "a"), 4: (CANCELLED, "b")}
+    assert pool.claimable(20.0) == [3]
+    assert len(pool.closed(list(range(1, 1200)))) == 3  # more ids than SQLite binds at once
+
+
+def test_a_transactions_writes_reach_the_other_robots_together(tmp_path):
+    mine, theirs = FleetPool(tmp_path / "pool.db"), FleetPool(tmp_path / "pool.db")
+    with mine.transaction():
+        mine.share(_instructions([1]))
+        assert mine.claim("a", 1, 0.0)
+        assert theirs.since(0) == (0, [])              # nothing yet
+    assert theirs.since(0)[1] == _instructions([1])
+    assert theirs.claimable(0.0) == [] and not theirs.claim("b", 1, 0.0)
 
 
 def test_a_foreign_file_is_refused(tmp_path):
@@ -62,7 +117,7 @@ def _claim_everything(path, robot, ids, queue):
 def test_processes_racing_for_the_same_ids_never_share_one(tmp_path):
     path = str(tmp_path / "pool.db")
     ids = list(range(1, 201))
-    FleetPool(path).add(ids)
+    FleetPool(path).share(_instructions(ids))
     queue = FORK.Queue()
     workers = [FORK.Process(target=_claim_everything, args=(path, f"r{k}", ids[::1 - 2 * (k % 2)],
                                                             queue)) for k in range(4)]
@@ -112,7 +167,7 @@ def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
     path = str(tmp_path / "pool.db")
     ids = list(range(1, 31))
     pool = FleetPool(path, lease_s=0.5)
-    pool.add(ids)
+    pool.share(_instructions(ids))
     logs = {robot: tmp_path / f"{robot}.log" for robot in ("a", "b")}
     a = FORK.Process(target=_serve, args=(path, "a", 0.5, 0.02, 3, logs["a"]))
     b = FORK.Process(target=_serve, args=(path, "b", 0.5, 0.02, None, logs["b"]))

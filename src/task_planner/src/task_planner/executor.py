@@ -23,7 +23,10 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
 - a successor whose predecessor has not arrived `predecessor_wait_s` (task buffer) after it
   fails with a reason naming the predecessor, and the robot says it could not complete it;
 - with `patrol` on, an idle robot looks at the stalest, most likely occupied place
-  (`people_belief.patrol_target`) and drops the patrol as soon as an instruction arrives.
+  (`people_belief.patrol_target`) and drops the patrol as soon as an instruction arrives;
+- with a `fleet` (fleet_link.FleetLink) the robot shares what it receives, takes in what the
+  other robots received, decides among the instructions no other robot holds, claims its choice
+  before it drives for it, and closes in its journal what another robot closed.
 """
 import math
 import time
@@ -33,6 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from task_planner.battery import charge_instruction
+from task_planner import fleet_pool
 from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, Execute,
                                             Navigate, Say, StopMotion, Verify, Wait)
 from task_planner.finding_people import FindingPeople
@@ -96,8 +100,10 @@ class Executor(FindingPeople):
     """Fetch → decode → decide → navigate → verify → execute → write back (Fig. 4-14)."""
 
     def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0,
-                 charging=None):
+                 charging=None, fleet=None):
         self.buffer, self.graph, self.planner = buffer, graph, planner
+        self.fleet = fleet               # FleetLink, or None for a robot on its own
+        self._lost_claims = set()        # ids another robot held when this one claimed them
         if kind_of(planner) == STEP:
             raise ValueError(f"planner {planner.name!r} decides every step along an edge; the "
                              f"executor drives whole edges and runs node or target planners")
@@ -137,10 +143,33 @@ class Executor(FindingPeople):
 
     # ---- events ----
 
+    def new_id(self, previous_id=0):
+        """The id for an instruction whose sender lets the robot choose (its fleet's, if any)."""
+        own = self.buffer.next_id(previous_id)
+        return self.fleet.next_id(own - 1) if self.fleet else own
+
     def receive(self, instructions, now):
-        """Journal new instructions (one transaction) and re-decide; returns (results, commands)."""
+        """Journal new instructions (one transaction), share them with the fleet and re-decide;
+        returns (results, commands)."""
         self._drain(now)
-        results = self.buffer.submit_many(instructions, now)
+        if self.fleet is None:
+            return self._take_in(self.buffer.submit_many(instructions, now), now)
+        refused = self.fleet.conflicts(instructions)
+        journalled = iter(self.buffer.submit_many(
+            [i for i in instructions if i.id not in refused], now))
+        results = [(None, refused[i.id]) if i.id in refused else next(journalled)
+                   for i in instructions]
+        # the others see the new instructions together with this robot's claim on its choice:
+        # the robot that received them decides first
+        with self.fleet.transaction():
+            late = self.fleet.share([record.instruction for record, _ in results if record])
+            for reason in late.values():   # another robot shared the id since the check above
+                self.log.append((now, f"not shared: {reason}"))
+            return self._take_in(results, now)
+
+    def _take_in(self, results, now):
+        """Log what was journalled or refused; a person's request interrupts the robot's own
+        instruction; re-decide. Returns (results, commands)."""
         for record, error in results:
             self.log.append((now, f"refused: {error}" if error else
                              f"received {record.instruction.id}"))
@@ -152,10 +181,12 @@ class Executor(FindingPeople):
 
     def tick(self, now):
         """Periodic step: finish an execution whose time is up, or decide when idle."""
-        commands = self._check_battery(now) + self._give_up_waiting(now)
+        commands = self._fleet_news(now) if self.fleet else []
+        commands += self._check_battery(now) + self._give_up_waiting(now)
         if self.mode == EXECUTING and now >= self.executing[1]:
             instruction_id = self.executing[0]
             record = self.buffer.finish(instruction_id, now)
+            self._close_in_fleet(instruction_id, now, fleet_pool.DONE)
             if self.charging and record.instruction.function == self.charging.function_code:
                 self.charging.battery.charge(record.instruction.duration)
                 self._save_battery(force=True)
@@ -175,6 +206,23 @@ class Executor(FindingPeople):
         if self.mode == IDLE:
             return commands + self._decide(now)
         return commands
+
+    def _fleet_news(self, now):
+        """Take in what the other robots received, close what they closed, renew the lease."""
+        news = [i for i in self.fleet.news() if not self.buffer.holds(i.id)]
+        commands = self._take_in(self.buffer.submit_many(news, now), now)[1] if news else []
+        open_ids = [r.instruction.id for r in self.buffer.open_records()]
+        for instruction_id, state, reason in self.fleet.closed_elsewhere(open_ids):
+            commands += self._drop(instruction_id, now, reason, lambda i, t, why, s=state:
+                                   self.buffer.close_elsewhere(i, t, s, why))
+        self.fleet.renew(now)
+        return commands
+
+    def _close_in_fleet(self, instruction_id, now, state):
+        if self.fleet is not None:
+            trouble = self.fleet.close(instruction_id, now, state)
+            if trouble:
+                self.log.append((now, f"fleet: {trouble}"))
 
     def _give_up_waiting(self, now):
         """Fail successors whose predecessor never arrived (BufferConfig.predecessor_wait_s)."""
@@ -213,9 +261,11 @@ class Executor(FindingPeople):
                           for r in self.buffer.open_records())
         if not battery.is_low() or open_charge:
             return []
-        instruction = charge_instruction(self.buffer.next_id(), now, charging.place,
+        instruction = charge_instruction(self.new_id(), now, charging.place,
                                          self.graph.names[charging.place], charging.priority,
                                          battery, charging.function_code)
+        if self.fleet:   # the robot's own body: never another robot's to serve
+            self.fleet.keep_local(instruction.id)
         self.log.append((now, f"battery low ({100 * battery.fraction:.0f} %): charge"))
         return self.receive([instruction], now)[1]
 
@@ -258,9 +308,17 @@ class Executor(FindingPeople):
         return self._decide(now)
 
     def cancel(self, instruction_id, now):
-        """Withdraw an instruction; the robot stops its function if it was executing it."""
+        """Withdraw an instruction (for the whole fleet); the robot stops its function if it was
+        executing it. Returns (record, commands)."""
         self._drain(now)
-        record = self.buffer.cancel(instruction_id, now)
+        commands = self._drop(instruction_id, now, "cancelled by request",
+                              lambda i, t, why: self.buffer.cancel(i, t, why))
+        self._close_in_fleet(instruction_id, now, fleet_pool.CANCELLED)
+        return self.buffer.get(instruction_id), commands
+
+    def _drop(self, instruction_id, now, reason, close):
+        """Close an open instruction with `close(id, now, reason)` and stop serving it."""
+        close(instruction_id, now, reason)
         if self.mode == EXECUTING and self.executing[0] == instruction_id:
             self.mode, self.executing = IDLE, None
         if self.mode == VERIFYING and self.verifying[0] == instruction_id:
@@ -270,8 +328,8 @@ class Executor(FindingPeople):
             self.mode, self.looking, stop = IDLE, None, [StopMotion()]
         self.search.pop(instruction_id, None)
         self.searched.pop(instruction_id, None)
-        self.log.append((now, f"cancelled {instruction_id}"))
-        return record, stop + self._redecide(now)
+        self.log.append((now, f"closed {instruction_id}: {reason}"))
+        return stop + self._redecide(now)
 
     def serving(self):
         """Id of the instruction the robot is moving for, looking for, verifying or executing
@@ -312,10 +370,13 @@ class Executor(FindingPeople):
             return self._decide(now)
         if self.mode != MOVING or self.retry_at is not None:
             return []  # a robot function, the look for its person, a wait to pass go on
+        self._lost_claims.clear()
         decision = self._timed_decision(now)
         if decision is None:
             return []
         problem, index, step = decision
+        if self.fleet and not self.fleet.claim(int(problem.ids[index]), now):
+            return []  # another robot took it first: drive on, the next event decides again
         if step == self.goal:
             if not self.goal_for:  # a patrol's move now serves the instruction
                 self.goal_for, self._patrol_goal = int(problem.ids[index]), None
@@ -330,12 +391,18 @@ class Executor(FindingPeople):
     def _decide(self, now):
         """Fetch, decode, decide at the robot's node; returns the commands of the decision."""
         commands = []
+        self._lost_claims.clear()
         while True:
             decision = self._timed_decision(now)
             if decision is None:
+                if self.fleet:
+                    self.fleet.release()
                 return commands + (self._patrol(now) if self.config.patrol else [])
             problem, index, step = decision
             instruction_id = int(problem.ids[index])
+            if self.fleet and not self.fleet.claim(instruction_id, now):
+                self._lost_claims.add(instruction_id)
+                continue  # another robot took it first: choose among the rest
             if step is None:
                 commands += self._serve(instruction_id, now)
                 if self.mode in (EXECUTING, VERIFYING, LOOKING):
@@ -351,7 +418,7 @@ class Executor(FindingPeople):
         """Fetch, decode and decide at the robot's node, timed: (problem, index, next node), or
         None when nothing is eligible."""
         started, started_cpu = time.perf_counter(), time.thread_time()
-        problem, available = self._fetch_and_decode()
+        problem, available = self._fetch_and_decode(now)
         decision = None
         if len(available):
             index, step = self._ask_planner(problem, self.node, now, available)
@@ -360,12 +427,13 @@ class Executor(FindingPeople):
         self.decision_cpu_s.append(time.thread_time() - started_cpu)
         return decision
 
-    def _fetch_and_decode(self):
+    def _fetch_and_decode(self, now):
         """Fig. 4-14 fetch + decode: the open instructions as a Problem, and the eligible indices.
 
         A searched instruction's destination is the place being searched. The planner is reset
         only when the instruction set changes, so its per-set memory (the loop guard) holds. An
         own instruction that gave way to a person waits until no person's instruction is open.
+        In a fleet, an instruction another robot holds is not eligible.
         """
         pending = [r for r in self.buffer.open_records() if r.state == PENDING]
         if not any(r.instruction.type == HUMAN for r in pending):
@@ -376,10 +444,13 @@ class Executor(FindingPeople):
             self._problem_key = instructions
             self.planner.reset(self._problem)
         done = self.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
+        skipped = self._deferred
+        if self.fleet:
+            skipped = skipped | self._lost_claims | self.fleet.taken(now)
         available = np.array([k for k, r in enumerate(pending)
                               if (r.instruction.previous_id == 0
                                   or r.instruction.previous_id in done)
-                              and r.instruction.id not in self._deferred], dtype=int)
+                              and r.instruction.id not in skipped], dtype=int)
         return self._problem, available
 
     def _served_where(self, instruction):
@@ -451,8 +522,13 @@ class Executor(FindingPeople):
         return self._search_next(record.instruction, now)
 
     def _execute(self, instruction, function, now):
-        """Start the robot function of `instruction` here (PENDING -> ACTIVE)."""
+        """Start the robot function of `instruction` here (PENDING -> ACTIVE); not when the
+        robot's fleet lease ran out meanwhile (another robot may serve it)."""
         instruction_id = instruction.id
+        if self.fleet and not self.fleet.holds(instruction_id, now):
+            self._lost_claims.add(instruction_id)
+            self.log.append((now, f"lost {instruction_id} to another robot"))
+            return []
         self._end_search(instruction, now, found=True)
         self.buffer.start(instruction_id, now)
         self.mode, self.executing = EXECUTING, (instruction_id, now + instruction.duration)
@@ -463,6 +539,7 @@ class Executor(FindingPeople):
 
     def _fail(self, instruction_id, now, reason):
         self.buffer.fail(instruction_id, now, reason)
+        self._close_in_fleet(instruction_id, now, fleet_pool.FAILED)
         self.search.pop(instruction_id, None)
         self.searched.pop(instruction_id, None)
         self.log.append((now, f"failed {instruction_id}: {reason}"))

@@ -105,3 +105,42 @@ def _start_drive(navigation, current, node, goal, clock):
     if frozenset((origin, goal)) in navigation.blocked:
         return _Drive(origin, goal, clock + navigation.abort_after_s, edge_s, True)
     return _Drive(origin, goal, clock + edge_s, edge_s, False)
+
+
+def run_executor_fleet(executors, arrivals, navigation, step_s=0.25, until_s=3600.0, kills=()):
+    """Run the executors of a fleet (each with its FleetLink on one pool) side by side.
+
+    `arrivals`: [(time [s], robot index, Instruction)], each submitted to that robot; `kills`:
+    [(time [s], robot index)], from when that robot's executor is gone (it stops where it is,
+    holding what it held; what would arrive to it later is lost with the sender's request). Time
+    advances in steps of `step_s`, the executors' tick period: a robot learns what the others shared
+    or closed at its next tick. Runs until nothing is open in a live robot's journal and nothing is
+    left to arrive, or until `until_s`. Returns one Trace per robot.
+    """
+    arrivals = sorted(arrivals, key=lambda item: item[0])
+    kills = dict((robot, t) for t, robot in kills)
+    traces = [Trace() for _ in executors]
+    states = [{"drive": None, "execution_end": None} for _ in executors]
+    clock = 0.0
+    while clock <= until_s:
+        live = [k for k in range(len(executors)) if clock < kills.get(k, float("inf"))]
+        for k in live:
+            executor, state, trace = executors[k], states[k], traces[k]
+            commands = []
+            batch = [i for t, robot, i in arrivals if t <= clock and robot == k]
+            if batch:
+                commands += executor.receive(batch, clock)[1]
+            drive = state["drive"]
+            if drive is not None and drive.eta <= clock:
+                state["drive"] = None
+                commands += (executor.aborted(clock, "no path to the goal") if drive.aborts
+                             else executor.arrived(clock))
+            if state["execution_end"] is not None and state["execution_end"] <= clock:
+                state["execution_end"] = None
+            _carry_out(commands + executor.tick(clock), clock, executor, navigation, state,
+                       trace)
+        arrivals = [a for a in arrivals if a[0] > clock]   # a gone robot's are never taken
+        if not arrivals and all(not executors[k].buffer.open_records() for k in live):
+            return traces
+        clock += step_s
+    return traces

@@ -1,26 +1,34 @@
 """The instructions a fleet shares, claimed under leases in one SQLite file (WAL), ROS-free.
 
 Several executors (processes on one host: SQLite's WAL needs shared memory, so the file must not
-sit on a network file system) serve one pool of instruction ids. A robot claims an instruction
-before it drives there: the claim is one `BEGIN IMMEDIATE` transaction that succeeds only while
-nobody holds the instruction, so no two robots ever hold it at once. A claim is a lease of
-`lease_s` seconds, renewed by its robot while it works (`renew`); a robot that dies stops
-renewing, and once its lease has run out the instruction is claimable again, so nothing it held
-is lost. `complete` closes an instruction only for the robot whose lease still holds it: a robot
-that lost its lease (stalled past it, the instruction served by another) is told so
-(`LeaseLost`) and must not serve it, so nothing is served twice. Times are passed in by the
-caller [s] (wall or ROS time, one clock for the fleet).
-"""
-from dataclasses import dataclass
+sit on a network file system) serve one pool of instructions. An executor that receives an
+instruction `share`s it; the others take it in with `since`. Ids a sender leaves to the fleet
+come from `next_id`, one counter for the fleet, so two robots never give two instructions one id.
 
+A robot claims an instruction before it drives there: the claim is one `BEGIN IMMEDIATE`
+transaction that succeeds only while nobody holds the instruction, so no two robots ever hold it
+at once. A claim is a lease of `lease_s` seconds, renewed by its robot while it works (`renew`);
+a robot that dies stops renewing, and once its lease has run out the instruction is claimable
+again, so nothing it held is lost. `complete` and `fail` close an instruction only for the robot
+whose lease still holds it: a robot that lost its lease (stalled past it, the instruction served
+by another) is told so (`LeaseLost`) and must not serve it, so nothing is served twice. `cancel`
+closes an open instruction for every robot. Times are passed in by the caller [s] (wall or ROS
+time, one clock for the fleet).
+"""
+import json
+from dataclasses import asdict, dataclass
+
+from task_planner.instruction import Instruction
 from task_planner.journal_file import JournalFileError, open_journal
 
-OPEN, CLAIMED, DONE = range(3)
-STATE_NAMES = ("open", "claimed", "done")
+OPEN, CLAIMED, DONE, FAILED, CANCELLED = range(5)
+STATE_NAMES = ("open", "claimed", "done", "failed", "cancelled")
+CLOSED_STATES = (DONE, FAILED, CANCELLED)
 BUSY_TIMEOUT_MS = 10000   # how long a write waits for another process's transaction
-_TABLE = ("CREATE TABLE IF NOT EXISTS pool (id INTEGER PRIMARY KEY, state INTEGER NOT NULL, "
-          "robot TEXT NOT NULL, lease_until REAL NOT NULL, completion_time REAL NOT NULL, "
-          "claims INTEGER NOT NULL)")
+_TABLES = ("CREATE TABLE IF NOT EXISTS pool (id INTEGER PRIMARY KEY, state INTEGER NOT NULL, "
+           "robot TEXT NOT NULL, lease_until REAL NOT NULL, completion_time REAL NOT NULL, "
+           "claims INTEGER NOT NULL, seq INTEGER NOT NULL, instruction TEXT NOT NULL)",
+           "CREATE TABLE IF NOT EXISTS pool_ids (last INTEGER NOT NULL)")
 
 
 class LeaseLost(RuntimeError):
@@ -35,21 +43,21 @@ class FleetPoolError(ValueError):
 class PoolEntry:
     id: int
     state: int
-    robot: str            # who holds it (CLAIMED) or served it (DONE); empty when never claimed
+    robot: str            # who holds it (CLAIMED) or closed it (DONE, FAILED, CANCELLED)
     lease_until: float    # [s]
     completion_time: float
     claims: int           # how often it was claimed (more than 1: a lease ran out)
 
 
 class FleetPool:
-    """One fleet's shared instruction ids and their claims; `path` may be ':memory:'."""
+    """One fleet's shared instructions and their claims; `path` may be ':memory:'."""
 
     def __init__(self, path, lease_s=10.0, synchronous="FULL"):
         if not lease_s > 0:
             raise FleetPoolError(f"lease_s must be > 0, got {lease_s}")
         self.lease_s = float(lease_s)
         try:
-            self._db = open_journal(str(path), synchronous, (_TABLE,), "fleet pool")
+            self._db = open_journal(str(path), synchronous, _TABLES, "fleet pool")
         except JournalFileError as error:
             raise FleetPoolError(str(error)) from error
         self._db.execute(f"PRAGMA busy_timeout={BUSY_TIMEOUT_MS}")
@@ -57,12 +65,52 @@ class FleetPool:
     def close(self):
         self._db.close()
 
-    def add(self, ids):
-        """Put instruction ids into the pool (ids already there are left as they are)."""
+    # ---- instructions ----
+
+    def next_id(self, above=0):
+        """A fresh id for the fleet: more than every id handed out or shared, and than `above`."""
         with self._write():
-            self._db.executemany(
-                "INSERT OR IGNORE INTO pool VALUES (?, ?, '', 0, 0, 0)",
-                [(int(i), OPEN) for i in ids])
+            row = self._db.execute("SELECT last FROM pool_ids").fetchone()
+            largest = self._db.execute("SELECT COALESCE(MAX(id), 0) FROM pool").fetchone()[0]
+            new = max(row[0] if row else 0, largest, int(above)) + 1
+            self._db.execute("DELETE FROM pool_ids")
+            self._db.execute("INSERT INTO pool_ids VALUES (?)", (new,))
+            return new
+
+    def share(self, instructions):
+        """Put instructions into the pool for every robot. Returns {id: reason} for those refused:
+        the pool holds another instruction under that id. One already there is left as it is."""
+        refused = {}
+        with self._write():
+            seq = self._db.execute("SELECT COALESCE(MAX(seq), 0) FROM pool").fetchone()[0]
+            for instruction in instructions:
+                text, shared = _encode(instruction), self._shared(instruction.id)
+                if shared is not None:
+                    if shared != text:
+                        refused[instruction.id] = _conflict(instruction.id)
+                    continue
+                seq += 1
+                self._db.execute("INSERT INTO pool VALUES (?, ?, '', 0, 0, 0, ?, ?)",
+                                 (instruction.id, OPEN, seq, text))
+        return refused
+
+    def conflicting(self, instructions):
+        """{id: reason} of the instructions `share` would refuse (read only)."""
+        return {i.id: _conflict(i.id) for i in instructions
+                if self._shared(i.id) not in (None, _encode(i))}
+
+    def _shared(self, instruction_id):
+        row = self._db.execute("SELECT instruction FROM pool WHERE id=?",
+                               (int(instruction_id),)).fetchone()
+        return None if row is None else row[0]
+
+    def since(self, seq):
+        """(latest seq, [Instruction shared after `seq`]), in the order they were shared."""
+        rows = self._db.execute("SELECT seq, instruction FROM pool WHERE seq>? ORDER BY seq",
+                                (int(seq),)).fetchall()
+        return (rows[-1][0] if rows else int(seq)), [_decode(text) for _, text in rows]
+
+    # ---- claims ----
 
     def claimable(self, now):
         """Ids nobody holds at `now` (open, or claimed under a lease that has run out)."""
@@ -70,15 +118,37 @@ class FleetPool:
                                 "ORDER BY id", (OPEN, CLAIMED, now))
         return [row[0] for row in rows]
 
+    def held_by_others(self, robot, now):
+        """Ids another robot holds at `now` (claimed under a lease that still runs)."""
+        rows = self._db.execute("SELECT id FROM pool WHERE state=? AND robot<>? AND "
+                                "lease_until>=?", (CLAIMED, robot, now))
+        return {row[0] for row in rows}
+
+    def closed(self, ids):
+        """{id: PoolEntry} of those of `ids` that are closed (done, failed or cancelled)."""
+        found = {}
+        ids = [int(i) for i in ids]
+        for start in range(0, len(ids), 500):   # SQLite's limit on bound variables
+            part = ids[start:start + 500]
+            rows = self._db.execute(
+                f"SELECT id, state, robot, lease_until, completion_time, claims FROM pool WHERE "
+                f"state IN (?, ?, ?) AND id IN ({','.join('?' * len(part))})",
+                CLOSED_STATES + tuple(part))
+            found.update((row[0], PoolEntry(*row)) for row in rows)
+        return found
+
     def claim(self, robot, instruction_id, now):
         """True when `robot` now holds the instruction (until now + lease_s); False when another
-        robot holds it or it is done."""
+        robot holds it, it is closed or not in the pool. Claiming what the robot holds renews
+        it (a restarted executor takes back what it held)."""
         _check_robot(robot)
         with self._write():
             changed = self._db.execute(
-                "UPDATE pool SET state=?, robot=?, lease_until=?, claims=claims+1 WHERE id=? "
-                "AND (state=? OR (state=? AND lease_until<?))",
-                (CLAIMED, robot, now + self.lease_s, int(instruction_id), OPEN, CLAIMED, now))
+                "UPDATE pool SET claims=claims+(robot<>? OR state<>? OR lease_until<?), state=?, "
+                "robot=?, lease_until=? WHERE id=? AND (state=? OR (state=? AND "
+                "(lease_until<? OR robot=?)))",
+                (robot, CLAIMED, now, CLAIMED, robot, now + self.lease_s, int(instruction_id),
+                 OPEN, CLAIMED, now, robot))
             return changed.rowcount == 1
 
     def renew(self, robot, now):
@@ -93,14 +163,22 @@ class FleetPool:
 
     def complete(self, robot, instruction_id, now):
         """Close the instruction as served by `robot`; LeaseLost unless it holds it at `now`."""
+        self._close_held(robot, instruction_id, now, DONE)
+
+    def fail(self, robot, instruction_id, now):
+        """Close the instruction as failed by `robot` (no other robot tries it again); LeaseLost
+        unless it holds it at `now`."""
+        self._close_held(robot, instruction_id, now, FAILED)
+
+    def cancel(self, robot, instruction_id, now):
+        """Close an instruction that is not yet closed as cancelled through `robot`, whoever
+        holds it; False when it is closed already or not in the pool."""
         _check_robot(robot)
         with self._write():
             changed = self._db.execute(
-                "UPDATE pool SET state=?, completion_time=? WHERE id=? AND robot=? AND state=? "
-                "AND lease_until>=?", (DONE, now, int(instruction_id), robot, CLAIMED, now))
-            if changed.rowcount != 1:
-                raise LeaseLost(f"robot {robot!r} does not hold instruction {instruction_id} "
-                                f"at {now:.3f} s: {self._describe(instruction_id)}")
+                "UPDATE pool SET state=?, robot=?, completion_time=? WHERE id=? AND state IN "
+                "(?, ?)", (CANCELLED, robot, now, int(instruction_id), OPEN, CLAIMED))
+            return changed.rowcount == 1
 
     def release(self, robot, instruction_id):
         """Give a held instruction back to the pool (the robot will not serve it)."""
@@ -110,7 +188,18 @@ class FleetPool:
 
     def entries(self):
         """Every PoolEntry, by id."""
-        return [PoolEntry(*row) for row in self._db.execute("SELECT * FROM pool ORDER BY id")]
+        return [PoolEntry(*row) for row in self._db.execute(
+            "SELECT id, state, robot, lease_until, completion_time, claims FROM pool ORDER BY id")]
+
+    def _close_held(self, robot, instruction_id, now, state):
+        _check_robot(robot)
+        with self._write():
+            changed = self._db.execute(
+                "UPDATE pool SET state=?, completion_time=? WHERE id=? AND robot=? AND state=? "
+                "AND lease_until>=?", (state, now, int(instruction_id), robot, CLAIMED, now))
+            if changed.rowcount != 1:
+                raise LeaseLost(f"robot {robot!r} does not hold instruction {instruction_id} "
+                                f"at {now:.3f} s: {self._describe(instruction_id)}")
 
     def _describe(self, instruction_id):
         row = self._db.execute("SELECT state, robot, lease_until FROM pool WHERE id=?",
@@ -122,26 +211,47 @@ class FleetPool:
             return f"held by {robot!r} until {until:.3f} s"
         return STATE_NAMES[state] + (f" by {robot!r}" if robot else "")
 
+    def transaction(self):
+        """A context in which this connection's writes form one transaction: the other robots
+        see all of them at its end or none (e.g. instructions shared with the claim on one)."""
+        return _Transaction(self._db)
+
     def _write(self):
         return _Transaction(self._db)
 
 
 class _Transaction:
     """BEGIN IMMEDIATE ... COMMIT (ROLLBACK on error): the write lock is taken at the start, so
-    a read-then-update cannot interleave with another process's."""
+    a read-then-update cannot interleave with another process's. Inside an open transaction it
+    joins that one."""
 
     def __init__(self, db):
-        self.db = db
+        self.db, self.outer = db, False
 
     def __enter__(self):
-        self.db.execute("BEGIN IMMEDIATE")
+        self.outer = not self.db.in_transaction
+        if self.outer:
+            self.db.execute("BEGIN IMMEDIATE")
 
     def __exit__(self, kind, error, trace):
-        self.db.execute("COMMIT" if kind is None else "ROLLBACK")
+        if self.outer:
+            self.db.execute("COMMIT" if kind is None else "ROLLBACK")
         return False
+
+
+def _conflict(instruction_id):
+    return (f"instruction {instruction_id}: the fleet pool holds another instruction under this "
+            "id (let the fleet choose: id 0)")
+
+
+def _encode(instruction):
+    return json.dumps(asdict(instruction), sort_keys=True)
+
+
+def _decode(text):
+    return Instruction(**json.loads(text))
 
 
 def _check_robot(robot):
     if not isinstance(robot, str) or not robot:
         raise FleetPoolError(f"a robot is named by a non-empty string, got {robot!r}")
-

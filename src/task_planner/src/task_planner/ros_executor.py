@@ -1,12 +1,13 @@
 """The task_planner node: the TAMP executor (task_planner.executor) behind ROS.
 
-Callbacks only cache under a lock (instructions, the human table, move_base results); a timer
-feeds them to the executor and carries out its commands: `Navigate` -> move_base goal at the
-node's pose, `Execute` -> timed by the executor itself, `Say` -> /robot/say. The submit service
-journals before it answers, so its acknowledgement is durable; a request with id 0 gets the next id
-of the journal (TaskBuffer.next_id), returned in the answer. /task_planner/state carries the open
-instructions and the `~state_recent` most recently finished ones; /task_planner/get_buffer every
-instruction.
+Callbacks only cache under a lock (instructions, the human table, move_base results); a timer feeds
+them to the executor and carries out its commands: `Navigate` -> move_base goal at the node's pose,
+`Execute` -> timed by the executor itself, `Say` -> /robot/say. The submit service journals before
+it answers, so its acknowledgement is durable; a request with id 0 gets the next id of the journal
+(TaskBuffer.next_id), or of the fleet with `~fleet_pool`, returned in the answer. With `~fleet_pool`
+the robot is one of a fleet sharing that file (task_planner.fleet_link). /task_planner/state carries
+the open instructions and the `~state_recent` most recently finished ones; /task_planner/get_buffer
+every instruction.
 """
 import dataclasses
 import math
@@ -39,6 +40,8 @@ from task_planner.conversions import buffer_to_msg, instruction_from_msg, people
 from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_ms,
                                    nearest_node)
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
+from task_planner.fleet_link import FleetLink
+from task_planner.fleet_pool import FleetPool
 from task_planner.graph import load_graph
 from task_planner.people_belief import PeopleAtPlaces
 from task_planner.instruction import InvalidInstruction
@@ -94,6 +97,11 @@ class NodeParams:
     max_preemptions: int = 3       # a goal preempted by another sender (rviz "2D Nav Goal") is
                                    # sent again this often, then handled as aborted
     event_hold: float = 10.0       # diagnostics keep a navigation or journal event this long [s]
+    fleet_pool: str = ""           # SQLite file the executors of a fleet share (one host);
+                                   # "" = a robot on its own
+    robot_name: str = ""           # this robot's name in the fleet; "" = the node's namespace
+    fleet_lease: float = 10.0      # a claim lapses this long after its robot last renewed it
+                                   # [s of ROS time]; another robot may then serve it
 
     @classmethod
     def from_ros(cls):
@@ -107,7 +115,7 @@ class NodeParams:
     def check(self):
         """ValueError naming the parameter when a number cannot work (a tick period of 0 would
         spin, a goal silence of 0 would drop every goal)."""
-        positive = ("tick_period", "goal_silence", "event_hold", "fresh")
+        positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
                          "look_dwell", "pass_wait", "patrol_interval", "marker_period",
                          "plan_view_max", "state_recent", "max_preemptions")
@@ -142,7 +150,8 @@ class ExecutorNode:
                            own_yields=params.own_yields,
                            patrol_interval_s=params.patrol_interval),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
-            charging=self._charging(params, settings) if params.battery else None)
+            charging=self._charging(params, settings) if params.battery else None,
+            fleet=self._fleet(params))
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans = [], None
         # move_base results: a lock-free queue, because actionlib calls done callbacks holding
@@ -162,6 +171,17 @@ class ExecutorNode:
         self.view_planner = make_planner(params.planner, settings,  # plays the plan forward
                                          use=EXECUTOR)
         self._view_key, self._view_time = None, -float("inf")
+
+    @staticmethod
+    def _fleet(params):
+        """The robot's FleetLink with `~fleet_pool`, else None; ValueError names a problem."""
+        if not params.fleet_pool:
+            return None
+        robot = params.robot_name or rospy.get_namespace().strip("/")
+        if not robot:
+            raise ValueError("parameter ~robot_name: a robot of a fleet needs a name (or a "
+                             "namespace)")
+        return FleetLink(FleetPool(params.fleet_pool, lease_s=params.fleet_lease), robot)
 
     def _charging(self, params, settings):
         functions = {f.name: f for f in self.executor_functions.values()}
@@ -235,7 +255,7 @@ class ExecutorNode:
         allocate = msg.id == 0   # the buffer chooses the id (under the lock: no other submit
         with self.lock:          # or tick can journal in between)
             if allocate:
-                msg.id = self.executor.buffer.next_id(msg.previous_id)
+                msg.id = self.executor.new_id(msg.previous_id)
             try:
                 instruction = instruction_from_msg(msg)
             except InvalidInstruction as error:
@@ -463,11 +483,17 @@ class ExecutorNode:
                            for stat, value in zip(("median", "p95", "max"), figures)]
             values.append(KeyValue("decisions_timed", str(len(self.executor.decision_s))))
             values.append(KeyValue("total_reward", f"{self.executor.buffer.total_reward():.3f}"))
+            fleet = self.executor.fleet
+            if fleet:
+                values += [KeyValue("fleet_robot", fleet.robot),
+                           KeyValue("fleet_holds", str(fleet.held))]
             if self.executor.charging:
                 values.append(KeyValue("battery_percent",
                                        f"{100 * self.executor.charging.battery.fraction:.1f}"))
             self.refused = 0
-        status = DiagnosticStatus(level=level, name="task_planner: executor",
+        fleet = self.executor.fleet
+        status = DiagnosticStatus(level=level, name="task_planner: executor" + (
+            f" ({fleet.robot})" if fleet else ""),
                                   message=message, hardware_id="task_planner", values=values)
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()

@@ -249,6 +249,10 @@ class TaskBuffer:
         except KeyError:
             raise TaskBufferError(f"instruction {instruction_id}: not in the task buffer") from None
 
+    def holds(self, instruction_id):
+        """True when the buffer has journalled the instruction (in any state)."""
+        return instruction_id in self._records
+
     def records(self):
         """Every record, oldest first (the dict keeps arrival order: seq only grows)."""
         return list(self._records.values())
@@ -343,6 +347,20 @@ class TaskBuffer:
         """PENDING/ACTIVE -> CANCELLED; open successors fail naming it."""
         record = self._expect(instruction_id, OPEN_STATES, "cancel")
         return self._close_chain(record, CANCELLED, now, reason)
+
+    def close_elsewhere(self, instruction_id, now, state, reason):
+        """An open instruction another robot of the fleet closed (fleet_link), with `reason`
+        naming it: DONE earns this robot nothing (and lets a successor here start); FAILED and
+        CANCELLED fail the open successors as `fail` and `cancel` do."""
+        if not reason:
+            raise TaskBufferError(f"instruction {instruction_id}: closing it needs a reason")
+        record = self._expect(instruction_id, OPEN_STATES, "close")
+        if state == DONE:
+            return self._store(_close(record, DONE, now, reason))
+        if state not in (FAILED, CANCELLED):
+            raise TaskBufferError(f"instruction {instruction_id}: cannot close it as state "
+                                  f"{state}")
+        return self._close_chain(record, state, now, reason)
 
     def requeue(self, instruction_id):
         """ACTIVE -> PENDING: the function was interrupted before it completed."""

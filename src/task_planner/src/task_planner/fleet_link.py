@@ -1,0 +1,122 @@
+"""One executor's part in a fleet, ROS-free: its own task buffer linked to the pool all share.
+
+Thesis 000 ends (Ch. 6) with robots that share the instructions of one home. Each executor keeps
+its own journal (task_buffer); the pool (fleet_pool) is what the robots agree on:
+- what a robot receives it shares, and it takes in what the others received (`news`), so every
+  journal holds every instruction of the fleet; ids left to the fleet come from the pool's one
+  counter (`next_id`);
+- the robot's planner chooses among the instructions no other robot holds (`taken`), and the
+  robot claims its choice before it drives for it (`claim`): the seed's greedy extension
+  (fleet_registry `seed`), Algorithm 4-2 on what nobody has claimed. A robot holds one claim at
+  a time: claiming another gives the previous one back;
+- while it works it renews its lease (`renew`, every `renew_period_s`); a robot that dies stops
+  renewing, and its instruction returns to the others once the lease has run out;
+- what it finishes, fails or is told to cancel it closes in the pool; what another robot closed
+  it closes in its own journal (`closed_elsewhere`).
+Instructions the robot gives itself for its own body (charging) are `keep_local`: never shared
+and never claimed.
+"""
+from task_planner.fleet_pool import CANCELLED, DONE, FAILED, STATE_NAMES, LeaseLost
+from task_planner import task_buffer
+
+# pool state -> the task buffer state an instruction closed elsewhere takes
+_BUFFER_STATE = {DONE: task_buffer.DONE, FAILED: task_buffer.FAILED,
+                 CANCELLED: task_buffer.CANCELLED}
+
+
+class FleetLink:
+    """The pool as one robot named `robot` sees it (the name is the pool's claim holder)."""
+
+    def __init__(self, pool, robot, renew_period_s=None):
+        self.pool, self.robot = pool, robot
+        # renew well within the lease: three chances before it runs out
+        self.renew_period_s = pool.lease_s / 3 if renew_period_s is None else renew_period_s
+        self.held = 0              # the instruction id this robot holds (0: none)
+        self.local = set()         # ids of instructions kept to this robot
+        self._seq = 0              # the pool's last shared instruction taken in
+        self._renewed_at = -float("inf")
+
+    def next_id(self, above=0):
+        """An id no robot of the fleet has used, above `above` (the robot's own journal's)."""
+        return self.pool.next_id(above)
+
+    def keep_local(self, instruction_id):
+        self.local.add(int(instruction_id))
+
+    def conflicts(self, instructions):
+        """{id: reason} of the instructions whose id the pool holds for another instruction."""
+        return self.pool.conflicting([i for i in instructions if i.id not in self.local])
+
+    def transaction(self):
+        """The pool's transaction context (FleetPool.transaction)."""
+        return self.pool.transaction()
+
+    def share(self, instructions):
+        """Share instructions this robot accepted; {id: reason} of those the pool refused."""
+        return self.pool.share([i for i in instructions if i.id not in self.local])
+
+    def news(self):
+        """Instructions the other robots shared since the last call, in their order."""
+        self._seq, shared = self.pool.since(self._seq)
+        return shared
+
+    def taken(self, now):
+        """Ids this robot must not choose at `now`: held by another robot."""
+        return self.pool.held_by_others(self.robot, now)
+
+    def closed_elsewhere(self, ids):
+        """[(id, task buffer state, reason)] of `ids` another robot closed in the pool."""
+        return [(i, _BUFFER_STATE[entry.state], f"{STATE_NAMES[entry.state]} by {entry.robot}")
+                for i, entry in self.pool.closed([i for i in ids if i not in self.local]).items()
+                if entry.robot != self.robot]
+
+    def claim(self, instruction_id, now):
+        """True when the robot holds the instruction now (kept ones always); gives back the one
+        it held before."""
+        if instruction_id in self.local or instruction_id == self.held:
+            return True   # a held one is renewed by `renew`; `holds` checks it before serving
+        if not self.pool.claim(self.robot, instruction_id, now):
+            return False
+        if self.held and self.held != instruction_id:
+            self.pool.release(self.robot, self.held)
+        self.held, self._renewed_at = instruction_id, now
+        return True
+
+    def holds(self, instruction_id, now):
+        """True when the robot still holds the instruction at `now` (renewing its lease)."""
+        if instruction_id in self.local:
+            return True
+        self._renewed_at = now
+        return instruction_id in self.pool.renew(self.robot, now)
+
+    def renew(self, now):
+        """Renew the robot's lease when `renew_period_s` has passed since the last renewal."""
+        if self.held and now - self._renewed_at >= self.renew_period_s:
+            self._renewed_at = now
+            if self.held not in self.pool.renew(self.robot, now):
+                self.held = 0   # lost: another robot may hold it now (closed_elsewhere tells)
+
+    def release(self):
+        """Give back the instruction the robot holds (it serves none now)."""
+        if self.held:
+            self.pool.release(self.robot, self.held)
+            self.held = 0
+
+    def close(self, instruction_id, now, state):
+        """Close an instruction this robot finished (DONE) or failed (FAILED) in the pool, or one
+        it was told to cancel (CANCELLED). Returns "" or why the pool did not take it (the
+        robot's lease ran out: another robot may have served it too)."""
+        instruction_id = int(instruction_id)
+        if instruction_id in self.local:
+            return ""
+        if self.held == instruction_id:
+            self.held = 0
+        if state == CANCELLED:
+            self.pool.cancel(self.robot, instruction_id, now)
+            return ""
+        try:
+            (self.pool.complete if state == DONE else self.pool.fail)(
+                self.robot, instruction_id, now)
+        except LeaseLost as error:
+            return str(error)
+        return ""
