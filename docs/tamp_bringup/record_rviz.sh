@@ -6,12 +6,15 @@
 #   bash docs/tamp_bringup/record_rviz.sh directions  -> docs/tamp_bringup/rviz_directions.png
 #     semantic_nav.launch rviz:=true on office_ring; "go straight to the end, then turn left"
 #     on /voice_message, taken 90 s of simulated time later (the robot has arrived and stopped)
+#   bash docs/tamp_bringup/record_rviz.sh fleet       -> docs/tamp_bringup/rviz_fleet.png
+#     fleet_sim.launch rviz:=true: three instructions sent to robot1 (bedroom, living room,
+#     welcome), taken 25 s of simulated time later (each robot drives to its own)
 # SIM_SECONDS (second argument) replaces the time of the shot.
 # Each run has its own roscore port, ROS_HOME and X display, and stops everything it started.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$ROOT"
-view="${1:?usage: record_rviz.sh household|directions [SIM_SECONDS]}"
+view="${1:?usage: record_rviz.sh household|directions|fleet [SIM_SECONDS]}"
 set +u; source scripts/env.sh; set -u
 run_dir="$(mktemp -d /tmp/rviz_shot.XXXXXX)"
 export ROS_HOME="$run_dir" ROS_LOG_DIR="$run_dir/log" ROS_HOSTNAME=localhost
@@ -29,7 +32,10 @@ case "$view" in
     size=1200x800; out=docs/tamp_bringup/rviz_directions.png; at=90
     sentence="go straight to the end, then turn left"
     launch=(semantic_nav.launch rviz:=true floor:=office_ring) ;;
-  *) echo "unknown view $view (household or directions)" >&2; exit 2 ;;
+  fleet)
+    size=1000x800; out=docs/tamp_bringup/rviz_fleet.png; sentence="fleet"; at=25
+    launch=(fleet_sim.launch rviz:=true data_dir:="$run_dir") ;;
+  *) echo "unknown view $view (household, directions or fleet)" >&2; exit 2 ;;
 esac
 at="${2:-$at}"
 Xvfb "$display" -screen 0 "${size}x24" >"$run_dir/xvfb.log" 2>&1 &
@@ -63,7 +69,17 @@ def sim_time():  # this helper may start before use_sim_time is set: read /clock
 
 
 until = float(sys.argv[1])
-if sys.argv[2]:
+if sys.argv[2] == "fleet":  # requests to robot1; the fleet shares them
+    from tamp_msgs.msg import Instruction
+    from tamp_msgs.srv import SubmitInstruction
+    rospy.wait_for_service("/robot1/task_planner/submit", 120.0)
+    submit = rospy.ServiceProxy("/robot1/task_planner/submit", SubmitInstruction)
+    start = sim_time()
+    for place, gamma in ((6, 4.0), (2, 3.0), (3, 2.0)):   # bedroom, living room, welcome
+        submit(Instruction(id=0, gamma=gamma, beta=0.99, start_time=start, duration=20,
+                           function=2, destination=place))
+    until += start
+elif sys.argv[2]:
     from tamp_msgs.msg import Utterance
     pub = rospy.Publisher("/voice_message", Utterance, queue_size=1, latch=True)
     while not rospy.is_shutdown() and pub.get_num_connections() == 0:

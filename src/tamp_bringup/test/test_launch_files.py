@@ -7,6 +7,8 @@ understands, and a truly required argument has no default at all. The launch fil
 a robot load its URDF as `robot_description`; the URDFs agree with the simulator's robots and do
 not name a frame that the simulator or penguin_base already publishes.
 """
+import os
+import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -140,6 +142,31 @@ def test_penguin_urdf_matches_the_base_and_the_simulator():
     assert max(ys) - min(ys) == pytest.approx(base["wheel_separation"])
 
 
+def test_fleet_runs_each_robots_navigation_on_its_machine_and_the_executors_on_the_server():
+    robot, fleet = load_launch("fleet_robot.launch"), load_launch("fleet_sim.launch")
+    machines = {m.get("name"): m for m in list(robot.iter("machine")) + list(fleet.iter("machine"))}
+    assert set(machines) == {"$(arg robot)", "fleet_server"}
+    assert all(m.get("env-loader") == "$(arg env_loader)" for m in machines.values())
+    nodes = {n.get("name"): n.get("machine") for n in robot.iter("node")}
+    assert nodes == {"amcl": "$(arg robot)", "move_base": "$(arg robot)",
+                     "task_planner": "fleet_server"}
+    robots = [i for i in fleet.iter("include") if i.get("file").endswith("fleet_robot.launch")]
+    assert [{a.get("name"): a.get("value") for a in i.iter("arg")}["address"] for i in robots] == [
+        "$(arg robot1_address)", "$(arg robot2_address)"]
+
+
+def test_the_env_loader_runs_a_command_in_the_workspace_environment(tmp_path):
+    loader = LAUNCH_DIR.parent / "env_loader.sh"
+    environment = {"PATH": "/usr/bin:/bin", "HOME": str(tmp_path), "TAMP_ROS_HOSTNAME": "robot7"}
+    shown = subprocess.run(
+        [str(loader), "python3", "-c", "import os, sys, task_planner; "
+         "print(sys.prefix, os.environ['ROS_HOSTNAME'], os.environ['ROS_PACKAGE_PATH'])"],
+        env=environment, capture_output=True, text=True, check=True).stdout.split()
+    workspace = Path(os.environ["TAMP_WS"])   # set by scripts/env.sh, as in every test run
+    assert shown[0] == str(workspace / ".venv") and shown[1] == "robot7"
+    assert str(workspace / "src") in shown[2]
+
+
 def rviz_displays(name):
     config = yaml.safe_load((RVIZ_DIR / name).read_text())
     return config, config["Visualization Manager"]["Displays"]
@@ -156,6 +183,22 @@ def test_rviz_configs_show_the_robot_in_distinct_colours(name):
         if colour and display["Class"] not in ("rviz/Grid", "rviz/Map"):
             colours.setdefault(colour, []).append(display["Name"])
     assert not {c: n for c, n in colours.items() if len(n) > 1}, "displays share a colour"
+
+
+def test_fleet_view_shows_each_robot_under_its_namespace_in_its_own_colour():
+    _, displays = rviz_displays("fleet.rviz")
+    models = [d for d in displays if d["Class"] == "rviz/RobotModel"]
+    assert sorted(m["TF Prefix"] for m in models) == ["robot1", "robot2"]
+    colours = {}
+    for display in displays:
+        robot = display["Name"].split()[0]
+        topic = display.get("Topic") or display.get("Marker Topic")
+        if robot in ("robot1", "robot2"):
+            assert display["Class"] == "rviz/RobotModel" or topic.startswith(f"/{robot}/")
+            if "Color" in display:
+                colours.setdefault(robot, set()).add(display["Color"])
+    assert len(colours["robot1"]) == len(colours["robot2"]) == 1
+    assert colours["robot1"] != colours["robot2"]
 
 
 def test_direction_following_view_follows_the_robot():
