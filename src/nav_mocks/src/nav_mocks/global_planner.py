@@ -76,7 +76,7 @@ class GlobalPlanner:
         costs = self.costmap.costs()
         blocked = self.blocked_cells(start_xy)
         goal_end = goal_xy[:2]
-        if tolerance > 0.0 and (blocked[goal] or not _reachable(blocked, start)[goal]):
+        if tolerance > 0.0 and (blocked[goal] or not reachable_cells(blocked, start)[goal]):
             goal = _nearest_reachable(grid, blocked, start, goal_xy, tolerance)
             if goal is not None:
                 goal_end = tuple(float(v) for v in grid.cell_to_world(*goal))
@@ -115,7 +115,7 @@ class GlobalPlanner:
         return blocked
 
 
-def _reachable(blocked, start):
+def reachable_cells(blocked, start):
     """Boolean mask of the cells A* can reach from `start` over free cells.
 
     A* forbids cutting corners, so a diagonal step is allowed only where both orthogonal steps
@@ -130,7 +130,7 @@ def nearest_free_cell(grid, blocked, start, goal_xy, radius):
     none. blocked: boolean mask (GlobalPlanner.blocked_cells) of the cells a plan may not cross."""
     if not (radius >= 0.0 and np.isfinite(radius)):
         raise ValueError(f"search radius {radius} must be a finite number >= 0")
-    rows, cols = np.nonzero(_reachable(blocked, start))
+    rows, cols = np.nonzero(reachable_cells(blocked, start))
     xs, ys = grid.cell_to_world(rows, cols)
     squared = (xs - goal_xy[0]) ** 2 + (ys - goal_xy[1]) ** 2
     inside = squared <= radius ** 2 + 1e-9
@@ -143,7 +143,7 @@ def nearest_free_cell(grid, blocked, start, goal_xy, radius):
 def _nearest_reachable(grid, blocked, start, goal_xy, tolerance):
     """(row, col) of the reachable free cell nearest goal_xy with its centre within `tolerance`
     [m] of it in x and y; None when there is none."""
-    rows, cols = np.nonzero(_reachable(blocked, start))
+    rows, cols = np.nonzero(reachable_cells(blocked, start))
     xs, ys = grid.cell_to_world(rows, cols)
     dx, dy = np.abs(xs - goal_xy[0]), np.abs(ys - goal_xy[1])
     inside = (dx <= tolerance + 1e-9) & (dy <= tolerance + 1e-9)

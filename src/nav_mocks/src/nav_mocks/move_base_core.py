@@ -13,8 +13,8 @@ A goal in an obstacle or closer than the robot radius to one (e.g. a person stan
 pose) is moved to the nearest free pose reachable from the robot within goal_search_radius of it,
 keeping the requested heading (`global_planner.nearest_free_cell`). The search runs when the goal
 arrives and at every replan, always from the requested goal, so the goal returns there when the
-obstacle leaves; a moved goal that is still free is kept, so a goal beside another robot does not
-jump from side to side of it as its laser marks flicker. The move is reported in
+obstacle leaves; a moved goal that is still free and reachable is kept, so a goal beside another
+robot does not jump from side to side of it as its laser marks flicker. The move is reported in
 `StepResult.goal_note`; when no free pose is found the goal is REJECTED (on arrival) or ABORTED
 (later), the reason naming the goal and the radius.
 """
@@ -26,7 +26,7 @@ import numpy as np
 from nav_mocks.clearance import ContactClearance
 from nav_mocks.costmap import LETHAL_OBSTACLE
 from nav_mocks.dwa import DwaController
-from nav_mocks.global_planner import GlobalPlanner, NoPath, nearest_free_cell
+from nav_mocks.global_planner import GlobalPlanner, NoPath, nearest_free_cell, reachable_cells
 from nav_mocks.param_checks import non_negative_number, positive_number
 from nav_mocks.pose2d import distance, wrap_angle
 from nav_mocks.scan_rays import beam_cells, hit_points
@@ -147,9 +147,9 @@ class MoveBaseCore:
     def free_goal(self, requested, pose, kept=None):
         """(goal, note) for a robot at `pose`: the requested goal and "" when its cell is free;
         when it lies in an obstacle or closer than the robot radius to one, `kept` (goal, note)
-        when its goal's cell is free (a goal moved before), else the nearest free cell reachable
-        from the robot within goal_search_radius, with the requested heading, and a note saying
-        so; (None, reason naming the goal and the radius) when there is none.
+        when its goal's cell is free and reachable (a goal moved before), else the nearest free
+        cell reachable from the robot within goal_search_radius, with the requested heading,
+        and a note saying so; (None, reason naming the goal and the radius) when there is none.
         """
         x, y, yaw = requested
         grid = self.costmap.grid
@@ -157,13 +157,14 @@ class MoveBaseCore:
         blocked = self.planner.blocked_cells(pose[:2])
         if not blocked[row, col]:
             return requested, ""
-        if kept is not None and not blocked[grid.world_to_cell(kept[0][0], kept[0][1])]:
-            return kept
+        start = self.planner.cell_of(pose[0], pose[1], "robot")
+        if kept is not None and reachable_cells(blocked, start)[
+                grid.world_to_cell(kept[0][0], kept[0][1])]:
+            return kept   # still free and reachable
         lethal = self.costmap.costs()[row, col] == LETHAL_OBSTACLE
         what = ("lies in an obstacle" if lethal
                 else "is closer than the robot radius to an obstacle")
         radius = self.config.goal_search_radius
-        start = self.planner.cell_of(pose[0], pose[1], "robot")
         found = nearest_free_cell(grid, blocked, start, (x, y), radius) if radius > 0 else None
         if found is None:
             return None, (f"goal ({x:.2f}, {y:.2f}) {what} and no free pose reachable from the "
