@@ -18,7 +18,7 @@ FUNCTIONS = load_robot_functions(resource("config") / "robot_functions.yaml")
 A, B, C, D = range(4)  # line_graph: A -1- B -2- C -3- D (metres), 0.5 m/s
 
 
-def fleet(graph, tmp_path, starts, lease_s=10.0):
+def fleet(graph, tmp_path, starts, lease_s=10.0, **config):
     """One executor per start node, robots "a", "b", ..., each with its journal, on one pool."""
     executors = []
     for k, start in enumerate(starts):
@@ -26,7 +26,8 @@ def fleet(graph, tmp_path, starts, lease_s=10.0):
         buffer = TaskBuffer(tmp_path / f"{robot}.sqlite", BufferConfig(node_count=graph.size))
         link = FleetLink(FleetPool(tmp_path / "pool.sqlite", lease_s=lease_s), robot)
         executors.append(Executor(buffer, graph, RipplePlanner(), PeopleAtPlaces(), FUNCTIONS,
-                                  ExecutorConfig(speed_mps=0.5), start_node=start, fleet=link))
+                                  ExecutorConfig(speed_mps=0.5, **config), start_node=start,
+                                  fleet=link))
     return executors
 
 
@@ -140,3 +141,25 @@ def test_a_robots_own_instruction_is_never_shared_and_a_lost_lease_is_told(tmp_p
     assert other.claim(8, 21.0)
     assert mine.close(8, 22.0, DONE) == ("robot 'a' does not hold instruction 8 at 22.000 s: "
                                          "held by 'b' until 31.000 s")
+
+
+H, L1, L2 = range(3)  # star_graph: hub H, leaves L1, L2, L3 at 4 m (8 s at 0.5 m/s)
+
+
+@pytest.mark.parametrize("wait_s, b_leaves_at", [(60.0, 16.25), (5.0, 5.0)])
+def test_one_robot_at_a_time_drives_through_a_corridor(star_graph, tmp_path, wait_s,
+                                                       b_leaves_at):
+    a, b = fleet(star_graph, tmp_path, starts=(L1, L2), corridors=(H,), corridor_wait_s=wait_s)
+    to_l2 = make_instruction(1, L2, gamma=2.0, beta=0.99, function=1)
+    to_l1 = make_instruction(2, L1, gamma=2.0, beta=0.99, function=2)
+    traces = run_executor_fleet([a, b], [(0.0, 0, to_l2), (0.0, 1, to_l1)],
+                                NavigationModel(star_graph, 0.5))
+    # a enters the hub at 0 s and leaves it on reaching L2 at 16 s; b, waiting since 0 s and
+    # looking again every second, drives at its first look after that (16.25 s: its tick), or
+    # after its 5 s limit; its move to the hub is its first goal
+    assert traces[0].goals == [(0.0, H), (8.0, L2)]
+    assert traces[1].goals[0] == (pytest.approx(b_leaves_at, abs=1.0), H)
+    assert served([a, b]) == {1: [("a", pytest.approx(2 * 0.99 ** 16))],
+                              2: [("b", pytest.approx(2 * 0.99 ** (traces[1].goals[0][0] + 16)))]}
+    assert any(text == "wait: a is in H" for _, text in b.log)
+    assert a.fleet.corridors == set() and b.fleet.corridors == set()

@@ -102,6 +102,21 @@ def test_a_transactions_writes_reach_the_other_robots_together(tmp_path):
     assert theirs.claimable(0.0) == [] and not theirs.claim("b", 1, 0.0)
 
 
+def test_a_corridor_holds_one_robot_until_it_leaves_or_its_lease_runs_out():
+    pool = FleetPool(":memory:", lease_s=10.0)
+    assert pool.enter("a", ["alley"], 0.0) == ""
+    assert pool.enter("b", ["hall", "alley"], 1.0) == "a"   # all or none: not the hall either
+    assert pool.enter("c", ["hall"], 1.0) == ""
+    assert pool.enter("a", ["alley"], 2.0) == ""             # its own: kept
+    pool.renew("a", 9.0)                                     # held until 19 s
+    assert pool.enter("b", ["alley"], 15.0) == "a"
+    assert pool.enter("b", ["alley"], 19.5) == ""            # a stopped renewing
+    pool.leave("b")
+    pool.renew("c", 10.5)                                    # held until 20.5 s
+    pool.leave("c", keep=("hall",))
+    assert pool.enter("a", ["alley"], 20.0) == "" and pool.enter("b", ["hall"], 20.0) == "c"
+
+
 def test_a_foreign_file_is_refused(tmp_path):
     path = tmp_path / "other.db"
     execute_sql(path, "CREATE TABLE people (name TEXT)")

@@ -26,7 +26,9 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   (`people_belief.patrol_target`) and drops the patrol as soon as an instruction arrives;
 - with a `fleet` (fleet_link.FleetLink) the robot shares what it receives, takes in what the
   other robots received, decides among the instructions no other robot holds, claims its choice
-  before it drives for it, and closes in its journal what another robot closed.
+  before it drives for it, and closes in its journal what another robot closed; a robot holds
+  a corridor (`corridors`, narrow places) before it drives into it and waits while another
+  robot is in it, at most `corridor_wait_s`, then drives on (its move_base passes the other).
 """
 import math
 import time
@@ -70,6 +72,9 @@ class ExecutorConfig:
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]
+    corridors: tuple = ()         # graph nodes one robot of a fleet at a time drives through
+    corridor_wait_s: float = 60.0  # wait this long for a corridor, then drive on [s]
+    corridor_poll_s: float = 1.0  # look again whether the corridor is free this often [s]
 
 
 @dataclass(frozen=True)
@@ -123,7 +128,9 @@ class Executor(FindingPeople):
         self.looking = None              # [instruction id (0: patrol), headings left, since,
                                          #  end of the last heading's dwell (None: turning)]
         self.looked_s = {}               # node -> when the robot last looked around it [s]
-        self.retry_at = None             # when to retry an aborted goal after asking to pass
+        self.retry_at = None             # when to retry an aborted goal after asking to pass, or
+                                         # to look again whether a corridor is free
+        self._corridor_wait = None       # since when the robot waits for a corridor [s]
         self._search_start = {}          # instruction id -> when its search began [s]
         self._deferred = set()           # own instructions waiting while people's are open
         self.log = []                    # (time [s], event text): why each move was made
@@ -202,7 +209,7 @@ class Executor(FindingPeople):
             commands += self._look_step(now)
         if self.mode == MOVING and self.retry_at is not None and now >= self.retry_at:
             self.retry_at = None
-            commands.append(Navigate(self.goal, self.goal_for))
+            commands += self._drive(now)
         if self.mode == IDLE:
             return commands + self._decide(now)
         return commands
@@ -278,6 +285,8 @@ class Executor(FindingPeople):
             raise RuntimeError(f"arrival reported while {self.mode}")
         self.node, self.mode, self.goal = self.goal, IDLE, None
         self.log.append((now, f"at {self.graph.names[self.node]}"))
+        if self.fleet:   # out of a corridor once the robot stands outside it
+            self.fleet.leave(keep=self._corridors_of((self.node,)))
         commands = self._check_battery(now)
         if self.mode == IDLE and self.goal_for == 0 and self._patrol_goal == self.node:
             return commands + self._start_look(0, now)
@@ -351,6 +360,7 @@ class Executor(FindingPeople):
         instruction_id = self.serving()
         self.mode, self.goal, self.goal_for, self.attempts = IDLE, None, 0, 0
         self.executing = self.verifying = self.looking = self.retry_at = None
+        self._corridor_wait = None
         self._patrol_goal = self._target = None
         self._problem_key = self._problem = None
         commands = [StopMotion()]
@@ -412,7 +422,32 @@ class Executor(FindingPeople):
             self._patrol_goal = None
             self.log.append((now, f"move {self.graph.names[self.node]} -> "
                                   f"{self.graph.names[step]} for {instruction_id}"))
-            return commands + [Navigate(step, instruction_id)]
+            return commands + self._drive(now)
+
+    def _corridors_of(self, nodes):
+        return {self.graph.names[n] for n in nodes if n in self.config.corridors}
+
+    def _drive(self, now):
+        """Navigate to the goal, once the robot holds the corridor it drives into (in a fleet);
+        while another robot is in it, wait and look again, at most corridor_wait_s. A robot
+        never waits for the corridor it stands in."""
+        here = self._corridors_of((self.node,)) if self.fleet else set()
+        needed = self._corridors_of((self.goal,)) - here if self.fleet else set()
+        holder = self.fleet.enter(needed, now) if needed else ""
+        if here:
+            self.fleet.enter(here, now)   # kept while it leaves (unless another robot has it)
+        if holder:
+            since = self._corridor_wait if self._corridor_wait is not None else now
+            if now - since < self.config.corridor_wait_s:
+                if self._corridor_wait is None:
+                    self.log.append((now, f"wait: {holder} is in {', '.join(sorted(needed))}"))
+                self._corridor_wait = since
+                self.retry_at = now + self.config.corridor_poll_s
+                return [Wait(self.retry_at)]
+            self.log.append((now, f"drive on after {now - since:.0f} s: {holder} stays in "
+                                  f"{', '.join(sorted(needed))}"))
+        self._corridor_wait = None
+        return [Navigate(self.goal, self.goal_for)]
 
     def _timed_decision(self, now):
         """Fetch, decode and decide at the robot's node, timed: (problem, index, next node), or

@@ -11,6 +11,8 @@ its own journal (task_buffer); the pool (fleet_pool) is what the robots agree on
   a time: claiming another gives the previous one back;
 - while it works it renews its lease (`renew`, every `renew_period_s`); a robot that dies stops
   renewing, and its instruction returns to the others once the lease has run out;
+- before it drives into a corridor it holds it (`enter`), and it gives it up once it stands
+  outside (`leave`): one robot at a time in a narrow place; the other waits;
 - what it finishes, fails or is told to cancel it closes in the pool; what another robot closed
   it closes in its own journal (`closed_elsewhere`).
 Instructions the robot gives itself for its own body (charging) are `keep_local`: never shared
@@ -33,6 +35,7 @@ class FleetLink:
         self.renew_period_s = pool.lease_s / 3 if renew_period_s is None else renew_period_s
         self.held = 0              # the instruction id this robot holds (0: none)
         self.local = set()         # ids of instructions kept to this robot
+        self.corridors = set()     # names of the corridors this robot holds
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
 
@@ -89,9 +92,22 @@ class FleetLink:
         self._renewed_at = now
         return instruction_id in self.pool.renew(self.robot, now)
 
+    def enter(self, names, now):
+        """Hold the corridors `names` (keeping those held); "" or the robot in one of them."""
+        holder = self.pool.enter(self.robot, sorted(names), now)
+        if not holder:
+            self.corridors |= set(names)
+        return holder
+
+    def leave(self, keep=()):
+        """Give up the corridors held but those in `keep`."""
+        if self.corridors - set(keep):
+            self.pool.leave(self.robot, tuple(keep))
+            self.corridors &= set(keep)
+
     def renew(self, now):
         """Renew the robot's lease when `renew_period_s` has passed since the last renewal."""
-        if self.held and now - self._renewed_at >= self.renew_period_s:
+        if (self.held or self.corridors) and now - self._renewed_at >= self.renew_period_s:
             self._renewed_at = now
             if self.held not in self.pool.renew(self.robot, now):
                 self.held = 0   # lost: another robot may hold it now (closed_elsewhere tells)

@@ -12,8 +12,9 @@ a robot that dies stops renewing, and once its lease has run out the instruction
 again, so nothing it held is lost. `complete` and `fail` close an instruction only for the robot
 whose lease still holds it: a robot that lost its lease (stalled past it, the instruction served
 by another) is told so (`LeaseLost`) and must not serve it, so nothing is served twice. `cancel`
-closes an open instruction for every robot. Times are passed in by the caller [s] (wall or ROS
-time, one clock for the fleet).
+closes an open instruction for every robot. Corridors (narrow places) are held the same way, one
+robot at a time (`enter`, `leave`), under the robot's lease. Times are passed in by the caller
+[s] (wall or ROS time, one clock for the fleet).
 """
 import json
 from dataclasses import asdict, dataclass
@@ -28,7 +29,9 @@ BUSY_TIMEOUT_MS = 10000   # how long a write waits for another process's transac
 _TABLES = ("CREATE TABLE IF NOT EXISTS pool (id INTEGER PRIMARY KEY, state INTEGER NOT NULL, "
            "robot TEXT NOT NULL, lease_until REAL NOT NULL, completion_time REAL NOT NULL, "
            "claims INTEGER NOT NULL, seq INTEGER NOT NULL, instruction TEXT NOT NULL)",
-           "CREATE TABLE IF NOT EXISTS pool_ids (last INTEGER NOT NULL)")
+           "CREATE TABLE IF NOT EXISTS pool_ids (last INTEGER NOT NULL)",
+           "CREATE TABLE IF NOT EXISTS corridors (name TEXT PRIMARY KEY, robot TEXT NOT NULL, "
+           "lease_until REAL NOT NULL)")
 
 
 class LeaseLost(RuntimeError):
@@ -152,11 +155,14 @@ class FleetPool:
             return changed.rowcount == 1
 
     def renew(self, robot, now):
-        """Extend every lease `robot` still holds at `now`; returns the ids it holds."""
+        """Extend every lease `robot` still holds at `now` (instructions and corridors); returns
+        the instruction ids it holds."""
         _check_robot(robot)
         with self._write():
             self._db.execute("UPDATE pool SET lease_until=? WHERE robot=? AND state=? AND "
                              "lease_until>=?", (now + self.lease_s, robot, CLAIMED, now))
+            self._db.execute("UPDATE corridors SET lease_until=? WHERE robot=? AND "
+                             "lease_until>=?", (now + self.lease_s, robot, now))
             rows = self._db.execute("SELECT id FROM pool WHERE robot=? AND state=? AND "
                                     "lease_until>=? ORDER BY id", (robot, CLAIMED, now))
             return [row[0] for row in rows]
@@ -179,6 +185,28 @@ class FleetPool:
                 "UPDATE pool SET state=?, robot=?, completion_time=? WHERE id=? AND state IN "
                 "(?, ?)", (CANCELLED, robot, now, int(instruction_id), OPEN, CLAIMED))
             return changed.rowcount == 1
+
+    def enter(self, robot, names, now):
+        """Hold every corridor of `names` for `robot` (all or none); "" when it does, else the
+        robot that holds one of them (its lease still running)."""
+        _check_robot(robot)
+        with self._write():
+            for name in names:
+                row = self._db.execute("SELECT robot FROM corridors WHERE name=? AND robot<>? "
+                                       "AND lease_until>=?", (name, robot, now)).fetchone()
+                if row is not None:
+                    return row[0]
+            self._db.executemany("INSERT OR REPLACE INTO corridors VALUES (?, ?, ?)",
+                                 [(name, robot, now + self.lease_s) for name in names])
+        return ""
+
+    def leave(self, robot, keep=()):
+        """Give up every corridor `robot` holds but those in `keep`."""
+        with self._write():
+            for (name,) in self._db.execute("SELECT name FROM corridors WHERE robot=?",
+                                            (robot,)).fetchall():
+                if name not in keep:
+                    self._db.execute("DELETE FROM corridors WHERE name=?", (name,))
 
     def release(self, robot, instruction_id):
         """Give a held instruction back to the pool (the robot will not serve it)."""

@@ -102,6 +102,8 @@ class NodeParams:
     robot_name: str = ""           # this robot's name in the fleet; "" = the node's namespace
     fleet_lease: float = 10.0      # a claim lapses this long after its robot last renewed it
                                    # [s of ROS time]; another robot may then serve it
+    corridors: tuple = ()          # places one robot of the fleet at a time drives through
+    corridor_wait: float = 60.0    # wait this long for a corridor, then drive on [s]
 
     @classmethod
     def from_ros(cls):
@@ -115,7 +117,8 @@ class NodeParams:
     def check(self):
         """ValueError naming the parameter when a number cannot work (a tick period of 0 would
         spin, a goal silence of 0 would drop every goal)."""
-        positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease")
+        positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease",
+                    "corridor_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
                          "look_dwell", "pass_wait", "patrol_interval", "marker_period",
                          "plan_view_max", "state_recent", "max_preemptions")
@@ -148,7 +151,9 @@ class ExecutorNode:
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
                            own_yields=params.own_yields,
-                           patrol_interval_s=params.patrol_interval),
+                           patrol_interval_s=params.patrol_interval,
+                           corridors=tuple(self.graph.index(name) for name in params.corridors),
+                           corridor_wait_s=params.corridor_wait),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None,
             fleet=self._fleet(params))
