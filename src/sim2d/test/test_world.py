@@ -133,6 +133,21 @@ def test_nan_command_is_refused(world):
         world.set_twist("penguin", 0.1, 0.2, 0.0)
 
 
+def test_a_world_on_a_base_takes_its_keys_and_replaces_those_it_gives(tmp_path, room_map):
+    base_dir = tmp_path / "base"
+    base_dir.mkdir()
+    base = dict(world_dict(room_map), map="../room.yaml")   # relative to the base's folder
+    (base_dir / "day.yaml").write_text(yaml.safe_dump(base))
+    one_robot = dict(base="base/day.yaml", robots=world_dict(room_map)["robots"][1:])
+    config = load_world_config(write_world(tmp_path, one_robot), LASER_DIR)
+    assert [r.name for r in config.robots] == ["penguin"]
+    assert [p.name for p in config.people] == ["Bob"] and len(config.objects) == 4
+    assert config.map_path == room_map.resolve()
+    (base_dir / "day.yaml").write_text(yaml.safe_dump(dict(base, base="other.yaml")))
+    with pytest.raises(WorldError, match="names a base of its own"):
+        load_world_config(write_world(tmp_path, one_robot), LASER_DIR)
+
+
 def test_unknown_laser_model_is_a_clear_error(tmp_path, room_map):
     data = world_dict(room_map)
     data["robots"][0]["lasers"][0]["model"] = "lms_100"

@@ -86,7 +86,7 @@ class DoorConfig:
     closed: bool = False        # state at start
 
 
-TOP_KEYS = ("map", "graph", "camera_transparent", "doors", "robots", "people", "objects")
+TOP_KEYS = ("base", "map", "graph", "camera_transparent", "doors", "robots", "people", "objects")
 ROBOT_KEYS = ("name", "namespace", "drive", "radius", "pose", "limits", "wheels", "odometry",
               "lasers", "camera")
 LASER_KEYS = ("model", "mount") + tuple(k for k in LaserMount.__dataclass_fields__
@@ -281,11 +281,8 @@ class _Parser:
                             size)
 
     def parse(self):
-        try:
-            data = yaml.safe_load(self.path.read_text())
-        except (OSError, yaml.YAMLError) as error:
-            raise WorldError(f"{self.path}: cannot read world file: {error}") from error
-        if not isinstance(data, dict) or "map" not in data:
+        data = self.with_base(self.read(self.path))
+        if "map" not in data:
             self.fail("expected a mapping with at least 'map'")
         for key in data:
             if key not in TOP_KEYS:
@@ -314,6 +311,29 @@ class _Parser:
         return WorldConfig(self.path, map_path, graph_path, robots, people, objects,
                            [list(map(float, r)) for r in data.get("camera_transparent", [])],
                            self.doors(data.get("doors", [])))
+
+    def with_base(self, data):
+        """`data` over the keys of its `base` world (one level; the base's map and graph paths
+        stay relative to the base's folder)."""
+        if "base" not in data:
+            return data
+        base_path = (self.path.parent / str(data.pop("base"))).resolve()
+        base = self.read(base_path)
+        if "base" in base:
+            self.fail(f"base world {base_path} names a base of its own (one level only)")
+        for key in ("map", "graph"):
+            if base.get(key):
+                base[key] = str((base_path.parent / base[key]).resolve())
+        return {**base, **data}
+
+    def read(self, path):
+        try:
+            data = yaml.safe_load(path.read_text())
+        except (OSError, yaml.YAMLError) as error:
+            raise WorldError(f"{self.path}: cannot read world file {path}: {error}") from error
+        if not isinstance(data, dict):
+            self.fail(f"{path}: expected a mapping with at least 'map'")
+        return data
 
     def doors(self, entries):
         doors = [self.door(d, i) for i, d in enumerate(entries)]
