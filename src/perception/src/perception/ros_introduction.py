@@ -3,7 +3,9 @@
 Unidentified people on /humans/observed -> an `introduce` instruction submitted on
 /task_planner/submit with id 0, under the id the task buffer allocates
 (perception.introduction.NewcomerWatch); while the executor serves it
-(ACTIVE in /task_planner/state, having said the function's greeting, which asks the name) the
+(ACTIVE in /task_planner/state, having said the function's greeting, which asks the name; in a
+fleet ACTIVE in any robot's state of ~state_topics, since the robot that received the instruction
+need not be the one that serves it) the
 node asks the gender and the age on /robot/say, reads the answers from /voice_message, registers
 the person with /human_db/register and says "Nice to meet you, NAME.".
 
@@ -61,6 +63,8 @@ class IntroductionParams:
                                           # long after a dialogue ends (a late last answer)
     register_timeout: float = 5.0         # ~register_timeout [s] for /human_db/register and
                                           # /task_planner/submit
+    state_topics: tuple = ("task_planner/state",)  # ~state_topics: the executors' states (one
+                                          # per robot of a fleet)
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~min_sightings,
                                           # ~max_retries, ~answer_timeout, ~retry_after
 
@@ -71,7 +75,7 @@ def read_params():
         "threshold", "min_sightings", "max_retries", "answer_timeout", "retry_after"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
-        "period", "close_linger", "register_timeout"),
+        "period", "close_linger", "register_timeout", "state_topics"),
         hint=" (see tamp_bringup's social_household.launch)", config=config)
 
 
@@ -81,7 +85,7 @@ class IntroductionNode:
         self._lock = threading.Lock()
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
-        self._state = None
+        self._states = {}         # state topic -> latest TaskBufferState
         self._known = None        # {name: ((r, g, b) x 3, ip)}; None until the first table
         self.watch = self.dialogue = self.stranger = None
         self._met_id = 0          # id of the introduce instruction the last dialogue was for
@@ -114,7 +118,9 @@ class IntroductionNode:
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         sup.subscriber("humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
         sup.subscriber(p.humans_topic, HumanArray, self._on_known, queue_size=1)
-        sup.subscriber("task_planner/state", TaskBufferState, self._on_state, queue_size=1)
+        for topic in p.state_topics:
+            sup.subscriber(topic, TaskBufferState, lambda msg, t=topic: self._on_state(t, msg),
+                           queue_size=1)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         self._publish_open(False)
         self.answers_until.publish(Time(rospy.Time(0)))
@@ -142,9 +148,9 @@ class IntroductionNode:
         with self._lock:
             self._known = table
 
-    def _on_state(self, msg):
+    def _on_state(self, topic, msg):
         with self._lock:
-            self._state = msg
+            self._states[topic] = msg
 
     def _on_utterance(self, msg):
         with self._lock:
@@ -156,7 +162,7 @@ class IntroductionNode:
         with self._lock:
             frames, self._frames = list(self._frames), collections.deque(maxlen=50)
             utterances, self._utterances = list(self._utterances), collections.deque(maxlen=20)
-            state, known = self._state, self._known
+            states, known = list(self._states.values()), self._known
         now = rospy.get_time()
         if known is None:
             rospy.logwarn_throttle(10.0, "introduction: no human table on %s yet; nobody is met",
@@ -164,8 +170,8 @@ class IntroductionNode:
             return
         for frame in frames:
             self._look(frame, known)
-        if state is not None:
-            self._follow(state, now)
+        if states:
+            self._follow(states, now)
         ips = {ip for _, ip in known.values() if ip}
         for msg in utterances:
             if self.dialogue is not None and self.dialogue.open and msg.ip not in ips:
@@ -207,16 +213,18 @@ class IntroductionNode:
         self._count("instructions")
         rospy.loginfo("introduction: #%d: %s", instruction_id, instruction.text)
 
-    def _follow(self, state, now):
-        """Start the dialogue when the introduce instruction becomes ACTIVE; give the stranger a
-        rest when it ended without one."""
+    def _follow(self, states, now):
+        """Start the dialogue when the introduce instruction becomes ACTIVE (in any robot's
+        state); give the stranger a rest when it ended without one."""
         stranger = self.watch.open_stranger()
         if stranger is None or self.dialogue is not None and self.dialogue.open:
             return
-        record = next((r for r in state.instructions
-                       if r.instruction.id == stranger.instruction_id), None)
-        if record is None:
+        records = [r for state in states for r in state.instructions
+                   if r.instruction.id == stranger.instruction_id]
+        if not records:
             return
+        record = next((r for r in records if r.state == InstructionState.ACTIVE),
+                      next((r for r in records if r.state in ENDED), records[0]))
         if record.state == InstructionState.ACTIVE and self._met_id != stranger.instruction_id:
             self.stranger, self._met_id = stranger, stranger.instruction_id
             self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
