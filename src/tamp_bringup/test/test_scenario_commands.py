@@ -86,6 +86,23 @@ def test_launch_command_carries_the_scenario_and_the_switches(tmp_path):
     assert f"command:=scripts/run_scenario {path} --speed 2.5" in command
 
 
+def test_a_fleet_run_launches_two_robots_and_reports_both_journals(tmp_path):
+    path = resource("config", "scenarios", "household_day.yaml")
+    args = run_scenario_main.parse_args([str(path), "--fleet"])
+    command = run_scenario_main.launch_command(args, load_scenario(path), path, tmp_path, 11311)
+    assert command[4] == "household_fleet.launch"
+    assert f"world:={resource('config', 'worlds', 'household_fleet.yaml')}" in command
+    assert f"command:=scripts/run_scenario {path} --speed 5 --fleet" in command
+    for name in ("record.json", "robot1_task_buffer.sqlite", "robot2_task_buffer.sqlite",
+                 "household_fleet_humans.sqlite"):
+        (tmp_path / name).write_text("")
+    report = scenario_report_main.parse_args(
+        run_scenario_main.report_arguments(tmp_path, tmp_path / "r", fleet=True))
+    assert report.journal == [tmp_path / "robot1_task_buffer.sqlite",
+                              tmp_path / "robot2_task_buffer.sqlite"]
+    assert report.humans == tmp_path / "household_fleet_humans.sqlite"
+
+
 def test_speed_must_be_positive(capsys):
     with pytest.raises(SystemExit):
         run_scenario_main.parse_args(["--speed", "0"])

@@ -5,7 +5,8 @@ from bringup_factories import instruction
 
 from tamp_bringup.scenario_report import (MODEL_PLANNERS, arrivals_problem, check_order,
                                           fleet_figures, fleet_markdown, model_figures,
-                                          read_journal, report_markdown, run_curve, summary,
+                                          read_fleet_journals, read_journal,
+                                          report_markdown, run_curve, summary,
                                           timeline_rows)
 from task_planner.planner_registry import SCENARIO_MODEL, planner_names
 from task_planner.task_buffer import BufferConfig, TaskBuffer
@@ -32,6 +33,24 @@ def journal(tmp_path, graph, first_served):
     buffer.finish(3, 5.0)
     buffer.close()
     return path
+
+
+def test_a_fleets_journals_count_each_instruction_once_from_the_robot_that_served_it(
+        tmp_path, line_graph):
+    paths = []
+    for robot, mine, theirs in (("a", 1, 2), ("b", 2, 1)):
+        paths.append(tmp_path / f"{robot}.sqlite")
+        buffer = TaskBuffer(paths[-1], BufferConfig(node_count=line_graph.size))
+        buffer.submit_many([instruction(1, 1, 2.0, 0.5, 1), instruction(2, 1, 4.0, 0.5, 1)], 0.0)
+        buffer.start(mine, 1.0)
+        buffer.finish(mine, 2.0)
+        buffer.close_elsewhere(theirs, 3.0, 2, f"done by {'b' if robot == 'a' else 'a'}")
+        buffer.close()
+    entries = read_fleet_journals(paths)
+    assert [(e.instruction.id, e.state, e.completion_s, e.reason) for e in entries] == [
+        (1, "done", 2.0, ""), (2, "done", 2.0, "")]
+    assert summary(entries)["reward"] == pytest.approx(2 * 0.5 ** 2 + 4 * 0.5 ** 2)
+    assert read_fleet_journals(paths[:1]) == read_journal(paths[0])
 
 
 def test_journal_curve_counts_and_order(tmp_path, line_graph):

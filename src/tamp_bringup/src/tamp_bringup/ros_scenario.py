@@ -23,7 +23,11 @@ Visitors (people of the world the household does not know) answer the robot's in
 questions (thesis 000 §3.2.3): a sentence on /robot/say that asks them something
 (scenario.visitor_answer) while the robot is in their place (ground truth, used only to drive the
 scripted person) is answered with espeak-ng speech on /audio_utterance from their phone, so the
-answer goes through the STT node and perception. Their requests are held until human_db lists
+answer goes through the STT node and perception. With several robots (`~robots`, their
+namespaces) it follows each robot's pose and speech, a visitor answers when any robot is in their
+place, and the record holds every robot's trajectory; the task buffer it reads
+(/task_planner/state, /task_planner/get_buffer, remapped by the launch file) is one robot's, which
+holds every instruction of the fleet. Their requests are held until human_db lists
 them (/humans/known); each registration (time, name, how long the dialogue took) is recorded.
 """
 import dataclasses
@@ -66,13 +70,15 @@ def _wav_samples(path):
 
 
 class ScenarioNode:
-    def __init__(self, scenario, record_path, trajectory_period, command):
+    def __init__(self, scenario, record_path, trajectory_period, command, robots=("",)):
         self.scenario, self.record_path = scenario, Path(record_path)
         self.trajectory_period = trajectory_period  # [s of simulated time]
         self.command = command
         self.lock = threading.Lock()
-        self.trajectory, self.said, self.state, self.events = [], [], None, []
-        self.pose = None
+        self.robots = tuple(robots)        # namespaces ("" = the one robot's global topics)
+        self.trajectories = {r: [] for r in self.robots}
+        self.said, self.state, self.events = [], None, []
+        self.poses = {}                    # robot -> (stamp, x, y) of its ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
         self.table = {}                    # human_db's table: name -> phone ip
         self.heard = 0                     # sentences of self.said the visitors have heard
@@ -87,10 +93,10 @@ class ScenarioNode:
 
     # ---- callbacks: cache only ----
 
-    def _on_pose(self, msg):
+    def _on_pose(self, robot, msg):
         with self.lock:
-            self.pose = (msg.header.stamp.to_sec(), msg.pose.pose.position.x,
-                         msg.pose.pose.position.y)
+            self.poses[robot] = (msg.header.stamp.to_sec(), msg.pose.pose.position.x,
+                                 msg.pose.pose.position.y)
 
     def _on_say(self, msg):
         with self.lock:
@@ -133,8 +139,13 @@ class ScenarioNode:
         answers, and wait for the executor and human_db; False when human_db never lists the
         speakers."""
         self.sup = sup
-        sup.subscriber("/base_pose_ground_truth", Odometry, self._on_pose, queue_size=1)
-        sup.subscriber("/robot/say", String, self._on_say, queue_size=20)
+        for robot in self.robots:
+            prefix = f"/{robot}" if robot else ""
+            sup.subscriber(f"{prefix}/base_pose_ground_truth", Odometry,
+                           lambda msg, r=robot: self._on_pose(r, msg), queue_size=1)
+            sup.subscriber(f"{prefix}/robot/say", String, self._on_say, queue_size=20)
+        if "" not in self.robots:   # the introduction node speaks for the fleet
+            sup.subscriber("/robot/say", String, self._on_say, queue_size=20)
         sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
         sup.subscriber("/sim2d/markers", MarkerArray, self._on_markers, queue_size=2)
         sup.subscriber("/humans/known", HumanArray, self._on_known, queue_size=5)
@@ -202,17 +213,17 @@ class ScenarioNode:
                     visitor.name if visitor.name in table else None)
 
     def _answer_questions(self):
-        """Visitors in the robot's place answer what it asked them, as speech from their phone."""
+        """Visitors in a robot's place answer what it asked them, as speech from their phone."""
         with self.lock:
-            said, pose = self.said[self.heard:], self.pose
+            said, poses = self.said[self.heard:], list(self.poses.values())
             self.heard = len(self.said)
-        if pose is None:
+        if not poses:
             return
-        here = place_of(self.graph_spec, pose[1], pose[2])
+        places = {place_of(self.graph_spec, pose[1], pose[2]) for pose in poses}
         for _, text in said:
             for visitor in self.scenario.visitors:
                 answer = visitor_answer(visitor, text)
-                if visitor.place != here or not answer or visitor.name in {
+                if visitor.place not in places or not answer or visitor.name in {
                         r["visitor"] for r in self.registrations}:
                     continue
                 dialogue = self.dialogues.setdefault(visitor.name, dict(start=rospy.get_time(),
@@ -255,12 +266,16 @@ class ScenarioNode:
         rospy.loginfo("scenario %.1f s: %s", now - self.t0, what)
 
     def _record_pose(self, last):
+        """Every robot's pose once per trajectory_period (its time then); the latest time."""
         with self.lock:
-            pose = self.pose
-        if pose is not None and (not self.trajectory or pose[0] - last >= self.trajectory_period):
-            self.trajectory.append([pose[0] - self.t0, pose[1], pose[2]])
-            return pose[0]
-        return last
+            poses = dict(self.poses)
+        stamp = max((pose[0] for pose in poses.values()), default=None)
+        if stamp is None or (any(self.trajectories.values()) and
+                             stamp - last < self.trajectory_period):
+            return last
+        for robot, pose in poses.items():
+            self.trajectories[robot].append([pose[0] - self.t0, pose[1], pose[2]])
+        return stamp
 
     def _finished(self):
         """Every request answered by an instruction from its person, every person's instruction
@@ -357,9 +372,12 @@ class ScenarioNode:
             scenario=self.scenario.name, command=self.command,
             date=datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
             speed=rospy.get_param("/sim2d/speed", 1.0),
-            planner=rospy.get_param("/task_planner/planner", "seed"),
+            planner=rospy.get_param(
+                (f"/{self.robots[0]}" if self.robots[0] else "") + "/task_planner/planner",
+                "seed"),
             start_place=start_place, t0=self.t0, sim_s=rospy.get_time() - self.t0,
-            wall_s=wall_s, finished=finished, events=self.events, trajectory=self.trajectory,
+            wall_s=wall_s, finished=finished, events=self.events,
+            trajectory=self.trajectories[self.robots[0]],
             requests=[dict(time=r.time_s, person=r.person, text=r.text, spoken=r.spoken,
                            visitor=r.visitor, sent=self.sent[k] - self.t0 if k in self.sent
                            else None)
@@ -368,6 +386,8 @@ class ScenarioNode:
             said=[[t - self.t0, text] for t, text in self.said],
             truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
             belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()})
+        if len(self.robots) > 1:
+            record["trajectories"] = self.trajectories
         self.record_path.parent.mkdir(parents=True, exist_ok=True)
         self.record_path.write_text(json.dumps(record, indent=1))
         rospy.loginfo("scenario: record written to %s", self.record_path)
@@ -383,7 +403,8 @@ def main():
     node = ScenarioNode(scenario, rospy.get_param("~record"),
                         float(rospy.get_param("~trajectory_period", 0.5)),
                         rospy.get_param("~command",
-                                        "roslaunch tamp_bringup social_household.launch"))
+                                        "roslaunch tamp_bringup social_household.launch"),
+                        rospy.get_param("~robots", [""]))
     if not node.setup(float(rospy.get_param("~setup_timeout", 120.0)), sup):
         return 1
     finished = node.run(rospy.get_param("~start_place", "charging_place"))

@@ -1,7 +1,7 @@
 """Run a household scenario headless, record it and write its report.
 
     scripts/run_scenario [SCENARIO.yaml] [--speed N] [--out-dir DIR] [--run-dir DIR] [--rviz]
-                         [--no-self-instructions] [--no-patrol]
+                         [--no-self-instructions] [--no-patrol] [--fleet]
 
 Defaults: config/scenarios/household_day.yaml, speed 5, the run folder
 build/scenario/<UTC time>/ of the workspace. Starts its own roscore port and ROS_HOME (the run
@@ -9,7 +9,9 @@ directory, DIR/run unless --run-dir: the launch log, the record, the journals, t
 run.bag, a rosbag of the run that `roslaunch tamp_bringup replay.launch bag:=.../run.bag` replays
 in rviz), launches `roslaunch tamp_bringup social_household.launch` with the scenario node, prints
 a progress line with an ETA every 10 s until the scenario ends, then writes REPORT.md and the PNGs
-as scripts/scenario_report does. Run it with the workspace environment (source scripts/env.sh).
+as scripts/scenario_report does. With --fleet the same people and requests are served by two
+robots (`household_fleet.launch` on config/worlds/household_fleet.yaml), and the report reads both
+robots' journals. Run it with the workspace environment (source scripts/env.sh).
 """
 import argparse
 import json
@@ -19,6 +21,8 @@ import sys
 import time
 from datetime import UTC, datetime
 from pathlib import Path
+
+from tamp_resources import resource
 
 from tamp_bringup import scenario_report_main
 from tamp_bringup.bag_record import (SCENARIO_TOPICS, RecordError, free_port, run_environment,
@@ -47,6 +51,9 @@ def parse_args(argv=None):
     parser.add_argument("--no-self-instructions", action="store_true",
                         help="the robot gives itself no instructions (only the requests)")
     parser.add_argument("--no-patrol", action="store_true", help="an idle robot stays put")
+    parser.add_argument("--fleet", action="store_true",
+                        help="two robots serve the scenario (household_fleet.launch on "
+                             "config/worlds/household_fleet.yaml) instead of the scenario's one")
     args = parser.parse_args(argv)
     if not args.speed > 0:
         parser.error(f"--speed must be positive; got {args.speed}")
@@ -73,10 +80,14 @@ def scenario_path(args):
 
 def launch_command(args, scenario, path, run_dir, port):
     """The roslaunch command line of the run."""
-    command = f"scripts/run_scenario {args.scenario} --speed {args.speed:g}"
-    return ["roslaunch", "-p", str(port), "tamp_bringup", "social_household.launch",
+    command = f"scripts/run_scenario {args.scenario} --speed {args.speed:g}" + (
+        " --fleet" if args.fleet else "")
+    launch, world = (("household_fleet.launch", resource("config", "worlds",
+                                                          "household_fleet.yaml"))
+                     if args.fleet else ("social_household.launch", scenario.world))
+    return ["roslaunch", "-p", str(port), "tamp_bringup", launch,
             f"speed:={args.speed:g}", f"rviz:={str(args.rviz).lower()}",
-            f"planner:={scenario.planner}", f"world:={scenario.world}",
+            f"planner:={scenario.planner}", f"world:={world}",
             f"run_dir:={run_dir}", f"scenario:={path}",
             f"record:={run_dir / 'record.json'}", f"command:={command}",
             f"self_instructions:={str(not args.no_self_instructions).lower()}",
@@ -84,11 +95,13 @@ def launch_command(args, scenario, path, run_dir, port):
             f"utc_offset:={scenario.day_start_s:g}"]
 
 
-def report_arguments(run_dir, out_dir, bag=None):
+def report_arguments(run_dir, out_dir, bag=None, fleet=False):
     """scenario_report's arguments for the files a run leaves in `run_dir`."""
-    arguments = [str(run_dir / "record.json"), str(run_dir / "social_household_tasks.sqlite"),
-                 "--humans", str(run_dir / "social_household_humans.sqlite"),
-                 "--out-dir", str(out_dir)]
+    journals = ([run_dir / f"{robot}_task_buffer.sqlite" for robot in ("robot1", "robot2")]
+                if fleet else [run_dir / "social_household_tasks.sqlite"])
+    humans = "household_fleet_humans.sqlite" if fleet else "social_household_humans.sqlite"
+    arguments = [str(run_dir / "record.json")] + [str(j) for j in journals] + [
+        "--humans", str(run_dir / humans), "--out-dir", str(out_dir)]
     return arguments + (["--bag", str(bag)] if bag is not None else [])
 
 
@@ -159,7 +172,7 @@ def main(argv=None):
         print("[scenario] the scenario timed out", file=sys.stderr)
     bag = run_dir / BAG_NAME
     code = scenario_report_main.main(
-        report_arguments(run_dir, args.out_dir, bag if bag.is_file() else None))
+        report_arguments(run_dir, args.out_dir, bag if bag.is_file() else None, args.fleet))
     print(f"[scenario] run directory (launch log, record, journals, rosbag): {run_dir}")
     if not bag.is_file():
         print(f"[scenario] no rosbag was written; see {run_dir / 'rosbag.log'}", file=sys.stderr)

@@ -8,6 +8,7 @@ planners' model (`problem.py`: graph edges at `speed_mps`, service = `duration`,
 what one robot and two earn there under each fleet allocator (`task_planner.fleet`).
 """
 import json
+import re
 import sqlite3
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -60,6 +61,24 @@ def read_journal(path):
             continue
         entries.append(JournalEntry(instruction, STATE_NAMES[row[14]], *row[15:20]))
     return entries
+
+
+_CLOSED_ELSEWHERE = re.compile(r"^(done|failed|cancelled) by \S+$")   # fleet_link's reasons
+
+
+def read_fleet_journals(paths):
+    """Every instruction of a fleet's journals (each robot's), in the first journal's order and
+    then the others', each as journalled by the robot that served (or failed) it: the others
+    hold it closed "done by ROBOT", earning nothing, so every reward is counted once. One path:
+    read_journal."""
+    merged = {}
+    for path in paths:
+        for entry in read_journal(path):
+            kept = merged.get(entry.instruction.id)
+            if kept is None or (_CLOSED_ELSEWHERE.match(kept.reason)
+                                and not _CLOSED_ELSEWHERE.match(entry.reason)):
+                merged[entry.instruction.id] = entry
+    return list(merged.values())
 
 
 @dataclass(frozen=True)
@@ -250,14 +269,19 @@ def plot_rewards(path, run, figures, title):
     plt.close(fig)
 
 
-def plot_trajectory(path, map_path, graph_path, trajectory, title):
-    """PNG: the robot's ground-truth trajectory over the map and its semantic graph."""
+def plot_trajectory(path, map_path, graph_path, trajectories, title):
+    """PNG: the robots' ground-truth trajectories ({robot: [[t, x, y], ...]}, "" for a lone
+    robot) over the map and its semantic graph."""
     from floorplan.occupancy_map import load_map
     from floorplan.plotting import plot_map
     from floorplan.semantic_graph import load_graph as load_semantic_graph
-    xy = np.asarray([(x, y) for _, x, y in trajectory], dtype=float).reshape(-1, 2)
-    plot_map(load_map(map_path), load_semantic_graph(graph_path),
-             paths=[("robot (ground truth)", xy)] if len(xy) else (), title=title, out_path=path)
+    paths = []
+    for robot, trajectory in trajectories.items():
+        xy = np.asarray([(x, y) for _, x, y in trajectory], dtype=float).reshape(-1, 2)
+        if len(xy):
+            paths.append((f"{robot or 'robot'} (ground truth)", xy))
+    plot_map(load_map(map_path), load_semantic_graph(graph_path), paths=paths, title=title,
+             out_path=path)
 
 
 def _cell(value, digits=1):
@@ -346,12 +370,13 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
     return "\n".join(lines)
 
 
-def write_report(record_path, journal_path, graph, settings, map_path, graph_path, out_dir,
+def write_report(record_path, journal_paths, graph, settings, map_path, graph_path, out_dir,
                  exact_time_limit_s=60.0, humans_path=None, replay=None):
     """Write REPORT.md, rewards.png and trajectory.png into `out_dir`; returns the summary.
+    journal_paths: the executor's journal, or every robot's of a fleet (read_fleet_journals).
     replay: the command that replays the run's rosbag in rviz, said in the report."""
     record = load_record(record_path)
-    entries = read_journal(journal_path)
+    entries = read_fleet_journals(journal_paths)
     t0 = float(record["t0"])
     problem = arrivals_problem(graph, entries, float(settings["speed_mps"]),
                                graph.index(record["start_place"]), t0)
@@ -363,10 +388,11 @@ def write_report(record_path, journal_path, graph, settings, map_path, graph_pat
     out_dir.mkdir(parents=True, exist_ok=True)
     files = dict(rewards="rewards.png", trajectory="trajectory.png")
     plot_rewards(out_dir / files["rewards"], run, figures, f"Scenario {record['scenario']}")
-    plot_trajectory(out_dir / files["trajectory"], map_path, graph_path, record["trajectory"],
+    plot_trajectory(out_dir / files["trajectory"], map_path, graph_path,
+                    record.get("trajectories") or {"": record["trajectory"]},
                     f"Robot trajectory, scenario {record['scenario']}")
     problems = check_order(entries)
-    searches = read_searches(journal_path)
+    searches = [s for path in journal_paths for s in read_searches(path)]
     sources = history_sources(humans_path) if humans_path else {}
     (out_dir / "REPORT.md").write_text(
         report_markdown(record, entries, figures, run, problems, files,

@@ -16,7 +16,8 @@ def parse_args(argv=None):
     workspace = Path(os.environ.get("TAMP_WS", Path.cwd()))
     parser = argparse.ArgumentParser(prog="scenario_report", description=__doc__)
     parser.add_argument("record", type=Path, help="scenario record JSON")
-    parser.add_argument("journal", type=Path, help="executor task buffer journal (SQLite)")
+    parser.add_argument("journal", type=Path, nargs="+",
+                        help="executor task buffer journal (SQLite); a fleet's: every robot's")
     parser.add_argument("--out-dir", type=Path, default=workspace / "docs" / "demo")
     parser.add_argument("--humans", type=Path, default=None,
                         help="the run's human database (SQLite): its history rows by source")
@@ -29,9 +30,9 @@ def parse_args(argv=None):
                         help="time limit of the exact optimum [s]")
     args = parser.parse_args(argv)
     for name in ("record", "journal", "humans", "bag", "graph", "map", "settings"):
-        path = getattr(args, name)
-        if path is not None and not path.is_file():
-            parser.error(f"{name.replace('_', '-')}: no such file: {path}")
+        for path in (getattr(args, name) if name == "journal" else [getattr(args, name)]):
+            if path is not None and not path.is_file():
+                parser.error(f"{name.replace('_', '-')}: no such file: {path}")
     if not args.exact_limit_s > 0:
         parser.error(f"--exact-limit-s must be positive; got {args.exact_limit_s}")
     return args

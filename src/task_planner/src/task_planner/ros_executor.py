@@ -413,7 +413,7 @@ class ExecutorNode:
                 self.nav_goal = None
                 self.move_base.cancel_goal()   # this goal only: a new one may follow at once
             elif isinstance(command, Wait):
-                rospy.loginfo("task_planner: waiting until %.1f s", command.until_s)
+                rospy.logdebug("task_planner: waiting until %.1f s", command.until_s)
             elif isinstance(command, Say):
                 self.say_pub.publish(String(command.text))
                 rospy.loginfo("task_planner says: %s", command.text)
