@@ -87,7 +87,10 @@ def test_robot_description_is_kept_next_to_the_bag(tmp_path):
     assert bag_record.robot_description(bag) == "<robot name='r'/>"
 
 
-def test_replay_command_names_the_bag_and_the_view():
+def test_replay_command_names_the_bag_and_the_view(monkeypatch):
+    monkeypatch.setenv("TAMP_WS", "/ws")
+    assert (bag_record.replay_command(Path("/ws/build/demo/run.bag"))
+            == "roslaunch tamp_bringup replay.launch bag:=$TAMP_WS/build/demo/run.bag")
     assert (bag_record.replay_command(Path("/b/run.bag"))
             == "roslaunch tamp_bringup replay.launch bag:=/b/run.bag")
     assert bag_record.replay_command("/b/d.bag", "semantic_nav").endswith(

@@ -196,8 +196,14 @@ def robot_description(bag):
 
 
 def replay_command(bag, view="social_household"):
-    """The command that replays `bag` in rviz with the given view (VIEWS)."""
+    """The command that replays `bag` in rviz with the given view (VIEWS). A bag inside the
+    workspace is named from $TAMP_WS (set by scripts/env.sh), so the command works in any
+    checkout."""
     if view not in VIEWS:
         raise ValueError(f"unknown view {view!r}; one of {', '.join(VIEWS)}")
-    command = f"roslaunch tamp_bringup replay.launch bag:={shlex.quote(str(bag))}"
+    where = shlex.quote(str(bag))
+    workspace = os.environ.get("TAMP_WS")
+    if workspace and Path(bag).is_relative_to(workspace):
+        where = "$TAMP_WS/" + shlex.quote(str(Path(bag).relative_to(workspace)))
+    command = f"roslaunch tamp_bringup replay.launch bag:={where}"
     return command if view == "social_household" else f"{command} view:={view}"
