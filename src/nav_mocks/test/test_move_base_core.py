@@ -93,6 +93,16 @@ def test_goal_closer_than_the_robot_radius_to_a_wall_is_moved_off_it():
     assert core.run.goal[0] < 1.9
 
 
+def test_a_robot_close_to_a_wall_gets_a_moved_goal_a_plan_can_end_on():
+    core = make_core()
+    pose = (1.85, 2.5, 0.0)                             # 0.15 m from the wall: start blocked
+    status, note = core.start_goal((2.02, 2.5, 0.0), 0.0, pose)
+    assert status == ACTIVE and "moved" in note
+    x, y, _ = core.run.goal
+    assert core.costmap.cost_at(x, y) < 253             # not within the robot radius
+    core.planner.plan(pose[:2], (x, y))                 # so the plan ends there
+
+
 def test_person_on_the_goal_moves_it_while_driving_and_back_when_they_leave():
     grid = two_rooms()
     world = grid.occupied_mask().copy()

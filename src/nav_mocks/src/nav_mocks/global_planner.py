@@ -124,13 +124,22 @@ def reachable_cells(blocked, start):
     return (labels == labels[start]) & ~blocked
 
 
-def nearest_free_cell(grid, blocked, start, goal_xy, radius):
+def goal_cells(costs):
+    """Boolean mask of the cells a plan may end on: not closer than the robot radius to an
+    obstacle (`plan` refuses such a goal even where blocked_cells lets the robot leave its own
+    footprint), or unknown."""
+    return (costs < INSCRIBED_INFLATED_OBSTACLE) | (costs == NO_INFORMATION)
+
+
+def nearest_free_cell(grid, blocked, start, goal_xy, radius, ends=None):
     """(row, col) of the free cell reachable from the `start` cell whose centre lies nearest
     goal_xy (x, y) [m] and no farther than `radius` [m] from it (a disc); None when there is
-    none. blocked: boolean mask (GlobalPlanner.blocked_cells) of the cells a plan may not cross."""
+    none. blocked: boolean mask (GlobalPlanner.blocked_cells) of the cells a plan may not cross;
+    ends: mask of the cells allowed as the result (goal_cells), None = every free one."""
     if not (radius >= 0.0 and np.isfinite(radius)):
         raise ValueError(f"search radius {radius} must be a finite number >= 0")
-    rows, cols = np.nonzero(reachable_cells(blocked, start))
+    reach = reachable_cells(blocked, start)
+    rows, cols = np.nonzero(reach if ends is None else reach & ends)
     xs, ys = grid.cell_to_world(rows, cols)
     squared = (xs - goal_xy[0]) ** 2 + (ys - goal_xy[1]) ** 2
     inside = squared <= radius ** 2 + 1e-9

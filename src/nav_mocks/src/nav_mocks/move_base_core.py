@@ -26,7 +26,8 @@ import numpy as np
 from nav_mocks.clearance import ContactClearance
 from nav_mocks.costmap import LETHAL_OBSTACLE
 from nav_mocks.dwa import DwaController
-from nav_mocks.global_planner import GlobalPlanner, NoPath, nearest_free_cell, reachable_cells
+from nav_mocks.global_planner import (GlobalPlanner, NoPath, goal_cells, nearest_free_cell,
+                                      reachable_cells)
 from nav_mocks.param_checks import non_negative_number, positive_number
 from nav_mocks.pose2d import distance, wrap_angle
 from nav_mocks.scan_rays import beam_cells, hit_points
@@ -158,14 +159,18 @@ class MoveBaseCore:
         if not blocked[row, col]:
             return requested, ""
         start = self.planner.cell_of(pose[0], pose[1], "robot")
-        if kept is not None and reachable_cells(blocked, start)[
-                grid.world_to_cell(kept[0][0], kept[0][1])]:
-            return kept   # still free and reachable
-        lethal = self.costmap.costs()[row, col] == LETHAL_OBSTACLE
+        costs = self.costmap.costs()
+        ends = goal_cells(costs)
+        if kept is not None:
+            cell = grid.world_to_cell(kept[0][0], kept[0][1])
+            if ends[cell] and reachable_cells(blocked, start)[cell]:
+                return kept   # still free and reachable
+        lethal = costs[row, col] == LETHAL_OBSTACLE
         what = ("lies in an obstacle" if lethal
                 else "is closer than the robot radius to an obstacle")
         radius = self.config.goal_search_radius
-        found = nearest_free_cell(grid, blocked, start, (x, y), radius) if radius > 0 else None
+        found = (nearest_free_cell(grid, blocked, start, (x, y), radius, ends) if radius > 0
+                 else None)
         if found is None:
             return None, (f"goal ({x:.2f}, {y:.2f}) {what} and no free pose reachable from the "
                           f"robot lies within {radius:.2f} m of it (goal_search_radius)")
