@@ -163,3 +163,17 @@ def test_one_robot_at_a_time_drives_through_a_corridor(star_graph, tmp_path, wai
                               2: [("b", pytest.approx(2 * 0.99 ** (traces[1].goals[0][0] + 16)))]}
     assert any(text == "wait: a is in H" for _, text in b.log)
     assert a.fleet.corridors == set() and b.fleet.corridors == set()
+
+
+@pytest.mark.parametrize("one_per_place, b_serves", [(True, []), (False, [2])])
+def test_one_robot_per_place_leaves_a_places_instructions_to_the_robot_there(
+        line_graph, tmp_path, one_per_place, b_serves):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D), one_robot_per_place=one_per_place)
+    first = make_instruction(1, C, gamma=5.0, beta=0.99, duration=10, function=1)
+    second = make_instruction(2, C, gamma=4.0, beta=0.99, duration=10, function=2)
+    traces = run_executor_fleet([a, b], [(0.0, 0, first), (0.0, 0, second)],
+                                NavigationModel(line_graph, 0.5))
+    # a takes 1 (it decides first) and drives A -> C (6 s); b, at D, would take 2 at C too,
+    # unless a holds a claim at C; then a serves 2 after 1 (16 -> 26 s)
+    assert [i for _, i, _ in traces[1].executed] == b_serves
+    assert sorted(served([a, b])) == [1, 2]

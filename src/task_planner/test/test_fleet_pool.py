@@ -79,6 +79,9 @@ def test_closing_failing_and_cancelling_are_seen_by_every_robot():
     assert pool.held_by_others("b", 1.0) == {1, 2}
     assert pool.held_by_others("a", 1.0) == {3}
     assert pool.held_by_others("a", 10.5) == set()     # b's lease ran out
+    assert pool.claim("a", 2, 0.5, place=4)             # a's own: renewed, now at place 4
+    assert pool.places_held_by_others("b", 1.0) == {4}  # 1 was claimed without a place
+    assert pool.places_held_by_others("a", 1.0) == set()
     pool.complete("a", 1, 2.0)
     pool.fail("a", 2, 3.0)
     assert pool.cancel("b", 4, 4.0)                    # open: closed for everyone

@@ -28,7 +28,9 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   other robots received, decides among the instructions no other robot holds, claims its choice
   before it drives for it, and closes in its journal what another robot closed; a robot holds
   a corridor (`corridors`, narrow places) before it drives into it and waits while another
-  robot is in it, at most `corridor_wait_s`, then drives on (its move_base passes the other).
+  robot is in it, at most `corridor_wait_s`, then drives on (its move_base passes the other);
+  with `one_robot_per_place` it leaves the instructions at a place to the robot that holds one
+  there.
 """
 import math
 import time
@@ -75,6 +77,8 @@ class ExecutorConfig:
     corridors: tuple = ()         # graph nodes one robot of a fleet at a time drives through
     corridor_wait_s: float = 60.0  # wait this long for a corridor, then drive on [s]
     corridor_poll_s: float = 1.0  # look again whether the corridor is free this often [s]
+    one_robot_per_place: bool = False  # in a fleet, leave the instructions at a place to the
+                                  # robot that holds one there (small rooms fit one robot)
 
 
 @dataclass(frozen=True)
@@ -385,7 +389,8 @@ class Executor(FindingPeople):
         if decision is None:
             return []
         problem, index, step = decision
-        if self.fleet and not self.fleet.claim(int(problem.ids[index]), now):
+        if self.fleet and not self.fleet.claim(int(problem.ids[index]), now,
+                                               int(problem.node[index])):
             return []  # another robot took it first: drive on, the next event decides again
         if step == self.goal:
             if not self.goal_for:  # a patrol's move now serves the instruction
@@ -410,7 +415,7 @@ class Executor(FindingPeople):
                 return commands + (self._patrol(now) if self.config.patrol else [])
             problem, index, step = decision
             instruction_id = int(problem.ids[index])
-            if self.fleet and not self.fleet.claim(instruction_id, now):
+            if self.fleet and not self.fleet.claim(instruction_id, now, int(problem.node[index])):
                 self._lost_claims.add(instruction_id)
                 continue  # another robot took it first: choose among the rest
             if step is None:
@@ -479,13 +484,17 @@ class Executor(FindingPeople):
             self._problem_key = instructions
             self.planner.reset(self._problem)
         done = self.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
-        skipped = self._deferred
+        skipped, busy_places = self._deferred, ()
         if self.fleet:
-            skipped = skipped | self._lost_claims | self.fleet.taken(now)
+            taken = self.fleet.taken(now)
+            skipped = skipped | self._lost_claims | taken
+            if self.config.one_robot_per_place:
+                busy_places = self.fleet.busy_places(now)
         available = np.array([k for k, r in enumerate(pending)
                               if (r.instruction.previous_id == 0
                                   or r.instruction.previous_id in done)
-                              and r.instruction.id not in skipped], dtype=int)
+                              and r.instruction.id not in skipped
+                              and instructions[k].destination not in busy_places], dtype=int)
         return self._problem, available
 
     def _served_where(self, instruction):

@@ -36,6 +36,7 @@ class FleetLink:
         self.held = 0              # the instruction id this robot holds (0: none)
         self.local = set()         # ids of instructions kept to this robot
         self.corridors = set()     # names of the corridors this robot holds
+        self._place = -1           # where the robot serves the one it holds
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
 
@@ -67,22 +68,27 @@ class FleetLink:
         """Ids this robot must not choose at `now`: held by another robot."""
         return self.pool.held_by_others(self.robot, now)
 
+    def busy_places(self, now):
+        """Places where another robot serves, or drives to serve, what it holds."""
+        return self.pool.places_held_by_others(self.robot, now)
+
     def closed_elsewhere(self, ids):
         """[(id, task buffer state, reason)] of `ids` another robot closed in the pool."""
         return [(i, _BUFFER_STATE[entry.state], f"{STATE_NAMES[entry.state]} by {entry.robot}")
                 for i, entry in self.pool.closed([i for i in ids if i not in self.local]).items()
                 if entry.robot != self.robot]
 
-    def claim(self, instruction_id, now):
-        """True when the robot holds the instruction now (kept ones always); gives back the one
-        it held before."""
-        if instruction_id in self.local or instruction_id == self.held:
+    def claim(self, instruction_id, now, place=-1):
+        """True when the robot holds the instruction now (kept ones always), to serve it at
+        `place`; gives back the one it held before."""
+        if instruction_id in self.local or (instruction_id == self.held
+                                            and place == self._place):
             return True   # a held one is renewed by `renew`; `holds` checks it before serving
-        if not self.pool.claim(self.robot, instruction_id, now):
+        if not self.pool.claim(self.robot, instruction_id, now, place):
             return False
         if self.held and self.held != instruction_id:
             self.pool.release(self.robot, self.held)
-        self.held, self._renewed_at = instruction_id, now
+        self.held, self._place, self._renewed_at = instruction_id, place, now
         return True
 
     def holds(self, instruction_id, now):

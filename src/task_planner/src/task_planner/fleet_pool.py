@@ -28,7 +28,8 @@ CLOSED_STATES = (DONE, FAILED, CANCELLED)
 BUSY_TIMEOUT_MS = 10000   # how long a write waits for another process's transaction
 _TABLES = ("CREATE TABLE IF NOT EXISTS pool (id INTEGER PRIMARY KEY, state INTEGER NOT NULL, "
            "robot TEXT NOT NULL, lease_until REAL NOT NULL, completion_time REAL NOT NULL, "
-           "claims INTEGER NOT NULL, seq INTEGER NOT NULL, instruction TEXT NOT NULL)",
+           "claims INTEGER NOT NULL, seq INTEGER NOT NULL, instruction TEXT NOT NULL, "
+           "place INTEGER NOT NULL)",
            "CREATE TABLE IF NOT EXISTS pool_ids (last INTEGER NOT NULL)",
            "CREATE TABLE IF NOT EXISTS corridors (name TEXT PRIMARY KEY, robot TEXT NOT NULL, "
            "lease_until REAL NOT NULL)")
@@ -93,7 +94,7 @@ class FleetPool:
                         refused[instruction.id] = _conflict(instruction.id)
                     continue
                 seq += 1
-                self._db.execute("INSERT INTO pool VALUES (?, ?, '', 0, 0, 0, ?, ?)",
+                self._db.execute("INSERT INTO pool VALUES (?, ?, '', 0, 0, 0, ?, ?, -1)",
                                  (instruction.id, OPEN, seq, text))
         return refused
 
@@ -127,6 +128,12 @@ class FleetPool:
                                 "lease_until>=?", (CLAIMED, robot, now))
         return {row[0] for row in rows}
 
+    def places_held_by_others(self, robot, now):
+        """Places (graph nodes) where another robot serves, or drives to serve, what it holds."""
+        rows = self._db.execute("SELECT DISTINCT place FROM pool WHERE state=? AND robot<>? AND "
+                                "lease_until>=? AND place>=0", (CLAIMED, robot, now))
+        return {row[0] for row in rows}
+
     def closed(self, ids):
         """{id: PoolEntry} of those of `ids` that are closed (done, failed or cancelled)."""
         found = {}
@@ -140,18 +147,19 @@ class FleetPool:
             found.update((row[0], PoolEntry(*row)) for row in rows)
         return found
 
-    def claim(self, robot, instruction_id, now):
-        """True when `robot` now holds the instruction (until now + lease_s); False when another
-        robot holds it, it is closed or not in the pool. Claiming what the robot holds renews
-        it (a restarted executor takes back what it held)."""
+    def claim(self, robot, instruction_id, now, place=-1):
+        """True when `robot` now holds the instruction (until now + lease_s), to serve it at
+        `place` (a graph node; -1: not said); False when another robot holds it, it is closed or
+        not in the pool. Claiming what the robot holds renews it (a restarted executor takes
+        back what it held)."""
         _check_robot(robot)
         with self._write():
             changed = self._db.execute(
                 "UPDATE pool SET claims=claims+(robot<>? OR state<>? OR lease_until<?), state=?, "
-                "robot=?, lease_until=? WHERE id=? AND (state=? OR (state=? AND "
+                "robot=?, lease_until=?, place=? WHERE id=? AND (state=? OR (state=? AND "
                 "(lease_until<? OR robot=?)))",
-                (robot, CLAIMED, now, CLAIMED, robot, now + self.lease_s, int(instruction_id),
-                 OPEN, CLAIMED, now, robot))
+                (robot, CLAIMED, now, CLAIMED, robot, now + self.lease_s, int(place),
+                 int(instruction_id), OPEN, CLAIMED, now, robot))
             return changed.rowcount == 1
 
     def renew(self, robot, now):

@@ -104,6 +104,7 @@ class NodeParams:
                                    # [s of ROS time]; another robot may then serve it
     corridors: tuple = ()          # places one robot of the fleet at a time drives through
     corridor_wait: float = 60.0    # wait this long for a corridor, then drive on [s]
+    one_robot_per_place: bool = False  # leave a place's instructions to the robot there
 
     @classmethod
     def from_ros(cls):
@@ -153,7 +154,8 @@ class ExecutorNode:
                            own_yields=params.own_yields,
                            patrol_interval_s=params.patrol_interval,
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
-                           corridor_wait_s=params.corridor_wait),
+                           corridor_wait_s=params.corridor_wait,
+                           one_robot_per_place=params.one_robot_per_place),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None,
             fleet=self._fleet(params))
