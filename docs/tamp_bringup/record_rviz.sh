@@ -7,8 +7,8 @@
 #     semantic_nav.launch rviz:=true on office_ring; "go straight to the end, then turn left"
 #     on /voice_message, taken 90 s of simulated time later (the robot has arrived and stopped)
 #   bash docs/tamp_bringup/record_rviz.sh fleet       -> docs/tamp_bringup/rviz_fleet.png
-#     fleet_sim.launch rviz:=true: three instructions sent to robot1 (bedroom, living room,
-#     welcome), taken 25 s of simulated time later (each robot drives to its own)
+#     household_fleet.launch rviz:=true playing config/scenarios/household_day.yaml at 2x with
+#     two robots, taken at 100 s of simulated time
 # SIM_SECONDS (second argument) replaces the time of the shot.
 # Each run has its own roscore port, ROS_HOME and X display, and stops everything it started.
 set -euo pipefail
@@ -33,8 +33,10 @@ case "$view" in
     sentence="go straight to the end, then turn left"
     launch=(semantic_nav.launch rviz:=true floor:=office_ring) ;;
   fleet)
-    size=1000x800; out=docs/tamp_bringup/rviz_fleet.png; sentence="fleet"; at=25
-    launch=(fleet_sim.launch rviz:=true data_dir:="$run_dir") ;;
+    size=1000x800; out=docs/tamp_bringup/rviz_fleet.png; sentence=""; at=100
+    launch=(household_fleet.launch rviz:=true speed:=2 run_dir:="$run_dir"
+            scenario:="$(rospack find tamp_resources)/config/scenarios/household_day.yaml"
+            record:="$run_dir/record.json" utc_offset:=66480) ;;
   *) echo "unknown view $view (household, directions or fleet)" >&2; exit 2 ;;
 esac
 at="${2:-$at}"
@@ -69,17 +71,7 @@ def sim_time():  # this helper may start before use_sim_time is set: read /clock
 
 
 until = float(sys.argv[1])
-if sys.argv[2] == "fleet":  # requests to robot1; the fleet shares them
-    from tamp_msgs.msg import Instruction
-    from tamp_msgs.srv import SubmitInstruction
-    rospy.wait_for_service("/robot1/task_planner/submit", 120.0)
-    submit = rospy.ServiceProxy("/robot1/task_planner/submit", SubmitInstruction)
-    start = sim_time()
-    for place, gamma in ((6, 4.0), (2, 3.0), (3, 2.0)):   # bedroom, living room, welcome
-        submit(Instruction(id=0, gamma=gamma, beta=0.99, start_time=start, duration=20,
-                           function=2, destination=place))
-    until += start
-elif sys.argv[2]:
+if sys.argv[2]:
     from tamp_msgs.msg import Utterance
     pub = rospy.Publisher("/voice_message", Utterance, queue_size=1, latch=True)
     while not rospy.is_shutdown() and pub.get_num_connections() == 0:
