@@ -53,6 +53,22 @@ def test_a_fleets_journals_count_each_instruction_once_from_the_robot_that_serve
     assert read_fleet_journals(paths[:1]) == read_journal(paths[0])
 
 
+def test_a_fleets_journals_prefer_a_closed_entry_to_an_open_one(tmp_path, line_graph):
+    """A robot that stopped before it learnt that the other served an instruction holds it
+    open; the report counts it as the other's."""
+    paths = [tmp_path / "a.sqlite", tmp_path / "b.sqlite"]
+    for path in paths:
+        buffer = TaskBuffer(path, BufferConfig(node_count=line_graph.size))
+        buffer.submit_many([instruction(1, 1, 2.0, 0.5, 1)], 0.0)
+        if path.stem == "b":
+            buffer.start(1, 1.0)
+            buffer.finish(1, 2.0)
+        buffer.close()
+    for order in (paths, paths[::-1]):
+        [entry] = read_fleet_journals(order)
+        assert (entry.state, entry.completion_s) == ("done", 2.0)
+
+
 def test_journal_curve_counts_and_order(tmp_path, line_graph):
     entries = read_journal(journal(tmp_path, line_graph, first_served=2))
     assert [(e.instruction.id, e.state, e.started_s, e.completion_s) for e in entries] == [

@@ -20,15 +20,17 @@ A, B, C, D = range(4)  # line_graph: A -1- B -2- C -3- D (metres), 0.5 m/s
 
 def fleet(graph, tmp_path, starts, lease_s=10.0, **config):
     """One executor per start node, robots "a", "b", ..., each with its journal, on one pool."""
-    executors = []
-    for k, start in enumerate(starts):
-        robot = "ab"[k]
-        buffer = TaskBuffer(tmp_path / f"{robot}.sqlite", BufferConfig(node_count=graph.size))
-        link = FleetLink(FleetPool(tmp_path / "pool.sqlite", lease_s=lease_s), robot)
-        executors.append(Executor(buffer, graph, RipplePlanner(), PeopleAtPlaces(), FUNCTIONS,
-                                  ExecutorConfig(speed_mps=0.5, **config), start_node=start,
-                                  fleet=link))
-    return executors
+    return [robot(graph, tmp_path, "ab"[k], start, lease_s, **config)
+            for k, start in enumerate(starts)]
+
+
+def robot(graph, tmp_path, name, start, lease_s=10.0, charging=None, **config):
+    """(Re)start robot `name` at `start` on its journal `<name>.sqlite` and the fleet's pool."""
+    buffer = TaskBuffer(tmp_path / f"{name}.sqlite", BufferConfig(node_count=graph.size))
+    link = FleetLink(FleetPool(tmp_path / "pool.sqlite", lease_s=lease_s), name)
+    return Executor(buffer, graph, RipplePlanner(), PeopleAtPlaces(), FUNCTIONS,
+                    ExecutorConfig(speed_mps=0.5, **config), start_node=start,
+                    charging=charging, fleet=link)
 
 
 def served(executors):

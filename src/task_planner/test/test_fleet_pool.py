@@ -3,13 +3,14 @@ after its lease, and nothing is served twice or lost."""
 import multiprocessing
 import os
 import signal
+import sqlite3
 import time
 
 import pytest
 from planner_factories import execute_sql
 
 from task_planner.fleet_pool import (CANCELLED, CLAIMED, DONE, FAILED, FleetPool, FleetPoolError,
-                                     LeaseLost)
+                                     LeaseLost, _Transaction)
 from task_planner.instruction import Instruction
 
 FORK = multiprocessing.get_context("fork")
@@ -25,7 +26,7 @@ def test_a_claim_is_exclusive_until_its_lease_runs_out():
     assert pool.claim("a", 1, now=0.0)
     assert not pool.claim("b", 1, now=5.0)             # a holds it
     assert pool.claimable(5.0) == [2]
-    assert pool.renew("a", now=9.0) == [1]             # held until 19
+    assert pool.renew("a", now=9.0, ids=[1, 2]) == [1]  # held until 19; 2 it never held
     assert not pool.claim("b", 1, now=15.0)
     assert pool.claimable(19.5) == [1, 2]              # a stopped renewing
     assert pool.claim("b", 1, now=19.5)
@@ -35,7 +36,7 @@ def test_a_claim_is_exclusive_until_its_lease_runs_out():
     entry = pool.entries()[0]
     assert (entry.state, entry.robot, entry.completion_time, entry.claims) == (DONE, "b", 21.0, 2)
     assert not pool.claim("a", 1, now=100.0)           # done stays done
-    assert pool.renew("a", now=100.0) == []
+    assert pool.renew("a", now=100.0, ids=[1]) == []
 
 
 def test_released_and_bad_requests():
@@ -111,11 +112,11 @@ def test_a_corridor_holds_one_robot_until_it_leaves_or_its_lease_runs_out():
     assert pool.enter("b", ["hall", "alley"], 1.0) == "a"   # all or none: not the hall either
     assert pool.enter("c", ["hall"], 1.0) == ""
     assert pool.enter("a", ["alley"], 2.0) == ""             # its own: kept
-    pool.renew("a", 9.0)                                     # held until 19 s
+    pool.renew("a", 9.0, corridors=["alley"])                # held until 19 s
     assert pool.enter("b", ["alley"], 15.0) == "a"
     assert pool.enter("b", ["alley"], 19.5) == ""            # a stopped renewing
     pool.leave("b")
-    pool.renew("c", 10.5)                                    # held until 20.5 s
+    pool.renew("c", 10.5, corridors=["hall"])                # held until 20.5 s
     pool.leave("c", keep=("hall",))
     assert pool.enter("a", ["alley"], 20.0) == "" and pool.enter("b", ["hall"], 20.0) == "c"
 
@@ -207,3 +208,16 @@ def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
     assert all(e.state == DONE for e in entries.values())
     assert entries[held].robot == "b" and entries[held].claims == 2
     assert not any(e.state == CLAIMED for e in entries.values())
+
+
+def test_a_failed_commit_rolls_back_and_never_leaves_the_write_lock_held():
+    db = sqlite3.connect(":memory:", isolation_level=None)
+    db.execute("PRAGMA foreign_keys=ON")
+    db.execute("CREATE TABLE parent (id INTEGER PRIMARY KEY)")
+    db.execute("CREATE TABLE child (parent INTEGER REFERENCES parent(id) "
+               "DEFERRABLE INITIALLY DEFERRED)")
+    with pytest.raises(sqlite3.IntegrityError, match="FOREIGN KEY"):   # checked at COMMIT
+        with _Transaction(db):
+            db.execute("INSERT INTO child VALUES (1)")
+    assert not db.in_transaction
+    assert db.execute("SELECT COUNT(*) FROM child").fetchone()[0] == 0

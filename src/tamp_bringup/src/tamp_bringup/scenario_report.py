@@ -69,16 +69,23 @@ _CLOSED_ELSEWHERE = re.compile(r"^(done|failed|cancelled) by \S+$")   # fleet_li
 def read_fleet_journals(paths):
     """Every instruction of a fleet's journals (each robot's), in the first journal's order and
     then the others', each as journalled by the robot that served (or failed) it: the others
-    hold it closed "done by ROBOT", earning nothing, so every reward is counted once. One path:
+    hold it closed "done by ROBOT", earning nothing, so every reward is counted once; a journal
+    that still holds it open (the robot stopped before it learnt) is read last. One path:
     read_journal."""
     merged = {}
     for path in paths:
         for entry in read_journal(path):
             kept = merged.get(entry.instruction.id)
-            if kept is None or (_CLOSED_ELSEWHERE.match(kept.reason)
-                                and not _CLOSED_ELSEWHERE.match(entry.reason)):
+            if kept is None or _standing(entry) > _standing(kept):
                 merged[entry.instruction.id] = entry
     return list(merged.values())
+
+
+def _standing(entry):
+    """How much a fleet journal's entry tells: open < closed by another robot < its own."""
+    if entry.state in ("pending", "active"):
+        return 0
+    return 1 if _CLOSED_ELSEWHERE.match(entry.reason) else 2
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,8 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   a corridor (`corridors`, narrow places) before it drives into it and waits while another
   robot is in it, at most `corridor_wait_s`, then drives on (its move_base passes the other);
   with `one_robot_per_place` it leaves the instructions at a place to the robot that holds one
-  there.
+  there. It rejoins the fleet from its journal when it starts and after a pool write failed
+  (FleetLink.rejoin); its charging instructions stay its own.
 """
 import math
 import time
@@ -44,7 +45,7 @@ from task_planner import fleet_pool
 from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, Execute,
                                             Navigate, Say, StopMotion, Verify, Wait)
 from task_planner.finding_people import FindingPeople
-from task_planner.instruction import HUMAN
+from task_planner.instruction import HUMAN, ROBOT
 from task_planner.planner_api import NODE, STEP, kind_of
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
@@ -151,6 +152,9 @@ class Executor(FindingPeople):
             battery.level_wh = min(battery.config.capacity_wh,
                                    buffer.robot_value(BATTERY_KEY, battery.level_wh))
             self._save_battery(force=True)
+        self._in_fleet = False           # rejoined the fleet since the last failed pool write
+        if fleet is not None:
+            self._rejoin_fleet(0.0)
 
     # ---- events ----
 
@@ -165,18 +169,35 @@ class Executor(FindingPeople):
         self._drain(now)
         if self.fleet is None:
             return self._take_in(self.buffer.submit_many(instructions, now), now)
-        refused = self.fleet.conflicts(instructions)
-        journalled = iter(self.buffer.submit_many(
-            [i for i in instructions if i.id not in refused], now))
-        results = [(None, refused[i.id]) if i.id in refused else next(journalled)
-                   for i in instructions]
-        # the others see the new instructions together with this robot's claim on its choice:
-        # the robot that received them decides first
-        with self.fleet.transaction():
-            late = self.fleet.share([record.instruction for record, _ in results if record])
-            for reason in late.values():   # another robot shared the id since the check above
-                self.log.append((now, f"not shared: {reason}"))
-            return self._take_in(results, now)
+        self._rejoin_fleet(now)
+        try:
+            # under the pool's write lock from the id check on: an id the pool holds for another
+            # instruction is refused before it is journalled; the others see the new ones
+            # together with this robot's claim on its choice (the robot that received them
+            # decides first)
+            with self.fleet.transaction():
+                refused = self.fleet.conflicts(instructions)
+                journalled = iter(self.buffer.submit_many(
+                    [i for i in instructions if i.id not in refused], now))
+                results = [(None, refused[i.id]) if i.id in refused else next(journalled)
+                           for i in instructions]
+                self.fleet.share([record.instruction for record, _ in results if record])
+                return self._take_in(results, now)
+        except Exception:
+            self._in_fleet = False   # rolled back: the next event rejoins from the journal
+            raise
+
+    def _rejoin_fleet(self, now):
+        """After a start or a failed pool write: FleetLink.rejoin from the journal (its
+        charging instructions stay the robot's own)."""
+        if self._in_fleet:
+            return
+        charge = self.charging.function_code if self.charging else None
+        refused = self.fleet.rejoin(self.buffer.records(), lambda instruction: (
+            instruction.type == ROBOT and instruction.function == charge))
+        for reason in refused.values():
+            self.log.append((now, f"not shared: {reason}"))
+        self._in_fleet = True
 
     def _take_in(self, results, now):
         """Log what was journalled or refused; a person's request interrupts the robot's own
@@ -219,13 +240,19 @@ class Executor(FindingPeople):
         return commands
 
     def _fleet_news(self, now):
-        """Take in what the other robots received, close what they closed, renew the lease."""
+        """Take in what the other robots received, close what the pool holds closed, then
+        decide on the news; renew the lease."""
+        self._rejoin_fleet(now)
         news = [i for i in self.fleet.news() if not self.buffer.holds(i.id)]
-        commands = self._take_in(self.buffer.submit_many(news, now), now)[1] if news else []
+        results = self.buffer.submit_many(news, now) if news else []
+        commands = []
         open_ids = [r.instruction.id for r in self.buffer.open_records()]
-        for instruction_id, state, reason in self.fleet.closed_elsewhere(open_ids):
-            commands += self._drop(instruction_id, now, reason, lambda i, t, why, s=state:
-                                   self.buffer.close_elsewhere(i, t, s, why))
+        for instruction_id, state, reason in self.fleet.closed_in_pool(open_ids):
+            if self.buffer.get(instruction_id).is_open:   # not closed with its predecessor
+                commands += self._drop(instruction_id, now, reason, lambda i, t, why, s=state:
+                                       self.buffer.close_elsewhere(i, t, s, why))
+        if results:
+            commands += self._take_in(results, now)[1]
         self.fleet.renew(now)
         return commands
 
@@ -324,9 +351,12 @@ class Executor(FindingPeople):
         """Withdraw an instruction (for the whole fleet); the robot stops its function if it was
         executing it. Returns (record, commands)."""
         self._drain(now)
+        if self.buffer.get(instruction_id).is_open:   # else buffer.cancel below refuses it
+            # closed in the pool first: deciding anew gives back what the robot held, and no
+            # other robot may claim it meanwhile
+            self._close_in_fleet(instruction_id, now, fleet_pool.CANCELLED)
         commands = self._drop(instruction_id, now, "cancelled by request",
                               lambda i, t, why: self.buffer.cancel(i, t, why))
-        self._close_in_fleet(instruction_id, now, fleet_pool.CANCELLED)
         return self.buffer.get(instruction_id), commands
 
     def _drop(self, instruction_id, now, reason, close):
@@ -393,7 +423,9 @@ class Executor(FindingPeople):
                                                int(problem.node[index])):
             return []  # another robot took it first: drive on, the next event decides again
         if step == self.goal:
-            if not self.goal_for:  # a patrol's move now serves the instruction
+            # a patrol's move now serves the instruction; in a fleet the move serves the one
+            # the robot claimed (the one before went back to the pool)
+            if not self.goal_for or self.fleet:
                 self.goal_for, self._patrol_goal = int(problem.ids[index]), None
             return []
         # Any other decision goes through the node just left: turn back to it mid-edge.

@@ -13,17 +13,22 @@ its own journal (task_buffer); the pool (fleet_pool) is what the robots agree on
   renewing, and its instruction returns to the others once the lease has run out;
 - before it drives into a corridor it holds it (`enter`), and it gives it up once it stands
   outside (`leave`): one robot at a time in a narrow place; the other waits;
-- what it finishes, fails or is told to cancel it closes in the pool; what another robot closed
-  it closes in its own journal (`closed_elsewhere`).
+- what it finishes, fails or is told to cancel it closes in the pool; what the pool holds closed
+  it closes in its own journal (`closed_in_pool`);
+- when it starts (and after a failed pool write) it `rejoin`s from its journal: it gives back
+  every claim and corridor it held, shares what it journalled but the pool lacks, and closes in
+  the pool what its journal closed.
 Instructions the robot gives itself for its own body (charging) are `keep_local`: never shared
 and never claimed.
 """
-from task_planner.fleet_pool import CANCELLED, DONE, FAILED, STATE_NAMES, LeaseLost
+from task_planner.fleet_pool import (CANCELLED, CLAIMED, DONE, FAILED, OPEN, STATE_NAMES,
+                                     LeaseLost)
 from task_planner import task_buffer
 
 # pool state -> the task buffer state an instruction closed elsewhere takes
 _BUFFER_STATE = {DONE: task_buffer.DONE, FAILED: task_buffer.FAILED,
                  CANCELLED: task_buffer.CANCELLED}
+_POOL_STATE = {buffer_state: pool_state for pool_state, buffer_state in _BUFFER_STATE.items()}
 
 
 class FleetLink:
@@ -39,6 +44,27 @@ class FleetLink:
         self._place = -1           # where the robot serves the one it holds
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
+
+    def rejoin(self, records, own):
+        """Start from the journal's `records`: give back every claim and corridor held before
+        (a restart forgets what it was doing), keep local the open ones `own(instruction)` says
+        are the robot's own and the pool lacks, share the other open ones it lacks, and close in
+        the pool what the journal closed. Returns {id: reason} of those the pool refused."""
+        self.pool.release_all(self.robot)
+        self.held, self._place, self.corridors = 0, -1, set()
+        entries = {entry.id: entry for entry in self.pool.entries()}
+        unshared = []
+        for record in records:
+            instruction, entry = record.instruction, entries.get(record.instruction.id)
+            if record.is_open and entry is None:
+                if own(instruction):
+                    self.local.add(instruction.id)
+                else:
+                    unshared.append(instruction)
+            elif not record.is_open and entry is not None and entry.state in (OPEN, CLAIMED):
+                self.pool.settle(self.robot, instruction.id, record.completion_time,
+                                 _POOL_STATE[record.state])
+        return self.share(unshared)
 
     def next_id(self, above=0):
         """An id no robot of the fleet has used, above `above` (the robot's own journal's)."""
@@ -72,17 +98,19 @@ class FleetLink:
         """Places where another robot serves, or drives to serve, what it holds."""
         return self.pool.places_held_by_others(self.robot, now)
 
-    def closed_elsewhere(self, ids):
-        """[(id, task buffer state, reason)] of `ids` another robot closed in the pool."""
+    def closed_in_pool(self, ids):
+        """[(id, task buffer state, reason)] of `ids` the pool holds closed: by another robot,
+        or by this one before its journal was lost."""
         return [(i, _BUFFER_STATE[entry.state], f"{STATE_NAMES[entry.state]} by {entry.robot}")
-                for i, entry in self.pool.closed([i for i in ids if i not in self.local]).items()
-                if entry.robot != self.robot]
+                for i, entry in self.pool.closed([i for i in ids if i not in self.local]).items()]
 
     def claim(self, instruction_id, now, place=-1):
         """True when the robot holds the instruction now (kept ones always), to serve it at
         `place`; gives back the one it held before."""
-        if instruction_id in self.local or (instruction_id == self.held
-                                            and place == self._place):
+        if instruction_id in self.local:
+            self.release()   # it serves its own body now
+            return True
+        if instruction_id == self.held and place == self._place:
             return True   # a held one is renewed by `renew`; `holds` checks it before serving
         if not self.pool.claim(self.robot, instruction_id, now, place):
             return False
@@ -96,7 +124,11 @@ class FleetLink:
         if instruction_id in self.local:
             return True
         self._renewed_at = now
-        return instruction_id in self.pool.renew(self.robot, now)
+        if self.pool.renew(self.robot, now, [instruction_id], self.corridors):
+            return True
+        if self.held == instruction_id:
+            self.held = 0
+        return False
 
     def enter(self, names, now):
         """Hold the corridors `names` (keeping those held); "" or the robot in one of them."""
@@ -106,17 +138,18 @@ class FleetLink:
         return holder
 
     def leave(self, keep=()):
-        """Give up the corridors held but those in `keep`."""
-        if self.corridors - set(keep):
-            self.pool.leave(self.robot, tuple(keep))
-            self.corridors &= set(keep)
+        """Give up the corridors held but those in `keep` (in the pool too, whatever this link
+        remembers)."""
+        self.pool.leave(self.robot, tuple(keep))
+        self.corridors &= set(keep)
 
     def renew(self, now):
         """Renew the robot's lease when `renew_period_s` has passed since the last renewal."""
         if (self.held or self.corridors) and now - self._renewed_at >= self.renew_period_s:
             self._renewed_at = now
-            if self.held not in self.pool.renew(self.robot, now):
-                self.held = 0   # lost: another robot may hold it now (closed_elsewhere tells)
+            ids = [self.held] if self.held else []
+            if not self.pool.renew(self.robot, now, ids, self.corridors):
+                self.held = 0   # lost: another robot may hold it now (closed_in_pool tells)
 
     def release(self):
         """Give back the instruction the robot holds (it serves none now)."""

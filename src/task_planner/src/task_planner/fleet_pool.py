@@ -13,8 +13,10 @@ again, so nothing it held is lost. `complete` and `fail` close an instruction on
 whose lease still holds it: a robot that lost its lease (stalled past it, the instruction served
 by another) is told so (`LeaseLost`) and must not serve it, so nothing is served twice. `cancel`
 closes an open instruction for every robot. Corridors (narrow places) are held the same way, one
-robot at a time (`enter`, `leave`), under the robot's lease. Times are passed in by the caller
-[s] (wall or ROS time, one clock for the fleet).
+robot at a time (`enter`, `leave`), under the robot's lease. A restarted executor gives back
+whatever it held before (`release_all`) and closes in the pool what its journal closed while the
+pool did not learn of it (`settle`: it stopped between the two writes). Times are passed in by
+the caller [s] (wall or ROS time, one clock for the fleet).
 """
 import json
 from dataclasses import asdict, dataclass
@@ -150,8 +152,7 @@ class FleetPool:
     def claim(self, robot, instruction_id, now, place=-1):
         """True when `robot` now holds the instruction (until now + lease_s), to serve it at
         `place` (a graph node; -1: not said); False when another robot holds it, it is closed or
-        not in the pool. Claiming what the robot holds renews it (a restarted executor takes
-        back what it held)."""
+        not in the pool. Claiming what the robot holds renews it."""
         _check_robot(robot)
         with self._write():
             changed = self._db.execute(
@@ -162,18 +163,48 @@ class FleetPool:
                  int(instruction_id), OPEN, CLAIMED, now, robot))
             return changed.rowcount == 1
 
-    def renew(self, robot, now):
-        """Extend every lease `robot` still holds at `now` (instructions and corridors); returns
-        the instruction ids it holds."""
+    def renew(self, robot, now, ids=(), corridors=()):
+        """Extend the leases `robot` still holds at `now` on the instructions `ids` and the
+        corridors `corridors` (only those: a claim left over from before a restart is never kept
+        alive); returns those of `ids` it holds."""
+        _check_robot(robot)
+        ids, corridors = [int(i) for i in ids], list(corridors)
+        with self._write():
+            held = []
+            for instruction_id in ids:
+                changed = self._db.execute(
+                    "UPDATE pool SET lease_until=? WHERE id=? AND robot=? AND state=? AND "
+                    "lease_until>=?", (now + self.lease_s, instruction_id, robot, CLAIMED, now))
+                if changed.rowcount == 1:
+                    held.append(instruction_id)
+            self._db.executemany("UPDATE corridors SET lease_until=? WHERE name=? AND robot=? "
+                                 "AND lease_until>=?",
+                                 [(now + self.lease_s, name, robot, now) for name in corridors])
+            return held
+
+    def release_all(self, robot):
+        """Give back every instruction and corridor `robot` holds (a restarted executor starts
+        from its journal, not from claims it made before)."""
         _check_robot(robot)
         with self._write():
-            self._db.execute("UPDATE pool SET lease_until=? WHERE robot=? AND state=? AND "
-                             "lease_until>=?", (now + self.lease_s, robot, CLAIMED, now))
-            self._db.execute("UPDATE corridors SET lease_until=? WHERE robot=? AND "
-                             "lease_until>=?", (now + self.lease_s, robot, now))
-            rows = self._db.execute("SELECT id FROM pool WHERE robot=? AND state=? AND "
-                                    "lease_until>=? ORDER BY id", (robot, CLAIMED, now))
-            return [row[0] for row in rows]
+            self._db.execute("UPDATE pool SET state=?, robot='', lease_until=0 WHERE robot=? AND "
+                             "state=?", (OPEN, robot, CLAIMED))
+            self._db.execute("DELETE FROM corridors WHERE robot=?", (robot,))
+
+    def settle(self, robot, instruction_id, now, state):
+        """Close an instruction `robot`'s journal closed (`state`: DONE, FAILED or CANCELLED) that
+        the pool still holds open or claimed by that robot (it stopped between the two writes);
+        True when it did."""
+        _check_robot(robot)
+        if state not in CLOSED_STATES:
+            raise FleetPoolError(f"instruction {instruction_id}: cannot settle it as state "
+                                 f"{state}")
+        with self._write():
+            changed = self._db.execute(
+                "UPDATE pool SET state=?, robot=?, completion_time=? WHERE id=? AND (state=? OR "
+                "(state=? AND robot=?))",
+                (state, robot, now, int(instruction_id), OPEN, CLAIMED, robot))
+            return changed.rowcount == 1
 
     def complete(self, robot, instruction_id, now):
         """Close the instruction as served by `robot`; LeaseLost unless it holds it at `now`."""
@@ -270,8 +301,17 @@ class _Transaction:
             self.db.execute("BEGIN IMMEDIATE")
 
     def __exit__(self, kind, error, trace):
-        if self.outer:
-            self.db.execute("COMMIT" if kind is None else "ROLLBACK")
+        if not self.outer:
+            return False
+        if kind is None:
+            try:
+                self.db.execute("COMMIT")
+            except Exception:   # e.g. disk full: never leave the write lock held
+                if self.db.in_transaction:
+                    self.db.execute("ROLLBACK")
+                raise
+        elif self.db.in_transaction:
+            self.db.execute("ROLLBACK")
         return False
 
 

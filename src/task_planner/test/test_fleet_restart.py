@@ -1,0 +1,174 @@
+"""A robot of a fleet that restarts, loses its journal or fails a pool write rejoins from its
+journal (FleetLink.rejoin): nothing it journalled is lost to the fleet, nothing it held is kept
+alive, nothing closed is served again."""
+import sqlite3
+
+import pytest
+from planner_factories import make_instruction
+from test_executor_fleet import A, B, C, D, FUNCTIONS, fleet, robot, served
+
+from task_planner.battery import BatteryConfig, BatteryModel
+from task_planner.executor import Charging
+from task_planner.executor_commands import MOVING
+from task_planner.executor_sim import NavigationModel, run_executor_fleet
+from task_planner.fleet_link import FleetLink
+from task_planner.fleet_pool import CANCELLED, DONE, FAILED, FleetPool
+from task_planner.reward import Priority
+from task_planner import task_buffer
+from task_planner.task_buffer import BufferConfig, TaskBuffer
+
+
+def test_a_restarted_robot_still_charges_its_own_body(line_graph, tmp_path):
+    config = BatteryConfig(capacity_wh=0.1, idle_w=0.0, moving_w=0.0, executing_w=0.0,
+                           charge_w=36.0, low_fraction=0.5)
+
+    def charging():
+        battery = BatteryModel(config)
+        battery.level_wh = 0.02          # low: 20 % (the journalled level wins at a restart)
+        return Charging(battery, A, 8, Priority("self_generated", 1.0, 0.9))
+
+    first = robot(line_graph, tmp_path, "a", D, charging=charging())
+    first.tick(0.0)                      # low: it gives itself a charge instruction, drives
+    [charge] = first.buffer.open_records()
+    assert first.mode == MOVING and first.fleet.pool.entries() == []   # never shared
+    first.buffer.close()
+    again = robot(line_graph, tmp_path, "a", D, charging=charging())   # killed and restarted
+    run_executor_fleet([again], [], NavigationModel(line_graph, 0.5), until_s=120.0)
+    record = again.buffer.get(charge.instruction.id)
+    assert (record.state, record.reason) == (task_buffer.DONE, "")
+    assert FUNCTIONS[8].name == "charge" and again.fleet.pool.entries() == []
+
+
+def test_a_restarted_robot_gives_back_its_claims_and_corridors_at_once(tmp_path):
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    before = FleetLink(pool, "a")
+    before.share([make_instruction(1, A), make_instruction(2, B)])
+    assert before.claim(1, 0.0) and before.enter({"hall"}, 0.0) == ""
+    after = FleetLink(FleetPool(tmp_path / "pool.sqlite", lease_s=10.0), "a")
+    assert after.rejoin([], own=lambda instruction: False) == {}
+    assert pool.claimable(1.0) == [1, 2] and pool.enter("b", ["hall"], 1.0) == ""
+
+
+def test_renewing_keeps_alive_only_what_the_link_holds(tmp_path):
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    link = FleetLink(pool, "a")
+    link.share([make_instruction(1, A), make_instruction(2, B)])
+    assert pool.claim("a", 2, 0.0) and pool.enter("a", ["hall"], 0.0) == ""  # an earlier run's
+    assert link.claim(1, 0.0) and link.enter({"alley"}, 0.0) == ""
+    link.renew(5.0)
+    assert pool.claimable(12.0) == [2]                   # 1 renewed until 15 s, 2 not
+    assert pool.enter("b", ["hall"], 12.0) == "" and pool.enter("b", ["alley"], 12.0) == "a"
+
+
+def test_choosing_its_own_instruction_gives_back_the_one_it_held(tmp_path):
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    mine, other = FleetLink(pool, "a"), FleetLink(pool, "b")
+    mine.share([make_instruction(8, B)])
+    mine.keep_local(7)
+    assert mine.claim(8, 0.0) and mine.claim(7, 1.0)
+    assert mine.held == 0 and other.claim(8, 1.0)
+    assert not mine.holds(8, 2.0) and mine.held == 0
+
+
+def test_leaving_gives_up_a_corridor_the_link_does_not_remember(tmp_path):
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    assert pool.enter("a", ["hall"], 0.0) == ""          # held by the robot's earlier run
+    FleetLink(pool, "a").leave()
+    assert pool.enter("b", ["hall"], 1.0) == ""
+
+
+def test_an_instruction_journalled_before_a_failed_share_reaches_the_fleet(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    share = a.fleet.pool.share
+
+    def disk_error(instructions):
+        monkeypatch.setattr(a.fleet.pool, "share", share)   # fails once
+        raise sqlite3.OperationalError("disk I/O error")
+
+    monkeypatch.setattr(a.fleet.pool, "share", disk_error)
+    near_b = make_instruction(1, D, gamma=3.0, beta=0.9, duration=4, function=2)
+    with pytest.raises(sqlite3.OperationalError, match="disk I/O error"):
+        a.receive([near_b], 0.0)
+    assert a.buffer.holds(1) and a.fleet.pool.entries() == []   # journalled, not shared
+    run_executor_fleet([a, b], [], NavigationModel(line_graph, 0.5), until_s=60.0)
+    # a rejoins at its first tick, shares 1 and, deciding first, serves it: once
+    got = served([a, b])
+    assert list(got) == [1] and len(got[1]) == 1 and b.buffer.get(1).reason == "done by a"
+
+
+def test_a_restarted_robot_shares_what_it_journalled_but_never_shared(line_graph, tmp_path):
+    journal = TaskBuffer(tmp_path / "a.sqlite", BufferConfig(node_count=line_graph.size))
+    journal.submit(make_instruction(5, C, function=1), 0.0)   # killed before it shared it
+    journal.close()
+    a = robot(line_graph, tmp_path, "a", A)
+    assert [(e.id, e.state) for e in a.fleet.pool.entries()] == [(5, 0)]
+
+
+def test_what_a_journal_closed_before_the_pool_learnt_is_closed_at_restart(line_graph, tmp_path):
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    done, failed = make_instruction(1, B, function=1), make_instruction(2, C, function=1)
+    pool.share([done, failed])
+    assert pool.claim("a", 1, 0.0)
+    journal = TaskBuffer(tmp_path / "a.sqlite", BufferConfig(node_count=line_graph.size))
+    journal.submit_many([done, failed], 0.0)
+    journal.start(1, 1.0)
+    journal.finish(1, 3.0)                    # killed before it closed 1 in the pool
+    journal.fail(2, 4.0, "no path")           # 2 was open in the pool
+    journal.close()
+    robot(line_graph, tmp_path, "a", A)
+    assert [(e.id, e.state, e.robot, e.completion_time) for e in pool.entries()] == [
+        (1, DONE, "a", 3.0), (2, FAILED, "a", 4.0)]
+    assert not pool.claim("b", 1, 20.0)       # its lease has run out, but it is served
+
+
+def test_a_robot_whose_journal_was_lost_serves_nothing_again(line_graph, tmp_path):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    here = make_instruction(1, A, gamma=5.0, beta=0.9, duration=4, function=1)
+    run_executor_fleet([a, b], [(0.0, 0, here)], NavigationModel(line_graph, 0.5))
+    a.buffer.close()
+    for path in tmp_path.glob("a.sqlite*"):
+        path.unlink()
+    again = robot(line_graph, tmp_path, "a", A)
+    traces = run_executor_fleet([again], [], NavigationModel(line_graph, 0.5), until_s=60.0)
+    record = again.buffer.get(1)
+    assert (record.state, record.reason) == (task_buffer.DONE, "done by a")
+    assert traces[0].executed == [] and served([again]) == {}
+
+
+def test_a_chain_closed_in_the_pool_closes_each_instruction_once(line_graph, tmp_path):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    head = make_instruction(1, C, function=1)
+    then = make_instruction(2, C, function=2, previous_id=1)
+    a.receive([head, then], 0.0)
+    b.tick(0.0)                                        # b takes both in
+    a.fleet.close(1, 1.0, FAILED)
+    a.fleet.pool.settle("a", 2, 1.0, FAILED)           # as a rejoin after a restart does
+    b.tick(2.0)                                        # both closed in the pool: no error
+    assert [(r.state, r.reason) for r in b.buffer.records()] == [
+        (task_buffer.FAILED, "failed by a"), (task_buffer.FAILED, "predecessor 1 failed")]
+
+
+def test_a_move_serves_the_instruction_the_robot_claimed(line_graph, tmp_path):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    slow = make_instruction(1, C, gamma=1.0, beta=0.99, duration=60, function=1)
+    a.receive([slow], 0.0)
+    assert (a.mode, a.goal, a.goal_for) == (MOVING, B, 1)
+    urgent = make_instruction(2, D, gamma=9.0, beta=0.9, duration=4, function=2, start_time=1.0)
+    a.receive([urgent], 1.0)                           # mid-edge; D lies through B too
+    assert (a.mode, a.goal, a.goal_for, a.fleet.held) == (MOVING, B, 2, 2)
+    assert a.fleet.pool.claimable(1.0) == [1]
+
+
+def test_a_cancelled_instruction_is_closed_in_the_pool_before_it_is_given_back(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    a.receive([make_instruction(1, A, duration=10, function=1)], 0.0)   # executing at once
+    calls = []
+    for name in ("cancel", "release"):
+        method = getattr(a.fleet.pool, name)
+        monkeypatch.setattr(a.fleet.pool, name, lambda *args, name=name, method=method: (
+            calls.append(name), method(*args))[1])
+    a.cancel(1, 1.0)
+    assert calls == ["cancel"]
+    assert [(e.state, e.robot) for e in a.fleet.pool.entries()] == [(CANCELLED, "a")]
