@@ -77,18 +77,19 @@ def test_crowds_stand_apart_in_free_space_and_walk_in_sight():
 
 
 def test_windowed_and_every_beam_crowds_drive_the_same_run(capsys):
-    """The two overlays see the same ranges, so the steered robots take the same paths; the
-    --crowd table prints one row per robots x people."""
+    """The overlays see the same ranges, cast together or one by one, so the steered robots
+    take the same paths; the --crowd table prints one row per robots x people."""
     from tamp_resources import resource
-    from sim2d.bench_crowd import crowd_world, run_crowd
+    from sim2d.bench_crowd import CROWD_RUNS, crowd_world, run_crowd
     template = resource("config", "worlds") / "office_penguin.yaml"
     runs = []
-    for windowed in (True, False):
+    for _, windowed, batch in CROWD_RUNS:
         world = crowd_world(template, 3, 6, 3.0)
         start = np.array([r.state.pose[:2] for r in world.robots])
-        factor, scans = run_crowd(world, 3.0, bench.steer, windowed)
+        factor, scans = run_crowd(world, 3.0, bench.steer, windowed, batch)
         assert factor > 0 and scans == 3 * 120          # UTM-30LX at 40 Hz
         runs.append([r.state.pose for r in world.robots])
         moved = np.hypot(*(np.array(runs[-1])[:, :2] - start).T)
         assert (moved > 0.3).all()                      # driving, so the scans change
-    np.testing.assert_allclose(runs[0], runs[1], atol=1e-9)
+    assert runs[0] == runs[1]                           # together: the same scans exactly
+    np.testing.assert_allclose(runs[0], runs[2], atol=1e-9)

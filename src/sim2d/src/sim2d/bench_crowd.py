@@ -96,10 +96,12 @@ def crowd_world(template, robots, people, seconds, seed=0):
     return world_from_data(template, crowd_world_data(template, robots, people, seconds, seed))
 
 
-def run_crowd(world, seconds, steer, windowed=True):
+def run_crowd(world, seconds, steer, windowed=True, batch=True):
     """Real-time factor of `world.step` (the robots' controller `steer` not counted) at the
-    lasers' scan period for `seconds` of sim time; (factor, scans)."""
+    lasers' scan period for `seconds` of sim time, the lasers cast together (`batch`) or one by
+    one; (factor, scans)."""
     dt = world.robots[0].lasers[0].model.scan_time
+    world.batch_scans = batch
     for robot in world.robots:
         for laser in robot.lasers:
             laser.windowed = windowed
@@ -114,18 +116,22 @@ def run_crowd(world, seconds, steer, windowed=True):
     return world.time / wall, sum(r.scans[0].count for r in world.robots)
 
 
+CROWD_RUNS = (("windowed", True, True),       # the lasers of one model cast together
+              ("one_by_one", True, False),    # each laser alone, windowed overlay
+              ("every_beam", False, False))   # each laser alone, every beam x every circle
+
+
 def bench_crowds(template, steer, seconds, robot_counts=(1, 4, 8), people_counts=(0, 10, 20)):
-    """[{robots, people, windowed, every_beam, scans}]: real-time factors of each crowd with the
-    windowed overlay and with every beam against every circle, on the same world and poses."""
+    """[{robots, people, windowed, one_by_one, every_beam, scans}]: real-time factors of each
+    crowd with the windowed overlay, the lasers cast together (laser_batch) and one by one, and
+    with every beam against every circle, on the same world and poses."""
     rows = []
     for robots in robot_counts:
         for people in people_counts:
             row = {"robots": robots, "people": people}
             data = crowd_world_data(template, robots, people, seconds)
-            for windowed in (True, False):
+            for name, windowed, batch in CROWD_RUNS:
                 world = world_from_data(template, data)
-                factor, scans = run_crowd(world, seconds, steer, windowed)
-                row["windowed" if windowed else "every_beam"] = factor
-                row["scans"] = scans
+                row[name], row["scans"] = run_crowd(world, seconds, steer, windowed, batch)
             rows.append(row)
     return rows

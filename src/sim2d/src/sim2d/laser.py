@@ -1,6 +1,6 @@
 """Laser range finders: models from config/lasers/*.yaml and scans with noise and dropouts."""
 import math
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -111,11 +111,15 @@ def beam_windows(bearings, halves, angle_min, increment, num_beams):
     owners = np.concatenate([np.arange(len(bearings))] * 2)
     keep = highs >= lows
     lows, highs, owners = lows[keep], highs[keep], owners[keep]
+    if not len(lows):
+        return owners, lows
     counts = highs - lows + 1
-    circle = np.repeat(owners, counts)
-    # beam = low of its window + position inside the window
-    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    return circle, np.repeat(lows, counts) + offsets
+    # the beams as a running sum: +1 inside a window, a jump from one window's last beam to
+    # the next one's first
+    steps = np.ones(int(counts.sum()), dtype=np.int64)
+    steps[0] = lows[0]
+    steps[np.cumsum(counts[:-1])] = lows[1:] - highs[:-1]
+    return np.repeat(owners, counts), np.cumsum(steps)
 
 
 def overlay_circles(ranges, lx, ly, lyaw, circles, cos_beam, sin_beam, angle_min, increment,
@@ -182,6 +186,7 @@ class LaserSensor:
         self.angles = model.beam_angles()
         self._cos, self._sin = np.cos(self.angles), np.sin(self.angles)
         self.windowed = True     # circles cast on their angular window; False: on every beam
+        self.model_key = astuple(model)   # lasers of one model scan together
         # circles farther than this are not cast: beyond range_max with room for the range
         # noise that could bring a hit back under it
         self._reach = 1.25 * model.range_max + 1.0

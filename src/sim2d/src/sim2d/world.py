@@ -16,6 +16,7 @@ import numpy as np
 from sim2d.camera import Camera, CameraFrame, hidden_face
 from sim2d.kinematics import DIFFERENTIAL, RobotState, step_robot, wheels_to_twist
 from sim2d.laser import LaserSensor
+from sim2d.laser_batch import batch_key, scan_many
 from floorplan.occupancy_map import load_map
 from sim2d.odometry import Odometry
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
@@ -103,6 +104,7 @@ class World:
         self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
                         for o in config.objects}
         self.robots = [self._make_robot(rc, i) for i, rc in enumerate(config.robots)]
+        self.batch_scans = True   # lasers of one model scan together (laser_batch); same scans
         self._update_people(0.0)
 
     @classmethod
@@ -254,26 +256,52 @@ class World:
         return circles
 
     def step(self, dt):
-        """Advance the world by dt [s]."""
+        """Advance the world by dt [s]: every robot moves, then the lasers due scan the world as
+        it stands at the new time."""
         if not dt > 0:
             raise ValueError(f"step needs dt > 0, got {dt}")
         self.time += dt
         if self.people:
             self._update_people(dt)
         clearance = self.collision_geometry.clearance_at
+        due = []
         for robot in self.robots:
             rc = robot.config
             step_robot(robot.state, rc.drive, rc.limits, rc.radius,
                        clearance, dt, rc.wheels)
             robot.odometry.update(robot.state.pose)
-            for j, laser in enumerate(robot.lasers):
-                if self.time + 1e-9 >= robot.next_scan[j]:
-                    circles = self._obstacle_circles(robot) if (self.people or
-                                                                len(self.robots) > 1) else ()
-                    count = 1 if robot.scans[j] is None else robot.scans[j].count + 1
-                    robot.scans[j] = Scan(self.time, laser.scan(robot.state.pose, circles,
-                                                                self.closed_boxes), count)
-                    robot.next_scan[j] += laser.model.scan_time
+            due += [(robot, j) for j in range(len(robot.lasers))
+                    if self.time + 1e-9 >= robot.next_scan[j]]
+        if due:
+            self._scan(due)
+
+    def _scan(self, due):
+        """Scan the lasers `due` [(robot, laser index)]: lasers of one model and table together
+        (laser_batch) when `batch_scans` is on, the others one by one; the same scans either
+        way."""
+        crowded = bool(self.people) or len(self.robots) > 1
+        groups = {}
+        for robot, j in due:
+            key = batch_key(robot.lasers[j]) if self.batch_scans else None
+            groups.setdefault(key if key is not None else (id(robot), j), []).append((robot, j))
+        circles = owners = None
+        for members in groups.values():
+            scans = None
+            if len(members) > 1:
+                if circles is None and crowded:
+                    circles = np.array(self._obstacle_circles(None), dtype=float)
+                    owners = {id(r): len(self.people) + i for i, r in enumerate(self.robots)}
+                scans = scan_many([robot.lasers[j] for robot, j in members],
+                                  [robot.state.pose for robot, _ in members], circles,
+                                  [owners[id(robot)] for robot, _ in members] if crowded
+                                  else None, self.closed_boxes)
+            for k, (robot, j) in enumerate(members):
+                ranges = scans[k] if scans is not None else robot.lasers[j].scan(
+                    robot.state.pose, self._obstacle_circles(robot) if crowded else (),
+                    self.closed_boxes)
+                count = 1 if robot.scans[j] is None else robot.scans[j].count + 1
+                robot.scans[j] = Scan(self.time, ranges, count)
+                robot.next_scan[j] += robot.lasers[j].model.scan_time
 
     # --- camera ---------------------------------------------------------------------------
     def camera_frame(self, name):
