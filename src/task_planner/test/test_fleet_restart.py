@@ -12,7 +12,7 @@ from task_planner.executor import Charging
 from task_planner.executor_commands import MOVING
 from task_planner.executor_sim import NavigationModel, run_executor_fleet
 from task_planner.fleet_link import FleetLink
-from task_planner.fleet_pool import CANCELLED, DONE, FAILED, FleetPool
+from task_planner.fleet_pool import CANCELLED, CLAIMED, DONE, FAILED, FleetPool
 from task_planner.reward import Priority
 from task_planner import task_buffer
 from task_planner.task_buffer import BufferConfig, TaskBuffer
@@ -80,6 +80,7 @@ def test_leaving_gives_up_a_corridor_the_link_does_not_remember(tmp_path):
 def test_an_instruction_journalled_before_a_failed_share_reaches_the_fleet(
         line_graph, tmp_path, monkeypatch):
     a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    a.tick(0.0)                                          # joined the fleet
     share = a.fleet.pool.share
 
     def disk_error(instructions):
@@ -102,7 +103,8 @@ def test_a_restarted_robot_shares_what_it_journalled_but_never_shared(line_graph
     journal.submit(make_instruction(5, C, function=1), 0.0)   # killed before it shared it
     journal.close()
     a = robot(line_graph, tmp_path, "a", A)
-    assert [(e.id, e.state) for e in a.fleet.pool.entries()] == [(5, 0)]
+    a.tick(0.0)                                                # rejoins at its first event
+    assert [(e.id, e.state) for e in a.fleet.pool.entries()] == [(5, CLAIMED)]   # and decides
 
 
 def test_what_a_journal_closed_before_the_pool_learnt_is_closed_at_restart(line_graph, tmp_path):
@@ -116,7 +118,7 @@ def test_what_a_journal_closed_before_the_pool_learnt_is_closed_at_restart(line_
     journal.finish(1, 3.0)                    # killed before it closed 1 in the pool
     journal.fail(2, 4.0, "no path")           # 2 was open in the pool
     journal.close()
-    robot(line_graph, tmp_path, "a", A)
+    robot(line_graph, tmp_path, "a", A).tick(5.0)
     assert [(e.id, e.state, e.robot, e.completion_time) for e in pool.entries()] == [
         (1, DONE, "a", 3.0), (2, FAILED, "a", 4.0)]
     assert not pool.claim("b", 1, 20.0)       # its lease has run out, but it is served
@@ -172,3 +174,99 @@ def test_a_cancelled_instruction_is_closed_in_the_pool_before_it_is_given_back(
     a.cancel(1, 1.0)
     assert calls == ["cancel"]
     assert [(e.state, e.robot) for e in a.fleet.pool.entries()] == [(CANCELLED, "a")]
+
+
+def failing_once(monkeypatch, pool, name, error="disk I/O error"):
+    """Make the pool's `name` raise sqlite3.OperationalError(error) at its next call only."""
+    method = getattr(pool, name)
+
+    def fail(*args):
+        monkeypatch.setattr(pool, name, method)
+        raise sqlite3.OperationalError(error)
+
+    monkeypatch.setattr(pool, name, fail)
+
+
+def test_a_failed_pool_write_never_gives_back_what_the_robot_executes(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    long_one = make_instruction(1, A, gamma=5.0, beta=0.99, duration=30, function=1)
+    a.receive([long_one], 0.0)                           # executes 1 until 30 s
+    b.tick(0.0)
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):
+        a.receive([make_instruction(2, C, function=1)], 1.0)
+    traces = run_executor_fleet([a, b], [], NavigationModel(line_graph, 0.5), until_s=120.0)
+    # a rejoins at its next tick holding 1 still; b never takes it and serves 2
+    assert [i for _, i, _ in traces[1].executed] == [2]
+    assert served([a, b])[1] == [("a", pytest.approx(5 * 0.99 ** 30))]
+
+
+def test_a_fault_in_a_tick_rejoins_and_settles_what_the_journal_finished(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    a.receive([make_instruction(1, A, gamma=5.0, beta=0.99, duration=4, function=1)], 0.0)
+    b.receive([make_instruction(9, D, duration=20, function=2)], 0.0)   # b is busy
+    failing_once(monkeypatch, a.fleet.pool, "complete", "database is locked")
+    with pytest.raises(sqlite3.OperationalError):
+        a.tick(4.0)                                      # journalled DONE, the pool not told
+    a.fault(4.0, "database is locked")                   # as the node's fault handler does
+    traces = run_executor_fleet([a, b], [], NavigationModel(line_graph, 0.5), until_s=120.0)
+    assert [i for _, i, _ in traces[1].executed] == []  # b never serves 1 again
+    entries = {e.id: (e.state, e.robot) for e in a.fleet.pool.entries()}
+    assert entries[1] == (DONE, "a")
+
+
+def test_an_id_the_fleet_knows_as_another_instruction_is_failed_not_served(
+        line_graph, tmp_path):
+    theirs = make_instruction(5, C, gamma=3.0, function=2)
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    pool.share([theirs])                                 # b received it
+    journal = TaskBuffer(tmp_path / "a.sqlite", BufferConfig(node_count=line_graph.size))
+    journal.submit(make_instruction(5, A, function=1), 0.0)   # a's, never shared
+    journal.close()
+    a, b = robot(line_graph, tmp_path, "a", A), robot(line_graph, tmp_path, "b", D)
+    traces = run_executor_fleet([a, b], [], NavigationModel(line_graph, 0.5), until_s=120.0)
+    mine = a.buffer.get(5)
+    assert mine.state == task_buffer.FAILED and mine.reason.startswith(
+        "not served: instruction 5: the fleet pool holds another instruction under this id")
+    assert traces[0].executed == []                     # a serves neither
+    assert [(i, name) for _, i, name in traces[1].executed] == [(5, "encourage")]
+
+
+def test_rejoining_is_one_transaction_for_the_other_robots(line_graph, tmp_path):
+    """A robot killed after it finished 1 but before the pool heard of it: while it rejoins,
+    the other robot cannot claim 1 in between giving back and settling."""
+    pool_b = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    pool_b._db.execute("PRAGMA busy_timeout=50")          # b gives up quickly
+    done = make_instruction(1, B, function=1)
+    pool_b.share([done])
+    assert pool_b.claim("a", 1, 0.0)
+    journal = TaskBuffer(tmp_path / "a.sqlite", BufferConfig(node_count=line_graph.size))
+    journal.submit(done, 0.0)
+    journal.start(1, 1.0)
+    journal.finish(1, 3.0)
+    records = journal.records()
+    journal.close()
+    link = FleetLink(FleetPool(tmp_path / "pool.sqlite", lease_s=10.0), "a")
+    entries, tries = link.pool.entries, []
+
+    def entries_while_b_tries():
+        try:
+            tries.append(pool_b.claim("b", 1, 4.0))
+        except sqlite3.OperationalError as error:
+            tries.append(str(error))
+        return entries()
+
+    link.pool.entries = entries_while_b_tries
+    assert link.rejoin(records, own=lambda instruction: False, now=4.0) == {}
+    assert tries == ["database is locked"]
+    assert [(e.state, e.robot) for e in pool_b.entries()] == [(DONE, "a")]
+
+
+def test_a_restarted_robot_holds_the_corridor_it_stands_in(star_graph, tmp_path):
+    H = 0
+    a = robot(star_graph, tmp_path, "a", H, corridors=(H,))
+    b = robot(star_graph, tmp_path, "b", 1, corridors=(H,))
+    a.tick(0.0)
+    assert b.fleet.enter({"H"}, 1.0) == "a"

@@ -30,8 +30,9 @@ node (move_base, /robot/say) or an in-process model to carry out. Rules beyond t
   a corridor (`corridors`, narrow places) before it drives into it and waits while another
   robot is in it, at most `corridor_wait_s`, then drives on (its move_base passes the other);
   with `one_robot_per_place` it leaves the instructions at a place to the robot that holds one
-  there. It rejoins the fleet from its journal when it starts and after a pool write failed
-  (FleetLink.rejoin); its charging instructions stay its own.
+  there. At its first event, and after a fault or a failed pool write, it rejoins the fleet
+  from its journal (FleetLink.rejoin), keeping what it serves; its charging instructions stay
+  its own.
 """
 import math
 import time
@@ -152,9 +153,7 @@ class Executor(FindingPeople):
             battery.level_wh = min(battery.config.capacity_wh,
                                    buffer.robot_value(BATTERY_KEY, battery.level_wh))
             self._save_battery(force=True)
-        self._in_fleet = False           # rejoined the fleet since the last failed pool write
-        if fleet is not None:
-            self._rejoin_fleet(0.0)
+        self._in_fleet = False           # rejoined the fleet (at the first event with a time)
 
     # ---- events ----
 
@@ -188,15 +187,23 @@ class Executor(FindingPeople):
             raise
 
     def _rejoin_fleet(self, now):
-        """After a start or a failed pool write: FleetLink.rejoin from the journal (its
-        charging instructions stay the robot's own)."""
+        """After a start, a fault or a failed pool write: FleetLink.rejoin from the journal,
+        keeping the instruction the robot serves (its charging instructions stay its own), and
+        hold again the corridor it stands in. An open instruction whose id the fleet knows as
+        another instruction fails here with the reason: serving it would serve the other."""
         if self._in_fleet:
             return
         charge = self.charging.function_code if self.charging else None
-        refused = self.fleet.rejoin(self.buffer.records(), lambda instruction: (
-            instruction.type == ROBOT and instruction.function == charge))
-        for reason in refused.values():
-            self.log.append((now, f"not shared: {reason}"))
+        clashes = self.fleet.rejoin(self.buffer.records(), lambda instruction: (
+            instruction.type == ROBOT and instruction.function == charge),
+            keep=self.serving(), now=now)
+        for instruction_id, reason in clashes.items():
+            if self.buffer.get(instruction_id).is_open:
+                self.buffer.fail(instruction_id, now, f"not served: {reason}")
+                self.log.append((now, f"failed {instruction_id}: {reason}"))
+        here = self._corridors_of((self.node,))
+        if here:
+            self.fleet.enter(here, now)   # "" or another robot came in meanwhile: it leaves
         self._in_fleet = True
 
     def _take_in(self, results, now):
@@ -351,6 +358,8 @@ class Executor(FindingPeople):
         """Withdraw an instruction (for the whole fleet); the robot stops its function if it was
         executing it. Returns (record, commands)."""
         self._drain(now)
+        if self.fleet:
+            self._rejoin_fleet(now)
         if self.buffer.get(instruction_id).is_open:   # else buffer.cancel below refuses it
             # closed in the pool first: deciding anew gives back what the robot held, and no
             # other robot may claim it meanwhile
@@ -398,6 +407,7 @@ class Executor(FindingPeople):
         self._patrol_goal = self._target = None
         self._problem_key = self._problem = None
         commands = [StopMotion()]
+        self._in_fleet = False   # a pool write may have failed: the next event rejoins
         if instruction_id and self.buffer.get(instruction_id).is_open:
             commands += self._fail(instruction_id, now, f"fault while serving it: {reason}")
         else:

@@ -45,26 +45,34 @@ class FleetLink:
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
 
-    def rejoin(self, records, own):
-        """Start from the journal's `records`: give back every claim and corridor held before
-        (a restart forgets what it was doing), keep local the open ones `own(instruction)` says
-        are the robot's own and the pool lacks, share the other open ones it lacks, and close in
-        the pool what the journal closed. Returns {id: reason} of those the pool refused."""
-        self.pool.release_all(self.robot)
-        self.held, self._place, self.corridors = 0, -1, set()
-        entries = {entry.id: entry for entry in self.pool.entries()}
-        unshared = []
-        for record in records:
-            instruction, entry = record.instruction, entries.get(record.instruction.id)
-            if record.is_open and entry is None:
-                if own(instruction):
+    def rejoin(self, records, own, keep=0, now=0.0):
+        """Start from the journal's `records`, in one pool transaction: close in the pool what
+        the journal closed, give back every claim and corridor held before but `keep` (the
+        instruction the robot serves on, renewed at `now`), keep local the open ones
+        `own(instruction)` says are the robot's own and the pool lacks, and share the other
+        open ones. Returns {id: reason} of the open ones the pool holds another instruction
+        under (the robot must not serve them: the fleet knows that id as another's)."""
+        with self.pool.transaction():
+            entries = {entry.id: entry for entry in self.pool.entries()}
+            unshared = []
+            for record in records:
+                instruction, entry = record.instruction, entries.get(record.instruction.id)
+                if not record.is_open:
+                    if entry is not None and entry.state in (OPEN, CLAIMED):
+                        self.pool.settle(self.robot, instruction.id, record.completion_time,
+                                         _POOL_STATE[record.state])
+                elif instruction.id in self.local or (entry is None and own(instruction)):
                     self.local.add(instruction.id)
                 else:
                     unshared.append(instruction)
-            elif not record.is_open and entry is not None and entry.state in (OPEN, CLAIMED):
-                self.pool.settle(self.robot, instruction.id, record.completion_time,
-                                 _POOL_STATE[record.state])
-        return self.share(unshared)
+            kept = bool(keep) and keep not in self.local and bool(
+                self.pool.renew(self.robot, now, [keep]))
+            self.pool.release_all(self.robot, keep=keep if kept else 0)
+            self.held = keep if kept else 0
+            self._place, self.corridors = (self._place if kept else -1), set()
+            clashes = self.pool.conflicting(unshared)
+            self.share([i for i in unshared if i.id not in clashes])
+        return clashes
 
     def next_id(self, above=0):
         """An id no robot of the fleet has used, above `above` (the robot's own journal's)."""
