@@ -114,3 +114,21 @@ def test_stop_interrupts_a_running_child():
     run_scenario_main.stop(child, timeout_s=10.0)
     assert child.returncode is not None and child.returncode != 0
     run_scenario_main.stop(None)               # nothing started: nothing to do
+
+
+def test_a_run_folder_is_emptied_of_an_earlier_run_and_a_foreign_one_refused(tmp_path):
+    run = tmp_path / "run"
+    (run / "log" / "latest").mkdir(parents=True)
+    for name in ("robot1_task_buffer.sqlite", "robot1_task_buffer.sqlite-wal",
+                 "fleet_pool.sqlite", "record.json", "launch.log", "run.bag", "run.urdf"):
+        (run / name).write_text("an earlier day")
+    run_scenario_main.fresh_run_dir(run)
+    assert list(run.iterdir()) == []
+    (run / "notes.txt").write_text("mine")
+    (run / "record.json").write_text("an earlier day")
+    with pytest.raises(ValueError, match=r"--run-dir .*run holds files no run writes "
+                                         r"\(notes.txt\): give an empty or new folder"):
+        run_scenario_main.fresh_run_dir(run)
+    assert sorted(p.name for p in run.iterdir()) == ["notes.txt", "record.json"]  # untouched
+    run_scenario_main.fresh_run_dir(tmp_path / "new")
+    assert (tmp_path / "new").is_dir()

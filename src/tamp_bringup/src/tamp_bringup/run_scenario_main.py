@@ -7,15 +7,17 @@ Defaults: config/scenarios/household_day.yaml, speed 5, the run folder
 build/scenario/<UTC time>/ of the workspace. Starts its own roscore port and ROS_HOME (the run
 directory, DIR/run unless --run-dir: the launch log, the record, the journals, the logs and
 run.bag, a rosbag of the run that `roslaunch tamp_bringup replay.launch bag:=.../run.bag` replays
-in rviz), launches `roslaunch tamp_bringup social_household.launch` with the scenario node, prints
-a progress line with an ETA every 10 s until the scenario ends, then writes REPORT.md and the PNGs
-as scripts/scenario_report does. With --fleet the same people and requests are served by two
-robots (`household_fleet.launch` on config/worlds/household_fleet.yaml), and the report reads both
-robots' journals. Run it with the workspace environment (source scripts/env.sh).
+in rviz; an earlier run's files there are removed first, and a folder holding other files is
+refused), launches `roslaunch tamp_bringup social_household.launch` with the scenario node,
+prints a progress line with an ETA every 10 s until the scenario ends, then writes REPORT.md and
+the PNGs as scripts/scenario_report does. With --fleet the same people and requests are served
+by two robots (`household_fleet.launch` on config/worlds/household_fleet.yaml), and the report
+reads both robots' journals. Run it with the workspace environment (source scripts/env.sh).
 """
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -143,12 +145,36 @@ def run_launch(command, env, run_dir, scenario, speed, started):
         stop(launch)
 
 
+RUN_FILES = ("*.sqlite", "*.sqlite-shm", "*.sqlite-wal", "record.json", "launch.log",
+             "rosbag.log", "run.bag", "run.bag.active", "run.urdf", "rospack_cache_*")
+
+
+def fresh_run_dir(run_dir):
+    """Make `run_dir` empty for a new run: an earlier run's files there (journals, fleet pool,
+    people database, record, logs, bag) are removed, as the new day must not start from the old
+    one's instructions. A folder that holds anything else is refused (ValueError naming it)."""
+    run_dir.mkdir(parents=True, exist_ok=True)
+    run_files = {p for pattern in RUN_FILES for p in run_dir.glob(pattern)}
+    others = sorted(p.name for p in run_dir.iterdir()
+                    if p not in run_files and not (p.name == "log" and p.is_dir()))
+    if others:
+        raise ValueError(f"--run-dir {run_dir} holds files no run writes ({', '.join(others[:5])}"
+                         f"{', ...' if len(others) > 5 else ''}): give an empty or new folder")
+    for path in run_files:
+        path.unlink()
+    shutil.rmtree(run_dir / "log", ignore_errors=True)
+
+
 def main(argv=None):
     args = parse_args(argv)
     path = scenario_path(args)
     scenario = load_scenario(path)
     run_dir = args.run_dir
-    run_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        fresh_run_dir(run_dir)
+    except ValueError as error:
+        print(f"[scenario] {error}", file=sys.stderr)
+        return 2
     port = free_port()
     env = run_environment(run_dir, port)
     last_request = max(r.time_s for r in scenario.requests)
