@@ -9,7 +9,7 @@ from test_executor_fleet import A, B, C, D, FUNCTIONS, fleet, robot, served
 
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.executor import Charging
-from task_planner.executor_commands import MOVING
+from task_planner.executor_commands import MOVING, StopMotion
 from task_planner.executor_sim import NavigationModel, run_executor_fleet
 from task_planner.fleet_link import FleetLink
 from task_planner.fleet_pool import CANCELLED, CLAIMED, DONE, FAILED, FleetPool
@@ -270,3 +270,48 @@ def test_a_restarted_robot_holds_the_corridor_it_stands_in(star_graph, tmp_path)
     b = robot(star_graph, tmp_path, "b", 1, corridors=(H,))
     a.tick(0.0)
     assert b.fleet.enter({"H"}, 1.0) == "a"
+
+
+def test_a_clashing_id_failed_here_never_closes_the_other_robots_instruction(
+        line_graph, tmp_path):
+    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+    pool.share([make_instruction(5, C, gamma=3.0, function=2)])      # b's
+    journal = TaskBuffer(tmp_path / "a.sqlite", BufferConfig(node_count=line_graph.size))
+    journal.submit(make_instruction(5, A, function=1), 0.0)          # a's, never shared
+    journal.close()
+    a = robot(line_graph, tmp_path, "a", A)
+    a.tick(0.0)                                          # fails its 5 here
+    a.fault(1.0, "database is locked")                   # a later rejoin ...
+    a.tick(1.25)
+    assert [(e.id, e.state) for e in pool.entries()] == [(5, 0)]   # ... leaves b's 5 open
+
+
+def test_a_robot_stops_serving_what_another_robot_took_while_it_was_out_of_step(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    far = make_instruction(1, C, gamma=3.0, beta=0.99, duration=4, function=1)
+    a.receive([far], 0.0)                                # a claims 1 and drives A -> B
+    assert (a.mode, a.goal_for) == (MOVING, 1)
+    b.tick(11.0)                                         # a's lease ran out: b takes 1
+    assert b.fleet.held == 1
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):
+        a.receive([make_instruction(2, A, function=2)], 11.5)
+    commands = a.tick(11.75)                             # rejoins: 1 is b's now
+    assert a.mode != MOVING or a.goal_for != 1
+    assert StopMotion() in commands
+    assert (11.75, "lost 1 to another robot") in a.log
+    assert a.buffer.get(1).is_open                       # b serves it, not failed here
+
+
+def test_rejoining_keeps_the_corridor_the_robot_drives_into(star_graph, tmp_path, monkeypatch):
+    H, L1 = 0, 1
+    a = robot(star_graph, tmp_path, "a", L1, corridors=(H,))
+    b = robot(star_graph, tmp_path, "b", 2, corridors=(H,))
+    a.receive([make_instruction(1, 3, function=1)], 0.0)   # a drives L1 -> H
+    assert (a.mode, a.goal) == (MOVING, H) and a.fleet.corridors == {"H"}
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):
+        a.receive([make_instruction(2, 2, function=2)], 1.0)
+    a.tick(1.25)                                          # rejoins while driving into H
+    assert b.fleet.enter({"H"}, 2.0) == "a"

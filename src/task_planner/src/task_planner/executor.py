@@ -50,7 +50,7 @@ from task_planner.instruction import HUMAN, ROBOT
 from task_planner.planner_api import NODE, STEP, kind_of
 from task_planner.problem import Problem
 from task_planner.robot_functions import RobotFunctionError, function_for
-from task_planner.task_buffer import PENDING
+from task_planner.task_buffer import ACTIVE, PENDING
 
 BATTERY_KEY = "battery_level_wh"   # robot_state entry of the journal
 
@@ -168,12 +168,10 @@ class Executor(FindingPeople):
         self._drain(now)
         if self.fleet is None:
             return self._take_in(self.buffer.submit_many(instructions, now), now)
-        self._rejoin_fleet(now)
+        commands = self._rejoin_fleet(now)
         try:
-            # under the pool's write lock from the id check on: an id the pool holds for another
-            # instruction is refused before it is journalled; the others see the new ones
-            # together with this robot's claim on its choice (the robot that received them
-            # decides first)
+            # under the pool's write lock from the id check to the share: an id the pool holds
+            # for another instruction is refused before it is journalled
             with self.fleet.transaction():
                 refused = self.fleet.conflicts(instructions)
                 journalled = iter(self.buffer.submit_many(
@@ -181,30 +179,40 @@ class Executor(FindingPeople):
                 results = [(None, refused[i.id]) if i.id in refused else next(journalled)
                            for i in instructions]
                 self.fleet.share([record.instruction for record, _ in results if record])
-                return self._take_in(results, now)
         except Exception:
             self._in_fleet = False   # rolled back: the next event rejoins from the journal
             raise
+        results, decided = self._take_in(results, now)   # claims as at a tick, each committed
+        return results, commands + decided
 
     def _rejoin_fleet(self, now):
         """After a start, a fault or a failed pool write: FleetLink.rejoin from the journal,
-        keeping the instruction the robot serves (its charging instructions stay its own), and
-        hold again the corridor it stands in. An open instruction whose id the fleet knows as
-        another instruction fails here with the reason: serving it would serve the other."""
+        claiming again the instruction the robot serves (its charging instructions stay its
+        own), and hold again the corridors it stands in or drives into. An open instruction
+        whose id the fleet knows as another instruction fails here with the reason (serving it
+        would serve the other); one the robot serves, or one another robot took meanwhile, it
+        stops serving. Returns the commands."""
         if self._in_fleet:
-            return
+            return []
         charge = self.charging.function_code if self.charging else None
+        serving = self.serving()
+        place = self.goal if self.mode == MOVING and self.goal is not None else self.node
         clashes = self.fleet.rejoin(self.buffer.records(), lambda instruction: (
             instruction.type == ROBOT and instruction.function == charge),
-            keep=self.serving(), now=now)
+            keep=serving, now=now, place=place)
+        self._in_fleet = True
         for instruction_id, reason in clashes.items():
-            if self.buffer.get(instruction_id).is_open:
+            if self.buffer.get(instruction_id).is_open and instruction_id != serving:
                 self.buffer.fail(instruction_id, now, f"not served: {reason}")
                 self.log.append((now, f"failed {instruction_id}: {reason}"))
-        here = self._corridors_of((self.node,))
+        nodes = (self.node,) + ((self.goal,) if self.mode == MOVING else ())
+        here = self._corridors_of(n for n in nodes if n is not None)
         if here:
             self.fleet.enter(here, now)   # "" or another robot came in meanwhile: it leaves
-        self._in_fleet = True
+        if serving and self.fleet.held != serving and serving not in self.fleet.local:
+            self.log.append((now, f"lost {serving} to another robot"))
+            return self.fault(now, f"instruction {serving} is another robot's now", fail=False)
+        return []
 
     def _take_in(self, results, now):
         """Log what was journalled or refused; a person's request interrupts the robot's own
@@ -249,10 +257,9 @@ class Executor(FindingPeople):
     def _fleet_news(self, now):
         """Take in what the other robots received, close what the pool holds closed, then
         decide on the news; renew the lease."""
-        self._rejoin_fleet(now)
+        commands = self._rejoin_fleet(now)
         news = [i for i in self.fleet.news() if not self.buffer.holds(i.id)]
         results = self.buffer.submit_many(news, now) if news else []
-        commands = []
         open_ids = [r.instruction.id for r in self.buffer.open_records()]
         for instruction_id, state, reason in self.fleet.closed_in_pool(open_ids):
             if self.buffer.get(instruction_id).is_open:   # not closed with its predecessor
@@ -358,15 +365,14 @@ class Executor(FindingPeople):
         """Withdraw an instruction (for the whole fleet); the robot stops its function if it was
         executing it. Returns (record, commands)."""
         self._drain(now)
-        if self.fleet:
-            self._rejoin_fleet(now)
+        rejoined = self._rejoin_fleet(now) if self.fleet else []
         if self.buffer.get(instruction_id).is_open:   # else buffer.cancel below refuses it
             # closed in the pool first: deciding anew gives back what the robot held, and no
             # other robot may claim it meanwhile
             self._close_in_fleet(instruction_id, now, fleet_pool.CANCELLED)
         commands = self._drop(instruction_id, now, "cancelled by request",
                               lambda i, t, why: self.buffer.cancel(i, t, why))
-        return self.buffer.get(instruction_id), commands
+        return self.buffer.get(instruction_id), rejoined + commands
 
     def _drop(self, instruction_id, now, reason, close):
         """Close an open instruction with `close(id, now, reason)` and stop serving it."""
@@ -396,9 +402,10 @@ class Executor(FindingPeople):
             return self.executing[0]
         return 0
 
-    def fault(self, now, reason):
+    def fault(self, now, reason, fail=True):
         """A step of the executor raised: fail the instruction being served with `reason` (it is
-        journalled FAILED, so a restart never re-runs it), stop, and go idle. Returns the
+        journalled FAILED, so a restart never re-runs it), stop, and go idle. With `fail` off
+        (another robot of the fleet holds it now) it is left open, not failed. Returns the
         commands; the next tick decides afresh."""
         instruction_id = self.serving()
         self.mode, self.goal, self.goal_for, self.attempts = IDLE, None, 0, 0
@@ -407,6 +414,11 @@ class Executor(FindingPeople):
         self._patrol_goal = self._target = None
         self._problem_key = self._problem = None
         commands = [StopMotion()]
+        if not fail:
+            if instruction_id and self.buffer.get(instruction_id).state == ACTIVE:
+                self.buffer.requeue(instruction_id)   # its function was cut short here
+            self.log.append((now, f"stop: {reason}"))
+            return commands
         self._in_fleet = False   # a pool write may have failed: the next event rejoins
         if instruction_id and self.buffer.get(instruction_id).is_open:
             commands += self._fail(instruction_id, now, f"fault while serving it: {reason}")

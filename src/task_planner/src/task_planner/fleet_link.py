@@ -15,9 +15,10 @@ its own journal (task_buffer); the pool (fleet_pool) is what the robots agree on
   outside (`leave`): one robot at a time in a narrow place; the other waits;
 - what it finishes, fails or is told to cancel it closes in the pool; what the pool holds closed
   it closes in its own journal (`closed_in_pool`);
-- when it starts (and after a failed pool write) it `rejoin`s from its journal: it gives back
-  every claim and corridor it held, shares what it journalled but the pool lacks, and closes in
-  the pool what its journal closed.
+- at its first event, after a fault and after a failed pool write it `rejoin`s from its
+  journal: it closes in the pool what its journal closed, gives back the claims and corridors
+  it held but claims again what it serves on, and shares what it journalled but the pool
+  lacks.
 Instructions the robot gives itself for its own body (charging) are `keep_local`: never shared
 and never claimed.
 """
@@ -45,33 +46,38 @@ class FleetLink:
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
 
-    def rejoin(self, records, own, keep=0, now=0.0):
+    def rejoin(self, records, own, keep=0, now=0.0, place=-1):
         """Start from the journal's `records`, in one pool transaction: close in the pool what
-        the journal closed, give back every claim and corridor held before but `keep` (the
-        instruction the robot serves on, renewed at `now`), keep local the open ones
-        `own(instruction)` says are the robot's own and the pool lacks, and share the other
-        open ones. Returns {id: reason} of the open ones the pool holds another instruction
-        under (the robot must not serve them: the fleet knows that id as another's)."""
+        the journal closed (when the pool holds that instruction under its id), give back every
+        claim and corridor held before, claim again `keep` (the instruction the robot serves
+        on, at `place`), keep local the open ones `own(instruction)` says are the robot's own
+        and the pool lacks, and share the other open ones. Returns {id: reason} of the open
+        ones the pool holds another instruction under: the robot must not serve them (the
+        fleet knows that id as another's), and does not hold `keep` if it is one of them."""
         with self.pool.transaction():
             entries = {entry.id: entry for entry in self.pool.entries()}
-            unshared = []
+            unshared, closed = [], []
             for record in records:
                 instruction, entry = record.instruction, entries.get(record.instruction.id)
                 if not record.is_open:
                     if entry is not None and entry.state in (OPEN, CLAIMED):
-                        self.pool.settle(self.robot, instruction.id, record.completion_time,
-                                         _POOL_STATE[record.state])
+                        closed.append(record)
                 elif instruction.id in self.local or (entry is None and own(instruction)):
                     self.local.add(instruction.id)
                 else:
                     unshared.append(instruction)
-            kept = bool(keep) and keep not in self.local and bool(
-                self.pool.renew(self.robot, now, [keep]))
-            self.pool.release_all(self.robot, keep=keep if kept else 0)
-            self.held = keep if kept else 0
-            self._place, self.corridors = (self._place if kept else -1), set()
+            theirs = self.pool.conflicting([record.instruction for record in closed])
+            for record in closed:
+                if record.instruction.id not in theirs:
+                    self.pool.settle(self.robot, record.instruction.id, record.completion_time,
+                                     _POOL_STATE[record.state])
             clashes = self.pool.conflicting(unshared)
             self.share([i for i in unshared if i.id not in clashes])
+            self.pool.release_all(self.robot)
+            self.held, self._place, self.corridors = 0, -1, set()
+            if keep and keep not in self.local and keep not in clashes and self.pool.claim(
+                    self.robot, keep, now, place):
+                self.held, self._place, self._renewed_at = keep, place, now
         return clashes
 
     def next_id(self, above=0):
