@@ -12,6 +12,7 @@ from task_planner.executor import Charging
 from task_planner.executor_commands import MOVING, StopMotion
 from task_planner.executor_sim import NavigationModel, run_executor_fleet
 from task_planner.fleet_link import FleetLink
+from task_planner.graph import graph_from_edges
 from task_planner.fleet_pool import CANCELLED, CLAIMED, DONE, FAILED, FleetPool
 from task_planner.reward import Priority
 from task_planner import task_buffer
@@ -315,3 +316,63 @@ def test_rejoining_keeps_the_corridor_the_robot_drives_into(star_graph, tmp_path
         a.receive([make_instruction(2, 2, function=2)], 1.0)
     a.tick(1.25)                                          # rejoins while driving into H
     assert b.fleet.enter({"H"}, 2.0) == "a"
+
+
+def test_an_arrival_out_of_step_never_serves_the_fleets_other_instruction_under_its_id(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    b.receive([make_instruction(9, D, duration=60, function=2)], 0.0)      # b is busy
+    a.receive([make_instruction(7, C, gamma=1.0, beta=0.9, duration=2, function=2)], 0.1)
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):                           # a's 5: journal only
+        a.receive([make_instruction(5, A, gamma=50.0, beta=0.99, duration=4, function=1)], 0.5)
+    b.receive([make_instruction(5, C, gamma=3.0, duration=4, function=3)], 0.6)   # b's 5
+    a.arrived(2.0)                                       # rejoins first: a's 5 fails here
+    mine = a.buffer.get(5)
+    assert mine.state == task_buffer.FAILED and mine.reason.startswith("not served: ")
+    traces = run_executor_fleet([a, b], [], NavigationModel(line_graph, 0.5), until_s=200.0)
+    assert 5 not in [i for _, i, _ in traces[0].executed]
+    assert b.buffer.get(5).reason == ""                  # b served its own 5
+    assert 5 in [i for _, i, _ in traces[1].executed]
+
+
+def test_a_robot_keeps_the_corridor_it_stands_in_while_the_next_one_is_taken(
+        tmp_path, monkeypatch):
+    corridor_graph = graph_from_edges(["A", "H1", "H2", "B"],
+                                      [("A", "H1", 2.0), ("H1", "H2", 2.0), ("H2", "B", 2.0)])
+    H1, H2 = 1, 2
+    b = robot(corridor_graph, tmp_path, "b", H2, corridors=(H1, H2))
+    a = robot(corridor_graph, tmp_path, "a", H1, corridors=(H1, H2))
+    b.receive([make_instruction(1, H2, duration=100, function=1)], 0.0)   # b stays in H2
+    a.receive([make_instruction(2, 3, function=2)], 0.5)                 # a waits in H1
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):
+        a.receive([make_instruction(3, 0, function=2)], 1.0)
+    a.tick(1.25)                                         # rejoins: H1 again, H2 is b's
+    assert a.fleet.corridors == {"H1"} and b.fleet.enter({"H1"}, 1.5) == "a"
+
+
+def test_a_rejoin_claims_what_the_robot_serves_where_it_serves_it(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D), one_robot_per_place=True)
+    a.receive([make_instruction(1, D, gamma=3.0, function=1)], 0.0)       # a drives A -> B
+    assert a.fleet.pool.places_held_by_others("b", 0.0) == {D}
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):
+        a.receive([make_instruction(2, C, function=2)], 1.0)
+    a.tick(1.25)
+    assert a.fleet.held == 1 and a.fleet.pool.places_held_by_others("b", 1.25) == {D}
+
+
+def test_a_stop_of_an_event_that_raised_goes_out_with_the_next_tick(
+        line_graph, tmp_path, monkeypatch):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    a.receive([make_instruction(1, C, gamma=3.0, beta=0.99, duration=4, function=1)], 0.0)
+    b.tick(11.0)                                         # a's lease ran out: b takes 1
+    failing_once(monkeypatch, a.fleet.pool, "share")
+    with pytest.raises(sqlite3.OperationalError):
+        a.receive([make_instruction(2, A, function=2)], 11.5)
+    failing_once(monkeypatch, a.buffer, "submit_many")
+    with pytest.raises(sqlite3.OperationalError):        # rejoins (a stops), then raises
+        a.receive([make_instruction(3, A, function=2)], 11.6)
+    assert a.mode != MOVING and StopMotion() in a.tick(11.75)

@@ -154,6 +154,7 @@ class Executor(FindingPeople):
                                    buffer.robot_value(BATTERY_KEY, battery.level_wh))
             self._save_battery(force=True)
         self._in_fleet = False           # rejoined the fleet (at the first event with a time)
+        self._owed = []                  # commands of an event that raised afterwards
 
     # ---- events ----
 
@@ -168,7 +169,8 @@ class Executor(FindingPeople):
         self._drain(now)
         if self.fleet is None:
             return self._take_in(self.buffer.submit_many(instructions, now), now)
-        commands = self._rejoin_fleet(now)
+        commands = self._owed + self._rejoin_fleet(now)
+        self._owed = []
         try:
             # under the pool's write lock from the id check to the share: an id the pool holds
             # for another instruction is refused before it is journalled
@@ -181,38 +183,43 @@ class Executor(FindingPeople):
                 self.fleet.share([record.instruction for record, _ in results if record])
         except Exception:
             self._in_fleet = False   # rolled back: the next event rejoins from the journal
+            self._owed = commands    # the rejoin's stop goes out with the next tick
             raise
         results, decided = self._take_in(results, now)   # claims as at a tick, each committed
         return results, commands + decided
 
     def _rejoin_fleet(self, now):
         """After a start, a fault or a failed pool write: FleetLink.rejoin from the journal,
-        claiming again the instruction the robot serves (its charging instructions stay its
-        own), and hold again the corridors it stands in or drives into. An open instruction
-        whose id the fleet knows as another instruction fails here with the reason (serving it
-        would serve the other); one the robot serves, or one another robot took meanwhile, it
-        stops serving. Returns the commands."""
+        claiming again the instruction the robot serves, where it serves it (its charging
+        instructions stay its own), and hold again, one by one, the corridors it stands in or
+        drives into. An open instruction whose id the fleet knows as another instruction fails
+        here with the reason (serving it would serve the other: the robot stops); one another
+        robot took meanwhile the robot stops serving and leaves open. Returns the commands."""
         if self._in_fleet:
             return []
         charge = self.charging.function_code if self.charging else None
         serving = self.serving()
-        place = self.goal if self.mode == MOVING and self.goal is not None else self.node
+        place = self._where(self.buffer.get(serving).instruction) if serving else -1
         clashes = self.fleet.rejoin(self.buffer.records(), lambda instruction: (
             instruction.type == ROBOT and instruction.function == charge),
             keep=serving, now=now, place=place)
         self._in_fleet = True
+        commands = []
+        if serving in clashes:
+            commands = self.fault(now, clashes[serving], fail=False)
+        elif serving and self.fleet.held != serving and serving not in self.fleet.local:
+            self.log.append((now, f"lost {serving} to another robot"))
+            commands = self.fault(now, f"instruction {serving} is another robot's now",
+                                  fail=False)
         for instruction_id, reason in clashes.items():
-            if self.buffer.get(instruction_id).is_open and instruction_id != serving:
+            if self.buffer.get(instruction_id).is_open:
                 self.buffer.fail(instruction_id, now, f"not served: {reason}")
                 self.log.append((now, f"failed {instruction_id}: {reason}"))
         nodes = (self.node,) + ((self.goal,) if self.mode == MOVING else ())
-        here = self._corridors_of(n for n in nodes if n is not None)
-        if here:
-            self.fleet.enter(here, now)   # "" or another robot came in meanwhile: it leaves
-        if serving and self.fleet.held != serving and serving not in self.fleet.local:
-            self.log.append((now, f"lost {serving} to another robot"))
-            return self.fault(now, f"instruction {serving} is another robot's now", fail=False)
-        return []
+        for name in sorted(self._corridors_of(n for n in nodes if n is not None),
+                           key=lambda name: name not in self._corridors_of((self.node,))):
+            self.fleet.enter({name}, now)   # "" or another robot came in meanwhile: it leaves
+        return commands
 
     def _take_in(self, results, now):
         """Log what was journalled or refused; a person's request interrupts the robot's own
@@ -257,7 +264,8 @@ class Executor(FindingPeople):
     def _fleet_news(self, now):
         """Take in what the other robots received, close what the pool holds closed, then
         decide on the news; renew the lease."""
-        commands = self._rejoin_fleet(now)
+        commands = self._owed + self._rejoin_fleet(now)
+        self._owed = []
         news = [i for i in self.fleet.news() if not self.buffer.holds(i.id)]
         results = self.buffer.submit_many(news, now) if news else []
         open_ids = [r.instruction.id for r in self.buffer.open_records()]
@@ -324,6 +332,9 @@ class Executor(FindingPeople):
     def arrived(self, now):
         """The navigation goal was reached (or, while looking around, the heading)."""
         self._drain(now)
+        stop = self._rejoin_fleet(now) if self.fleet else []
+        if stop:
+            return stop   # what it drove for is no longer its own: it stopped
         if self.mode == LOOKING:
             return self._look_step(now)
         if self.mode != MOVING:
@@ -341,6 +352,9 @@ class Executor(FindingPeople):
         """Navigation gave up on the goal: ask to pass and retry it, then fail the instruction
         it was for (a turn of a look around is skipped)."""
         self._drain(now)
+        stop = self._rejoin_fleet(now) if self.fleet else []
+        if stop:
+            return stop   # what it drove for is no longer its own: it stopped
         if self.mode == LOOKING:
             return self._look_step(now)
         if self.mode != MOVING:
@@ -365,8 +379,9 @@ class Executor(FindingPeople):
         """Withdraw an instruction (for the whole fleet); the robot stops its function if it was
         executing it. Returns (record, commands)."""
         self._drain(now)
+        record = self.buffer.get(instruction_id)   # an unknown id is refused before anything
         rejoined = self._rejoin_fleet(now) if self.fleet else []
-        if self.buffer.get(instruction_id).is_open:   # else buffer.cancel below refuses it
+        if record.is_open:   # else buffer.cancel below refuses it
             # closed in the pool first: deciding anew gives back what the robot held, and no
             # other robot may claim it meanwhile
             self._close_in_fleet(instruction_id, now, fleet_pool.CANCELLED)
