@@ -169,8 +169,7 @@ class Executor(FindingPeople):
         self._drain(now)
         if self.fleet is None:
             return self._take_in(self.buffer.submit_many(instructions, now), now)
-        commands = self._owed + self._rejoin_fleet(now)
-        self._owed = []
+        commands = self._fleet_sync(now)
         try:
             # under the pool's write lock from the id check to the share: an id the pool holds
             # for another instruction is refused before it is journalled
@@ -187,6 +186,14 @@ class Executor(FindingPeople):
             raise
         results, decided = self._take_in(results, now)   # claims as at a tick, each committed
         return results, commands + decided
+
+    def _fleet_sync(self, now):
+        """At every event of a robot in a fleet: the commands an earlier event owes (it raised
+        after ordering them), and those of a rejoin when one is due (_rejoin_fleet)."""
+        if self.fleet is None:
+            return []
+        commands, self._owed = self._owed, []
+        return commands + self._rejoin_fleet(now)
 
     def _rejoin_fleet(self, now):
         """After a start, a fault or a failed pool write: FleetLink.rejoin from the journal,
@@ -215,9 +222,9 @@ class Executor(FindingPeople):
             if self.buffer.get(instruction_id).is_open:
                 self.buffer.fail(instruction_id, now, f"not served: {reason}")
                 self.log.append((now, f"failed {instruction_id}: {reason}"))
-        nodes = (self.node,) + ((self.goal,) if self.mode == MOVING else ())
-        for name in sorted(self._corridors_of(n for n in nodes if n is not None),
-                           key=lambda name: name not in self._corridors_of((self.node,))):
+        here = self._corridors_of((self.node,))
+        ahead = self._corridors_of((self.goal,)) - here if self.mode == MOVING else set()
+        for name in sorted(here) + sorted(ahead):   # one by one: each is held or not
             self.fleet.enter({name}, now)   # "" or another robot came in meanwhile: it leaves
         return commands
 
@@ -264,8 +271,7 @@ class Executor(FindingPeople):
     def _fleet_news(self, now):
         """Take in what the other robots received, close what the pool holds closed, then
         decide on the news; renew the lease."""
-        commands = self._owed + self._rejoin_fleet(now)
-        self._owed = []
+        commands = self._fleet_sync(now)
         news = [i for i in self.fleet.news() if not self.buffer.holds(i.id)]
         results = self.buffer.submit_many(news, now) if news else []
         open_ids = [r.instruction.id for r in self.buffer.open_records()]
@@ -332,7 +338,7 @@ class Executor(FindingPeople):
     def arrived(self, now):
         """The navigation goal was reached (or, while looking around, the heading)."""
         self._drain(now)
-        stop = self._rejoin_fleet(now) if self.fleet else []
+        stop = self._fleet_sync(now)
         if stop:
             return stop   # what it drove for is no longer its own: it stopped
         if self.mode == LOOKING:
@@ -352,7 +358,7 @@ class Executor(FindingPeople):
         """Navigation gave up on the goal: ask to pass and retry it, then fail the instruction
         it was for (a turn of a look around is skipped)."""
         self._drain(now)
-        stop = self._rejoin_fleet(now) if self.fleet else []
+        stop = self._fleet_sync(now)
         if stop:
             return stop   # what it drove for is no longer its own: it stopped
         if self.mode == LOOKING:
@@ -380,7 +386,7 @@ class Executor(FindingPeople):
         executing it. Returns (record, commands)."""
         self._drain(now)
         record = self.buffer.get(instruction_id)   # an unknown id is refused before anything
-        rejoined = self._rejoin_fleet(now) if self.fleet else []
+        rejoined = self._fleet_sync(now)
         if record.is_open:   # else buffer.cancel below refuses it
             # closed in the pool first: deciding anew gives back what the robot held, and no
             # other robot may claim it meanwhile
