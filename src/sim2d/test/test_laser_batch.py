@@ -41,7 +41,7 @@ def test_lasers_cast_together_give_each_lasers_own_scans(tmp_path, room_map, mod
     together, alone = (crowd(tmp_path, room_map, model, batch) for batch in (True, False))
     lasers = [robot.lasers[0] for robot in together.robots]
     assert len({batch_key(laser) for laser in lasers}) == 1          # one batch
-    assert bool(lasers[0]._fan_step) == fan                         # both table paths
+    assert bool(lasers[0].fan_step) == fan                         # both table paths
     scans, hits = 0, 0
     for step in range(40):
         if step == 5:

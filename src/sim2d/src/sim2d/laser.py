@@ -194,12 +194,13 @@ class LaserSensor:
         # same noise pre-scaled by noise_std with +inf where a beam drops out (one add per scan)
         normal = self.rng.standard_normal(NOISE_POOL + model.num_beams)
         dropped = self.rng.random(NOISE_POOL + model.num_beams) < model.dropout_probability
-        self._normal_pool = normal.astype(np.float32)
-        self._dropout_pool = np.where(dropped, np.inf, 0.0).astype(np.float32)
-        self._noise_pool = np.where(dropped, np.inf, model.noise_std * normal).astype(np.float32)
+        self._pools = {"normal": normal.astype(np.float32),
+                       "dropout": np.where(dropped, np.inf, 0.0).astype(np.float32),
+                       "noise": np.where(dropped, np.inf,
+                                         model.noise_std * normal).astype(np.float32)}
         self._offsets, self._next_offset = [], 0
         steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
-        self._fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
+        self.fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
 
     def reseed(self, seed):
         """Restart the noise stream (e.g. per episode, so an episode's scans do not depend on
@@ -218,9 +219,9 @@ class LaserSensor:
         as closed doors (exact casts overlaid on the static map's table or ray march)."""
         lx, ly, lyaw = self.pose_in_map(pose)
         ranges = None
-        if self._fan_step:
+        if self.fan_step:
             ranges = self.table.cast_fan(lx, ly, lyaw + self.model.angle_min,
-                                         self.model.num_beams, self._fan_step)
+                                         self.model.num_beams, self.fan_step)
             if ranges is not None and not len(circles) and not len(boxes):
                 return ranges
         world_angles = self.angles + lyaw
@@ -248,16 +249,22 @@ class LaserSensor:
 
     def scan(self, pose, circles=(), boxes=()):
         """One scan [m]: Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117)."""
-        m = self.model
         ranges = np.asarray(self.true_ranges(pose, circles, boxes), dtype=np.float32)
-        if m.noise_fraction > 0:
-            within = np.minimum(ranges, np.float32(m.range_max))   # no inf * noise = NaN
-            sigma = np.maximum(np.float32(m.noise_std), np.float32(m.noise_fraction) * within)
-            ranges = ranges + sigma * self._pool_slice(self._normal_pool)
-            ranges += self._pool_slice(self._dropout_pool)
-        else:
-            ranges = ranges + self._pool_slice(self._noise_pool)
-        ranges[ranges > m.range_max] = np.inf
-        if ranges.min() < m.range_min:
-            ranges[ranges < m.range_min] = -np.inf
-        return ranges
+        return noisy_ranges(self.model, ranges, lambda pool: self._pool_slice(self._pools[pool]))
+
+
+def noisy_ranges(model, ranges, draw):
+    """Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117) on float32 true
+    ranges [m] of one scan or rows of scans; draw(pool) reads the noise pool "normal",
+    "dropout" or "noise" (LaserSensor) in the shape of `ranges`. Returns a new array."""
+    if model.noise_fraction > 0:
+        within = np.minimum(ranges, np.float32(model.range_max))   # no inf * noise = NaN
+        sigma = np.maximum(np.float32(model.noise_std), np.float32(model.noise_fraction) * within)
+        ranges = ranges + sigma * draw("normal")
+        ranges += draw("dropout")
+    else:
+        ranges = ranges + draw("noise")
+    ranges[ranges > model.range_max] = np.inf
+    if ranges.min() < model.range_min:
+        ranges[ranges < model.range_min] = -np.inf
+    return ranges

@@ -2,17 +2,17 @@
 
 A world with several robots scans their lasers at the same instants. Per laser the work is a
 handful of small numpy calls, so eight robots cost eight times one. Here the lasers that share a
-model and a range table are cast together: the table lookup, the windowed overlay of people and
-robots (laser.overlay_circles over every laser's circles at once) and the noise are each one
-call over (lasers x beams). Each laser keeps its own noise stream and the arithmetic is the
-same, element for element, so every scan equals the one LaserSensor.scan returns, bit for bit
-(test_laser_batch.py).
+model and a range table are cast together: the table lookup (RangeTable.cast_rows), the windowed
+overlay of people and robots (laser.overlay_circles over every laser's circles at once) and the
+noise (laser.noisy_ranges) are each one pass over (lasers x beams). Each laser keeps its own
+noise stream and the arithmetic is the same, element for element, so every scan equals the one
+LaserSensor.scan returns, bit for bit (test_laser_batch.py).
 """
 import math
 
 import numpy as np
 
-from sim2d.laser import beam_windows, box_ranges
+from sim2d.laser import beam_windows, box_ranges, noisy_ranges
 
 
 def batch_key(laser):
@@ -33,10 +33,12 @@ def scan_many(lasers, poses, circles=None, owners=None, boxes=()):
     the row of its own robot in `circles` (-1: none); boxes: closed doors (x0, y0, x1, y1).
     """
     first = lasers[0]
-    at = np.array([laser.pose_in_map(pose) for laser, pose in zip(lasers, poses)])  # (K, 3)
-    ranges = table_ranges(lasers, at)
+    at = [laser.pose_in_map(pose) for laser, pose in zip(lasers, poses)]
+    xs, ys, yaws = zip(*at)
+    ranges = first.table.cast_rows(xs, ys, yaws, first.angles, first.fan_step)
     if ranges is None:
         return None
+    at = np.array(at)   # (K, 3) laser poses in the map
     if circles is not None and len(circles):
         ranges = overlay_many(ranges, at, circles, np.asarray(owners), first)
     if len(boxes):   # rounded to float32 before the minimum, as the circles' hits
@@ -45,88 +47,6 @@ def scan_many(lasers, poses, circles=None, owners=None, boxes=()):
             np.minimum(ranges[k], box_ranges(at[k, 0], at[k, 1], world_angles[k],
                                              boxes).astype(np.float32), out=ranges[k])
     return add_noise(lasers, ranges)
-
-
-def table_ranges(lasers, at):
-    """Static-map ranges (float32, lasers x beams) from the lasers' shared range table at the
-    laser poses `at` (K x 3, map frame), as RangeTable.cast_fan / cast give each; None when a
-    laser stands where the table has no sample."""
-    first = lasers[0]
-    table, model = first.table, first.model
-    found = nearest_samples(table, at)
-    if found is None:
-        return None
-    entries, dx, dy = found
-    work = _workspace(first, len(lasers))
-    count = table.config.angle_bins
-    bins = work.bins
-    if first._fan_step:
-        k0 = [int(round((float(yaw) + model.angle_min) / table.bin_width)) % count
-              for yaw in at[:, 2]]
-        np.add(np.array(k0)[:, None], np.arange(model.num_beams) * first._fan_step, out=bins)
-        np.take(table._inv_cos, bins, out=work.inv_cos)   # stored twice over: no wrap needed
-        np.take(table._inv_sin, bins, out=work.inv_sin)
-        np.subtract(bins, count, out=bins, where=bins >= count)
-    else:   # as RangeTable.cast: rint(world angle / bin width) modulo the bins
-        angles = work.angles
-        np.add(first.angles, at[:, 2:3], out=angles)
-        np.divide(angles, table.bin_width, out=angles)
-        np.rint(angles, out=angles)
-        np.copyto(bins, angles, casting="unsafe")
-        if bins.min() >= -count and bins.max() < count:   # the usual case: cheaper than %
-            np.add(bins, count, out=bins, where=bins < 0)
-        else:
-            np.remainder(bins, count, out=bins)
-        np.take(table._inv_cos, bins, out=work.inv_cos)
-        np.take(table._inv_sin, bins, out=work.inv_sin)
-    bins += (entries * count)[:, None]
-    raw = np.take(table.table.reshape(-1), bins, out=work.raw)
-    ranges = work.ranges
-    np.copyto(ranges, np.bitwise_and(raw, table.RANGE_MASK, out=work.millimetres))
-    ranges *= np.float32(1.0 / table.MM)
-    shift = np.multiply(dx, work.inv_cos, out=work.shift)       # x faces ...
-    y_face = np.greater_equal(raw, table.FACE_BIT, out=work.mask)
-    np.multiply(dy, work.inv_sin, out=shift, where=y_face)      # ... and y faces
-    ranges -= shift
-    return ranges
-
-
-def nearest_samples(table, at):
-    """RangeTable._nearest for each laser pose of `at`: (table rows, dx, dy as float32
-    columns), or None when a pose has no sample."""
-    found = [table._nearest(x, y) for x, y in at[:, :2].tolist()]
-    if None in found:
-        return None
-    entries, dx, dy = zip(*found)
-    return (np.array(entries), np.array(dx, dtype=np.float32)[:, None],
-            np.array(dy, dtype=np.float32)[:, None])
-
-
-class _Workspace:
-    """Arrays of one shape reused from scan to scan (allocating them cost as much as the
-    arithmetic)."""
-
-    def __init__(self, shape):
-        self.angles = np.empty(shape)
-        self.bins = np.empty(shape, dtype=np.int64)
-        self.inv_cos = np.empty(shape, dtype=np.float32)
-        self.inv_sin = np.empty(shape, dtype=np.float32)
-        self.shift = np.empty(shape, dtype=np.float32)
-        self.raw = np.empty(shape, dtype=np.uint16)
-        self.millimetres = np.empty(shape, dtype=np.uint16)
-        self.mask = np.empty(shape, dtype=bool)
-        self.ranges = np.empty(shape, dtype=np.float32)   # true ranges; the scans are copies
-        self.sigma = np.empty(shape, dtype=np.float32)
-        self.draws = np.empty(shape, dtype=np.float32)
-
-
-def _workspace(laser, count):
-    """The workspace for `count` lasers like `laser` (kept on the laser that leads the batch)."""
-    shape = (count, laser.model.num_beams)
-    work = getattr(laser, "_batch_workspace", None)
-    if work is None or work.bins.shape != shape:
-        work = laser._batch_workspace = _Workspace(shape)
-    return work
 
 
 def overlay_many(ranges, at, circles, owners, laser):
@@ -165,26 +85,7 @@ def overlay_many(ranges, at, circles, owners, laser):
 
 
 def add_noise(lasers, ranges):
-    """LaserSensor.scan's noise, dropouts and range limits on (lasers x beams) float32 true
-    ranges, each laser drawing from its own noise stream; returns new arrays."""
-    m = lasers[0].model
-    work = _workspace(lasers[0], len(lasers))
-    draws = work.draws
-    if m.noise_fraction > 0:
-        sigma = np.minimum(ranges, np.float32(m.range_max), out=work.sigma)   # no inf * noise
-        sigma *= np.float32(m.noise_fraction)
-        np.maximum(np.float32(m.noise_std), sigma, out=sigma)
-        for k, laser in enumerate(lasers):
-            draws[k] = laser._pool_slice(laser._normal_pool)
-        sigma *= draws
-        scans = ranges + sigma
-        for k, laser in enumerate(lasers):
-            draws[k] = laser._pool_slice(laser._dropout_pool)
-        scans += draws
-    else:
-        for k, laser in enumerate(lasers):
-            draws[k] = laser._pool_slice(laser._noise_pool)
-        scans = ranges + draws
-    scans[np.greater(scans, m.range_max, out=work.mask)] = np.inf
-    scans[np.less(scans, m.range_min, out=work.mask)] = -np.inf
-    return scans
+    """LaserSensor.scan's noise, dropouts and range limits (laser.noisy_ranges) on (lasers x
+    beams) float32 true ranges, each laser drawing from its own noise stream."""
+    return noisy_ranges(lasers[0].model, ranges, lambda pool: np.stack(
+        [laser._pool_slice(laser._pools[pool]) for laser in lasers]))

@@ -295,8 +295,29 @@ class RangeTable:
         return self._shifted(row[window], found[1], found[2], self._inv_cos[window],
                              self._inv_sin[window])
 
+    def cast_rows(self, xs, ys, yaws, angles, fan_step=0):
+        """`cast` from several points at once: row k is cast(xs[k], ys[k], angles + yaws[k]),
+        or with `fan_step` cast_fan(xs[k], ys[k], yaws[k] + angles[0], len(angles), fan_step),
+        value for value; None when a point is untabulated."""
+        found = [self._nearest(x, y) for x, y in zip(xs, ys)]
+        if None in found:
+            return None
+        entries, dx, dy = (np.array(column)[:, None] for column in zip(*found))
+        count = self.config.angle_bins
+        if fan_step:
+            first = [int(round((yaw + angles[0]) / self.bin_width)) % count for yaw in yaws]
+            bins = np.array(first)[:, None] + np.arange(len(angles)) * fan_step
+            inv_cos, inv_sin = self._inv_cos[bins], self._inv_sin[bins]   # stored twice over
+            bins[bins >= count] -= count
+        else:
+            world_angles = np.asarray(angles, dtype=float)[None, :] + np.asarray(yaws)[:, None]
+            bins = np.rint(world_angles / self.bin_width).astype(np.int64) % count
+            inv_cos, inv_sin = self._inv_cos[bins], self._inv_sin[bins]
+        return self._shifted(self.table[entries, bins], dx, dy, inv_cos, inv_sin)
+
     def _shifted(self, raw, dx, dy, inv_cos, inv_sin):
-        """Table ranges moved from the sample point by (dx, dy) along each hit face."""
+        """Table ranges moved from the sample point by (dx, dy) along each hit face (dx, dy:
+        numbers, or columns for rows of ranges)."""
         ranges = (raw & self.RANGE_MASK).astype(np.float32)
         ranges *= np.float32(1.0 / self.MM)
         ranges -= np.where(raw >= self.FACE_BIT, np.float32(dy) * inv_sin,
