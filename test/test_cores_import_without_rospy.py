@@ -46,7 +46,7 @@ for module in sys.argv[1:]:
 """
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def verdicts():
     """{module: (verdict, detail)}: "ok", "rospy" (importing it loaded rospy) or "error"."""
     found = {}
