@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from sim2d import odometry as odometry_module
 from sim2d.odometry import Odometry, OdometryConfig
 
 NOISE_FREE = dict(alpha_rot_rot=0.0, alpha_rot_trans=0.0, alpha_trans_trans=0.0,
@@ -71,3 +72,14 @@ def test_holonomic_turn_in_place_drifts_by_alpha1():
         xs.append(pose[0])
     assert np.std(yaws) == pytest.approx(0.03 * 0.01 * 10, rel=0.15)
     assert np.std(xs) == pytest.approx(0.01 * 0.01 * 10, rel=0.15)
+
+
+def test_the_noise_stream_does_not_depend_on_the_pool_size(monkeypatch):
+    """Refilling the pool continues the generator's stream: the poses past two refills equal
+    those of one large draw."""
+    config = OdometryConfig(**HOUSEHOLD, seed=7)
+    steps = 2 * odometry_module.NOISE_POOL + 5
+    pooled = drive(Odometry(config, (0, 0, 0)), (0, 0, 0), (0.3, 0.0, 0.2), steps)
+    monkeypatch.setattr(odometry_module, "NOISE_POOL", 4 * odometry_module.NOISE_POOL)
+    at_once = drive(Odometry(config, (0, 0, 0)), (0, 0, 0), (0.3, 0.0, 0.2), steps)
+    assert pooled == at_once
