@@ -404,3 +404,44 @@ def test_without_the_corner_count_the_network_gets_zero(words):
         ranges[left] = 4.0 if 5 <= step < 35 else 2.0
         command = follower.step(ranges, laser)
     assert command.corners == 1 and set(policy.counts) == {0}   # counted, not given
+
+
+@pytest.fixture
+def phrases(tmp_path):
+    path = tmp_path / "phrases.yaml"
+    path.write_text('sets: ["turn {dir}", "go straight to the end"]\n')
+    return str(path)
+
+
+def test_a_misheard_side_is_read_as_the_side_it_sounds_like(words, phrases):
+    """"lift" is outside the phrase sets; skipped, "turn" alone would read (scripted) as class 1
+    with confidence, but it sounds like "left": the follower turns left and says so."""
+    follower = DirectionFollower(SpreadPolicy(0.95), words,
+                                 FollowerConfig(phrase_vocabulary=phrases))
+    assert follower.start("turn lift") == [3]
+    assert follower.corrections == [("lift", "left")] and follower.unknown_words == []
+    assert follower.start("turn left") == [3] and follower.corrections == []
+    never = DirectionFollower(SpreadPolicy(0.95), words,
+                              FollowerConfig(phrase_vocabulary=phrases, misheard_edits=0))
+    assert never.start("turn lift") == [1] and never.unknown_words == ["lift"]
+
+
+def test_readings_that_disagree_are_not_followed(words, phrases):
+    """"lend" is one edit from "end" (class 1 here) and two from "left" (class 3): with two
+    edits allowed the readings disagree, so the word is only skipped, and the rest decides."""
+    config = FollowerConfig(phrase_vocabulary=phrases, misheard_edits=2)
+    sure = DirectionFollower(SpreadPolicy(0.95), words, config)
+    assert sure.start("turn lend") == [1]
+    assert sure.corrections == [] and sure.unknown_words == ["lend"]
+    unsure = DirectionFollower(SpreadPolicy(0.6), words, config)
+    with pytest.raises(UnknownInstructionError, match="lend"):
+        unsure.start("turn lend")
+    one_edit = DirectionFollower(SpreadPolicy(0.95), words,
+                                 FollowerConfig(phrase_vocabulary=phrases))
+    assert one_edit.start("turn lend") == [1] and one_edit.corrections == [("lend", "end")]
+
+
+def test_a_reading_without_confidence_is_not_followed(words, phrases):
+    unsure = DirectionFollower(SpreadPolicy(0.6), words, FollowerConfig(phrase_vocabulary=phrases))
+    with pytest.raises(UnknownInstructionError, match="lift"):
+        unsure.start("turn lift")

@@ -244,19 +244,23 @@ def test_words_outside_the_phrase_vocabulary_are_skipped(tmp_path):
         phrase_vocabulary(tmp_path / "none.yaml")
 
 
-def test_the_default_follower_skips_a_misheard_side():
-    """Speech recognition hears "lift" for "left": a GloVe word outside the phrase sets, so the
-    follower skips it and names it, as it does a word GloVe does not know."""
+def test_the_default_follower_reads_a_misheard_side_as_the_side():
+    """Speech recognition hears "lift" for "left": a GloVe word outside the phrase sets, one
+    letter from "left"; the follower reads it as "left" and says so (without misheard_edits it
+    skips it and names it, as it does a word GloVe does not know)."""
     from semantic_nav.follower import DirectionFollower, ModelMissingError
     from semantic_nav.word_vectors import WordVectorsError
     try:
         follower = DirectionFollower.from_files()
     except (ModelMissingError, WordVectorsError) as error:
         pytest.skip(str(error))
-    follower.start("robot move forward and take a lift turn for me")
-    assert follower.unknown_words == ["lift"]
+    assert follower.start("robot move forward and take a lift turn for me") == [3]
+    assert follower.corrections == [("lift", "left")] and follower.unknown_words == []
     assert follower.start("robot please take the second right for me") == [5]
-    assert follower.unknown_words == []
+    assert follower.unknown_words == [] and follower.corrections == []
+    follower.config.misheard_edits = 0
+    follower.start("robot move forward and take a lift turn for me")
+    assert follower.unknown_words == ["lift"] and follower.corrections == []
 
 
 @pytest.mark.parametrize("text, counting", [

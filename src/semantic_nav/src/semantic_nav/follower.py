@@ -21,8 +21,9 @@ from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE
 from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError, counting_mode,
                                             phrase_vocabulary, sentence_vector,
-                                            split_instruction)
+                                            split_instruction, tokenise)
 from semantic_nav.laser_layer import load_laser_config
+from semantic_nav.misheard import readings
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from tamp_resources import resource
 
@@ -70,6 +71,11 @@ class FollowerConfig:
     common_words_known: int = 500   # GloVe's this many most frequent words ("your", "just")
                                     # are known besides the phrase sets' words: function words
                                     # name no direction
+    misheard_edits: int = 1         # beyond the seed: a skipped word may stand for a
+                                    # phrase-set word this many letter edits away ("lift" for
+                                    # "left", misheard.readings); such readings are followed when
+                                    # those Z_w reads with confidence agree on the class, in
+                                    # place of skipping the word; 0 = never
     laser_config: str = str(DEFAULT_LASER_CONFIG)   # canonical scan + preprocessing
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
     guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
@@ -174,10 +180,11 @@ class DirectionFollower:
         self.control_period = self.config.control_period
         self.policy = _step_policy(model)
         self.word_vectors = word_vectors
-        self.vocabulary = None
+        self.vocabulary = self.phrase_words = None
         if self.config.phrase_vocabulary:   # index keys in row order; GloVe 6B: by frequency
             common = itertools.islice(word_vectors.index, self.config.common_words_known)
-            self.vocabulary = phrase_vocabulary(self.config.phrase_vocabulary).union(common)
+            self.phrase_words = phrase_vocabulary(self.config.phrase_vocabulary)
+            self.vocabulary = self.phrase_words.union(common)
         _, self.canonical, self.preprocess = load_laser_config(self.config.laser_config)
         self.halting = HaltingCounter(self.config.postprocess)
         # beyond the seed: a network with the count input gets the corners counted so far
@@ -188,6 +195,7 @@ class DirectionFollower:
         self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
         self.instructions, self.z_w, self.classes, self.countings = [], [], [], []
         self.unknown_words = []
+        self.corrections = []   # (heard, read as) of the current sentence's misheard words
         self.index = 0
 
     @classmethod
@@ -204,6 +212,25 @@ class DirectionFollower:
         if not isinstance(word_vectors, WordVectors):
             word_vectors = load_word_vectors(word_vectors)
         return cls(policy, word_vectors, config)
+
+    def _reread(self, part, skipped):
+        """The simple instruction `part` with misheard words replaced (misheard.readings), when
+        some readings are read by Z_w with unknown_min_confidence and all of those give one
+        class -> (vectors, words still skipped, z, [(heard, read as)]) of the most confident of
+        them, else None."""
+        if not self.phrase_words or self.config.misheard_edits < 1:
+            return None
+        sure = []
+        for tokens, fixed in readings(tokenise(part), skipped, self.phrase_words,
+                                      self.config.misheard_edits):
+            converted = sentence_vector(" ".join(tokens), self.word_vectors, self.vocabulary)
+            z = self.policy.classify(converted.vectors)
+            if float(np.max(z)) >= self.config.unknown_min_confidence:
+                sure.append((float(np.max(z)), converted, z, list(fixed)))
+        if not sure or len({int(np.argmax(z)) for _, _, z, _ in sure}) > 1:
+            return None
+        _, converted, z, fixed = max(sure, key=lambda reading: reading[0])
+        return converted.vectors, converted.oov, z, fixed
 
     def start(self, sentence):
         """Split and classify a sentence; resets memory. Returns the class (1..10) of each simple
@@ -223,14 +250,22 @@ class DirectionFollower:
             vectors.append(converted.vectors)
             unknown.append(converted.oov)
         z_w = [self.policy.classify(v) for v in vectors]
-        for part, oov, z in zip(parts, unknown, z_w):
-            if oov and float(np.max(z)) < self.config.unknown_min_confidence:
+        corrections = []
+        for k, (part, oov, z) in enumerate(zip(parts, unknown, z_w)):
+            # a skipped word that sounds like a phrase-set word most likely was that word: the
+            # rest alone may read with confidence and wrongly ("make a lift at the crossroad")
+            reread = self._reread(part, oov) if oov else None
+            if reread is not None:
+                vectors[k], unknown[k], z_w[k], fixed = reread
+                corrections += fixed
+            elif oov and float(np.max(z)) < self.config.unknown_min_confidence:
                 raise UnknownInstructionError(
                     f"{part!r} (in {sentence!r}): without the unknown word(s) "
                     f"{', '.join(oov)} it reads as class {CLASS_IDS[int(np.argmax(z))]} with "
                     f"only {float(np.max(z)):.2f} confidence (< "
                     f"{self.config.unknown_min_confidence})", oov)
         unknown = [word for oov in unknown for word in oov]
+        self.corrections = corrections
         self.instructions = parts
         self.classes = [CLASS_IDS[int(np.argmax(z))] for z in z_w]
         self.countings = [counting_mode(part, label) if self.config.side_counting

@@ -190,8 +190,10 @@ class FollowerNode:
         except InstructionRefused as error:
             self._finish(Outcome(ABORTED, 0, str(error), error.spoken))
             return
-        rospy.loginfo("semantic_nav: following %r (%s): classes %s", sentence, source,
-                      self.session.classes)
+        heard_as = ", ".join(f"{heard!r} as {word!r}"
+                             for heard, word in getattr(self.follower, "corrections", []))
+        rospy.loginfo("semantic_nav: following %r (%s): classes %s%s", sentence, source,
+                      self.session.classes, f"; read {heard_as}" if heard_as else "")
 
     def _take_inputs(self):
         with self.lock:

@@ -1,0 +1,34 @@
+"""Misheard words (semantic_nav.misheard) and the follower's rereading of them."""
+import pytest
+
+from semantic_nav.misheard import MAX_READINGS, edit_distance, readings, sound_alikes
+
+
+@pytest.mark.parametrize("a, b, distance", [
+    ("lift", "left", 1), ("light", "right", 1), ("kitten", "sitting", 3), ("", "abc", 3),
+    ("end", "end", 0), ("corner", "corners", 1), ("halt", "hold", 2)])
+def test_edit_distance_counts_letter_edits_both_ways(a, b, distance):
+    assert edit_distance(a, b) == distance
+    assert edit_distance(b, a) == distance
+
+
+def test_sound_alikes_are_the_vocabulary_words_within_the_edits_nearest_first():
+    vocabulary = {"left", "lift", "lifts", "right", "loft", "at", "leftist"}
+    assert sound_alikes("lift", vocabulary) == ["left", "lifts", "loft"]      # not itself
+    assert sound_alikes("lift", vocabulary, max_edits=2) == ["left", "lifts", "loft"]
+    assert sound_alikes("light", vocabulary, max_edits=2) == ["right", "lift"]
+    assert sound_alikes("as", vocabulary) == []        # too short to tell
+    assert sound_alikes("lift", vocabulary, max_edits=0) == []
+
+
+def test_readings_replace_skipped_words_in_every_combination():
+    tokens = ["take", "a", "lift", "at", "the", "lader", "zzz"]
+    found = readings(tokens, ["lift", "lader", "zzz"], {"left", "loft", "later"})
+    assert [fixed for _, fixed in found] == [
+        (("lader", "later"),), (("lift", "left"),), (("lift", "left"), ("lader", "later")),
+        (("lift", "loft"),), (("lift", "loft"), ("lader", "later"))]
+    assert found[1][0] == ["take", "a", "left", "at", "the", "lader", "zzz"]   # zzz: no alike
+    assert readings(tokens, ["zzz"], {"left"}) == []
+    many = readings([f"w{i}x" for i in range(8)], [f"w{i}x" for i in range(8)],
+                    {f"w{i}y" for i in range(8)} | {f"w{i}z" for i in range(8)})
+    assert len(many) == MAX_READINGS
