@@ -56,7 +56,7 @@ def household(tmp_path):
                ROS_LOG_DIR=str(tmp_path / "log"), ROS_HOSTNAME="localhost")
     with open(tmp_path / "launch.log", "w") as log:
         launch = subprocess.Popen(["roslaunch", "-p", str(port),
-                                   "tamp_bringup", "social_household.launch", "speed:=8",
+                                   "tamp_bringup", "social_household.launch", "speed:=6",
                                    f"run_dir:={tmp_path}"],
                                   env=env, stdout=log, stderr=subprocess.STDOUT)
     try:
