@@ -58,6 +58,10 @@ def verdicts():
             found[rest[0]] = ("error", run.stderr)
         for module, verdict, detail in map(json.loads, lines):
             found[module] = (verdict, detail)
+        if lines and run.returncode != 0:   # it failed after the last verdict (at exit)
+            module = json.loads(lines[-1])[0]
+            found[module] = ("error", f"the interpreter exited with {run.returncode} after "
+                                      f"importing it: {run.stderr}")
     return found
 
 

@@ -258,6 +258,12 @@ def test_the_default_follower_reads_a_misheard_side_as_the_side():
     assert follower.corrections == [("lift", "left")] and follower.unknown_words == []
     assert follower.start("robot please take the second right for me") == [5]
     assert follower.unknown_words == [] and follower.corrections == []
+    # what it follows is what it read: "the second left" counts left-hand branches
+    assert follower.start("take the second lift") == follower.start("take the second left")
+    follower.start("take the second lift")
+    assert follower.instructions == ["take the second left"] and follower.countings == ["side"]
+    with pytest.raises(UnfollowableInstruction, match="4th corner"):
+        follower.start("take the fourth lift")
     follower.config.misheard_edits = 0
     follower.start("robot move forward and take a lift turn for me")
     assert follower.unknown_words == ["lift"] and follower.corrections == []

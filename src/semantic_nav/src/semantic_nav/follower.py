@@ -19,9 +19,9 @@ from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_acti
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE
-from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError, counting_mode,
-                                            phrase_vocabulary, sentence_vector,
-                                            split_instruction, tokenise)
+from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError,
+                                            check_followable, counting_mode, phrase_vocabulary,
+                                            sentence_vector, split_instruction, tokenise)
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.misheard import readings
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
@@ -216,25 +216,28 @@ class DirectionFollower:
     def _reread(self, part, skipped):
         """The simple instruction `part` with misheard words replaced (misheard.readings), when
         some readings are read by Z_w with unknown_min_confidence and all of those give one
-        class -> (vectors, words still skipped, z, [(heard, read as)]) of the most confident of
-        them, else None."""
+        class -> (text, vectors, words still skipped, z, [(heard, read as)]) of the most
+        confident of them, else None."""
         if not self.phrase_words or self.config.misheard_edits < 1:
             return None
         sure = []
         for tokens, fixed in readings(tokenise(part), skipped, self.phrase_words,
                                       self.config.misheard_edits):
-            converted = sentence_vector(" ".join(tokens), self.word_vectors, self.vocabulary)
+            text = " ".join(tokens)
+            converted = sentence_vector(text, self.word_vectors, self.vocabulary)
             z = self.policy.classify(converted.vectors)
             if float(np.max(z)) >= self.config.unknown_min_confidence:
-                sure.append((float(np.max(z)), converted, z, list(fixed)))
-        if not sure or len({int(np.argmax(z)) for _, _, z, _ in sure}) > 1:
+                sure.append((float(np.max(z)), text, converted, z, list(fixed)))
+        if not sure or len({int(np.argmax(reading[3])) for reading in sure}) > 1:
             return None
-        _, converted, z, fixed = max(sure, key=lambda reading: reading[0])
-        return converted.vectors, converted.oov, z, fixed
+        _, text, converted, z, fixed = max(sure, key=lambda reading: reading[0])
+        return text, converted.vectors, converted.oov, z, fixed
 
     def start(self, sentence):
         """Split and classify a sentence; resets memory. Returns the class (1..10) of each simple
-        instruction. UnknownInstructionError if a simple instruction has no known word."""
+        instruction. UnknownInstructionError if a simple instruction has no known word;
+        UnfollowableInstruction if one read with its misheard words (misheard.py) asks for a
+        corner the classes do not count."""
         try:
             parts = split_instruction(sentence, self.config.splitting)
         except InstructionError as error:
@@ -253,10 +256,12 @@ class DirectionFollower:
         corrections = []
         for k, (part, oov, z) in enumerate(zip(parts, unknown, z_w)):
             # a skipped word that sounds like a phrase-set word most likely was that word: the
-            # rest alone may read with confidence and wrongly ("make a lift at the crossroad")
+            # rest alone may read with confidence and wrongly ("can you make a lift on at the
+            # crossroad and wait there": class 1)
             reread = self._reread(part, oov) if oov else None
             if reread is not None:
-                vectors[k], unknown[k], z_w[k], fixed = reread
+                parts[k], vectors[k], unknown[k], z_w[k], fixed = reread
+                check_followable(parts[k])   # what it now reads may ask for a 4th corner
                 corrections += fixed
             elif oov and float(np.max(z)) < self.config.unknown_min_confidence:
                 raise UnknownInstructionError(

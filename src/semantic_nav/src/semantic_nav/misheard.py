@@ -2,8 +2,8 @@
 
 Speech recognition turns a word of a spoken direction into another English word that sounds
 alike ("left" heard as "lift", "right" as "light"). The follower skips a word outside the phrase
-sets; when the rest of the instruction does not read with confidence, it tries the phrase-set
-words a few letter edits away instead (DirectionFollower.start). Beyond the seed.
+sets; before that, it tries the phrase-set words a few letter edits away in its place
+(DirectionFollower.start). Beyond the seed.
 """
 import itertools
 
@@ -37,17 +37,17 @@ def sound_alikes(word, vocabulary, max_edits=1):
 
 def readings(tokens, skipped, vocabulary, max_edits=1):
     """Other readings of a simple instruction's `tokens` in which skipped words are replaced by
-    their sound-alikes: [(tokens, ((heard, read as), ...))], at most MAX_READINGS, each with at
-    least one replacement; a word with no sound-alike stays as it is."""
+    their sound-alikes: [(tokens, ((heard, read as), ...))], one replacement first, then two,
+    and so on, at most MAX_READINGS; a word with no sound-alike stays as it is."""
     options = {word: sound_alikes(word, vocabulary, max_edits) for word in dict.fromkeys(skipped)}
     words = [word for word, alikes in options.items() if alikes]
     found = []
-    for choice in itertools.product(*[[None] + options[word] for word in words]):
-        corrections = tuple((word, alike) for word, alike in zip(words, choice) if alike)
-        if not corrections:
-            continue
-        replace = dict(corrections)
-        found.append(([replace.get(token, token) for token in tokens], corrections))
-        if len(found) == MAX_READINGS:
-            break
+    for count in range(1, len(words) + 1):
+        for replaced in itertools.combinations(words, count):
+            for choice in itertools.product(*[options[word] for word in replaced]):
+                corrections = tuple(zip(replaced, choice))
+                replace = dict(corrections)
+                found.append(([replace.get(token, token) for token in tokens], corrections))
+                if len(found) == MAX_READINGS:
+                    return found
     return found
