@@ -137,18 +137,28 @@ def overlay_circles(ranges, lx, ly, lyaw, circles, cos_beam, sin_beam, angle_min
         return ranges
     dx, dy, d2, r2 = dx[seen], dy[seen], d2[seen], r2[seen]
     cy, sy = math.cos(lyaw), math.sin(lyaw)
-    fx, fy = cy * dx + sy * dy, -sy * dx + cy * dy                # centres in the laser frame
-    halves = np.arcsin(np.sqrt(r2 / d2))
-    circle, beam = beam_windows(np.arctan2(fy, fx), halves, angle_min, increment, len(ranges))
+    circle, beam, t = window_hits(cy * dx + sy * dy, -sy * dx + cy * dy, d2, r2, cos_beam,
+                                  sin_beam, angle_min, increment, len(ranges))
     if not len(beam):
         return ranges
+    out = np.array(ranges, dtype=float)
+    np.minimum.at(out, beam, t)
+    return out
+
+
+def window_hits(fx, fy, d2, r2, cos_beam, sin_beam, angle_min, increment, num_beams):
+    """The beams that hit circles seen from a laser: circles at (fx, fy) in the laser frame,
+    squared distance d2 and squared radius r2 (arrays, one per circle), each cast on the beams of
+    its angular window (beam_windows) -> (circle index, beam index, range) per hit."""
+    halves = np.arcsin(np.sqrt(r2 / d2))
+    circle, beam = beam_windows(np.arctan2(fy, fx), halves, angle_min, increment, num_beams)
+    if not len(beam):
+        return circle, beam, np.zeros(0)
     along = fx[circle] * cos_beam[beam] + fy[circle] * sin_beam[beam]
     perp2 = d2[circle] - along * along
     t = along - np.sqrt(np.maximum(r2[circle] - perp2, 0.0))
     hit = (perp2 <= r2[circle]) & (t > 0)
-    out = np.array(ranges, dtype=float)
-    np.minimum.at(out, beam[hit], t[hit])
-    return out
+    return circle[hit], beam[hit], t[hit]
 
 
 def box_ranges(ox, oy, angles, boxes):

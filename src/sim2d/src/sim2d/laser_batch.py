@@ -3,7 +3,7 @@
 A world with several robots scans their lasers at the same instants. Per laser the work is a
 handful of small numpy calls, so eight robots cost eight times one. Here the lasers that share a
 model and a range table are cast together: the table lookup (RangeTable.cast_rows), the windowed
-overlay of people and robots (laser.overlay_circles over every laser's circles at once) and the
+overlay of people and robots (laser.window_hits over every laser's circles at once) and the
 noise (laser.noisy_ranges) are each one pass over (lasers x beams). Each laser keeps its own
 noise stream and the arithmetic is the same, element for element, so every scan equals the one
 LaserSensor.scan returns, bit for bit (test_laser_batch.py).
@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from sim2d.laser import beam_windows, box_ranges, noisy_ranges
+from sim2d.laser import box_ranges, noisy_ranges, window_hits
 
 
 def batch_key(laser):
@@ -68,19 +68,10 @@ def overlay_many(ranges, at, circles, owners, laser):
     dx, dy, d2, r2 = dx[k, n], dy[k, n], d2[k, n], r2[n]
     turns = np.array([(math.cos(yaw), math.sin(yaw)) for yaw in at[:, 2].tolist()])[k]
     cy, sy = turns[:, 0], turns[:, 1]                         # math's, as overlay_circles
-    fx, fy = cy * dx + sy * dy, -sy * dx + cy * dy                # centres in each laser frame
-    halves = np.arcsin(np.sqrt(r2 / d2))
-    pair, beam = beam_windows(np.arctan2(fy, fx), halves, model.angle_min,
-                              model.angle_increment, model.num_beams)
-    if not len(beam):
-        return ranges
-    along = fx[pair] * laser._cos[beam] + fy[pair] * laser._sin[beam]
-    perp2 = d2[pair] - along * along
-    r2 = r2[pair]
-    t = along - np.sqrt(np.maximum(r2 - perp2, 0.0))
-    hit = np.flatnonzero((perp2 <= r2) & (t > 0))
-    np.minimum.at(ranges.reshape(-1), k[pair[hit]] * model.num_beams + beam[hit],
-                  t[hit].astype(np.float32))
+    pair, beam, t = window_hits(cy * dx + sy * dy, -sy * dx + cy * dy, d2, r2, laser._cos,
+                                laser._sin, model.angle_min, model.angle_increment,
+                                model.num_beams)
+    np.minimum.at(ranges.reshape(-1), k[pair] * model.num_beams + beam, t.astype(np.float32))
     return ranges
 
 
