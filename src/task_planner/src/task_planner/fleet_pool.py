@@ -182,13 +182,13 @@ class FleetPool:
                                  [(now + self.lease_s, name, robot, now) for name in corridors])
             return held
 
-    def release_all(self, robot, keep=0):
-        """Give back every instruction (but `keep`) and corridor `robot` holds (a restarted
-        executor starts from its journal, not from claims it made before)."""
+    def release_all(self, robot):
+        """Give back every instruction and corridor `robot` holds (a restarted executor starts
+        from its journal, not from claims it made before)."""
         _check_robot(robot)
         with self._write():
             self._db.execute("UPDATE pool SET state=?, robot='', lease_until=0 WHERE robot=? AND "
-                             "state=? AND id<>?", (OPEN, robot, CLAIMED, int(keep)))
+                             "state=?", (OPEN, robot, CLAIMED))
             self._db.execute("DELETE FROM corridors WHERE robot=?", (robot,))
 
     def settle(self, robot, instruction_id, now, state):
