@@ -1,7 +1,7 @@
 """Misheard words (semantic_nav.misheard) and the follower's rereading of them."""
 import pytest
 
-from semantic_nav.misheard import MAX_READINGS, edit_distance, readings, sound_alikes
+from semantic_nav.misheard import MAX_READINGS, edit_distance, read_as, readings, sound_alikes
 
 
 @pytest.mark.parametrize("a, b, distance", [
@@ -33,3 +33,8 @@ def test_readings_replace_skipped_words_in_every_combination():
                     {f"w{i}y" for i in range(8)} | {f"w{i}z" for i in range(8)})
     assert len(many) == MAX_READINGS
     assert all(len(fixed) == 1 for _, fixed in many[:16])   # every single replacement first
+
+
+def test_read_as_says_what_was_read_as_what():
+    assert read_as([("lift", "left"), ("light", "right")]) == "'lift' as 'left', 'light' as 'right'"
+    assert read_as([]) == ""

@@ -51,3 +51,8 @@ def readings(tokens, skipped, vocabulary, max_edits=1):
                 if len(found) == MAX_READINGS:
                     return found
     return found
+
+
+def read_as(corrections):
+    """What was read as what, for a log line: "'lift' as 'left', ..." ("" for none)."""
+    return ", ".join(f"{heard!r} as {word!r}" for heard, word in corrections)

@@ -31,6 +31,7 @@ from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker,
                                       scan_to_core, twist)
 from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
                                          Outcome, step_failed)
+from semantic_nav.misheard import read_as
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
@@ -190,10 +191,9 @@ class FollowerNode:
         except InstructionRefused as error:
             self._finish(Outcome(ABORTED, 0, str(error), error.spoken))
             return
-        heard_as = ", ".join(f"{heard!r} as {word!r}"
-                             for heard, word in getattr(self.follower, "corrections", []))
+        corrections = read_as(getattr(self.follower, "corrections", []))
         rospy.loginfo("semantic_nav: following %r (%s): classes %s%s", sentence, source,
-                      self.session.classes, f"; read {heard_as}" if heard_as else "")
+                      self.session.classes, f"; read {corrections}" if corrections else "")
 
     def _take_inputs(self):
         with self.lock:
