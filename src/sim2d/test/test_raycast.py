@@ -59,6 +59,23 @@ def test_table_fan_equals_table_cast(table):
     np.testing.assert_allclose(fan, direct)
 
 
+def test_table_reads_a_direction_the_same_at_any_turn_of_the_circle(table):
+    """Negative bins (within one turn) and angles several turns out (the modulo) read the bin
+    of the direction in [0, 2 pi)."""
+    rng = np.random.default_rng(7)
+    base = rng.uniform(0.0, 2 * math.pi, 300)
+    direct = table.cast(2.37, 3.44, base)
+    for turns in (-1, 1, -3, 5):
+        shifted = table.cast(2.37, 3.44, base + turns * 2 * math.pi)
+        bins = np.rint((base + turns * 2 * math.pi) / table.bin_width).astype(int) % 1440
+        same = bins == np.rint(base / table.bin_width).astype(int) % 1440   # no tie moved
+        np.testing.assert_array_equal(shifted[same], direct[same])
+        assert same.mean() > 0.95
+    rows = table.cast_rows([2.37, 1.5], [3.44, 2.0], [-3.0, 3.1], base)
+    for k, (x, y, yaw) in enumerate(((2.37, 3.44, -3.0), (1.5, 2.0, 3.1))):
+        np.testing.assert_array_equal(rows[k], table.cast(x, y, base + yaw))
+
+
 def test_table_refuses_points_it_does_not_cover(table):
     assert table.cast(4.5, 3.0, np.array([0.0])) is None     # 0.5 m from the wall
 

@@ -101,16 +101,21 @@ def beam_windows(bearings, halves, angle_min, increment, num_beams):
     the tangent beams). -> (circle index, beam index) pairs as two flat int arrays. A window
     across the fan's +-pi seam is split in two, so a 360-degree laser loses no beam."""
     two_pi = 2.0 * math.pi
-    start = np.mod(bearings - halves - angle_min, two_pi)          # [0, 2 pi) from beam 0
-    first = np.ceil(start / increment).astype(np.int64) - 1
-    last = np.floor((start + 2.0 * halves) / increment).astype(np.int64) + 1
+    start = np.mod(bearings - halves - angle_min, two_pi) / increment   # beams from beam 0
+    end = start + (2.0 * halves) / increment
+    lows, highs = np.ceil(start) - 1.0, np.floor(end) + 1.0
+    owners = np.arange(len(bearings))
     # the part past 2 pi wraps to the fan's start (only a full circle has beams there)
-    wrap_last = np.floor((start + 2.0 * halves - two_pi) / increment).astype(np.int64) + 1
-    lows = np.concatenate([np.maximum(first, 0), np.zeros_like(first)])
-    highs = np.concatenate([np.minimum(last, num_beams - 1), np.minimum(wrap_last, num_beams - 1)])
-    owners = np.concatenate([np.arange(len(bearings))] * 2)
+    wrap_highs = np.floor(end - two_pi / increment) + 1.0
+    if len(wrap_highs) and wrap_highs.max() >= 0.0:
+        lows = np.concatenate([lows, np.zeros_like(lows)])
+        highs = np.concatenate([highs, wrap_highs])
+        owners = np.concatenate([owners, owners])
+    lows = np.maximum(lows, 0.0).astype(np.int64)
+    highs = np.minimum(highs, num_beams - 1.0).astype(np.int64)
     keep = highs >= lows
-    lows, highs, owners = lows[keep], highs[keep], owners[keep]
+    if not keep.all():
+        lows, highs, owners = lows[keep], highs[keep], owners[keep]
     if not len(lows):
         return owners, lows
     counts = highs - lows + 1
@@ -274,7 +279,7 @@ def noisy_ranges(model, ranges, draw):
         ranges += draw("dropout")
     else:
         ranges = ranges + draw("noise")
-    ranges[ranges > model.range_max] = np.inf
+    np.putmask(ranges, ranges > model.range_max, np.inf)   # half a boolean setitem's cost
     if ranges.min() < model.range_min:
-        ranges[ranges < model.range_min] = -np.inf
+        np.putmask(ranges, ranges < model.range_min, -np.inf)
     return ranges

@@ -78,5 +78,6 @@ def overlay_many(ranges, at, circles, owners, laser):
 def add_noise(lasers, ranges):
     """LaserSensor.scan's noise, dropouts and range limits (laser.noisy_ranges) on (lasers x
     beams) float32 true ranges, each laser drawing from its own noise stream."""
-    return noisy_ranges(lasers[0].model, ranges, lambda pool: np.stack(
-        [laser._pool_slice(laser._pools[pool]) for laser in lasers]))
+    shape = ranges.shape   # one concatenate: a third of np.stack's cost on these rows
+    return noisy_ranges(lasers[0].model, ranges, lambda pool: np.concatenate(
+        [laser._pool_slice(laser._pools[pool]) for laser in lasers]).reshape(shape))

@@ -274,11 +274,21 @@ class RangeTable:
         found = self._nearest(x, y)
         if found is None:
             return None
-        angles = np.asarray(angles, dtype=float)
-        bins = np.rint(angles / self.bin_width).astype(np.int64) % self.config.angle_bins
+        bins = self._bins(np.asarray(angles, dtype=float))
         raw = self.table[found[0], bins]
         return self._shifted(raw, found[1], found[2], self._inv_cos[bins],
                              self._inv_sin[bins])
+
+    def _bins(self, angles):
+        """Nearest table bin of each angle [rad], in [-angle_bins, angle_bins): numpy's
+        negative indices address the table and the doubled inverse cos / sin arrays as their
+        remainder modulo angle_bins would, so angles within +-2 pi (a wrapped yaw plus a beam
+        angle) skip the integer modulo, a third of a batch cast's index arithmetic."""
+        bins = np.rint(angles / self.bin_width).astype(np.int64)
+        count = self.config.angle_bins
+        if bins.size and (bins.min() < -count or bins.max() >= count):
+            bins %= count
+        return bins
 
     def cast_fan(self, x, y, first_angle, count, step_bins):
         """Like cast for `count` beams `step_bins` table bins apart from first_angle [rad]."""
@@ -311,7 +321,7 @@ class RangeTable:
             bins[bins >= count] -= count
         else:
             world_angles = np.asarray(angles, dtype=float)[None, :] + np.asarray(yaws)[:, None]
-            bins = np.rint(world_angles / self.bin_width).astype(np.int64) % count
+            bins = self._bins(world_angles)
             inv_cos, inv_sin = self._inv_cos[bins], self._inv_sin[bins]
         return self._shifted(self.table[entries, bins], dx, dy, inv_cos, inv_sin)
 
