@@ -355,6 +355,7 @@ def test_default_model_counts_corners_in_words_and_numerals():
         pytest.skip(str(error))
     assert follower.start("turn left at the 2nd corner") == [6]
     assert follower.start("make a right two corners down") == [5]
+    assert follower.start("will you go ahead and turn left to corners down") == [6]
     assert follower.start("take a left turn at corner number three") == [8]
     assert follower.start("go straight to the end, then turn right at the 3rd corner") == [1, 7]
 

@@ -87,6 +87,15 @@ def test_numerals_become_the_words_of_the_phrase_sets():
         "room", "101", "on", "the", "11th", "floor", "b2", "wing"]
 
 
+def test_to_before_a_counted_plural_is_heard_as_two():
+    """Speech recognition's "to corners" for "two corners"; "to" elsewhere stays."""
+    assert tokenise("turn left to corners down") == ["turn", "left", "two", "corners", "down"]
+    assert tokenise("pass too rights and go to the end") == [
+        "pass", "two", "rights", "and", "go", "to", "the", "end"]
+    assert tokenise("go to the corner, to") == ["go", "to", "the", "corner", "to"]
+    assert tokenise("to corner") == ["to", "corner"]
+
+
 @pytest.fixture
 def tiny_vectors():
     words = ["turn", "right", "go", "back"]

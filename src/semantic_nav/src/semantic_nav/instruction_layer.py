@@ -29,6 +29,12 @@ ORDINAL_WORDS = ("zeroth", "first", "second", "third", "fourth", "fifth", "sixth
                  "eighth", "ninth", "tenth")
 CARDINAL_WORDS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight",
                   "nine", "ten")
+# Speech recognition writes the number "two" as its homophones "to" and "too" ("turn left to
+# corners down"); before a plural of the things directions count, only the number makes sense.
+TWO_HOMOPHONES = frozenset(("to", "too"))
+COUNTED_PLURALS = frozenset((
+    "corners", "intersections", "junctions", "crossings", "crossroads", "turnings", "turns",
+    "lefts", "rights", "openings", "branches", "hallways", "corridors", "exits"))
 
 
 class InstructionError(ValueError):
@@ -97,8 +103,11 @@ def join_fragments(parts):
 
 
 def tokenise(text):
-    """Lower-case word tokens of one simple instruction, numerals up to ten as words."""
-    return [numeral_as_word(token) for token in TOKEN.findall(text.lower())]
+    """Lower-case word tokens of one simple instruction, numerals up to ten as words, and "to" or
+    "too" before a counted plural ("to corners") as "two"."""
+    tokens = [numeral_as_word(token) for token in TOKEN.findall(text.lower())]
+    return [("two" if token in TWO_HOMOPHONES and following in COUNTED_PLURALS else token)
+            for token, following in zip(tokens, tokens[1:] + [""])]
 
 
 def numeral_as_word(token):
