@@ -56,7 +56,8 @@ def tiny_recipe(folder):
                 {"name": "tiny_eval", "minutes": 0.2,
                  "evaluate": {"model": "tiny_zw", "plan": "l_one", "floors": ["l_floor"],
                               "per_class": 1, "classes": [1], "laser": "urg04lx",
-                              "workers": 1}}]}]}
+                              "workers": 1,
+                              "follower_config": "config/semnav_follower_no_guard.yaml"}}]}]}
     path = folder / "recipe.yaml"
     path.write_text(yaml.safe_dump(recipe))
     return path
@@ -90,6 +91,8 @@ def test_the_units_run_in_order_and_write_their_outputs(first_run):
     assert done["tiny_dagger"]["episodes"] == 1
     assert (work / "dagger" / "tiny_dagger.records").is_file()
     assert done["tiny_eval"]["episodes"] == 1 and done["tiny_eval"]["successes"] in (0, 1)
+    followed = json.loads((work / "eval" / "tiny_eval.json").read_text())["args"]
+    assert followed["follower_config"] == str(ROOT / "config" / "semnav_follower_no_guard.yaml")
     assert (work / "eval" / "summary.md").read_text().splitlines()[2].startswith(
         f"| tiny_eval | tiny_zw | {done['tiny_eval']['successes']}/1 | ")
     # the fine-tune started from tiny_bc: its card names that init

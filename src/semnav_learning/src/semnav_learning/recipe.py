@@ -44,7 +44,8 @@ KIND_KEYS = {
     "train": {f.name for f in dataclasses.fields(TrainerConfig)} - MANAGED,
     "dagger": {"model", "floors", "per_class", "seed", "classes", "max_route_offset"},
     "classifier": {"init", "batches", "word_noise", "seed", "training", "network"},
-    "evaluate": {"model", "plan", "per_class", "seed", "floors", "classes", "laser", "workers"},
+    "evaluate": {"model", "plan", "per_class", "seed", "floors", "classes", "laser", "workers",
+                 "follower_config"},
 }
 REQUIRED = {"plan": ("floors", "per_class"), "dagger": ("model", "floors"),
             "classifier": ("init", "batches"), "evaluate": ("model", "plan"), "train": ("dataset",)}

@@ -178,6 +178,8 @@ class UnitRunner:
                 "--docs", str(eval_dir / "docs"), "--json", str(result)]
         if "classes" in args:
             argv += ["--classes", *map(str, args["classes"])]
+        if "follower_config" in args:      # a workspace path, e.g. the seed's follower
+            argv += ["--follower-config", str(self.recipe.root / args["follower_config"])]
         eval_cli.main(self.recipe.root, argv=argv)
         _, episodes, successes, rate = json.loads(result.read_text())["policy"]["total"]
         progress(1, 1, "evaluations")
