@@ -283,7 +283,7 @@ class RangeTable:
         """Nearest table bin of each angle [rad], in [-angle_bins, angle_bins): numpy's
         negative indices address the table and the doubled inverse cos / sin arrays as their
         remainder modulo angle_bins would, so angles within +-2 pi (a wrapped yaw plus a beam
-        angle) skip the integer modulo, a third of a batch cast's index arithmetic."""
+        angle) skip the integer modulo, which took a sixth of a batch cast's time."""
         bins = np.rint(angles / self.bin_width).astype(np.int64)
         count = self.config.angle_bins
         if bins.size and (bins.min() < -count or bins.max() >= count):
