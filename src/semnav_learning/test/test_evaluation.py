@@ -121,6 +121,23 @@ def test_an_episode_sees_the_same_laser_noise_whatever_ran_before(l_floor):
     assert outcomes[0].path == outcomes[2].path and outcomes[0].reason == outcomes[2].reason
 
 
+def test_spawned_workers_drive_what_this_process_drives(l_floor):
+    """The trainer's closed-loop monitor runs its episodes in spawned workers: the same
+    outcomes, in spec order, as in-process."""
+    folder, oracles = l_floor
+    floor = next(iter(oracles))
+    specs = [EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False),
+             EpisodeSpec(floor, (1.5, 0.8, 0.1), (4,), "turn around", True),
+             EpisodeSpec(floor, (2.0, 1.0, 0.0), (1,), "walk to the end of the hall", False)]
+    run = dict(raycast="march", laser_dir=ROOT / "config" / "lasers")
+    here = evaluate(specs, folder / "world.yaml", PolicySpec(), workers=1, **run)
+    spawned = evaluate(specs, folder / "world.yaml", PolicySpec(), workers=2,
+                       start_method="spawn", **run)
+    assert [o.spec for o in spawned] == specs
+    assert [(o.success, o.reason, o.path) for o in spawned] == \
+        [(o.success, o.reason, o.path) for o in here]
+
+
 def test_floors_load_once_for_every_evaluate_call_in_a_process(l_floor, monkeypatch):
     """A training run drives the closed-loop plan after every epoch: the floor's world (and its
     range table) is built once, not once per call."""

@@ -10,6 +10,7 @@ Table 4.2-1 (class, tests, successes, rate, and the total).
 import json
 import math
 import multiprocessing
+import sys
 import time
 import zlib
 from collections import Counter
@@ -208,11 +209,9 @@ def _init_worker(template, policy_spec, raycast, episode_config, laser_dir):
                    episode_config=episode_config, laser_dir=laser_dir, policy=None,
                    world_key=(template, raycast, laser_dir),
                    worlds=_WORKER["worlds"] if same else {})
-    try:                                   # one core per worker: no thread oversubscription
-        import torch
-        torch.set_num_threads(1)
-    except ImportError:
-        pass
+    torch = sys.modules.get("torch")      # one core per worker: no thread oversubscription
+    if torch is not None:                 # (the policy runs on numpy: a spawned worker does not
+        torch.set_num_threads(1)          # import torch for it)
 
 
 def _make_policy(spec):
@@ -273,8 +272,11 @@ def run_spec(spec):
 
 
 def evaluate(specs, template, policy_spec, workers=1, raycast="table", episode_config=None,
-             progress=None, laser_dir=None):
-    """Run every spec -> [EpisodeOutcome] in spec order; `progress(n)` after each episode."""
+             progress=None, laser_dir=None, start_method="fork"):
+    """Run every spec -> [EpisodeOutcome] in spec order; `progress(n)` after each episode.
+    `start_method` of the worker processes: "fork" shares the floors already loaded here;
+    "spawn" starts clean processes, for a caller whose own threads (torch's) a fork would
+    copy in a held state."""
     args = (str(template), policy_spec, raycast, episode_config or EpisodeConfig(), laser_dir)
     if workers <= 1:
         _init_worker(*args)
@@ -284,7 +286,7 @@ def evaluate(specs, template, policy_spec, workers=1, raycast="table", episode_c
             if progress:
                 progress(1)
         return outcomes
-    context = multiprocessing.get_context("fork")
+    context = multiprocessing.get_context(start_method)
     with context.Pool(workers, initializer=_init_worker, initargs=args) as pool:
         outcomes = []
         for outcome in pool.imap(run_spec, specs, chunksize=4):

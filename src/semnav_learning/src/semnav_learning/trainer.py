@@ -309,9 +309,11 @@ class Trainer:
         from semnav_learning.evaluation import PolicySpec, evaluate, success_table
         path = self.config.work_dir / "current.keras"
         model.save(path)
-        # in this process: a pool forked from the training process (torch threads running) hung
+        # spawned workers, one per training thread (idle meanwhile): a pool forked from the
+        # training process (torch threads running) hung
         outcomes = evaluate(specs, self.config.world_template,
-                            PolicySpec(model_path=str(path)), workers=1)
+                            PolicySpec(model_path=str(path)), workers=self.config.threads,
+                            start_method="spawn")
         rows, total = success_table(outcomes)
         return total[2], {label: successes for label, _, successes, _ in rows}
 
