@@ -24,6 +24,7 @@ class Follower:
     control_period = 0.1
     doorway_points = []
     guard_actions = {}
+    corrections = []
 
     def __init__(self):
         self.broken = None   # None, "step" or "start"

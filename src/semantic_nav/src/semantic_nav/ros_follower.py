@@ -191,7 +191,7 @@ class FollowerNode:
         except InstructionRefused as error:
             self._finish(Outcome(ABORTED, 0, str(error), error.spoken))
             return
-        corrections = read_as(getattr(self.follower, "corrections", []))
+        corrections = read_as(self.follower.corrections)
         rospy.loginfo("semantic_nav: following %r (%s): classes %s%s", sentence, source,
                       self.session.classes, f"; read {corrections}" if corrections else "")
 
