@@ -8,7 +8,8 @@ import re
 import pytest
 import yaml
 
-from semnav_learning.recipe import RecipeError, RecipeRun, Schedule, Unit, load_recipe, main
+from semnav_learning.recipe import (RESUME_LINE, RecipeError, RecipeRun, Schedule, Unit,
+                                    UnitProgress, load_recipe, main)
 from semnav_l_floor import write_l_floor
 from semnav_train_data import write_words
 from tamp_resources import resource
@@ -166,6 +167,20 @@ def test_the_schedule_scales_the_estimates_by_measured_time():
     schedule.finished("a", 120.0)                          # twice the estimate
     assert schedule.ratio() == 2.0 and schedule.eta() == 600.0
     assert schedule.eta("b", 30.0) == 30.0 + 360.0
+
+
+def test_a_resumed_unit_paces_its_eta_by_the_parts_of_this_run():
+    now, lines = [100.0], []
+    units = [Unit("s", "train", "train", 10.0, {})]
+    progress = UnitProgress("[1/1] s/train", "train", Schedule(units, {}, lambda: now[0]),
+                            lines.append)
+    progress.resumed(10)                                   # 10 of 30 epochs done earlier
+    now[0] += 60.0
+    progress(11, 30, "epochs")                             # one epoch in 60 s: 19 left
+    assert lines[-1] == ("[1/1] s/train: 11/30 epochs, 1 min 00 s elapsed, "
+                         "unit ETA 19 min 00 s, recipe ETA 19 min 00 s")
+    # the Trainer's line (test_trainer checks its wording) that calls resumed()
+    assert RESUME_LINE.match("resuming after epoch 10/30 from work/checkpoint")[1] == "10"
 
 
 def write(folder, recipe):

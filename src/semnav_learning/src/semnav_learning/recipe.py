@@ -56,6 +56,8 @@ REFERENCES = {("train", "dataset"): ("build",), ("train", "closed_loop_plan"): (
 # Trainer lines that end a part of a training unit -> what the parts are
 PROGRESS_LINE = {"epochs": re.compile(r"^Epoch (\d+)/(\d+) - "),
                  "Z_w batches": re.compile(r"^Z_w: (\d+)/(\d+) batches")}
+# The Trainer line of a resumed training: parts done in an earlier run
+RESUME_LINE = re.compile(r"^resuming after epoch (\d+)/(\d+) ")
 
 
 class RecipeError(ValueError):
@@ -263,12 +265,19 @@ class UnitProgress:
     def __init__(self, label, name, schedule, report, every=1):
         self.label, self.name, self.schedule, self.report = label, name, schedule, report
         self.began, self.every = schedule.clock(), max(1, every)
+        self.done_before = 0
+
+    def resumed(self, done):
+        """`done` parts were finished by an earlier run: the unit's ETA is the pace of the
+        parts done in this run."""
+        self.done_before = done
+        self.began = self.schedule.clock()
 
     def __call__(self, done, total, unit):
         if done % self.every and done != total:
             return
         elapsed = self.schedule.clock() - self.began
-        remaining = elapsed / max(done, 1) * (total - done)
+        remaining = elapsed / max(done - self.done_before, 1) * (total - done)
         recipe = self.schedule.eta(self.name, remaining)
         self.report(f"{self.label}: {done}/{total} {unit}, {format_duration(elapsed)} elapsed, "
                     f"unit ETA {format_duration(remaining)}, recipe ETA "

@@ -9,7 +9,7 @@ import json
 
 import numpy as np
 
-from semnav_learning.recipe import PROGRESS_LINE, RecipeError
+from semnav_learning.recipe import PROGRESS_LINE, RESUME_LINE, RecipeError
 from semnav_learning.trainer import Trainer, TrainerConfig, TrainingError
 from semnav_learning.training import TrainingConfig
 
@@ -111,6 +111,9 @@ class UnitRunner:
                 match = pattern.match(line)
                 if match:
                     progress(int(match[1]), int(match[2]), what)
+            resume = RESUME_LINE.match(line)
+            if resume:
+                progress.resumed(int(resume[1]))
 
         try:
             summary = Trainer(config, report=report).run()
