@@ -14,12 +14,22 @@ def write(tmp_path, text):
     return path
 
 
-def test_the_committed_blind_set_covers_every_class_and_both_counting_modes():
-    entries = load_blind_set(resource("config", "semnav_blind_directions.yaml"))
+BLIND_SETS = ("semnav_blind_directions.yaml", "semnav_blind_directions_2.yaml")
+
+
+@pytest.mark.parametrize("name", BLIND_SETS)
+def test_the_committed_blind_sets_cover_every_class_and_both_counting_modes(name):
+    entries = load_blind_set(resource("config", name))
     assert len(entries) >= 150
     singles = {e.classes[0] for e in entries if len(e.classes) == 1}
     assert singles == set(range(1, 11))
     assert {"corner", "side"} <= {mode for e in entries for mode in e.count}
+
+
+def test_the_second_blind_set_shares_no_sentence_with_the_first():
+    first, second = ({e.text for e in load_blind_set(resource("config", name))}
+                     for name in BLIND_SETS)
+    assert not first & second
 
 
 @pytest.mark.parametrize("text, message", [

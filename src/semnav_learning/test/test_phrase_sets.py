@@ -110,6 +110,10 @@ def test_phrase_files_without_the_optional_sets_still_load(tmp_path):
     assert all(sets[name] == [] for name in OPTIONAL_SETS)
     rng = np.random.default_rng(1)
     assert all(sample_sentence(sets, label, rng).label == label for label in CLASS_IDS)
+    # the seed's sentences only: the place is said after the turn
+    texts = set(enumerate_texts(sets, 5))
+    assert "turn right at the second corner" in texts
+    assert "at the second corner turn right" not in texts
 
 
 def test_suffix_turn_kinds(sets):
@@ -131,8 +135,18 @@ def test_enumeration_counts_follow_the_set_sizes(sets, train_sentences):
     n = Counter(p.set_name for p in (p for v in sets.values() for p in v) if p.split == "train")
     assert train_sentences[4].count == (n["prefix"] + 1) * n["class4"] * (n["suffix"] + 1)
     turns_right = sum(1 for p in sets["class_turn"] if p.split == "train" and p.tag == "right")
-    assert train_sentences[2].count == ((n["prefix"] + 1) * (n["prefix_turn"] + 1) * turns_right
-                                       * (n["suffix_turn_keep"] + 1) * (n["suffix"] + 1))
+    others_2 = sum(1 for p in sets["others"] if p.split == "train" and p.tag == 2)
+    # the seed's recipe, the place said first ("at the next corner turn right"), others
+    assert train_sentences[2].count == (n["prefix"] + 1) * (n["suffix"] + 1) * (
+        (n["prefix_turn"] + 1) * turns_right * (n["suffix_turn_keep"] + 1)
+        + n["suffix_turn_keep"] * turns_right + others_2)
+
+
+def test_the_place_can_be_said_before_the_turn(train_sentences):
+    assert "at the second corner turn right" in train_sentences[5].texts
+    assert "two corners down make a left" in train_sentences[6].texts
+    assert "at the end of the corridor turn left" in train_sentences[10].texts
+    assert "at the next corner turn right" in train_sentences[2].texts
 
 
 def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
@@ -157,7 +171,7 @@ def test_validation_phrasings_are_neither_trained_on_nor_tested(sets, train_sent
         assert not {s.text for s in sentences} & train_sentences[label].texts
     # held-out sentences draw only on training and held-out phrases
     for label in CLASS_IDS:
-        for recipe in recipes(label):
+        for recipe in recipes(label, place_first=True):
             for slot in recipe:
                 assert not any(p is not None and p.split == "validation"
                                for p in _choices(sets, slot, "held_out"))

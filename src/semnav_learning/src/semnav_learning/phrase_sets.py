@@ -18,6 +18,8 @@ SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_
 # "at the next one": prefix_turn_change, suffix_turn_next), and "go all the way down and make a
 # left" (a class1 phrase + end_join + a class_turn phrase).
 OPTIONAL_SETS = ("class_turn_counted", "prefix_turn_change", "suffix_turn_next", "end_join")
+# With them (a file of directions as people give them), the place may also be said before the
+# turn: recipes(place_first=True). A file without them generates the seed's sentences only.
 CHANGE_KINDS = TURN_AT   # kind-B tags: ("second", "third", "end")
 COUNTED_KINDS = tuple(kind for kind in TURN_AT if kind != "end")   # ("second", "third")
 # core phrase set of a class that is not a turn -> the class: {"class1": 1, "class4": 4}
@@ -151,17 +153,27 @@ class Slot:
     optional: bool = False
 
 
-def recipes(label):
-    """Fig. 3.2.1 / §3.2 examples: the sequences of sets that generate class `label`."""
+def people_sets(sets):
+    """Whether `sets` hold the optional sets of directions as people give them."""
+    return bool(sets.get("prefix_turn_change"))
+
+
+def recipes(label, place_first=False):
+    """Fig. 3.2.1 / §3.2 examples: the sequences of sets that generate class `label`;
+    `place_first` adds the place said before the turn (beyond the seed)."""
     prefix, suffix = Slot("prefix", optional=True), Slot("suffix", optional=True)
     others = [(prefix, Slot("others", label), suffix)]   # empty unless `others` has the class
     cls = get(label)
     if cls.motion != TURN:
         return [(prefix, Slot(cls.phrase_set), suffix)] + others
     turn = (prefix, Slot("prefix_turn", optional=True), Slot(cls.phrase_set, cls.side))
+    # beyond the seed: the place said first ("at the second corner turn right", "two corners
+    # down make a left"), the suffix phrase in front of the turn
+    place = "suffix_turn_keep" if cls.at is None else "suffix_turn_change"
+    extra = [(prefix, Slot(place, cls.at), Slot(cls.phrase_set, cls.side), suffix)
+             ] if place_first else []
     if cls.at is None:
-        return [turn + (Slot("suffix_turn_keep", optional=True), suffix)]
-    extra = []
+        return [turn + (Slot("suffix_turn_keep", optional=True), suffix)] + extra + others
     if cls.at == "end":
         extra.append((prefix, Slot("class1"), Slot("end_join"), Slot(cls.phrase_set, cls.side),
                       suffix))
@@ -188,7 +200,7 @@ def enumerate_sentences(sets, label, split="train"):
     sentences with at least one phrase of that split (never seen in training)."""
     if label not in CLASS_IDS or split not in SPLITS:
         raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
-    for recipe in recipes(label):
+    for recipe in recipes(label, people_sets(sets)):
         slots = [_choices(sets, slot, split) for slot in recipe]
         for combination in itertools.product(*slots):
             phrases = [p for p in combination if p is not None]
@@ -209,7 +221,7 @@ def enumerate_texts(sets, label, split="train"):
         pool = [p for p in _choices(sets, slot, split) if p is None or p.split in splits]
         return [p.text if p is not None else None for p in pool]
 
-    for recipe in recipes(label):
+    for recipe in recipes(label, people_sets(sets)):
         if split == "train":
             layouts = [[texts(slot, ("train",)) for slot in recipe]]
         else:
@@ -226,7 +238,8 @@ def sample_sentence(sets, label, rng, split="train"):
     """§3.4: one random sentence of class `label` (uniform over recipes, then over slots)."""
     if label not in CLASS_IDS or split not in SPLITS:
         raise PhraseSetError(f"unknown class {label!r} or split {split!r}")
-    options = [[_choices(sets, slot, split) for slot in recipe] for recipe in recipes(label)]
+    options = [[_choices(sets, slot, split) for slot in recipe]
+               for recipe in recipes(label, people_sets(sets))]
     options = [pools for pools in options if all(pools)]
     if not options:
         raise PhraseSetError(f"no phrases for class {label} in split {split!r}")
