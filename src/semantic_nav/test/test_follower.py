@@ -407,6 +407,48 @@ def test_without_the_corner_count_the_network_gets_zero(words):
     assert command.corners == 1 and set(policy.counts) == {0}   # counted, not given
 
 
+class ClassRecordingPolicy(CountingPolicy):
+    """Reads every sentence as class 5; keeps the class LSTM_fused gets at each step."""
+
+    def __init__(self, steps):
+        super().__init__(steps)
+        self.classes = []
+
+    def classify(self, vectors):
+        return np.eye(10)[4]
+
+    def step(self, z_w, scan, counts=None):
+        self.classes.append(int(np.argmax(z_w)) + 1)
+        return super().step(z_w, scan, counts)
+
+
+@pytest.mark.parametrize("pass_then_turn", [True, False])
+def test_the_second_right_passes_one_right_then_turns_at_the_next(words, pass_then_turn):
+    """Beyond the seed: "take the second right" (class 5, counted on the right) is driven as
+    class 1 until one right-hand branch is counted (its opening has run 1 m: step 25 at 0.05 m a
+    step) and is behind the robot (step 35), then as class 2 with the count afresh and the
+    memory kept; without the rule the network gets class 5 and the side count throughout."""
+    policy = ClassRecordingPolicy(50)
+    follower = DirectionFollower(policy, words, FollowerConfig(
+        doors=DoorConfig(width=0.0), side_pass_then_turn=pass_then_turn))
+    assert follower.start("take the second right") == [5]
+    assert follower.countings == ["side"]
+    laser = urg()
+    angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
+    right = np.abs(angles + math.pi / 2) <= math.radians(5)
+    for step in range(50):
+        ranges = np.full(laser.beams, 2.0)
+        ranges[right] = 4.0 if 5 <= step < 35 else 2.0
+        follower.step(ranges, laser)
+    if pass_then_turn:
+        assert policy.classes == [1] * 35 + [2] * 15
+        assert policy.counts == [0] * 25 + [1] * 10 + [0] * 15
+    else:
+        assert policy.classes == [5] * 50
+        assert policy.counts == [0] * 25 + [1] * 25
+    assert policy.resets == 1                                  # start() only
+
+
 @pytest.fixture
 def phrases(tmp_path):
     path = tmp_path / "phrases.yaml"

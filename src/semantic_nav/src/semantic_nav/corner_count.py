@@ -100,6 +100,12 @@ class CornerCounter:
                 self.count += 0 if same else 1
         return min(self.count, config.max_count)
 
+    def opening_beside(self):
+        """Whether an opening runs beside the robot now on a counted side (one side: that
+        side; else either)."""
+        sides = [SIDE_COLUMNS[self.side]] if self.side is not None else [0, 1]
+        return any(self.run_start[side] is not None for side in sides)
+
     def advance(self, distance):
         """The robot drove `distance` [m] (its sign is ignored) before the next step."""
         self.travel += abs(float(distance))

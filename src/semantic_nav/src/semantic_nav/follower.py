@@ -18,7 +18,8 @@ from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_acti
                                           scan_points, steer_around)
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
-from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE
+from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE,
+                                              STRAIGHT, TURN_CLASSES, get, ids)
 from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError,
                                             check_followable, counting_mode, phrase_vocabulary,
                                             sentence_vector, split_instruction, tokenise)
@@ -62,6 +63,11 @@ class FollowerConfig:
     side_counting: bool = True      # beyond the seed: "the second right" counts the branches on
                                     # the turning side only (instruction_layer.counting_mode);
                                     # false: every count over both sides (Table 3.1-1)
+    side_pass_then_turn: bool = True   # beyond the seed: an instruction counted on one side
+                                    # ("take the third left") is driven as class 1 until the
+                                    # counter has passed N - 1 branches on that side, then as
+                                    # that side's first turn (class 2 / 3); false: the network
+                                    # gets the side count and decides
     corner_count: bool = True       # beyond the seed: a count-input network gets the corners
                                     # counted so far; false: a count of 0 throughout (what the
                                     # network decides without the rule-based counter)
@@ -155,6 +161,11 @@ class FollowerCommand:
     corners: int = None     # corners counted in this simple instruction (count-input networks)
 
 
+def _one_hot(label, size):
+    """The one-hot class vector of class `label` (Z_w's output order)."""
+    return np.eye(size)[CLASS_IDS.index(label)]
+
+
 def class_one_hot(z_w):
     """Beyond the seed: Z_w -> the one-hot vector of its class (argmax). LSTM_fused learnt on
     Z_w of training phrasings, one-hot to about 1e-7; a classifier trained with noise on the word
@@ -194,6 +205,8 @@ class DirectionFollower:
         self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)   # in the current sentence
         self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
         self.instructions, self.z_w, self.classes, self.countings = [], [], [], []
+        self.z_now = None       # the class LSTM_fused gets now (z_w, or a pass / turn class)
+        self.passing = 0        # side branches still to pass before the turn (pass then turn)
         self.unknown_words = []
         self.corrections = []   # (heard, read as) of the current sentence's misheard words
         self.index = 0
@@ -287,11 +300,32 @@ class DirectionFollower:
     def _reset_memory(self):
         """A new simple instruction: LSTM_fused's memory and the corner count start afresh."""
         self.policy.reset()
+        self.passing = 0
+        if self.index >= len(self.instructions):
+            return
+        self.z_now = self.z_w[self.index]
         if self.counter is not None:
             side = None
-            if self.index < len(self.countings) and self.countings[self.index] == COUNT_SIDE:
-                side = SIDE[self.classes[self.index]]
+            if self.countings[self.index] == COUNT_SIDE:
+                label = self.classes[self.index]
+                side = SIDE[label]
+                if self.config.side_pass_then_turn:
+                    self.passing = get(label).corner - 1
+                    self.z_now = _one_hot(ids(motion=STRAIGHT)[0], len(self.z_now))
             self.counter.reset(side=side)
+
+    def _turn_when_passed(self, counted):
+        """Pass then turn: once N - 1 branches on the side are counted and the last of them is
+        behind the robot, the instruction is driven as that side's first turn, the count afresh
+        (the network turns into the next branch on that side). LSTM_fused keeps its memory: a
+        network started afresh just past a crossroad takes it for the branch it has turned
+        into and stops."""
+        if not self.passing or counted < self.passing or self.counter.opening_beside():
+            return
+        side = self.counter.side
+        self.passing = 0
+        self.counter.reset()
+        self.z_now = _one_hot(TURN_CLASSES[(side, None)], len(self.z_now))
 
     @property
     def done(self):
@@ -310,12 +344,13 @@ class DirectionFollower:
         ranges = self._close_doorways(ranges, laser)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
         if self.counter is not None:
-            counted = self.counter.observe(self._sides(ranges, laser))
-            counts = one_hot_counts(counted if self.config.corner_count else 0,
+            self._turn_when_passed(self.counter.observe(self._sides(ranges, laser)))
+            counts = one_hot_counts(min(self.counter.count, self.counter.config.max_count)
+                                    if self.config.corner_count else 0,
                                     self.counter.config.max_count)
-            output = self.policy.step(self.z_w[self.index], scan, counts)
+            output = self.policy.step(self.z_now, scan, counts)
         else:
-            output = self.policy.step(self.z_w[self.index], scan)
+            output = self.policy.step(self.z_now, scan)
         raw_v, raw_w = apply_stop(*output, getattr(self.policy, "stop_probability", None),
                                   self.config.postprocess)
         v = adjust_speed(raw_v, self.config.postprocess)
