@@ -422,23 +422,30 @@ class ClassRecordingPolicy(CountingPolicy):
         return super().step(z_w, scan, counts)
 
 
-@pytest.mark.parametrize("pass_then_turn", [True, False])
-def test_the_second_right_passes_one_right_then_turns_at_the_next(words, pass_then_turn):
-    """Beyond the seed: "take the second right" (class 5, counted on the right) is driven as
-    class 1 until one right-hand branch is counted (its opening has run 1 m: step 25 at 0.05 m a
-    step) and is behind the robot (step 35), then as class 2 with the count afresh and the
-    memory kept; without the rule the network gets class 5 and the side count throughout."""
+@pytest.mark.parametrize("sentence, counting, opening_side, pass_then_turn", [
+    ("take the second right", "side", -1, True),
+    ("take the second right", "side", -1, False),
+    ("turn right at the second corner", "corners", 1, True),   # a left corner counts too
+    ("turn right at the second corner", "corners", 1, False),
+])
+def test_a_count_is_passed_then_the_turn_taken(words, sentence, counting, opening_side,
+                                               pass_then_turn):
+    """Beyond the seed: a class 5 instruction is driven as class 1 until one branch is counted
+    (one side: a right one; over both sides: any) after its opening has run 1 m (step 25 at
+    0.05 m a step) and it is behind the robot (step 35), then as class 2 with the count afresh
+    and the memory kept; without the rule the network gets class 5 and the count throughout."""
     policy = ClassRecordingPolicy(50)
     follower = DirectionFollower(policy, words, FollowerConfig(
-        doors=DoorConfig(width=0.0), side_pass_then_turn=pass_then_turn))
-    assert follower.start("take the second right") == [5]
-    assert follower.countings == ["side"]
+        doors=DoorConfig(width=0.0), side_pass_then_turn=pass_then_turn,
+        corner_pass_then_turn=pass_then_turn))
+    assert follower.start(sentence) == [5]
+    assert follower.countings == [counting]
     laser = urg()
     angles = laser.angle_min + laser.angle_increment * np.arange(laser.beams)
-    right = np.abs(angles + math.pi / 2) <= math.radians(5)
+    opening = np.abs(angles - opening_side * math.pi / 2) <= math.radians(5)
     for step in range(50):
         ranges = np.full(laser.beams, 2.0)
-        ranges[right] = 4.0 if 5 <= step < 35 else 2.0
+        ranges[opening] = 4.0 if 5 <= step < 35 else 2.0
         follower.step(ranges, laser)
     if pass_then_turn:
         assert policy.classes == [1] * 35 + [2] * 15

@@ -68,6 +68,10 @@ class FollowerConfig:
                                     # counter has passed N - 1 branches on that side, then as
                                     # that side's first turn (class 2 / 3); false: the network
                                     # gets the side count and decides
+    corner_pass_then_turn: bool = True   # beyond the seed: the same for a count over both
+                                    # sides ("turn right at the second corner"): class 1 past
+                                    # N - 1 corners, then the side's first turn; false: the
+                                    # network gets the count and decides
     corner_count: bool = True       # beyond the seed: a count-input network gets the corners
                                     # counted so far; false: a count of 0 throughout (what the
                                     # network decides without the rule-based counter)
@@ -305,13 +309,14 @@ class DirectionFollower:
             return
         self.z_now = self.z_w[self.index]
         if self.counter is not None:
-            side = None
-            if self.countings[self.index] == COUNT_SIDE:
-                label = self.classes[self.index]
+            label, side = self.classes[self.index], None
+            one_side = self.countings[self.index] == COUNT_SIDE
+            if one_side:
                 side = SIDE[label]
-                if self.config.side_pass_then_turn:
-                    self.passing = get(label).corner - 1
-                    self.z_now = _one_hot(ids(motion=STRAIGHT)[0], len(self.z_now))
+            if get(label).corner and (self.config.side_pass_then_turn if one_side
+                                      else self.config.corner_pass_then_turn):
+                self.passing = get(label).corner - 1
+                self.z_now = _one_hot(ids(motion=STRAIGHT)[0], len(self.z_now))
             self.counter.reset(side=side)
 
     def _turn_when_passed(self, counted):
@@ -322,10 +327,10 @@ class DirectionFollower:
         into and stops."""
         if not self.passing or counted < self.passing or self.counter.opening_beside():
             return
-        side = self.counter.side
         self.passing = 0
         self.counter.reset()
-        self.z_now = _one_hot(TURN_CLASSES[(side, None)], len(self.z_now))
+        self.z_now = _one_hot(TURN_CLASSES[(SIDE[self.classes[self.index]], None)],
+                              len(self.z_now))
 
     @property
     def done(self):
