@@ -320,9 +320,10 @@ class DirectionFollower:
             self.counter.reset(side=side)
 
     def _turn_when_passed(self, counted):
-        """Pass then turn: once N - 1 branches on the side are counted and the last of them is
-        behind the robot, the instruction is driven as that side's first turn, the count afresh
-        (the network turns into the next branch on that side). LSTM_fused keeps its memory: a
+        """Pass then turn: once N - 1 corners (for a one-side count: branches on that side) are
+        counted and the last of them is behind the robot, the instruction is driven as that
+        side's first turn, the count afresh (the network turns into the next branch on that
+        side). LSTM_fused keeps its memory: a
         network started afresh just past a crossroad takes it for the branch it has turned
         into and stops."""
         if not self.passing or counted < self.passing or self.counter.opening_beside():
