@@ -15,8 +15,9 @@ is the same corner (a crossroad), as route_oracle.group_corners.
 
 Counting one side ("take the second right": instruction_classes.COUNT_SIDE): the counter counts
 the branches on that side only, each opening once, and the openings on the other side not at
-all, as route_oracle.nth_branch_on_side. The network then turns where the count reaches the
-instruction's corner number, which is that side's N-th branch.
+all, as route_oracle.nth_branch_on_side. The follower passes N - 1 counted corners (or that
+side's branches) before it gives the network the side's first turn
+(follower.DirectionFollower._turn_when_passed; `opening_beside` tells when the last is behind).
 """
 from dataclasses import dataclass
 

@@ -165,6 +165,9 @@ class FollowerCommand:
     corners: int = None     # corners counted in this simple instruction (count-input networks)
 
 
+PASS_CLASS = ids(motion=STRAIGHT)[0]   # the class LSTM_fused gets while corners are passed
+
+
 def _one_hot(label, size):
     """The one-hot class vector of class `label` (Z_w's output order)."""
     return np.eye(size)[CLASS_IDS.index(label)]
@@ -313,19 +316,19 @@ class DirectionFollower:
             one_side = self.countings[self.index] == COUNT_SIDE
             if one_side:
                 side = SIDE[label]
-            if get(label).corner and (self.config.side_pass_then_turn if one_side
-                                      else self.config.corner_pass_then_turn):
-                self.passing = get(label).corner - 1
-                self.z_now = _one_hot(ids(motion=STRAIGHT)[0], len(self.z_now))
+            corner = get(label).corner
+            if corner and (self.config.side_pass_then_turn if one_side
+                           else self.config.corner_pass_then_turn):
+                self.passing = corner - 1
+                self.z_now = _one_hot(PASS_CLASS, len(self.z_now))
             self.counter.reset(side=side)
 
     def _turn_when_passed(self, counted):
         """Pass then turn: once N - 1 corners (for a one-side count: branches on that side) are
         counted and the last of them is behind the robot, the instruction is driven as that
         side's first turn, the count afresh (the network turns into the next branch on that
-        side). LSTM_fused keeps its memory: a
-        network started afresh just past a crossroad takes it for the branch it has turned
-        into and stops."""
+        side). LSTM_fused keeps its memory: a network started afresh just past a crossroad
+        takes it for the branch it has turned into and stops."""
         if not self.passing or counted < self.passing or self.counter.opening_beside():
             return
         self.passing = 0
