@@ -1,6 +1,8 @@
 """The command lines that read a model (classify_cli, fit_report_cli, mix_cli) with a tiny network
 and synthetic words and records: what they print and write, and their errors for bad input."""
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -81,6 +83,23 @@ def test_blind_set_through_main_prints_the_score_and_names_a_bad_file(tiny, tmp_
     blind.write_text("entries: [{text: go}]")
     with pytest.raises(SystemExit, match="--blind: .*blind.yaml: entries.0..classes"):
         classify_cli.main(ROOT, argv=[*argv, "--blind", str(blind)])
+
+
+def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
+    """`classify_instruction --blind FILE | head -1`: the score line, no traceback, status 0."""
+    blind = tmp_path / "blind.yaml"
+    blind.write_text("entries: [" + ", ".join(f"{{text: turn left {k}, classes: [1]}}"
+                                              for k in range(400)) + "]")
+    script = tmp_path / "classify_instruction"
+    script.write_text("import sys\nfrom pathlib import Path\n"
+                      "from semnav_learning.classify_cli import main\n"
+                      f"sys.exit(main(Path({str(ROOT)!r}), argv=sys.argv[1:]))\n")
+    command = (f"set -o pipefail; {sys.executable} {script} --model {tiny['model']} --words "
+               f"{tiny['words']} --blind {blind} | head -1")
+    done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("blind set: ") and len(done.stdout.splitlines()) == 1
+    assert "Traceback" not in done.stderr and "BrokenPipe" not in done.stderr
 
 
 def test_fit_report_has_a_row_per_turning_class(tiny, capsys):

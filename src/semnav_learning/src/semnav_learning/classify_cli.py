@@ -1,6 +1,7 @@
 """Command line of scripts/classify_instruction: Z_w of LSTM_w (thesis 002 §2.2.4) on sentences
 from stdin, or its accuracy on sentences of held-out (or validation) phrasings."""
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -91,8 +92,18 @@ def classify_lines(follower, lines):
 
 def main(root, description=None, argv=None, lines=None):
     """Parse, load the model, classify `lines` (default stdin) or score --held-out -> exit
-    status."""
-    args = argument_parser(root, description).parse_args(argv)
+    status. A reader that stops early (`| head -1`) ends the run quietly."""
+    try:
+        return run(argument_parser(root, description).parse_args(argv), lines)
+    except BrokenPipeError:
+        # the reader has gone: nothing more can be printed, and Python's flush at exit must not
+        # write to the closed pipe either
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+
+
+def run(args, lines=None):
+    """classify_instruction with parsed `args` -> exit status."""
     sets = read_phrase_sets(args.phrases) if args.held_out else None   # before the model loads
     from semantic_nav.follower import DirectionFollower, ModelMissingError
     try:
