@@ -56,6 +56,35 @@ def test_spoken_splitting_joins_pieces_that_name_no_motion():
     assert split_instruction("thanks, please") == ["thanks please"]    # nothing to join to
 
 
+def test_spoken_splitting_joins_a_lead_in_to_the_turn_after_it():
+    assert split_instruction("go past two corners and then turn left") == [
+        "go past two corners turn left"]
+    assert split_instruction("go straight, then take the second right") == [
+        "go straight take the second right"]
+    assert split_instruction("skip the first corridor, then turn right") == [
+        "skip the first corridor turn right"]
+    # a turn, an end or a stretch of corridor is an instruction of its own
+    for sentence, parts in [
+            ("turn right, then go past one corner", ["turn right", "go past one corner"]),
+            ("go to the end then turn left", ["go to the end", "turn left"]),
+            ("walk down this aisle, then turn right", ["walk down this aisle", "turn right"]),
+            ("turn around, then go straight", ["turn around", "go straight"])]:
+        assert split_instruction(sentence) == parts
+    assert split_instruction("go straight, then turn left", "seed") == [
+        "go straight", "turn left"]                    # the seed's splitting joins nothing
+
+
+def test_spoken_splitting_ends_a_turn_around_before_a_direction():
+    assert split_instruction("turn around and take the third left") == [
+        "turn around", "take the third left"]
+    assert split_instruction("make a u-turn and go straight to the end") == [
+        "make a u-turn", "go straight to the end"]
+    assert split_instruction("turn around and go back") == ["turn around and go back"]
+    assert split_instruction("go to the end and turn right") == ["go to the end and turn right"]
+    assert split_instruction("turn around and take the third left", "seed") == [
+        "turn around and take the third left"]
+
+
 def test_seed_splitting_is_punctuation_only():
     assert split_instruction("Hey robot, hang a left", "seed") == ["hey robot", "hang a left"]
     assert split_instruction("go to the end then turn left", "seed") == [
@@ -76,6 +105,9 @@ def test_tokenise_lower_case_and_clitics():
     assert tokenise("I'd like you to Turn RIGHT at the 2nd corner") == [
         "i", "'d", "like", "you", "to", "turn", "right", "at", "the", "second", "corner"]
     assert tokenise("don't make a u-turn") == ["do", "n't", "make", "a", "u-turn"]
+    # the verb of "can't" / "won't" in full, as the phrase sets write it
+    assert tokenise("until you can't, won't") == ["until", "you", "can", "n't", "will", "n't"]
+    assert tokenise("ca wo") == ["ca", "wo"]
 
 
 def test_numerals_become_the_words_of_the_phrase_sets():
@@ -288,6 +320,8 @@ def test_the_default_follower_reads_a_misheard_side_as_the_side():
     ("skip the first right and take the next one", "side"),
     ("pass two lefts and turn left", "side"),
     ("let one left go by and take the next", "side"),
+    ("not this right but the next one", "side"),
+    ("not the next two lefts but the one after", "side"),
     ("turn right at the second corner", "corners"),
     ("turn right at the second right-hand corner", "corners"),
     ("turn right at the second right hand corner", "corners"),

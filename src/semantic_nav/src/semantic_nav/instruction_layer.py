@@ -35,6 +35,9 @@ TWO_HOMOPHONES = frozenset(("to", "too"))
 COUNTED_PLURALS = frozenset((
     "corners", "intersections", "junctions", "crossings", "crossroads", "turnings", "turns",
     "lefts", "rights", "openings", "branches", "hallways", "corridors", "exits"))
+# The verb of a negative contraction as split off its "n't" ("can't" -> "ca" "n't"): GloVe 6B
+# knows "ca", the phrase sets only "can" ("until you cannot continue").
+CONTRACTED_VERBS = {"ca": "can", "wo": "will", "sha": "shall"}
 
 
 class InstructionError(ValueError):
@@ -61,6 +64,23 @@ left right lefts rights straight back around round forward forwards ahead down a
 go goes walk drive head move continue keep follow take make hang proceed pass skip return
 reverse spin flip carry roll veer bear swing u-turn backward backwards come
 """.split())
+# A piece that moves on without turning or arriving ("go past the first corner", "go straight")
+# says how to reach the turn that follows: "go past two corners, then turn left" is one
+# instruction (class 8), not "go ... to the end" then "turn left". "spoken" splitting joins such
+# a lead-in to the next piece. A piece naming a turn, an end, a passing or a stretch of corridor
+# ("walk down this aisle": the seed's class 1) is no lead-in.
+TURN_WORDS = frozenset("""
+left right lefts rights around round back backward backwards reverse return u-turn
+""".split())
+END_WORDS = frozenset("""
+end ends wall far further farther all until till possible stops finishes aisle corridor hall
+hallway passage
+""".split())
+PASSING_WORDS = frozenset("past pass passed passing skip ignore behind".split())
+# "and" after turning around ends the instruction when a direction follows: "turn around and take
+# the third left" is class 4, then class 8 ("turn around and go back" stays one class 4).
+ABOUT_TURN_AND = re.compile(r"^(.*\b(?:around|round|u-turn))\s+and\s+(.+)$")
+ONWARD_WORDS = frozenset("left right lefts rights straight end".split())
 
 
 def split_instruction(sentence, splitting="spoken"):
@@ -82,7 +102,38 @@ def split_instruction(sentence, splitting="spoken"):
                 parts.append(piece)
     if not parts:
         raise InstructionError(f"instruction {sentence!r} has no words")
-    return join_fragments(parts) if splitting == "spoken" else parts
+    if splitting == "seed":
+        return parts
+    return join_lead_ins(join_fragments([piece for part in parts
+                                         for piece in split_about_turn(part)]))
+
+
+def split_about_turn(part):
+    """A turn around and what follows it, when that names a direction (ABOUT_TURN_AND)."""
+    match = ABOUT_TURN_AND.match(part)
+    if match and ONWARD_WORDS & set(TOKEN.findall(match.group(2))):
+        return [match.group(1), match.group(2)]
+    return [part]
+
+
+def is_lead_in(part):
+    """A piece that only moves on: it names motion and passes corners or goes straight, and names
+    no turn and no end (TURN_WORDS, END_WORDS; a passing may name the corridor)."""
+    words = set(TOKEN.findall(part))
+    if not words & MOTION_WORDS or words & TURN_WORDS:
+        return False
+    return bool(words & PASSING_WORDS) or not words & END_WORDS
+
+
+def join_lead_ins(parts):
+    """Lead-ins (is_lead_in) joined to the piece after them; a last lead-in stays as it is."""
+    joined, pending = [], []
+    for k, part in enumerate(parts):
+        pending.append(part)
+        if k == len(parts) - 1 or not is_lead_in(part):
+            joined.append(" ".join(pending))
+            pending = []
+    return joined
 
 
 def join_fragments(parts):
@@ -103,10 +154,12 @@ def join_fragments(parts):
 
 
 def tokenise(text):
-    """Lower-case word tokens of one simple instruction, numerals up to ten as words, and "to" or
-    "too" before a counted plural ("to corners") as "two"."""
+    """Lower-case word tokens of one simple instruction, numerals up to ten as words, "to" or
+    "too" before a counted plural ("to corners") as "two" and a verb before "n't" in full
+    ("can't" -> "can" "n't")."""
     tokens = [numeral_as_word(token) for token in TOKEN.findall(text.lower())]
-    return [("two" if token in TWO_HOMOPHONES and following in COUNTED_PLURALS else token)
+    return [("two" if token in TWO_HOMOPHONES and following in COUNTED_PLURALS else
+             CONTRACTED_VERBS.get(token, token) if following == "n't" else token)
             for token, following in zip(tokens, tokens[1:] + [""])]
 
 
@@ -172,8 +225,9 @@ def convert_instruction(sentence, word_vectors):
 # the second corner over both sides. A side word used as a noun after an ordinal ("the second
 # right", "the third left-hand turning"), an ordinal thing on a side ("the second opening on your
 # right", "the second on the right") and counting by passing a side's branches ("skip the first
-# right", "pass two lefts", "let one left go by") count one side; everything else counts corners
-# ("the second right-hand corner" too). Tokens as `tokenise` gives them.
+# right", "pass two lefts", "let one left go by", "not this right but the next one") count one
+# side; everything else counts corners ("the second right-hand corner" too). Tokens as `tokenise`
+# gives them.
 HAND = r"(?:-hand| hand)?s?"                 # "right-hand", "right hand", "rights"
 SIDE_NOUNS = rf"(?:right|left){HAND}"
 ORDINALS = r"(?:second|third)"
@@ -188,7 +242,8 @@ ONE_SIDE_COUNTS = re.compile(
     rf"|\b{ORDINALS} (?:{SIDE_THINGS} )?(?:on|to) (?:the|your|its) {SIDE_NOUNS}\b"
     rf"|\b(?:skip|skipping|pass|passing|miss|missing|ignore|ignoring|past|after) (?:the )?"
     rf"(?:first|one|two) {SIDE_NOT_CORNER}"
-    rf"|\blet (?:the )?(?:first|one|two) {SIDE_NOUNS} (?:go|pass)\b")
+    rf"|\blet (?:the )?(?:first|one|two) {SIDE_NOUNS} (?:go|pass)\b"
+    rf"|\bnot (?:this|the (?:next|first)(?: two)?) {SIDE_NOT_CORNER}")
 
 
 def counting_mode(text, label=None):
