@@ -1,6 +1,8 @@
 """Offline speech to text: model lookup, audio reading, resampling, WER, and one real
 transcription of synthesised speech (espeak-ng + sox) and of silence."""
 import wave
+import zlib
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -9,8 +11,8 @@ from supervision.health import Health
 from perception.speech_metrics import (misheard_words, normalise_words, word_alignment,
                                        word_edit_distance, word_error_rate)
 from perception.speech_synthesis import synthesise
-from perception.stt import (AudioError, ModelMissing, SpeechToText, pcm16_to_float, read_wav,
-                            resample, whisper_model_dir)
+from perception.stt import (AudioError, ModelMissing, SpeechToText, SttConfig, load_stt_config,
+                            pcm16_to_float, read_wav, resample, whisper_model_dir)
 from perception.stt_worker import AudioInput, SttWorker
 
 
@@ -37,6 +39,59 @@ def test_partial_model_lists_missing_files(tmp_path):
 def sine(frequency, rate, seconds=1.0):
     t = np.arange(int(rate * seconds)) / rate
     return np.sin(2 * np.pi * frequency * t)
+
+
+def test_stt_config_from_yaml_keeps_the_defaults_of_fields_left_out(tmp_path):
+    path = tmp_path / "stt.yaml"
+    path.write_text("beam_size: 5\ntemperatures: [0.0, 0.2]\n")
+    assert load_stt_config(path) == SttConfig(beam_size=5, temperatures=(0.0, 0.2))
+    path.write_text("")
+    assert load_stt_config(path) == SttConfig()
+    with pytest.raises(FileNotFoundError, match="nope.yaml not found"):
+        load_stt_config(tmp_path / "nope.yaml")
+
+
+@pytest.mark.parametrize("text, message", [
+    ("beam: 5", "unknown STT setting 'beam'"),
+    ("beam_size: five", "beam_size must be of type int; got 'five'"),
+    ("vad_filter: 1", "vad_filter must be of type bool; got 1"),
+    ("cpu_threads: true", "cpu_threads must be of type int; got True"),
+    ("- beam_size", "expected a mapping")])
+def test_stt_config_from_yaml_names_what_is_wrong(tmp_path, text, message):
+    path = tmp_path / "stt.yaml"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=f"{path}.*{message}"):
+        load_stt_config(path)
+
+
+def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():
+    """Whisper's decoder can loop on a phrase (Whisper's test: the text compresses too well);
+    beam search that loops is retried with beam 1, and a decode still looping is no text."""
+    def segment(text):
+        data = text.encode()
+        return SimpleNamespace(text=text, compression_ratio=len(data) / len(zlib.compress(data)))
+
+    class Model:
+        def __init__(self, greedy_loops):
+            self.greedy_loops, self.beams = greedy_loops, []
+
+        def transcribe(self, samples, beam_size, **options):
+            self.beams.append(beam_size)
+            if beam_size > 1 or self.greedy_loops:
+                return iter([segment(" Walk to the"), segment(" end of the" * 30)]), None
+            return iter([segment(" Walk to the"), segment(" end.")]), None
+
+    stt = object.__new__(SpeechToText)          # the decoding without loading Whisper
+    audio = np.zeros(1600, dtype=np.float32)
+    stt.config, stt._model = SttConfig(beam_size=5), Model(greedy_loops=False)
+    assert stt.transcribe(audio).text == "Walk to the end."
+    assert stt._model.beams == [5, 1]
+    stt._model = Model(greedy_loops=True)
+    assert stt.transcribe(audio).text == ""
+    stt.config, stt._model = SttConfig(beam_size=1), Model(greedy_loops=True)
+    assert stt.transcribe(audio).text == "" and stt._model.beams == [1]
+    stt.config = SttConfig(beam_size=1, max_compression_ratio=100.0)
+    assert stt.transcribe(audio).text.startswith("Walk to the end of the end of")
 
 
 def test_resample_48k_sine_to_16k_matches_a_16k_sine():

@@ -31,7 +31,8 @@ class SttParams:
     audio_topic: str = "audio_utterance"  # ~audio_topic
     period: float = 0.1                    # ~period: work timer period [s]
     max_queue: int = 5                     # ~max_queue: utterances kept while busy
-    stt: SttConfig = SttConfig()           # ~model_dir, ~compute_type, ~cpu_threads, ~beam_size
+    stt: SttConfig = SttConfig()           # ~model_dir, ~compute_type, ~cpu_threads, ~beam_size,
+    #                                        ~vad_filter, ~max_compression_ratio
     limits: AudioLimits = AudioLimits()    # ~min_sample_rate, ~max_sample_rate, ~max_audio_s,
     #                                        ~max_channels
 
@@ -39,7 +40,8 @@ class SttParams:
 def read_params():
     """~params; raises ValueError naming a bound that is not a positive finite number."""
     stt = config_from_params(SttConfig, only=("model_dir", "compute_type", "cpu_threads",
-                                              "beam_size", "vad_filter"))
+                                              "beam_size", "vad_filter",
+                                              "max_compression_ratio"))
     return config_from_params(SttParams, only=("wav", "ip", "wait", "audio_topic", "period",
                                                "max_queue"),
                               stt=stt, limits=config_from_params(AudioLimits))

@@ -111,6 +111,34 @@ class SttConfig:
     temperatures: tuple = (0.0,)  # decoding temperatures; one 0.0 = deterministic. Whisper's
     #                               fallback (0.2 ... 1.0 on poor decodes) samples at random, so
     #                               the same audio could give different text run to run
+    max_compression_ratio: float = 2.4  # a segment whose text zlib compresses by more than this
+    #                                     is stuck repeating ("the end of the end of ..."),
+    #                                     Whisper's own test for a failed decode: beam search is
+    #                                     retried greedily, and a decode still stuck gives no text
+
+
+def load_stt_config(path):
+    """An SttConfig from a YAML mapping of its fields (e.g. config/semnav_stt.yaml, which the STT
+    node also loads as its parameters); fields left out keep their defaults. A missing file, an
+    unknown field or a value of the wrong type is an error naming the file and the field."""
+    import yaml
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"STT config {path} not found")
+    data = yaml.safe_load(path.read_text()) or {}
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: expected a mapping of SttConfig fields")
+    defaults = SttConfig()
+    for key, value in data.items():
+        if not hasattr(defaults, key):
+            raise ValueError(f"{path}: unknown STT setting {key!r} (one of "
+                             f"{', '.join(defaults.__dataclass_fields__)})")
+        kind = type(getattr(defaults, key))
+        if kind is tuple and isinstance(value, list):
+            data[key] = value = tuple(value)
+        if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+            raise ValueError(f"{path}: {key} must be of type {kind.__name__}; got {value!r}")
+    return SttConfig(**data)
 
 
 @dataclass(frozen=True)
@@ -209,17 +237,29 @@ class SpeechToText:
                                    cpu_threads=config.cpu_threads)
 
     def transcribe(self, samples):
-        """Text of one utterance (float32 mono at 16 kHz); "" when it holds no speech."""
+        """Text of one utterance (float32 mono at 16 kHz); "" when it holds no speech or every
+        decoding of it got stuck repeating."""
         samples = np.asarray(samples, dtype=np.float32)
         if samples.ndim != 1 or samples.size == 0:
             raise AudioError(f"need a non-empty mono signal; got shape {samples.shape}")
         if not np.all(np.isfinite(samples)):
             raise AudioError("audio contains NaN or infinite samples")
         start = time.monotonic()
+        text = self._decode(samples, self.config.beam_size)
+        if text is None and self.config.beam_size > 1:
+            text = self._decode(samples, 1)   # beam search looped where greedy decoding may not
+        return Transcript(text=text or "", audio_s=samples.size / WHISPER_RATE,
+                          latency_s=time.monotonic() - start)
+
+    def _decode(self, samples, beam_size):
+        """The text of the segments Whisper decodes with `beam_size`; None when a segment is stuck
+        repeating (its compression ratio above max_compression_ratio): that text is no reading."""
         segments, _ = self._model.transcribe(
-            samples, language=self.config.language, beam_size=self.config.beam_size,
+            samples, language=self.config.language, beam_size=beam_size,
             vad_filter=self.config.vad_filter, condition_on_previous_text=False,
             temperature=list(self.config.temperatures))
-        text = " ".join(segment.text.strip() for segment in segments).strip()
-        return Transcript(text=text, audio_s=samples.size / WHISPER_RATE,
-                          latency_s=time.monotonic() - start)
+        segments = list(segments)
+        if any(segment.compression_ratio > self.config.max_compression_ratio
+               for segment in segments):
+            return None
+        return " ".join(segment.text.strip() for segment in segments).strip()
