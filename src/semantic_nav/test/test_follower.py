@@ -491,6 +491,21 @@ def test_readings_that_disagree_are_not_followed(words, phrases):
     assert one_edit.start("turn lend") == [1] and one_edit.corrections == [("lend", "end")]
 
 
+def test_a_homophone_reading_comes_before_readings_a_letter_edit_away(words, tmp_path,
+                                                                      monkeypatch):
+    """Whisper writes "ride" for "right"; "ride" is also one edit from "side" (read here as
+    class 1): the readings disagree, but the homophone's is weighed first."""
+    path = tmp_path / "phrases.yaml"
+    path.write_text('sets: ["turn {dir}", "go to the side"]\n')
+    follower = DirectionFollower(SpreadPolicy(0.95), words,
+                                 FollowerConfig(phrase_vocabulary=str(path)))
+    assert follower.start("turn ride") == [2]
+    assert follower.corrections == [("ride", "right")]
+    monkeypatch.setattr("semantic_nav.misheard.HOMOPHONES", {})
+    assert follower.start("turn ride") == [1]       # "right" is 3 edits away: "side" alone
+    assert follower.corrections == [("ride", "side")]
+
+
 def test_a_reading_without_confidence_is_not_followed(words, phrases):
     unsure = DirectionFollower(SpreadPolicy(0.6), words, FollowerConfig(phrase_vocabulary=phrases))
     with pytest.raises(UnknownInstructionError, match="lift"):

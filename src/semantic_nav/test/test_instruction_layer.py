@@ -6,7 +6,8 @@ from semantic_nav.instruction_layer import (FollowableConfig, InstructionError,
                                             UnfollowableInstruction, check_followable,
                                             convert_instruction, corners_asked,
                                             english_fraction, number_value, ordinal_text,
-                                            sentence_vector, split_instruction, tokenise)
+                                            read_counts, read_transcript, sentence_vector,
+                                            split_instruction, tokenise)
 from semantic_nav.word_vectors import WordVectors, default_cache_dir, load_compact_cache
 
 
@@ -119,13 +120,37 @@ def test_numerals_become_the_words_of_the_phrase_sets():
         "room", "101", "on", "the", "11th", "floor", "b2", "wing"]
 
 
-def test_to_before_a_counted_plural_is_heard_as_two():
-    """Speech recognition's "to corners" for "two corners"; "to" elsewhere stays."""
-    assert tokenise("turn left to corners down") == ["turn", "left", "two", "corners", "down"]
+def test_number_homophones_before_counted_things_are_read_as_numbers():
+    """Speech recognition's "to corners" for "two corners", "free" for "three"; a bare singular
+    ("to intersection down") is counted too, one with an article or a number is not."""
+    assert read_counts("turn left to corners down") == "turn left two corners down"
     assert tokenise("pass too rights and go to the end") == [
         "pass", "two", "rights", "and", "go", "to", "the", "end"]
-    assert tokenise("go to the corner, to") == ["go", "to", "the", "corner", "to"]
-    assert tokenise("to corner") == ["to", "corner"]
+    assert read_counts("Make a right To intersection now") == (
+        "Make a right two intersections now")
+    assert read_counts("I need you to do corners down") == "I need you to two corners down"
+    assert read_counts("hang a right free corner from here") == (
+        "hang a right three corners from here")
+    for kept in ["go to the corner to", "I need you to turn left", "go to corner three",
+                 "go to intersection 2", "head to cornerstone hall", "do turn left"]:
+        assert read_counts(kept) == kept
+
+
+def test_a_transcript_drops_its_commas_but_not_its_sentence_ends():
+    """Whisper's commas mark pauses, not instruction ends; "." still splits."""
+    heard = "Now, proceed down this hallway to the end, and when you get there, go right, please."
+    assert read_transcript(heard) == (
+        "Now proceed down this hallway to the end and when you get there go right please.")
+    assert split_instruction(read_transcript(heard)) == [
+        "now proceed down this hallway to the end and when you get there go right please"]
+    assert split_instruction(heard) == [      # typed, its commas split as the seed's do
+        "now proceed down this hallway to the end", "when you get there go right please"]
+    assert split_instruction(read_transcript("Go to the end. Turn left; thanks")) == [
+        "go to the end", "turn left thanks"]
+
+
+def test_will_is_read_in_full():
+    assert tokenise("you'll make a left") == ["you", "will", "make", "a", "left"]
 
 
 @pytest.fixture

@@ -1,7 +1,8 @@
 """Misheard words (semantic_nav.misheard) and the follower's rereading of them."""
 import pytest
 
-from semantic_nav.misheard import MAX_READINGS, edit_distance, read_as, readings, sound_alikes
+from semantic_nav.misheard import (MAX_READINGS, edit_distance, is_homophone, read_as, readings,
+                                   sound_alikes)
 
 
 @pytest.mark.parametrize("a, b, distance", [
@@ -19,6 +20,19 @@ def test_sound_alikes_are_the_vocabulary_words_within_the_edits_nearest_first():
     assert sound_alikes("light", vocabulary, max_edits=2) == ["right", "lift"]
     assert sound_alikes("as", vocabulary) == []        # too short to tell
     assert sound_alikes("lift", vocabulary, max_edits=0) == []
+
+
+def test_a_homophone_comes_before_the_words_a_letter_edit_away():
+    vocabulary = {"right", "white", "writ", "left"}
+    assert sound_alikes("write", vocabulary) == ["right", "white", "writ"]
+    assert sound_alikes("write", vocabulary, max_edits=0) == []
+    assert sound_alikes("write", {"left"}) == []      # its homophone is not a phrase word
+
+
+def test_a_reading_is_of_homophones_when_every_replacement_is_one():
+    assert is_homophone([("ride", "right"), ("write", "right")])
+    assert not is_homophone([("ride", "right"), ("lift", "left")])
+    assert not is_homophone([("ride", "side")])
 
 
 def test_readings_replace_skipped_words_in_every_combination():

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from semnav_learning.eval_cli import argument_parser, first_of_each_class, main
+from semnav_learning.eval_cli import argument_parser, first_of_each_class, main, spoken_specs
 from semnav_learning.evaluation import EpisodeSpec, load_plan
 from semnav_l_floor import write_l_floor
 from tamp_resources import resource
@@ -80,6 +80,21 @@ def test_a_bad_plan_and_a_bad_follower_config_name_their_file(tmp_path):
     with pytest.raises(SystemExit, match="eval_semnav: .*missing.yaml"):
         main(ROOT, argv=["--follower-config", str(tmp_path / "missing.yaml")])
     assert not list(tmp_path.glob("*.md"))
+
+
+def test_spoken_directions_are_transcribed_with_the_node_s_stt_settings(tmp_path):
+    """--stt-config defaults to the file semantic_nav.launch gives the STT node; a bad one
+    ends the run naming it before any speech is made."""
+    from perception.stt import SttConfig, load_stt_config
+    default = argument_parser(ROOT).parse_args([]).stt_config
+    assert default == ROOT / "config" / "semnav_stt.yaml"
+    assert load_stt_config(default) == SttConfig(beam_size=5)
+    bad = tmp_path / "stt.yaml"
+    bad.write_text("beams: 5\n")
+    with pytest.raises(SystemExit, match="eval_semnav: --spoken: .*unknown STT setting 'beams'"):
+        spoken_specs([], ["en:175"], bad)
+    with pytest.raises(SystemExit, match="eval_semnav: --spoken: .*nope.yaml not found"):
+        spoken_specs([], ["en:175"], tmp_path / "nope.yaml")
 
 
 def test_unknown_laser_and_class_are_usage_errors(capsys):

@@ -29,15 +29,29 @@ ORDINAL_WORDS = ("zeroth", "first", "second", "third", "fourth", "fifth", "sixth
                  "eighth", "ninth", "tenth")
 CARDINAL_WORDS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight",
                   "nine", "ten")
-# Speech recognition writes the number "two" as its homophones "to" and "too" ("turn left to
-# corners down"); before a plural of the things directions count, only the number makes sense.
-TWO_HOMOPHONES = frozenset(("to", "too"))
+# A speech recogniser writes a counted number as its homophone: "two" as "to", "too" or "do",
+# "three" as "free" or "tree" ("turn left to corners down", "free intersections along"). Before
+# a plural of the things directions count, or before such a singular with no article or number
+# ("make a right to intersection down"), only the number makes sense (read_counts).
+NUMBER_HOMOPHONES = {"to": "two", "too": "two", "do": "two", "free": "three", "tree": "three"}
 COUNTED_PLURALS = frozenset((
     "corners", "intersections", "junctions", "crossings", "crossroads", "turnings", "turns",
     "lefts", "rights", "openings", "branches", "hallways", "corridors", "exits"))
+COUNTED_SINGULARS = {"corner": "corners", "intersection": "intersections",
+                     "junction": "junctions", "crossing": "crossings", "opening": "openings"}
+HOMOPHONE_COUNT = re.compile(
+    rf"\b({'|'.join(NUMBER_HOMOPHONES)})\s+({'|'.join(sorted(COUNTED_PLURALS))}|"
+    rf"(?:{'|'.join(COUNTED_SINGULARS)})(?!\s+(?:{'|'.join(CARDINAL_WORDS)}|\d+)\b))\b",
+    re.IGNORECASE)
+# Its commas guess at pauses, not at where the speaker's instructions end: "proceed down this
+# hallway to the end, and when you get there, go right" is one instruction (class 9).
+TRANSCRIPT_PAUSES = re.compile(r"\s*[,;]+\s*")
 # The verb of a negative contraction as split off its "n't" ("can't" -> "ca" "n't"): GloVe 6B
 # knows "ca", the phrase sets only "can" ("until you cannot continue").
 CONTRACTED_VERBS = {"ca": "can", "wo": "will", "sha": "shall"}
+# A clitic the phrase sets write in full: "you'll make a left" reads as "you will make a left"
+# (speech recognition hears a lead-in "uh, walk" as "I'll walk").
+CLITICS = {"'ll": "will"}
 
 
 class InstructionError(ValueError):
@@ -153,14 +167,29 @@ def join_fragments(parts):
     return joined
 
 
+def read_transcript(text):
+    """A speech recogniser's transcript as the follower reads it (beyond the seed, whose phone
+    recogniser wrote no punctuation): its commas and semicolons dropped (TRANSCRIPT_PAUSES).
+    Sentence ends (. ? !) still split."""
+    return TRANSCRIPT_PAUSES.sub(" ", text).strip()
+
+
+def read_counts(text):
+    """`text` with a number's homophone before a counted thing written as the number ("to
+    intersection" -> "two intersections", "free corners" -> "three corners"; HOMOPHONE_COUNT)."""
+    def number(match):
+        homophone, counted = match.group(1).lower(), match.group(2).lower()
+        return f"{NUMBER_HOMOPHONES[homophone]} {COUNTED_SINGULARS.get(counted, counted)}"
+    return HOMOPHONE_COUNT.sub(number, text)
+
+
 def tokenise(text):
-    """Lower-case word tokens of one simple instruction, numerals up to ten as words, "to" or
-    "too" before a counted plural ("to corners") as "two" and a verb before "n't" in full
-    ("can't" -> "can" "n't")."""
-    tokens = [numeral_as_word(token) for token in TOKEN.findall(text.lower())]
-    return [("two" if token in TWO_HOMOPHONES and following in COUNTED_PLURALS else
-             CONTRACTED_VERBS.get(token, token) if following == "n't" else token)
-            for token, following in zip(tokens, tokens[1:] + [""])]
+    """Lower-case word tokens of one simple instruction, numbers' homophones before counted
+    things as the numbers (read_counts), numerals up to ten as words, a verb before "n't" in
+    full ("can't" -> "can" "n't") and "'ll" as "will" (CLITICS)."""
+    tokens = [numeral_as_word(token) for token in TOKEN.findall(read_counts(text.lower()))]
+    return [CONTRACTED_VERBS.get(token, token) if following == "n't" else
+            CLITICS.get(token, token) for token, following in zip(tokens, tokens[1:] + [""])]
 
 
 def numeral_as_word(token):

@@ -9,6 +9,11 @@ import itertools
 
 MIN_LENGTH = 3          # shorter words ("a", "to") are too close to too many others
 MAX_READINGS = 32       # combinations of replacements tried for one simple instruction
+# Words spelt unlike a phrase-set word but said (nearly) the same, which Whisper writes for it
+# and letter edits do not reach or reach wrongly ("go write": "write" is three edits from
+# "right"; "ride" is one from "side"). A reading with homophones is tried first (`is_homophone`).
+HOMOPHONES = {"write": "right", "rite": "right", "wright": "right", "ride": "right",
+              "riot": "right"}
 
 
 def edit_distance(a, b):
@@ -25,14 +30,16 @@ def edit_distance(a, b):
 
 
 def sound_alikes(word, vocabulary, max_edits=1):
-    """The words of `vocabulary` at most `max_edits` letter edits from `word` (not `word`
-    itself), nearest first, then alphabetical; none for a word shorter than MIN_LENGTH."""
+    """The words of `vocabulary` `word` may stand for: its homophone (HOMOPHONES) first, then
+    those at most `max_edits` letter edits away (not `word` itself), nearest first, then
+    alphabetical; none for a word shorter than MIN_LENGTH."""
     if len(word) < MIN_LENGTH or max_edits < 1:
         return []
+    same = [HOMOPHONES[word]] if HOMOPHONES.get(word) in vocabulary else []
     near = [(edit_distance(word, other), other) for other in vocabulary
-            if other != word and len(other) >= MIN_LENGTH
+            if other != word and other not in same and len(other) >= MIN_LENGTH
             and abs(len(other) - len(word)) <= max_edits]
-    return [other for distance, other in sorted(near) if distance <= max_edits]
+    return same + [other for distance, other in sorted(near) if distance <= max_edits]
 
 
 def readings(tokens, skipped, vocabulary, max_edits=1):
@@ -51,6 +58,11 @@ def readings(tokens, skipped, vocabulary, max_edits=1):
                 if len(found) == MAX_READINGS:
                     return found
     return found
+
+
+def is_homophone(corrections):
+    """Whether every replacement of a reading is a word's homophone (HOMOPHONES)."""
+    return all(HOMOPHONES.get(heard) == word for heard, word in corrections)
 
 
 def read_as(corrections):

@@ -31,6 +31,7 @@ from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker,
                                       scan_to_core, twist)
 from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
                                          Outcome, step_failed)
+from semantic_nav.instruction_layer import read_transcript
 from semantic_nav.misheard import read_as
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
@@ -107,9 +108,11 @@ class FollowerNode:
 
     def _on_voice(self, msg):
         """The utterance the phone app or speech-to-text publishes (tamp_msgs/Utterance, as for
-        the social robot's perception): its text is the sentence to follow."""
+        the social robot's perception): its text, read as a transcript (read_transcript), is the
+        sentence to follow."""
+        sentence = read_transcript(msg.text)
         with self.lock:
-            self.voice = msg.text
+            self.voice = sentence
 
     def _on_goal(self):
         goal = self.server.accept_new_goal()

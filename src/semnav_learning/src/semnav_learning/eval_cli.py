@@ -70,8 +70,13 @@ def argument_parser(root, description=None):
     parser.add_argument("--spoken", nargs="*", metavar="VOICE",
                         help="speak each sentence with espeak-ng (these voice:words-per-minute "
                              f"in turn; none given: {' '.join(DEFAULT_VOICES)}), transcribe it "
-                             "with Whisper tiny.en and follow the transcript; lists the "
-                             "misheard words")
+                             "with Whisper tiny.en and follow the transcript as the node "
+                             "reads /voice_message; lists the misheard words")
+    parser.add_argument("--stt-config", type=Path,
+                        default=Path(root) / "config" / "semnav_stt.yaml",
+                        help="Whisper's settings for --spoken (perception.stt.SttConfig as YAML; "
+                             "default config/semnav_stt.yaml, as semantic_nav.launch starts the "
+                             "STT node)")
     parser.add_argument("--plan", type=Path, help="episode plan (JSON, or an earlier --json "
                         "result): reused when it exists (same episodes for every model and "
                         "laser), else written")
@@ -167,18 +172,19 @@ def first_of_each_class(specs, count, skip=0):
             for s in [s for s in specs if s.labels[-1] == label][skip:skip + count]]
 
 
-def spoken_specs(specs, voices):
-    """speak_specs with a progress bar; a bad voice, missing espeak-ng / sox or Whisper model
-    exits with its message."""
+def spoken_specs(specs, voices, stt_config):
+    """speak_specs with a progress bar and Whisper as `stt_config` (a YAML file) sets it; a bad
+    voice or STT config, missing espeak-ng / sox or Whisper model exits with its message."""
     from perception.speech_synthesis import SynthesisUnavailable, voice_of
-    from perception.stt import ModelMissing
+    from perception.stt import ModelMissing, SpeechToText, load_stt_config
     try:
         for voice in voices:
             voice_of(voice)
+        stt = SpeechToText(load_stt_config(stt_config))
         with tqdm(total=len(specs), unit="sentence", desc="speak + transcribe",
                   file=sys.stderr) as bar:
-            return speak_specs(specs, voices, progress=bar.update)
-    except (ValueError, SynthesisUnavailable, ModelMissing) as error:
+            return speak_specs(specs, voices, stt, progress=bar.update)
+    except (OSError, ValueError, SynthesisUnavailable, ModelMissing) as error:
         sys.exit(f"eval_semnav: --spoken: {error}")
 
 
@@ -224,7 +230,7 @@ def main(root, description=None, argv=None):
         specs = first_of_each_class(specs, args.first or len(specs), args.skip)
     heard = None
     if args.spoken is not None:
-        specs, heard = spoken_specs(specs, args.spoken or list(DEFAULT_VOICES))
+        specs, heard = spoken_specs(specs, args.spoken or list(DEFAULT_VOICES), args.stt_config)
     name = args.name or f"{args.policy}_{args.laser}"
     floor_names = ", ".join(Path(f).stem for f in floors)
     template = laser_templates(root)[args.laser]

@@ -23,11 +23,12 @@ class Heard:
 
 def speak_specs(specs, voices, stt=None, progress=None):
     """Every spec's sentence spoken (voices in turn) and transcribed -> (specs with the
-    transcripts as their sentences, [Heard]). `stt`: a perception SpeechToText (None: one with
-    the STT node's defaults)."""
+    transcripts, read as the node reads /voice_message, as their sentences, [Heard]). `stt`: a
+    perception SpeechToText (None: one with the STT node's defaults)."""
     from perception.speech_metrics import misheard_words
     from perception.speech_synthesis import synthesise, voice_of
     from perception.stt import SpeechToText, read_wav
+    from semantic_nav.instruction_layer import read_transcript
     stt = stt or SpeechToText()
     spoken, heard = [], []
     with tempfile.TemporaryDirectory() as workdir:
@@ -37,7 +38,7 @@ def speak_specs(specs, voices, stt=None, progress=None):
             text = stt.transcribe(read_wav(synthesise(spec.sentence, wav, voice_of(voice)))).text
             heard.append(Heard(voice, spec.sentence, text,
                                tuple(misheard_words(spec.sentence, text))))
-            spoken.append(replace(spec, sentence=text))
+            spoken.append(replace(spec, sentence=read_transcript(text)))  # as the node reads it
             if progress:
                 progress(1)
     return spoken, heard
