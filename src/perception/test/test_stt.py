@@ -43,8 +43,8 @@ def sine(frequency, rate, seconds=1.0):
 
 def test_stt_config_from_yaml_keeps_the_defaults_of_fields_left_out(tmp_path):
     path = tmp_path / "stt.yaml"
-    path.write_text("beam_size: 5\ntemperatures: [0.0, 0.2]\n")
-    assert load_stt_config(path) == SttConfig(beam_size=5, temperatures=(0.0, 0.2))
+    path.write_text("beam_size: 5\nmax_compression_ratio: 3\n")
+    assert load_stt_config(path) == SttConfig(beam_size=5, max_compression_ratio=3.0)
     path.write_text("")
     assert load_stt_config(path) == SttConfig()
     with pytest.raises(FileNotFoundError, match="nope.yaml not found"):
@@ -53,6 +53,10 @@ def test_stt_config_from_yaml_keeps_the_defaults_of_fields_left_out(tmp_path):
 
 @pytest.mark.parametrize("text, message", [
     ("beam: 5", "unknown STT setting 'beam'"),
+    ("language: de", "unknown STT setting 'language'"),     # the node does not read it
+    ("beam_size: [5", "not YAML"),
+    ("beam_size: 0", "beam_size must be at least 1; got 0"),
+    ("max_compression_ratio: 0", "max_compression_ratio must be > 0 and finite; got 0.0"),
     ("beam_size: five", "beam_size must be of type int; got 'five'"),
     ("vad_filter: 1", "vad_filter must be of type bool; got 1"),
     ("cpu_threads: true", "cpu_threads must be of type int; got True"),
@@ -62,6 +66,15 @@ def test_stt_config_from_yaml_names_what_is_wrong(tmp_path, text, message):
     path.write_text(text)
     with pytest.raises(ValueError, match=f"{path}.*{message}"):
         load_stt_config(path)
+
+
+@pytest.mark.parametrize("config, message", [
+    (SttConfig(temperatures=()), "temperatures must be numbers in \\[0, 1\\]"),
+    (SttConfig(temperatures=("a",)), "temperatures"), (SttConfig(cpu_threads=0), "cpu_threads")])
+def test_stt_config_check_names_a_setting_no_decoding_can_use(config, message):
+    with pytest.raises(ValueError, match=message):
+        config.check()
+    SttConfig().check()
 
 
 def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():

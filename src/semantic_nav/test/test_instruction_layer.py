@@ -120,20 +120,31 @@ def test_numerals_become_the_words_of_the_phrase_sets():
         "room", "101", "on", "the", "11th", "floor", "b2", "wing"]
 
 
-def test_number_homophones_before_counted_things_are_read_as_numbers():
-    """Speech recognition's "to corners" for "two corners", "free" for "three"; a bare singular
-    ("to intersection down") is counted too, one with an article or a number is not."""
+def test_number_homophones_before_counted_plurals_are_read_as_numbers():
+    """Speech recognition's "to corners" for "two corners", "free" for "three"."""
     assert read_counts("turn left to corners down") == "turn left two corners down"
     assert tokenise("pass too rights and go to the end") == [
         "pass", "two", "rights", "and", "go", "to", "the", "end"]
-    assert read_counts("Make a right To intersection now") == (
-        "Make a right two intersections now")
     assert read_counts("I need you to do corners down") == "I need you to two corners down"
-    assert read_counts("hang a right free corner from here") == (
-        "hang a right three corners from here")
-    for kept in ["go to the corner to", "I need you to turn left", "go to corner three",
-                 "go to intersection 2", "head to cornerstone hall", "do turn left"]:
+    assert read_counts("Free Intersections along") == "three intersections along"
+    for kept in ["go to the corner to", "I need you to turn left", "go to corner and turn left",
+                 "walk to intersection and turn right", "do turn left", "to corners-store"]:
         assert read_counts(kept) == kept
+
+
+def test_a_transcript_reads_a_homophone_before_a_bare_singular_as_a_number():
+    """Heard, "to intersection down" is "two intersections down"; not when a number or a name
+    follows, nor with an article."""
+    assert read_transcript("make a right To intersection now") == (
+        "make a right two intersections now")
+    assert read_transcript("hang a right free corner from here") == (
+        "hang a right three corners from here")
+    for kept in ["go to the corner", "go to corner three", "go to intersection 2",
+                 "go to intersection number two", "go to junction #2", "go to corner 2nd",
+                 "head to cornerstone hall", "go to corner-store",
+                 "go to intersection second"]:
+        assert read_transcript(kept) == kept
+    assert read_counts("go to corner and turn left") == "go to corner and turn left"
 
 
 def test_a_transcript_drops_its_commas_but_not_its_sentence_ends():

@@ -1,8 +1,8 @@
 """Misheard words (semantic_nav.misheard) and the follower's rereading of them."""
 import pytest
 
-from semantic_nav.misheard import (MAX_READINGS, edit_distance, is_homophone, read_as, readings,
-                                   sound_alikes)
+from semantic_nav.misheard import (MAX_READINGS, edit_distance, read_as, readings,
+                                   reads_homophones, sound_alikes)
 
 
 @pytest.mark.parametrize("a, b, distance", [
@@ -29,10 +29,13 @@ def test_a_homophone_comes_before_the_words_a_letter_edit_away():
     assert sound_alikes("write", {"left"}) == []      # its homophone is not a phrase word
 
 
-def test_a_reading_is_of_homophones_when_every_replacement_is_one():
-    assert is_homophone([("ride", "right"), ("write", "right")])
-    assert not is_homophone([("ride", "right"), ("lift", "left")])
-    assert not is_homophone([("ride", "side")])
+def test_a_reading_reads_homophones_when_each_word_with_one_is_read_as_it():
+    skipped = ["ride", "lift"]
+    assert reads_homophones([("ride", "right")], skipped)
+    assert reads_homophones([("ride", "right"), ("lift", "left")], skipped)   # and more
+    assert not reads_homophones([("ride", "side"), ("lift", "left")], skipped)
+    assert not reads_homophones([("lift", "left")], skipped)                 # "ride" unread
+    assert reads_homophones([("lift", "loft")], ["lift"])                    # none has one
 
 
 def test_readings_replace_skipped_words_in_every_combination():

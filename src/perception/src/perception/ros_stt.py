@@ -18,8 +18,8 @@ from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AudioUtterance, Utterance
 
 from perception.conversions import audio_input_from_msg, utterance_to_msg
-from perception.stt import (WHISPER_RATE, AudioError, AudioLimits, ModelMissing, SpeechToText,
-                            SttConfig, read_wav)
+from perception.stt import (NODE_FIELDS, WHISPER_RATE, AudioError, AudioLimits, ModelMissing,
+                            SpeechToText, SttConfig, read_wav)
 from perception.stt_worker import WORKER, AudioInput, SttWorker
 
 
@@ -39,9 +39,7 @@ class SttParams:
 
 def read_params():
     """~params; raises ValueError naming a bound that is not a positive finite number."""
-    stt = config_from_params(SttConfig, only=("model_dir", "compute_type", "cpu_threads",
-                                              "beam_size", "vad_filter",
-                                              "max_compression_ratio"))
+    stt = config_from_params(SttConfig, only=NODE_FIELDS)
     return config_from_params(SttParams, only=("wav", "ip", "wait", "audio_topic", "period",
                                                "max_queue"),
                               stt=stt, limits=config_from_params(AudioLimits))

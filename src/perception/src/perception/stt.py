@@ -116,29 +116,59 @@ class SttConfig:
     #                                     Whisper's own test for a failed decode: beam search is
     #                                     retried greedily, and a decode still stuck gives no text
 
+    def check(self):
+        """ValueError naming a setting no decoding can use."""
+        for name in ("cpu_threads", "beam_size"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"SttConfig.{name} must be at least 1; got {getattr(self, name)}")
+        if not 0 < self.max_compression_ratio < math.inf:
+            raise ValueError(f"SttConfig.max_compression_ratio must be > 0 and finite; got "
+                             f"{self.max_compression_ratio}")
+        if not self.temperatures or not all(
+                isinstance(t, numbers.Real) and not isinstance(t, bool) and 0 <= t <= 1
+                for t in self.temperatures):
+            raise ValueError(f"SttConfig.temperatures must be numbers in [0, 1], at least one; "
+                             f"got {self.temperatures!r}")
+
+
+# The SttConfig fields the STT node reads as ~parameters, and so the fields an STT config file
+# may set (load_stt_config): one file reads the same for the node and for an evaluation.
+NODE_FIELDS = ("model_dir", "compute_type", "cpu_threads", "beam_size", "vad_filter",
+               "max_compression_ratio")
+
 
 def load_stt_config(path):
-    """An SttConfig from a YAML mapping of its fields (e.g. config/semnav_stt.yaml, which the STT
-    node also loads as its parameters); fields left out keep their defaults. A missing file, an
-    unknown field or a value of the wrong type is an error naming the file and the field."""
+    """An SttConfig from a YAML mapping of the fields the STT node reads (NODE_FIELDS; e.g.
+    config/semnav_stt.yaml, which semantic_nav.launch loads as the node's parameters); fields
+    left out keep their defaults. A missing file is a FileNotFoundError; bad YAML, an unknown
+    field, a value of the wrong type or one SttConfig.check refuses a ValueError naming the file
+    and the field."""
     import yaml
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"STT config {path} not found")
-    data = yaml.safe_load(path.read_text()) or {}
+    try:
+        data = yaml.safe_load(path.read_text()) or {}
+    except yaml.YAMLError as error:
+        raise ValueError(f"{path}: not YAML: {error}") from error
     if not isinstance(data, dict):
         raise ValueError(f"{path}: expected a mapping of SttConfig fields")
     defaults = SttConfig()
     for key, value in data.items():
-        if not hasattr(defaults, key):
+        if key not in NODE_FIELDS:
             raise ValueError(f"{path}: unknown STT setting {key!r} (one of "
-                             f"{', '.join(defaults.__dataclass_fields__)})")
+                             f"{', '.join(NODE_FIELDS)})")
         kind = type(getattr(defaults, key))
-        if kind is tuple and isinstance(value, list):
-            data[key] = value = tuple(value)
+        if kind is float and isinstance(value, int) and not isinstance(value, bool):
+            data[key] = value = float(value)
         if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
             raise ValueError(f"{path}: {key} must be of type {kind.__name__}; got {value!r}")
-    return SttConfig(**data)
+    config = SttConfig(**data)
+    try:
+        config.check()
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from error
+    return config
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError,
                                             check_followable, counting_mode, phrase_vocabulary,
                                             sentence_vector, split_instruction, tokenise)
 from semantic_nav.laser_layer import load_laser_config
-from semantic_nav.misheard import is_homophone, readings
+from semantic_nav.misheard import readings, reads_homophones
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from tamp_resources import resource
 
@@ -237,8 +237,9 @@ class DirectionFollower:
         """The simple instruction `part` with misheard words replaced (misheard.readings), when
         some readings are read by Z_w with unknown_min_confidence and all of those give one
         class -> (text, vectors, words still skipped, z, [(heard, read as)]) of the most
-        confident of them, else None. Readings with homophones only ("ride" as "right") are
-        weighed first; the others only when none of those is read with confidence."""
+        confident of them, else None. Readings that read each word with a homophone as it ("ride"
+        as "right") are weighed first; the others only when none of those is read with
+        confidence."""
         if not self.phrase_words or self.config.misheard_edits < 1:
             return None
         sure = []
@@ -249,7 +250,7 @@ class DirectionFollower:
             z = self.policy.classify(converted.vectors)
             if float(np.max(z)) >= self.config.unknown_min_confidence:
                 sure.append((float(np.max(z)), text, converted, z, list(fixed)))
-        sure = [reading for reading in sure if is_homophone(reading[4])] or sure
+        sure = [reading for reading in sure if reads_homophones(reading[4], skipped)] or sure
         if not sure or len({int(np.argmax(reading[3])) for reading in sure}) > 1:
             return None
         _, text, converted, z, fixed = max(sure, key=lambda reading: reading[0])

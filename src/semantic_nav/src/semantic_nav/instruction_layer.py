@@ -31,17 +31,23 @@ CARDINAL_WORDS = ("zero", "one", "two", "three", "four", "five", "six", "seven",
                   "nine", "ten")
 # A speech recogniser writes a counted number as its homophone: "two" as "to", "too" or "do",
 # "three" as "free" or "tree" ("turn left to corners down", "free intersections along"). Before
-# a plural of the things directions count, or before such a singular with no article or number
-# ("make a right to intersection down"), only the number makes sense (read_counts).
+# a plural of the things directions count only the number makes sense (read_counts, typed or
+# heard). In a transcript a bare singular after one is the number too ("make a right to
+# intersection down": the recogniser loses a plural's "s" more often than a speaker drops "the");
+# typed, "go to corner and turn left" names a place (read_transcript).
 NUMBER_HOMOPHONES = {"to": "two", "too": "two", "do": "two", "free": "three", "tree": "three"}
 COUNTED_PLURALS = frozenset((
     "corners", "intersections", "junctions", "crossings", "crossroads", "turnings", "turns",
     "lefts", "rights", "openings", "branches", "hallways", "corridors", "exits"))
 COUNTED_SINGULARS = {"corner": "corners", "intersection": "intersections",
                      "junction": "junctions", "crossing": "crossings", "opening": "openings"}
-HOMOPHONE_COUNT = re.compile(
-    rf"\b({'|'.join(NUMBER_HOMOPHONES)})\s+({'|'.join(sorted(COUNTED_PLURALS))}|"
-    rf"(?:{'|'.join(COUNTED_SINGULARS)})(?!\s+(?:{'|'.join(CARDINAL_WORDS)}|\d+)\b))\b",
+HOMOPHONE_PLURAL = re.compile(
+    rf"\b({'|'.join(NUMBER_HOMOPHONES)})\s+({'|'.join(sorted(COUNTED_PLURALS))})\b(?!-)",
+    re.IGNORECASE)
+# ... not one that a number or a name follows ("to intersection three", "to corner-store")
+HOMOPHONE_SINGULAR = re.compile(
+    rf"\b({'|'.join(NUMBER_HOMOPHONES)})\s+({'|'.join(COUNTED_SINGULARS)})\b(?![-'])"
+    rf"(?!\s+(?:number|no|{'|'.join(CARDINAL_WORDS + ORDINAL_WORDS)})\b)(?!\s+[#\d])",
     re.IGNORECASE)
 # Its commas guess at pauses, not at where the speaker's instructions end: "proceed down this
 # hallway to the end, and when you get there, go right" is one instruction (class 9).
@@ -169,18 +175,22 @@ def join_fragments(parts):
 
 def read_transcript(text):
     """A speech recogniser's transcript as the follower reads it (beyond the seed, whose phone
-    recogniser wrote no punctuation): its commas and semicolons dropped (TRANSCRIPT_PAUSES).
-    Sentence ends (. ? !) still split."""
-    return TRANSCRIPT_PAUSES.sub(" ", text).strip()
+    recogniser wrote no punctuation): its commas and semicolons dropped (TRANSCRIPT_PAUSES) and a
+    number's homophone before a bare counted singular read as the number ("to intersection" ->
+    "two intersections", HOMOPHONE_SINGULAR). Sentence ends (. ? !) still split."""
+    return HOMOPHONE_SINGULAR.sub(_as_number, TRANSCRIPT_PAUSES.sub(" ", text).strip())
 
 
 def read_counts(text):
-    """`text` with a number's homophone before a counted thing written as the number ("to
-    intersection" -> "two intersections", "free corners" -> "three corners"; HOMOPHONE_COUNT)."""
-    def number(match):
-        homophone, counted = match.group(1).lower(), match.group(2).lower()
-        return f"{NUMBER_HOMOPHONES[homophone]} {COUNTED_SINGULARS.get(counted, counted)}"
-    return HOMOPHONE_COUNT.sub(number, text)
+    """`text` with a number's homophone before a counted plural written as the number ("to
+    corners" -> "two corners", "free intersections" -> "three intersections"; HOMOPHONE_PLURAL)."""
+    return HOMOPHONE_PLURAL.sub(_as_number, text)
+
+
+def _as_number(match):
+    """The number a homophone stands for, and the plural of what it counts."""
+    homophone, counted = match.group(1).lower(), match.group(2).lower()
+    return f"{NUMBER_HOMOPHONES[homophone]} {COUNTED_SINGULARS.get(counted, counted)}"
 
 
 def tokenise(text):

@@ -11,7 +11,7 @@ MIN_LENGTH = 3          # shorter words ("a", "to") are too close to too many ot
 MAX_READINGS = 32       # combinations of replacements tried for one simple instruction
 # Words spelt unlike a phrase-set word but said (nearly) the same, which Whisper writes for it
 # and letter edits do not reach or reach wrongly ("go write": "write" is three edits from
-# "right"; "ride" is one from "side"). A reading with homophones is tried first (`is_homophone`).
+# "right"; "ride" is one from "side"). A reading with them is tried first (`reads_homophones`).
 HOMOPHONES = {"write": "right", "rite": "right", "wright": "right", "ride": "right",
               "riot": "right"}
 
@@ -60,9 +60,11 @@ def readings(tokens, skipped, vocabulary, max_edits=1):
     return found
 
 
-def is_homophone(corrections):
-    """Whether every replacement of a reading is a word's homophone (HOMOPHONES)."""
-    return all(HOMOPHONES.get(heard) == word for heard, word in corrections)
+def reads_homophones(corrections, skipped):
+    """Whether a reading reads every skipped word that has a homophone (HOMOPHONES) as that
+    homophone, whatever else it replaces (vacuously true when none has one)."""
+    replaced = dict(corrections)
+    return all(replaced.get(word) == HOMOPHONES[word] for word in skipped if word in HOMOPHONES)
 
 
 def read_as(corrections):
