@@ -10,9 +10,10 @@ from supervision.health import Health
 
 from perception.speech_metrics import (misheard_words, normalise_words, word_alignment,
                                        word_edit_distance, word_error_rate)
-from perception.speech_synthesis import synthesise
+from perception.speech_synthesis import synthesise, voice_of
 from perception.stt import (AudioError, ModelMissing, SpeechToText, SttConfig, load_stt_config,
                             pcm16_to_float, read_wav, resample, whisper_model_dir)
+from perception.stt_vocabulary import VocabularyError, vocabulary_path
 from perception.stt_worker import AudioInput, SttWorker
 
 
@@ -82,7 +83,8 @@ def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():
     beam search that loops is retried with beam 1, and a decode still looping is no text."""
     def segment(text):
         data = text.encode()
-        return SimpleNamespace(text=text, compression_ratio=len(data) / len(zlib.compress(data)))
+        return SimpleNamespace(text=text, compression_ratio=len(data) / len(zlib.compress(data)),
+                               avg_logprob=-0.5, tokens=[0])
 
     class Model:
         def __init__(self, greedy_loops):
@@ -96,6 +98,7 @@ def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():
 
     stt = object.__new__(SpeechToText)          # the decoding without loading Whisper
     audio = np.zeros(1600, dtype=np.float32)
+    stt._held = None
     stt.config, stt._model = SttConfig(beam_size=5), Model(greedy_loops=False)
     assert stt.transcribe(audio).text == "Walk to the end."
     assert stt._model.beams == [5, 1]
@@ -105,6 +108,63 @@ def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():
     assert stt.transcribe(audio).text == "" and stt._model.beams == [1]
     stt.config = SttConfig(beam_size=1, max_compression_ratio=100.0)
     assert stt.transcribe(audio).text.startswith("Walk to the end of the end of")
+
+
+class HeldModel:
+    """Whisper stand-in: the free decoding and the held one (suppress_tokens other than the
+    default) give these (text, log-probability of each of its tokens and its end)."""
+
+    def __init__(self, free, held):
+        self.readings, self.calls = {"free": free, "held": held}, []
+
+    def transcribe(self, samples, suppress_tokens, **options):
+        kind = "free" if suppress_tokens == [-1] else "held"
+        self.calls.append((kind, suppress_tokens))
+        text, per_token = self.readings[kind]
+        segment = SimpleNamespace(text=" " + text, compression_ratio=1.0, tokens=[0, 0, 0],
+                                  avg_logprob=per_token)
+        return iter([segment]), None
+
+
+@pytest.mark.parametrize("free, held, text, is_held", [
+    (("Take the dog left.", -0.6), ("Take the third left.", -0.3), "Take the third left.", True),
+    # 4 tokens at -0.6 (free) against -0.9: 1.2 nats lower, within the 2.0 margin
+    (("Take the dog left.", -0.6), ("Take the third left.", -0.9), "Take the third left.", True),
+    # 4 at -1.2: 2.4 nats lower, speech the vocabulary does not hold
+    (("What's for dinner?", -0.6), ("What's for the end?", -1.2), "What's for dinner?", False),
+    (("Go on.", -0.2), ("", 0.0), "Go on.", False)])
+def test_the_reading_held_to_the_vocabulary_is_taken_when_it_scores_close(free, held, text,
+                                                                         is_held):
+    stt = object.__new__(SpeechToText)
+    stt.config, stt._held = SttConfig(beam_size=5, vocabulary="words.txt"), [7, 9]
+    stt._model = HeldModel(free, held)
+    transcript = stt.transcribe(np.zeros(1600, dtype=np.float32))
+    assert (transcript.text, transcript.held) == (text, is_held)
+    assert stt._model.calls == [("free", [-1]), ("held", [7, 9])]
+
+
+def test_no_held_decoding_without_a_vocabulary_or_without_speech():
+    stt = object.__new__(SpeechToText)
+    stt.config, stt._held = SttConfig(), None
+    stt._model = HeldModel(("Go on.", -0.2), ("Go.", 0.0))
+    assert stt.transcribe(np.zeros(1600, dtype=np.float32)).text == "Go on."
+    stt._held, stt._model = [7], HeldModel(("", 0.0), ("Go.", 0.0))
+    assert stt.transcribe(np.zeros(1600, dtype=np.float32)).text == ""
+    assert [kind for kind, _ in stt._model.calls] == ["free"]
+
+
+def test_stt_config_names_a_vocabulary_it_cannot_read(tmp_path):
+    path = tmp_path / "stt.yaml"
+    path.write_text(f"vocabulary: {tmp_path / 'missing.txt'}\n")
+    with pytest.raises(VocabularyError, match="missing.txt"):
+        load_stt_config(path)
+    (tmp_path / "words.txt").write_text("turn left, turn right\n")
+    path.write_text(f"vocabulary: {tmp_path / 'words.txt'}\nvocabulary_margin: 3\n")
+    assert load_stt_config(path) == SttConfig(vocabulary=str(tmp_path / "words.txt"),
+                                              vocabulary_margin=3.0)
+    path.write_text("vocabulary_margin: -1\n")
+    with pytest.raises(ValueError, match="vocabulary_margin must be >= 0"):
+        load_stt_config(path)
 
 
 def test_resample_48k_sine_to_16k_matches_a_16k_sine():
@@ -185,6 +245,22 @@ def test_synthesised_request_is_transcribed(stt, tmp_path):
     transcript = stt.transcribe(read_wav(wav))
     assert normalise_words(transcript.text) == ["chat", "with", "me", "i", "feel", "bad"]
     assert transcript.audio_s == pytest.approx(1.88, abs=0.3)
+
+
+def test_speech_of_a_direction_is_read_in_the_vocabulary_and_other_speech_freely(tmp_path):
+    """The semantic_nav setting: the phrase sets as the vocabulary. espeak-ng's Scottish voice
+    saying "three intersections along" comes out of free decoding as "free into section along",
+    held to the vocabulary as said; a household request keeps its free reading."""
+    stt = SpeechToText(SttConfig(beam_size=5, vocabulary="semnav_phrases.yaml"))
+    words = set(normalise_words(open(vocabulary_path("semnav_phrases.yaml")).read()))
+    direction = stt.transcribe(read_wav(synthesise(
+        "i need you to three intersections along make the next right thanks", tmp_path / "d.wav",
+        voice_of("en-gb-scotland:160"))))
+    assert direction.held and set(normalise_words(direction.text)) <= words
+    assert normalise_words(direction.text)[3:7] == ["to", "three", "intersections", "along"]
+    request = stt.transcribe(read_wav(synthesise("Play some music for me.", tmp_path / "r.wav")))
+    assert not request.held and normalise_words(request.text) == ["play", "some", "music",
+                                                                   "for", "me"]
 
 
 def test_silence_gives_no_text(stt):

@@ -88,7 +88,8 @@ def test_spoken_directions_are_transcribed_with_the_node_s_stt_settings(tmp_path
     from perception.stt import SttConfig, load_stt_config
     default = argument_parser(ROOT).parse_args([]).stt_config
     assert default == ROOT / "config" / "semnav_stt.yaml"
-    assert load_stt_config(default) == SttConfig(beam_size=5)
+    assert load_stt_config(default) == SttConfig(beam_size=5, vocabulary="semnav_phrases.yaml",
+                                                 vocabulary_margin=2.0)
     bad = tmp_path / "stt.yaml"
     bad.write_text("beams: 5\n")
     with pytest.raises(SystemExit, match="eval_semnav: --spoken: .*unknown STT setting 'beams'"):

@@ -16,7 +16,8 @@ class CannedStt:
 
     def transcribe(self, samples):
         self.seconds.append(len(samples) / 16000)
-        return SimpleNamespace(text=self.texts.pop(0))
+        text = self.texts.pop(0)
+        return SimpleNamespace(text=text, held=text.endswith("write."))
 
 
 def test_sentences_are_spoken_in_turn_and_their_transcripts_followed():
@@ -33,9 +34,15 @@ def test_sentences_are_spoken_in_turn_and_their_transcripts_followed():
     assert [h.voice for h in heard] == ["en:175", "en-us:150"]
     assert all(0.3 < seconds < 5.0 for seconds in stt.seconds)  # espeak spoke each one
     assert heard[0].misheard == () and heard[1].misheard == (("right", "write"),)
-    outcomes = [SimpleNamespace(success=True), SimpleNamespace(success=False)]
+    assert [h.held for h in heard] == [False, True]
+    outcomes = [SimpleNamespace(success=True, reason="reached"),
+                SimpleNamespace(success=False, reason="stopped outside goal")]
     lines = spoken_report(heard, outcomes)
-    assert lines[0] == "spoken: 2 sentences, word error rate 0.167, 1 heard word for word"
+    assert lines[0] == ("spoken: 2 sentences, word error rate 0.167, 1 heard word for word, 1 "
+                        "read held to the STT vocabulary")
     assert lines[1:3] == ["  voice en:175: 1/1 reached", "  voice en-us:150: 0/1 reached"]
+    assert lines[3:5] == ["failed episodes (said -> heard: why):",
+                          "  'take the second right' -> 'Take the second write.': stopped "
+                          "outside goal"]
     assert lines[-1] == "  right -> write: 1, 0"
     assert misheard_counts(heard) == {("right", "write"): 1}

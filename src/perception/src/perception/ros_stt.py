@@ -20,6 +20,7 @@ from tamp_msgs.msg import AudioUtterance, Utterance
 from perception.conversions import audio_input_from_msg, utterance_to_msg
 from perception.stt import (NODE_FIELDS, WHISPER_RATE, AudioError, AudioLimits, ModelMissing,
                             SpeechToText, SttConfig, read_wav)
+from perception.stt_vocabulary import VocabularyError
 from perception.stt_worker import WORKER, AudioInput, SttWorker
 
 
@@ -32,7 +33,8 @@ class SttParams:
     period: float = 0.1                    # ~period: work timer period [s]
     max_queue: int = 5                     # ~max_queue: utterances kept while busy
     stt: SttConfig = SttConfig()           # ~model_dir, ~compute_type, ~cpu_threads, ~beam_size,
-    #                                        ~vad_filter, ~max_compression_ratio
+    #                                        ~vad_filter, ~max_compression_ratio,
+    #                                        ~vocabulary, ~vocabulary_margin
     limits: AudioLimits = AudioLimits()    # ~min_sample_rate, ~max_sample_rate, ~max_audio_s,
     #                                        ~max_channels
 
@@ -63,7 +65,8 @@ class SttNode:
         self._timers = []
 
     def setup(self):
-        """Load the model (raises ModelMissing naming scripts/setup) and create the publishers."""
+        """Load the model (raises ModelMissing naming scripts/setup, VocabularyError naming an
+        unreadable ~vocabulary) and create the publishers."""
         self.stt = SpeechToText(self.params.stt)
         rospy.loginfo("stt: Whisper tiny.en loaded from %s", self.stt.model_dir)
         self.worker = SttWorker(self.stt.transcribe, self._publish, self.params.limits, _log,
@@ -143,7 +146,7 @@ def main():
     node = SttNode(params, sup)
     try:
         node.setup()
-    except ModelMissing as error:
+    except (ModelMissing, VocabularyError) as error:
         rospy.logfatal("stt: %s", error)
         return 1
     if node.params.wav:

@@ -16,6 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
+from perception.stt_vocabulary import (Decoding, choose_reading, suppressed_outside,
+                                      vocabulary_path, vocabulary_words)
+
 MODEL_NAME = "whisper_tiny_en"
 MODEL_FILES = ("config.json", "model.bin", "tokenizer.json", "vocabulary.txt")
 WHISPER_RATE = 16000  # [Hz] Whisper's input sample rate
@@ -115,6 +118,12 @@ class SttConfig:
     #                                     is stuck repeating ("the end of the end of ..."),
     #                                     Whisper's own test for a failed decode: beam search is
     #                                     retried greedily, and a decode still stuck gives no text
+    vocabulary: str = ""         # beyond Whisper: a text file of the words the robot knows (a
+    #                              relative path is in tamp_resources/config); each utterance is
+    #                              also decoded held to them (stt_vocabulary), "" = free only
+    vocabulary_margin: float = 2.0  # [nats] the held reading is taken when Whisper scores it at
+    #                                 most this below the free one (speech outside the
+    #                                 vocabulary scores far lower)
 
     def check(self):
         """ValueError naming a setting no decoding can use."""
@@ -124,6 +133,9 @@ class SttConfig:
         if not 0 < self.max_compression_ratio < math.inf:
             raise ValueError(f"SttConfig.max_compression_ratio must be > 0 and finite; got "
                              f"{self.max_compression_ratio}")
+        if not 0 <= self.vocabulary_margin < math.inf:
+            raise ValueError(f"SttConfig.vocabulary_margin must be >= 0 and finite; got "
+                             f"{self.vocabulary_margin}")
         if not self.temperatures or not all(
                 isinstance(t, numbers.Real) and not isinstance(t, bool) and 0 <= t <= 1
                 for t in self.temperatures):
@@ -134,7 +146,7 @@ class SttConfig:
 # The SttConfig fields the STT node reads as ~parameters, and so the fields an STT config file
 # may set (load_stt_config): one file reads the same for the node and for an evaluation.
 NODE_FIELDS = ("model_dir", "compute_type", "cpu_threads", "beam_size", "vad_filter",
-               "max_compression_ratio")
+               "max_compression_ratio", "vocabulary", "vocabulary_margin")
 
 
 def load_stt_config(path):
@@ -142,7 +154,7 @@ def load_stt_config(path):
     config/semnav_stt.yaml, which semantic_nav.launch loads as the node's parameters); fields
     left out keep their defaults. A missing file is a FileNotFoundError; bad YAML, an unknown
     field, a value of the wrong type or one SttConfig.check refuses a ValueError naming the file
-    and the field."""
+    and the field; a vocabulary file that cannot be read a VocabularyError."""
     import yaml
     path = Path(path)
     if not path.is_file():
@@ -168,6 +180,8 @@ def load_stt_config(path):
         config.check()
     except ValueError as error:
         raise ValueError(f"{path}: {error}") from error
+    if config.vocabulary:
+        vocabulary_words(vocabulary_path(config.vocabulary))
     return config
 
 
@@ -176,6 +190,7 @@ class Transcript:
     text: str         # recognised sentence; "" when no speech was found
     audio_s: float    # length of the audio [s]
     latency_s: float  # wall time of the transcription [s]
+    held: bool = False  # the text is the reading held to SttConfig.vocabulary
 
 
 def model_cache_root():
@@ -259,37 +274,53 @@ class SpeechToText:
 
     def __init__(self, config=SttConfig()):
         from faster_whisper import WhisperModel  # heavy import, only where STT is used
+        from faster_whisper.tokenizer import Tokenizer
 
         self.config = config
         self.model_dir = whisper_model_dir(config.model_dir)
         self._model = WhisperModel(str(self.model_dir), device="cpu",
                                    compute_type=config.compute_type,
                                    cpu_threads=config.cpu_threads)
+        self._held = None    # suppress_tokens of the decoding held to config.vocabulary
+        if config.vocabulary:
+            words = vocabulary_words(vocabulary_path(config.vocabulary))
+            tokenizer = Tokenizer(self._model.hf_tokenizer, self._model.model.is_multilingual,
+                                  task="transcribe", language=config.language)
+            self._held = suppressed_outside(tokenizer.encode, tokenizer.eot, words)
 
     def transcribe(self, samples):
         """Text of one utterance (float32 mono at 16 kHz); "" when it holds no speech or every
-        decoding of it got stuck repeating."""
+        decoding of it got stuck repeating. With a vocabulary, the reading held to it when
+        stt_vocabulary.choose_reading takes it."""
         samples = np.asarray(samples, dtype=np.float32)
         if samples.ndim != 1 or samples.size == 0:
             raise AudioError(f"need a non-empty mono signal; got shape {samples.shape}")
         if not np.all(np.isfinite(samples)):
             raise AudioError("audio contains NaN or infinite samples")
         start = time.monotonic()
-        text = self._decode(samples, self.config.beam_size)
-        if text is None and self.config.beam_size > 1:
-            text = self._decode(samples, 1)   # beam search looped where greedy decoding may not
-        return Transcript(text=text or "", audio_s=samples.size / WHISPER_RATE,
-                          latency_s=time.monotonic() - start)
+        free = self._decode(samples, self.config.beam_size)
+        if free is None and self.config.beam_size > 1:
+            free = self._decode(samples, 1)   # beam search looped where greedy decoding may not
+        text, held = (free.text if free else ""), False
+        if self._held is not None and text:
+            held_decoding = self._decode(samples, self.config.beam_size, self._held)
+            text, held = choose_reading(free, held_decoding, self.config.vocabulary_margin)
+        return Transcript(text=text, audio_s=samples.size / WHISPER_RATE,
+                          latency_s=time.monotonic() - start, held=held)
 
-    def _decode(self, samples, beam_size):
-        """The text of the segments Whisper decodes with `beam_size`; None when a segment is stuck
-        repeating (its compression ratio above max_compression_ratio): that text is no reading."""
+    def _decode(self, samples, beam_size, suppress_tokens=(-1,)):
+        """The Decoding of the segments Whisper decodes with `beam_size` (`suppress_tokens`:
+        Whisper's default set, or the held decoding's); None when a segment is stuck repeating
+        (its compression ratio above max_compression_ratio): that text is no reading."""
         segments, _ = self._model.transcribe(
             samples, language=self.config.language, beam_size=beam_size,
             vad_filter=self.config.vad_filter, condition_on_previous_text=False,
-            temperature=list(self.config.temperatures))
+            temperature=list(self.config.temperatures), suppress_tokens=list(suppress_tokens))
         segments = list(segments)
         if any(segment.compression_ratio > self.config.max_compression_ratio
                for segment in segments):
             return None
-        return " ".join(segment.text.strip() for segment in segments).strip()
+        # avg_logprob is the sum over a segment's tokens and its end, divided by their count
+        return Decoding(text=" ".join(segment.text.strip() for segment in segments).strip(),
+                        log_prob=sum(segment.avg_logprob * (len(segment.tokens) + 1)
+                                     for segment in segments))

@@ -19,6 +19,7 @@ class Heard:
     said: str
     heard: str       # Whisper's transcript ("" when it found no speech)
     misheard: tuple  # speech_metrics.misheard_words: ((said word, heard word), ...)
+    held: bool = False   # the transcript is the reading held to the STT vocabulary
 
 
 def speak_specs(specs, voices, stt=None, progress=None):
@@ -35,9 +36,10 @@ def speak_specs(specs, voices, stt=None, progress=None):
         wav = Path(workdir) / "direction.wav"
         for k, spec in enumerate(specs):
             voice = voices[k % len(voices)]
-            text = stt.transcribe(read_wav(synthesise(spec.sentence, wav, voice_of(voice)))).text
+            transcript = stt.transcribe(read_wav(synthesise(spec.sentence, wav, voice_of(voice))))
+            text = transcript.text
             heard.append(Heard(voice, spec.sentence, text,
-                               tuple(misheard_words(spec.sentence, text))))
+                               tuple(misheard_words(spec.sentence, text)), transcript.held))
             spoken.append(replace(spec, sentence=read_transcript(text)))  # as the node reads it
             if progress:
                 progress(1)
@@ -50,16 +52,20 @@ def misheard_counts(heard):
 
 
 def spoken_report(heard, outcomes):
-    """Lines: word error rate, sentences heard exactly, per voice success, and the misheard
-    words (said -> heard, how often, and how many of those episodes still succeeded)."""
+    """Lines: word error rate, sentences heard exactly, transcripts held to the STT vocabulary,
+    per voice success, the failed episodes (said -> heard: why) and the misheard words (said ->
+    heard, how often, and how many of those episodes still succeeded)."""
     from perception.speech_metrics import word_error_rate
     wer = word_error_rate([h.said for h in heard], [h.heard for h in heard])
     exact = sum(not h.misheard for h in heard)
     lines = [f"spoken: {len(heard)} sentences, word error rate {wer:.3f}, {exact} heard word "
-             f"for word"]
+             f"for word, {sum(h.held for h in heard)} read held to the STT vocabulary"]
     for voice in dict.fromkeys(h.voice for h in heard):
         mine = [o for h, o in zip(heard, outcomes) if h.voice == voice]
         lines.append(f"  voice {voice}: {sum(o.success for o in mine)}/{len(mine)} reached")
+    lines.append("failed episodes (said -> heard: why):")
+    lines += [f"  {h.said!r} -> {h.heard!r}: {o.reason}"
+              for h, o in zip(heard, outcomes) if not o.success]
     succeeded = Counter(pair for h, o in zip(heard, outcomes) if o.success
                         for pair in h.misheard)
     lines.append("misheard words (said -> heard: times, episodes that still reached the goal):")

@@ -1,0 +1,82 @@
+"""Decoding held to a command vocabulary, beside Whisper's free decoding (beyond both seeds).
+
+A robot that takes a known set of commands (semantic_nav's directions) can tell the recogniser
+which words it knows, as command-and-control recognisers do with a grammar. Whisper has no
+grammar, but its decoder can be barred from every text token that no word of the vocabulary uses
+(`suppressed_outside`): the held decoding then spells only those words' pieces. Speech that is
+not in the vocabulary ("what's for dinner?") would still come out as vocabulary words, so the
+held reading is taken only when Whisper scores it close to its free reading (`choose_reading`):
+barred tokens leave the rest of each step's probability to the allowed ones, so a held reading
+of in-vocabulary speech scores about as high as the free one or higher, and one of other speech
+far lower.
+"""
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+WORD = re.compile(r"[a-z]+(?:'[a-z]+)?")
+# Written forms Whisper gives a sentence besides its words: kept open in the held decoding.
+PUNCTUATION = (".", ",", "?", "!", "'", " '", "-")
+
+
+class VocabularyError(ValueError):
+    """A vocabulary file that cannot be read or holds no word."""
+
+
+@dataclass(frozen=True)
+class Decoding:
+    text: str         # the decoded sentence
+    log_prob: float   # Whisper's log-probability of its tokens (sum over segments) [nats]
+
+
+def vocabulary_path(path, config_dir=None):
+    """The file of a vocabulary setting: an absolute path as it is, a relative one in
+    tamp_resources' config folder (`config_dir`, found with rospkg when None), so that one
+    setting reads the same for the STT node and for an evaluation."""
+    path = Path(path)
+    if path.is_absolute():
+        return path
+    if config_dir is None:
+        from tamp_resources import resource   # rospkg: only for a relative setting
+        config_dir = resource("config")
+    return Path(config_dir) / path
+
+
+def vocabulary_words(path):
+    """Every word of a text file (letters with at most one apostrophe inside, lower-cased; e.g.
+    config/semnav_phrases.yaml, whose few key words are harmless) -> frozenset.
+    VocabularyError naming the file when it cannot be read or holds no word."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise VocabularyError(f"STT vocabulary {path}: {error}") from None
+    words = frozenset(WORD.findall(text.lower()))
+    if not words:
+        raise VocabularyError(f"STT vocabulary {path} holds no word")
+    return words
+
+
+def suppressed_outside(encode, end_of_text, words):
+    """Token ids below `end_of_text` (Whisper's text tokens) that no form of `words` uses: the
+    word with and without a leading space, lower-case and capitalised, plus PUNCTUATION.
+    `encode`: text -> token ids (Whisper's tokenizer). -> sorted list, for suppress_tokens."""
+    allowed = set()
+    for word in words:
+        for form in (word, word.capitalize()):
+            allowed.update(encode(" " + form))
+            allowed.update(encode(form))
+    for mark in PUNCTUATION:
+        allowed.update(encode(mark))
+    return [token for token in range(end_of_text) if token not in allowed]
+
+
+def choose_reading(free, held, margin):
+    """The text to publish: the held decoding's when it exists (it is None when it got stuck
+    repeating) and scores at most `margin` nats below the free one, else the free decoding's.
+    -> (text, True when the held reading was taken)."""
+    if not (math.isfinite(margin) and margin >= 0):
+        raise ValueError(f"margin must be a finite number >= 0; got {margin}")
+    if held is not None and held.text and held.log_prob >= free.log_prob - margin:
+        return held.text, True
+    return free.text, False

@@ -1,0 +1,52 @@
+"""Decoding held to a command vocabulary: the words, the tokens barred, the reading taken."""
+import math
+
+import pytest
+
+from perception.stt_vocabulary import (PUNCTUATION, Decoding, VocabularyError, choose_reading,
+                                       suppressed_outside, vocabulary_path, vocabulary_words)
+
+
+def test_vocabulary_words_are_the_lower_case_words_of_the_file(tmp_path):
+    path = tmp_path / "phrases.yaml"
+    path.write_text("class1:\n  - Go straight, don't stop!\n  - turn {dir} at the 2nd corner\n")
+    assert vocabulary_words(path) == {"class", "go", "straight", "don't", "stop", "turn", "dir",
+                                      "at", "the", "nd", "corner"}
+
+
+def test_a_vocabulary_that_cannot_be_read_or_has_no_word_is_named(tmp_path):
+    with pytest.raises(VocabularyError, match="missing.txt"):
+        vocabulary_words(tmp_path / "missing.txt")
+    (tmp_path / "digits.txt").write_text("1 2 3\n")
+    with pytest.raises(VocabularyError, match="digits.txt holds no word"):
+        vocabulary_words(tmp_path / "digits.txt")
+
+
+def test_a_relative_vocabulary_is_in_the_config_folder(tmp_path):
+    assert vocabulary_path("semnav_phrases.yaml", tmp_path) == tmp_path / "semnav_phrases.yaml"
+    assert vocabulary_path("/etc/words.txt", tmp_path).as_posix() == "/etc/words.txt"
+
+
+def test_every_token_but_the_words_forms_and_punctuation_is_barred():
+    pieces = {" left": [1], "left": [2], " Left": [3], "Left": [2, 4], " two": [5], "two": [5],
+              " Two": [6], "Two": [7]}
+    pieces.update({mark: [8] for mark in PUNCTUATION})
+    barred = suppressed_outside(lambda text: pieces[text], 12, {"left", "two"})
+    assert barred == [0, 9, 10, 11]
+
+
+@pytest.mark.parametrize("held, margin, expected", [
+    (Decoding("take the third left", -4.0), 2.0, ("take the third left", True)),
+    (Decoding("take the third left", -5.0), 2.0, ("take the third left", True)),   # at the margin
+    (Decoding("take the third left", -5.1), 2.0, ("take the dog left", False)),
+    (Decoding("take the third left", -5.1), 3.0, ("take the third left", True)),
+    (None, 2.0, ("take the dog left", False)),            # the held decoding looped
+    (Decoding("", 0.0), 2.0, ("take the dog left", False))])
+def test_the_held_reading_is_taken_within_the_margin(held, margin, expected):
+    assert choose_reading(Decoding("take the dog left", -3.0), held, margin) == expected
+
+
+@pytest.mark.parametrize("margin", [-0.1, math.inf, math.nan])
+def test_a_margin_that_is_no_distance_is_refused(margin):
+    with pytest.raises(ValueError, match="margin must be a finite number >= 0"):
+        choose_reading(Decoding("a", 0.0), None, margin)
