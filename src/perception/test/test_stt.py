@@ -84,7 +84,7 @@ def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():
     def segment(text):
         data = text.encode()
         return SimpleNamespace(text=text, compression_ratio=len(data) / len(zlib.compress(data)),
-                               avg_logprob=-0.5, tokens=[0])
+                               avg_logprob=-0.5, tokens=[0], seek=0)
 
     class Model:
         def __init__(self, greedy_loops):
@@ -98,7 +98,7 @@ def test_a_decode_stuck_repeating_is_retried_greedily_and_else_gives_no_text():
 
     stt = object.__new__(SpeechToText)          # the decoding without loading Whisper
     audio = np.zeros(1600, dtype=np.float32)
-    stt._held = None
+    stt._held_suppress = None
     stt.config, stt._model = SttConfig(beam_size=5), Model(greedy_loops=False)
     assert stt.transcribe(audio).text == "Walk to the end."
     assert stt._model.beams == [5, 1]
@@ -122,7 +122,7 @@ class HeldModel:
         self.calls.append((kind, suppress_tokens))
         text, per_token = self.readings[kind]
         segment = SimpleNamespace(text=" " + text, compression_ratio=1.0, tokens=[0, 0, 0],
-                                  avg_logprob=per_token)
+                                  avg_logprob=per_token, seek=0)
         return iter([segment]), None
 
 
@@ -136,19 +136,19 @@ class HeldModel:
 def test_the_reading_held_to_the_vocabulary_is_taken_when_it_scores_close(free, held, text,
                                                                          is_held):
     stt = object.__new__(SpeechToText)
-    stt.config, stt._held = SttConfig(beam_size=5, vocabulary="words.txt"), [7, 9]
+    stt.config, stt._held_suppress = SttConfig(beam_size=5, vocabulary="words.txt"), [7, 9]
     stt._model = HeldModel(free, held)
     transcript = stt.transcribe(np.zeros(1600, dtype=np.float32))
-    assert (transcript.text, transcript.held) == (text, is_held)
+    assert (transcript.text, transcript.held, transcript.free_text) == (text, is_held, free[0])
     assert stt._model.calls == [("free", [-1]), ("held", [7, 9])]
 
 
 def test_no_held_decoding_without_a_vocabulary_or_without_speech():
     stt = object.__new__(SpeechToText)
-    stt.config, stt._held = SttConfig(), None
+    stt.config, stt._held_suppress = SttConfig(), None
     stt._model = HeldModel(("Go on.", -0.2), ("Go.", 0.0))
     assert stt.transcribe(np.zeros(1600, dtype=np.float32)).text == "Go on."
-    stt._held, stt._model = [7], HeldModel(("", 0.0), ("Go.", 0.0))
+    stt._held_suppress, stt._model = [7], HeldModel(("", 0.0), ("Go.", 0.0))
     assert stt.transcribe(np.zeros(1600, dtype=np.float32)).text == ""
     assert [kind for kind, _ in stt._model.calls] == ["free"]
 
@@ -252,7 +252,7 @@ def test_speech_of_a_direction_is_read_in_the_vocabulary_and_other_speech_freely
     saying "three intersections along" comes out of free decoding as "free into section along",
     held to the vocabulary as said; a household request keeps its free reading."""
     stt = SpeechToText(SttConfig(beam_size=5, vocabulary="semnav_phrases.yaml"))
-    words = set(normalise_words(open(vocabulary_path("semnav_phrases.yaml")).read()))
+    words = set(normalise_words(vocabulary_path("semnav_phrases.yaml").read_text()))
     direction = stt.transcribe(read_wav(synthesise(
         "i need you to three intersections along make the next right thanks", tmp_path / "d.wav",
         voice_of("en-gb-scotland:160"))))

@@ -3,20 +3,31 @@ import math
 
 import pytest
 
+from types import SimpleNamespace
+
 from perception.stt_vocabulary import (PUNCTUATION, Decoding, VocabularyError, choose_reading,
-                                       suppressed_outside, vocabulary_path, vocabulary_words)
+                                       suppressed_outside, vocabulary_path, vocabulary_words,
+                                       window_log_prob)
 
 
-def test_vocabulary_words_are_the_lower_case_words_of_the_file(tmp_path):
+def test_vocabulary_words_of_yaml_are_its_string_values_without_keys_comments_placeholders(
+        tmp_path):
     path = tmp_path / "phrases.yaml"
-    path.write_text("class1:\n  - Go straight, don't stop!\n  - turn {dir} at the 2nd corner\n")
-    assert vocabulary_words(path) == {"class", "go", "straight", "don't", "stop", "turn", "dir",
-                                      "at", "the", "nd", "corner"}
+    path.write_text("# the classifier's phrases\nclass1:\n  train: [Go straight, \"don't stop!\"]\n"
+                    "  held_out: [\"turn {dir} at the 2nd corner\", \"pass two {dir}s\"]\n")
+    assert vocabulary_words(path) == {"go", "straight", "don't", "stop", "turn", "at", "the",
+                                      "nd", "corner", "pass", "two", "s"}   # "s" of "{dir}s"
+    words = tmp_path / "words.txt"
+    words.write_text("# left and right\nturn")
+    assert vocabulary_words(words) == {"left", "and", "right", "turn"}
 
 
 def test_a_vocabulary_that_cannot_be_read_or_has_no_word_is_named(tmp_path):
     with pytest.raises(VocabularyError, match="missing.txt"):
         vocabulary_words(tmp_path / "missing.txt")
+    (tmp_path / "bad.yaml").write_text("turn: [left\n")
+    with pytest.raises(VocabularyError, match="bad.yaml"):
+        vocabulary_words(tmp_path / "bad.yaml")
     (tmp_path / "digits.txt").write_text("1 2 3\n")
     with pytest.raises(VocabularyError, match="digits.txt holds no word"):
         vocabulary_words(tmp_path / "digits.txt")
@@ -25,6 +36,7 @@ def test_a_vocabulary_that_cannot_be_read_or_has_no_word_is_named(tmp_path):
 def test_a_relative_vocabulary_is_in_the_config_folder(tmp_path):
     assert vocabulary_path("semnav_phrases.yaml", tmp_path) == tmp_path / "semnav_phrases.yaml"
     assert vocabulary_path("/etc/words.txt", tmp_path).as_posix() == "/etc/words.txt"
+    assert vocabulary_path("~/words.txt", tmp_path).is_absolute()
 
 
 def test_every_token_but_the_words_forms_and_punctuation_is_barred():
@@ -33,6 +45,18 @@ def test_every_token_but_the_words_forms_and_punctuation_is_barred():
     pieces.update({mark: [8] for mark in PUNCTUATION})
     barred = suppressed_outside(lambda text: pieces[text], 12, {"left", "two"})
     assert barred == [0, 9, 10, 11]
+    assert suppressed_outside(lambda text: pieces[text], 12, {"left", "two"}, (8, 4)) == \
+        [0, 4, 8, 9, 10, 11]     # Whisper's non-speech tokens stay barred
+
+
+def test_a_windows_log_prob_is_counted_once_over_its_segments():
+    """faster-whisper gives every segment cut from one window the window's avg_logprob: the
+    sum over its 37 tokens and its end, divided by 38."""
+    def segment(seek, tokens, average):
+        return SimpleNamespace(seek=seek, tokens=[0] * tokens, avg_logprob=average)
+    assert window_log_prob([segment(0, 24, -0.5), segment(0, 13, -0.5)]) == -19.0
+    assert window_log_prob([segment(0, 9, -0.5), segment(3000, 4, -1.0)]) == -10.0
+    assert window_log_prob([]) == 0
 
 
 @pytest.mark.parametrize("held, margin, expected", [

@@ -17,7 +17,9 @@ class CannedStt:
     def transcribe(self, samples):
         self.seconds.append(len(samples) / 16000)
         text = self.texts.pop(0)
-        return SimpleNamespace(text=text, held=text.endswith("write."))
+        return SimpleNamespace(text=text, held=text.endswith("write."),
+                               free_text="Take the second bright." if text.endswith("write.")
+                               else "")
 
 
 def test_sentences_are_spoken_in_turn_and_their_transcripts_followed():
@@ -39,7 +41,7 @@ def test_sentences_are_spoken_in_turn_and_their_transcripts_followed():
                 SimpleNamespace(success=False, reason="stopped outside goal")]
     lines = spoken_report(heard, outcomes)
     assert lines[0] == ("spoken: 2 sentences, word error rate 0.167, 1 heard word for word, 1 "
-                        "read held to the STT vocabulary")
+                        "read held to the STT vocabulary (1 unlike the free reading)")
     assert lines[1:3] == ["  voice en:175: 1/1 reached", "  voice en-us:150: 0/1 reached"]
     assert lines[3:5] == ["failed episodes (said -> heard: why):",
                           "  'take the second right' -> 'Take the second write.': stopped "

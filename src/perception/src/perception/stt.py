@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from perception.stt_vocabulary import (Decoding, choose_reading, suppressed_outside,
-                                      vocabulary_path, vocabulary_words)
+                                      vocabulary_path, vocabulary_words, window_log_prob)
 
 MODEL_NAME = "whisper_tiny_en"
 MODEL_FILES = ("config.json", "model.bin", "tokenizer.json", "vocabulary.txt")
@@ -118,9 +118,10 @@ class SttConfig:
     #                                     is stuck repeating ("the end of the end of ..."),
     #                                     Whisper's own test for a failed decode: beam search is
     #                                     retried greedily, and a decode still stuck gives no text
-    vocabulary: str = ""         # beyond Whisper: a text file of the words the robot knows (a
-    #                              relative path is in tamp_resources/config); each utterance is
-    #                              also decoded held to them (stt_vocabulary), "" = free only
+    vocabulary: str = ""         # beyond Whisper: a file of the words the robot knows (YAML:
+    #                              its string values; a relative path is in tamp_resources/config);
+    #                              each utterance is also decoded held to them (stt_vocabulary),
+    #                              "" = free only
     vocabulary_margin: float = 2.0  # [nats] the held reading is taken when Whisper scores it at
     #                                 most this below the free one (speech outside the
     #                                 vocabulary scores far lower)
@@ -191,6 +192,7 @@ class Transcript:
     audio_s: float    # length of the audio [s]
     latency_s: float  # wall time of the transcription [s]
     held: bool = False  # the text is the reading held to SttConfig.vocabulary
+    free_text: str = ""  # with a vocabulary: the free decoding's text (what `text` replaced)
 
 
 def model_cache_root():
@@ -278,15 +280,16 @@ class SpeechToText:
 
         self.config = config
         self.model_dir = whisper_model_dir(config.model_dir)
+        words = vocabulary_words(vocabulary_path(config.vocabulary)) if config.vocabulary else None
         self._model = WhisperModel(str(self.model_dir), device="cpu",
                                    compute_type=config.compute_type,
                                    cpu_threads=config.cpu_threads)
-        self._held = None    # suppress_tokens of the decoding held to config.vocabulary
-        if config.vocabulary:
-            words = vocabulary_words(vocabulary_path(config.vocabulary))
+        self._held_suppress = None   # suppress_tokens of the decoding held to the vocabulary
+        if words:
             tokenizer = Tokenizer(self._model.hf_tokenizer, self._model.model.is_multilingual,
                                   task="transcribe", language=config.language)
-            self._held = suppressed_outside(tokenizer.encode, tokenizer.eot, words)
+            self._held_suppress = suppressed_outside(tokenizer.encode, tokenizer.eot, words,
+                                                     tokenizer.non_speech_tokens)
 
     def transcribe(self, samples):
         """Text of one utterance (float32 mono at 16 kHz); "" when it holds no speech or every
@@ -302,11 +305,12 @@ class SpeechToText:
         if free is None and self.config.beam_size > 1:
             free = self._decode(samples, 1)   # beam search looped where greedy decoding may not
         text, held = (free.text if free else ""), False
-        if self._held is not None and text:
-            held_decoding = self._decode(samples, self.config.beam_size, self._held)
+        if self._held_suppress is not None and text:
+            held_decoding = self._decode(samples, self.config.beam_size, self._held_suppress)
             text, held = choose_reading(free, held_decoding, self.config.vocabulary_margin)
         return Transcript(text=text, audio_s=samples.size / WHISPER_RATE,
-                          latency_s=time.monotonic() - start, held=held)
+                          latency_s=time.monotonic() - start, held=held,
+                          free_text=free.text if self._held_suppress is not None and free else "")
 
     def _decode(self, samples, beam_size, suppress_tokens=(-1,)):
         """The Decoding of the segments Whisper decodes with `beam_size` (`suppress_tokens`:
@@ -320,7 +324,5 @@ class SpeechToText:
         if any(segment.compression_ratio > self.config.max_compression_ratio
                for segment in segments):
             return None
-        # avg_logprob is the sum over a segment's tokens and its end, divided by their count
         return Decoding(text=" ".join(segment.text.strip() for segment in segments).strip(),
-                        log_prob=sum(segment.avg_logprob * (len(segment.tokens) + 1)
-                                     for segment in segments))
+                        log_prob=window_log_prob(segments))

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 WORD = re.compile(r"[a-z]+(?:'[a-z]+)?")
+PLACEHOLDER = re.compile(r"\{[^{}]*\}")   # "{dir}" in a phrase template: no word of its own
+#                                          ("{dir}s" leaves "s", so "lefts" can be spelt)
 # Written forms Whisper gives a sentence besides its words: kept open in the held decoding.
 PUNCTUATION = (".", ",", "?", "!", "'", " '", "-")
 
@@ -31,35 +33,58 @@ class Decoding:
 
 
 def vocabulary_path(path, config_dir=None):
-    """The file of a vocabulary setting: an absolute path as it is, a relative one in
-    tamp_resources' config folder (`config_dir`, found with rospkg when None), so that one
-    setting reads the same for the STT node and for an evaluation."""
-    path = Path(path)
+    """The file of a vocabulary setting: an absolute path (or one from ~) as it is, a relative
+    one in tamp_resources' config folder (`config_dir`, found with rospkg when None), so that
+    one setting reads the same for the STT node and for an evaluation. VocabularyError when
+    that folder cannot be found."""
+    path = Path(path).expanduser()
     if path.is_absolute():
         return path
     if config_dir is None:
         from tamp_resources import resource   # rospkg: only for a relative setting
-        config_dir = resource("config")
+        try:
+            config_dir = resource("config")
+        except RuntimeError as error:
+            raise VocabularyError(f"STT vocabulary {path}: {error}") from None
     return Path(config_dir) / path
 
 
+def _strings(data):
+    """Every string of parsed YAML, mapping keys left out."""
+    if isinstance(data, str):
+        yield data
+    elif isinstance(data, dict):
+        for value in data.values():
+            yield from _strings(value)
+    elif isinstance(data, list):
+        for item in data:
+            yield from _strings(item)
+
+
 def vocabulary_words(path):
-    """Every word of a text file (letters with at most one apostrophe inside, lower-cased; e.g.
-    config/semnav_phrases.yaml, whose few key words are harmless) -> frozenset.
-    VocabularyError naming the file when it cannot be read or holds no word."""
+    """The words of a vocabulary file, lower-cased (letters with at most one apostrophe inside)
+    -> frozenset: of a YAML file (.yaml, .yml; e.g. config/semnav_phrases.yaml) its string
+    values, without mapping keys, comments and {placeholders}; of any other file its whole
+    text. VocabularyError naming the file when it cannot be read or holds no word."""
+    import yaml
+    path = Path(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
+        text = path.read_text(encoding="utf-8")
+        texts = (list(_strings(yaml.safe_load(text))) if path.suffix in (".yaml", ".yml")
+                 else [text])
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as error:
         raise VocabularyError(f"STT vocabulary {path}: {error}") from None
-    words = frozenset(WORD.findall(text.lower()))
+    words = frozenset(word for text in texts
+                      for word in WORD.findall(PLACEHOLDER.sub("", text.lower())))
     if not words:
         raise VocabularyError(f"STT vocabulary {path} holds no word")
     return words
 
 
-def suppressed_outside(encode, end_of_text, words):
+def suppressed_outside(encode, end_of_text, words, barred=()):
     """Token ids below `end_of_text` (Whisper's text tokens) that no form of `words` uses: the
-    word with and without a leading space, lower-case and capitalised, plus PUNCTUATION.
+    word with and without a leading space, lower-case and capitalised, plus PUNCTUATION; and
+    the `barred` ones (Whisper's non-speech tokens, which its free decoding bars too).
     `encode`: text -> token ids (Whisper's tokenizer). -> sorted list, for suppress_tokens."""
     allowed = set()
     for word in words:
@@ -68,7 +93,19 @@ def suppressed_outside(encode, end_of_text, words):
             allowed.update(encode(form))
     for mark in PUNCTUATION:
         allowed.update(encode(mark))
+    allowed.difference_update(barred)
     return [token for token in range(end_of_text) if token not in allowed]
+
+
+def window_log_prob(segments):
+    """Whisper's log-probability of a decoding's tokens from faster-whisper's segments: every
+    segment cut from one 30-s window (same `seek`) carries that window's avg_logprob, its summed
+    log-probability over the window's tokens and end divided by their count."""
+    windows = {}
+    for segment in segments:
+        average, tokens = windows.get(segment.seek, (segment.avg_logprob, 0))
+        windows[segment.seek] = (average, tokens + len(segment.tokens))
+    return sum(average * (tokens + 1) for average, tokens in windows.values())
 
 
 def choose_reading(free, held, margin):

@@ -137,9 +137,11 @@ class SttWorker:
                              f"{audio.origin} ({transcript.latency_s:.3f} s); nothing published")
             return Outcome("silent")
         rtf = transcript.latency_s / max(transcript.audio_s, 1e-9)
+        held = (f"; held to the vocabulary, freely {transcript.free_text!r}"
+                if transcript.held else "")
         self.log("info", f"stt: {transcript.text!r} from {transcript.audio_s:.2f} s of audio "
                          f"({audio.origin}) in {transcript.latency_s:.3f} s (real-time factor "
-                         f"{rtf:.2f})")
+                         f"{rtf:.2f}{held})")
         self.publish(transcript.text, audio)
         outcome = Outcome("published", text=transcript.text)
         self.health.record(outcome, transcript)

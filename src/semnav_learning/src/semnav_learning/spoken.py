@@ -20,6 +20,7 @@ class Heard:
     heard: str       # Whisper's transcript ("" when it found no speech)
     misheard: tuple  # speech_metrics.misheard_words: ((said word, heard word), ...)
     held: bool = False   # the transcript is the reading held to the STT vocabulary
+    free: str = ""       # with an STT vocabulary: the free decoding's text
 
 
 def speak_specs(specs, voices, stt=None, progress=None):
@@ -39,7 +40,8 @@ def speak_specs(specs, voices, stt=None, progress=None):
             transcript = stt.transcribe(read_wav(synthesise(spec.sentence, wav, voice_of(voice))))
             text = transcript.text
             heard.append(Heard(voice, spec.sentence, text,
-                               tuple(misheard_words(spec.sentence, text)), transcript.held))
+                               tuple(misheard_words(spec.sentence, text)), transcript.held,
+                               transcript.free_text))
             spoken.append(replace(spec, sentence=read_transcript(text)))  # as the node reads it
             if progress:
                 progress(1)
@@ -59,7 +61,8 @@ def spoken_report(heard, outcomes):
     wer = word_error_rate([h.said for h in heard], [h.heard for h in heard])
     exact = sum(not h.misheard for h in heard)
     lines = [f"spoken: {len(heard)} sentences, word error rate {wer:.3f}, {exact} heard word "
-             f"for word, {sum(h.held for h in heard)} read held to the STT vocabulary"]
+             f"for word, {sum(h.held for h in heard)} read held to the STT vocabulary "
+             f"({sum(h.held and h.heard != h.free for h in heard)} unlike the free reading)"]
     for voice in dict.fromkeys(h.voice for h in heard):
         mine = [o for h, o in zip(heard, outcomes) if h.voice == voice]
         lines.append(f"  voice {voice}: {sum(o.success for o in mine)}/{len(mine)} reached")
