@@ -1,17 +1,16 @@
 """Decoding held to a command vocabulary: the words, the tokens barred, the reading taken."""
 import math
+from types import SimpleNamespace
 
 import pytest
-
-from types import SimpleNamespace
 
 from perception.stt_vocabulary import (PUNCTUATION, Decoding, VocabularyError, choose_reading,
                                        suppressed_outside, vocabulary_path, vocabulary_words,
                                        window_log_prob)
 
 
-def test_vocabulary_words_of_yaml_are_its_string_values_without_keys_comments_placeholders(
-        tmp_path):
+def test_a_yaml_vocabulary_is_the_words_of_its_string_values(tmp_path):
+    """Mapping keys, comments and {placeholders} name no word; another file is all words."""
     path = tmp_path / "phrases.yaml"
     path.write_text("# the classifier's phrases\nclass1:\n  train: [Go straight, \"don't stop!\"]\n"
                     "  held_out: [\"turn {dir} at the 2nd corner\", \"pass two {dir}s\"]\n")

@@ -32,9 +32,7 @@ class SttParams:
     audio_topic: str = "audio_utterance"  # ~audio_topic
     period: float = 0.1                    # ~period: work timer period [s]
     max_queue: int = 5                     # ~max_queue: utterances kept while busy
-    stt: SttConfig = SttConfig()           # ~model_dir, ~compute_type, ~cpu_threads, ~beam_size,
-    #                                        ~vad_filter, ~max_compression_ratio,
-    #                                        ~vocabulary, ~vocabulary_margin
+    stt: SttConfig = SttConfig()           # ~<field> for each field of stt.NODE_FIELDS
     limits: AudioLimits = AudioLimits()    # ~min_sample_rate, ~max_sample_rate, ~max_audio_s,
     #                                        ~max_channels
 

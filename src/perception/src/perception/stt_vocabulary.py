@@ -8,7 +8,7 @@ not in the vocabulary ("what's for dinner?") would still come out as vocabulary 
 held reading is taken only when Whisper scores it close to its free reading (`choose_reading`):
 barred tokens leave the rest of each step's probability to the allowed ones, so a held reading
 of in-vocabulary speech scores about as high as the free one or higher, and one of other speech
-far lower.
+mostly far lower.
 """
 import math
 import re
@@ -29,7 +29,7 @@ class VocabularyError(ValueError):
 @dataclass(frozen=True)
 class Decoding:
     text: str         # the decoded sentence
-    log_prob: float   # Whisper's log-probability of its tokens (sum over segments) [nats]
+    log_prob: float   # Whisper's log-probability of its tokens (window_log_prob) [nats]
 
 
 def vocabulary_path(path, config_dir=None):
