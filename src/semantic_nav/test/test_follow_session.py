@@ -8,7 +8,7 @@ import pytest
 from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
                                          step_failed)
 from semantic_nav.follower import FollowerCommand, UnknownInstructionError
-from semantic_nav.instruction_layer import split_instruction
+from semantic_nav.splitting import split_instruction
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.word_vectors import WordVectors
 

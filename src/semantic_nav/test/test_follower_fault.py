@@ -10,7 +10,7 @@ from sensor_msgs.msg import LaserScan
 from supervision.health import ERROR, Health
 
 from semantic_nav.follower import FollowerCommand
-from semantic_nav.instruction_layer import split_instruction
+from semantic_nav.splitting import split_instruction
 from semantic_nav.ros_follower import FollowerNode, NodeParams
 
 SENTENCE = "go straight to the end, then turn left"

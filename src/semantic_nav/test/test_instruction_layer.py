@@ -2,104 +2,13 @@
 import numpy as np
 import pytest
 
-from semantic_nav.instruction_layer import (FollowableConfig, InstructionError,
-                                            UnfollowableInstruction, check_followable,
-                                            convert_instruction, corners_asked,
+from semantic_nav.instruction_layer import (FollowableConfig, UnfollowableInstruction,
+                                            check_followable, convert_instruction, corners_asked,
                                             english_fraction, number_value, ordinal_text,
                                             read_counts, read_transcript, sentence_vector,
-                                            split_instruction, tokenise)
+                                            tokenise)
+from semantic_nav.splitting import InstructionError, split_instruction
 from semantic_nav.word_vectors import WordVectors, default_cache_dir, load_compact_cache
-
-
-def test_split_seed_example_of_section_3_1():
-    assert split_instruction("Turn right, and then go straight to the end of the aisle.") == [
-        "turn right", "go straight to the end of the aisle"]
-
-
-def test_split_seed_examples_of_section_1_1():
-    assert split_instruction("Go straight to the end, turn right, and then enter the second "
-                             "room on your left hand side.") == [
-        "go straight to the end", "turn right",
-        "enter the second room on your left hand side"]
-    assert split_instruction("You just turn right at the end of this aisle, and then turn left "
-                             "at the second entry.") == [
-        "you just turn right at the end of this aisle", "turn left at the second entry"]
-
-
-def test_split_spoken_text_without_punctuation():
-    assert split_instruction("go straight to the end then turn left and then go back") == [
-        "go straight to the end", "turn left", "go back"]
-
-
-def test_and_alone_does_not_split():
-    assert split_instruction("Go straight to the end and turn right") == [
-        "go straight to the end and turn right"]
-    assert split_instruction("turn left at the corner and stop, please", "seed") == [
-        "turn left at the corner and stop", "please"]
-
-
-def test_spoken_splitting_ends_instructions_at_connectives():
-    assert split_instruction("turn right and after that go back") == ["turn right", "go back"]
-    assert split_instruction("take a left, once you're there go straight to the end") == [
-        "take a left", "go straight to the end"]
-    assert split_instruction("go to the end and turn right once you are there") == [
-        "go to the end and turn right"]
-
-
-def test_spoken_splitting_joins_pieces_that_name_no_motion():
-    assert split_instruction("Hey robot, hang a left") == ["hey robot hang a left"]
-    assert split_instruction("at the second corner, turn left") == [
-        "at the second corner turn left"]
-    assert split_instruction("turn left at the corner and stop, please") == [
-        "turn left at the corner and stop please"]
-    assert split_instruction("turn around. um, ok. go to the end") == [
-        "turn around", "um ok go to the end"]
-    assert split_instruction("thanks, please") == ["thanks please"]    # nothing to join to
-
-
-def test_spoken_splitting_joins_a_lead_in_to_the_turn_after_it():
-    assert split_instruction("go past two corners and then turn left") == [
-        "go past two corners turn left"]
-    assert split_instruction("go straight, then take the second right") == [
-        "go straight take the second right"]
-    assert split_instruction("skip the first corridor, then turn right") == [
-        "skip the first corridor turn right"]
-    # a turn, an end or a stretch of corridor is an instruction of its own
-    for sentence, parts in [
-            ("turn right, then go past one corner", ["turn right", "go past one corner"]),
-            ("go to the end then turn left", ["go to the end", "turn left"]),
-            ("walk down this aisle, then turn right", ["walk down this aisle", "turn right"]),
-            ("turn around, then go straight", ["turn around", "go straight"])]:
-        assert split_instruction(sentence) == parts
-    assert split_instruction("go straight, then turn left", "seed") == [
-        "go straight", "turn left"]                    # the seed's splitting joins nothing
-
-
-def test_spoken_splitting_ends_a_turn_around_before_a_direction():
-    assert split_instruction("turn around and take the third left") == [
-        "turn around", "take the third left"]
-    assert split_instruction("make a u-turn and go straight to the end") == [
-        "make a u-turn", "go straight to the end"]
-    assert split_instruction("turn around and go back") == ["turn around and go back"]
-    assert split_instruction("go to the end and turn right") == ["go to the end and turn right"]
-    assert split_instruction("turn around and take the third left", "seed") == [
-        "turn around and take the third left"]
-
-
-def test_seed_splitting_is_punctuation_only():
-    assert split_instruction("Hey robot, hang a left", "seed") == ["hey robot", "hang a left"]
-    assert split_instruction("go to the end then turn left", "seed") == [
-        "go to the end then turn left"]
-    with pytest.raises(InstructionError, match="unknown splitting 'words'"):
-        split_instruction("turn left", "words")
-
-
-def test_empty_sentence_is_a_clear_error():
-    for text in ["", "   ", ", . ! ?", "and then"]:
-        with pytest.raises(InstructionError, match="has no words"):
-            split_instruction(text)
-    with pytest.raises(InstructionError, match="must be text"):
-        split_instruction(None)
 
 
 def test_tokenise_lower_case_and_clitics():

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import yaml
 
-from semantic_nav.instruction_layer import split_instruction, tokenise
+from semantic_nav.instruction_layer import tokenise
+from semantic_nav.splitting import split_instruction
 from semantic_nav.instruction_classes import CLASS_IDS
 from semnav_learning.phrase_sets import (OPTIONAL_SETS, SETS, Phrase, PhraseSetError, _choices,
                                          compose, enumerate_sentences, enumerate_texts,
@@ -94,6 +95,10 @@ def test_directions_as_people_give_them(sets):
     assert (second_right.label, second_right.counting) == (5, "side")
     assert compose([_find(sets, "class_turn_counted", "skip two lefts and take the one after")]
                    ).label == 8
+    counted = compose([_find(sets, "prefix_turn_count", "count three corners and"), right,
+                       next(p for p in sets["suffix_turn_count"] if p.text == "at the third")])
+    assert (counted.text, counted.label, counted.counting) == (
+        "count three corners and make a right at the third", 7, "corners")
     down = compose([_find(sets, "class1", "go all the way down"), _find(sets, "end_join", "and"),
                     _find(sets, "class_turn", "make a left")])
     assert (down.text, down.label) == ("go all the way down and make a left", 10)

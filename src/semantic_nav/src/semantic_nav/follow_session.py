@@ -13,8 +13,8 @@ import numpy as np
 from supervision.health import fault_text
 
 from semantic_nav.follower import UnknownInstructionError
-from semantic_nav.instruction_layer import (InstructionError, UnfollowableInstruction,
-                                            check_followable)
+from semantic_nav.instruction_layer import UnfollowableInstruction, check_followable
+from semantic_nav.splitting import InstructionError
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
 

@@ -20,12 +20,12 @@ from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE,
                                               STRAIGHT, TURN_CLASSES, get, ids)
-from semantic_nav.instruction_layer import (SPLITTINGS, TOKEN, InstructionError,
-                                            check_followable, counting_mode, phrase_vocabulary,
-                                            sentence_vector, split_instruction, tokenise)
+from semantic_nav.instruction_layer import (check_followable, counting_mode, phrase_vocabulary,
+                                            sentence_vector, tokenise)
 from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.misheard import readings, reads_homophones
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
+from semantic_nav.splitting import SPLITTINGS, TOKEN, InstructionError, split_instruction
 from tamp_resources import resource
 
 ROOT = resource()
@@ -57,7 +57,7 @@ class FollowerConfig:
     unknown_min_confidence: float = 0.9   # a simple instruction with words outside the
                                     # vocabulary is followed (those words skipped) only when
                                     # Z_w's largest probability is at least this; else refused
-    splitting: str = "spoken"       # instruction_layer.split_instruction: "seed" = at
+    splitting: str = "spoken"       # splitting.split_instruction: "seed" = at
                                     # punctuation (§3.1); "spoken" also at connectives, with
                                     # motionless pieces joined (beyond the seed)
     side_counting: bool = True      # beyond the seed: "the second right" counts the branches on

@@ -8,19 +8,8 @@ import numpy as np
 
 from semantic_nav.instruction_classes import (COUNT_CORNERS, COUNT_SIDE, COUNTING_IDS,
                                               MAX_CORNER)
+from semantic_nav.splitting import TOKEN, InstructionError, split_instruction
 
-# §3.1: "we simply use punctuation marks to split sentences into simple instruction".
-PUNCTUATION = re.compile(r"[.,;:!?\n]+")
-# Beyond the seed ("spoken" splitting): spoken text (speech recognition) has no punctuation, and
-# people chain directions with connectives: "then", "after that" and "once you're there" also end
-# an instruction. "and" alone never splits: "go straight to the end and turn right" is one
-# instruction (class 9).
-THEN = re.compile(r"\b(?:and\s+)?(?:then|after\s+that|once\s+you(?:'re|\s+are)\s+there|"
-                  r"once\s+there)\b")
-LEADING_CONNECTIVE = re.compile(r"^(?:and\s+then|then|and)\b\s*")
-TRAILING_CONNECTIVE = re.compile(r"\s*\b(?:and|and\s+then|then)$")
-# Lower-case tokens as in GloVe 6B: words, numbers, clitics ('s, 'd) and n't split off.
-TOKEN = re.compile(r"[a-z0-9]+(?=n't)|n't|'[a-z]+|[a-z0-9]+(?:-[a-z0-9]+)*")
 # Numerals as words: typed and transcribed instructions write "2nd corner" or "2 corners", the
 # phrase sets (and so LSTM_w) know "second" and "two"; GloVe puts "2nd" about as near "third"
 # (cosine 0.58) as "second" (0.60).
@@ -55,13 +44,12 @@ TRANSCRIPT_PAUSES = re.compile(r"\s*[,;]+\s*")
 # The verb of a negative contraction as split off its "n't" ("can't" -> "ca" "n't"): GloVe 6B
 # knows "ca", the phrase sets only "can" ("until you cannot continue").
 CONTRACTED_VERBS = {"ca": "can", "wo": "will", "sha": "shall"}
+# A side said with "-hand" is the side: "take the right-hand turn" is "take the right turn"
+# (GloVe 6B has no "right-hand"; "the second right-hand corner" still counts corners).
+SIDE_HAND = {"right-hand": "right", "left-hand": "left"}
 # A clitic the phrase sets write in full: "you'll make a left" reads as "you will make a left"
 # (speech recognition hears a lead-in "uh, walk" as "I'll walk").
 CLITICS = {"'ll": "will"}
-
-
-class InstructionError(ValueError):
-    """An instruction that cannot be turned into sentence vectors; the message says why."""
 
 
 @dataclass
@@ -72,105 +60,6 @@ class SentenceVector:
     tokens: list                    # its lower-case tokens
     vectors: np.ndarray             # float32 (n_known_tokens, dim), in token order
     oov: list = field(default_factory=list)  # tokens without a word vector (skipped)
-
-
-SPLITTINGS = ("seed", "spoken")
-# A piece naming none of these asks for no motion ("hey robot", "please", "if you don't mind",
-# "at the second junction"): "spoken" splitting joins it to the next piece (the last to the one
-# before), so a comma after a greeting or a fronted "at the second corner, turn left" does not
-# make an instruction of its own.
-MOTION_WORDS = frozenset("""
-left right lefts rights straight back around round forward forwards ahead down along turn turns
-go goes walk drive head move continue keep follow take make hang proceed pass skip return
-reverse spin flip carry roll veer bear swing u-turn backward backwards come
-""".split())
-# A piece that moves on without turning or arriving ("go past the first corner", "go straight")
-# says how to reach the turn that follows: "go past two corners, then turn left" is one
-# instruction (class 8), not "go ... to the end" then "turn left". "spoken" splitting joins such
-# a lead-in to the next piece. A piece naming a turn, an end, a passing or a stretch of corridor
-# ("walk down this aisle": the seed's class 1) is no lead-in.
-TURN_WORDS = frozenset("""
-left right lefts rights around round back backward backwards reverse return u-turn
-""".split())
-END_WORDS = frozenset("""
-end ends wall far further farther all until till possible stops finishes aisle corridor hall
-hallway passage
-""".split())
-PASSING_WORDS = frozenset("past pass passed passing skip ignore behind".split())
-# "and" after turning around ends the instruction when a direction follows: "turn around and take
-# the third left" is class 4, then class 8 ("turn around and go back" stays one class 4).
-ABOUT_TURN_AND = re.compile(r"^(.*\b(?:around|round|u-turn))\s+and\s+(.+)$")
-ONWARD_WORDS = frozenset("left right lefts rights straight end".split())
-
-
-def split_instruction(sentence, splitting="spoken"):
-    """§3.1: split a sentence into simple instructions at punctuation ("seed"; a leading or
-    trailing "and" / "then" is dropped). "spoken" (beyond the seed, the default) also splits at
-    "(and) then", "after that" and "once you're there" and joins a piece that names no motion
-    (MOTION_WORDS) to its neighbour."""
-    if not isinstance(sentence, str):
-        raise InstructionError(f"instruction must be text, got {type(sentence).__name__}")
-    if splitting not in SPLITTINGS:
-        raise InstructionError(f"unknown splitting {splitting!r} (one of {', '.join(SPLITTINGS)})")
-    parts = []
-    for clause in PUNCTUATION.split(sentence.lower()):
-        pieces = THEN.split(clause) if splitting == "spoken" else [clause]
-        for piece in pieces:
-            piece = " ".join(piece.split())
-            piece = TRAILING_CONNECTIVE.sub("", LEADING_CONNECTIVE.sub("", piece))
-            if TOKEN.search(piece):
-                parts.append(piece)
-    if not parts:
-        raise InstructionError(f"instruction {sentence!r} has no words")
-    if splitting == "seed":
-        return parts
-    return join_lead_ins(join_fragments([piece for part in parts
-                                         for piece in split_about_turn(part)]))
-
-
-def split_about_turn(part):
-    """A turn around and what follows it, when that names a direction (ABOUT_TURN_AND)."""
-    match = ABOUT_TURN_AND.match(part)
-    if match and ONWARD_WORDS & set(TOKEN.findall(match.group(2))):
-        return [match.group(1), match.group(2)]
-    return [part]
-
-
-def is_lead_in(part):
-    """A piece that only moves on: it names motion and passes corners or goes straight, and names
-    no turn and no end (TURN_WORDS, END_WORDS; a passing may name the corridor)."""
-    words = set(TOKEN.findall(part))
-    if not words & MOTION_WORDS or words & TURN_WORDS:
-        return False
-    return bool(words & PASSING_WORDS) or not words & END_WORDS
-
-
-def join_lead_ins(parts):
-    """Lead-ins (is_lead_in) joined to the piece after them; a last lead-in stays as it is."""
-    joined, pending = [], []
-    for k, part in enumerate(parts):
-        pending.append(part)
-        if k == len(parts) - 1 or not is_lead_in(part):
-            joined.append(" ".join(pending))
-            pending = []
-    return joined
-
-
-def join_fragments(parts):
-    """Pieces that name no motion joined to the next piece (the last to the one before); a
-    sentence with no motion at all stays one piece."""
-    joined, pending = [], []
-    for part in parts:
-        pending.append(part)
-        if MOTION_WORDS & set(TOKEN.findall(part)):
-            joined.append(" ".join(pending))
-            pending = []
-    if pending:
-        if joined:
-            joined[-1] = " ".join([joined[-1], *pending])
-        else:
-            joined.append(" ".join(pending))
-    return joined
 
 
 def read_transcript(text):
@@ -195,9 +84,11 @@ def _as_number(match):
 
 def tokenise(text):
     """Lower-case word tokens of one simple instruction, numbers' homophones before counted
-    things as the numbers (read_counts), numerals up to ten as words, a verb before "n't" in
-    full ("can't" -> "can" "n't") and "'ll" as "will" (CLITICS)."""
-    tokens = [numeral_as_word(token) for token in TOKEN.findall(read_counts(text.lower()))]
+    things as the numbers (read_counts), numerals up to ten as words, "right-hand" as "right"
+    (SIDE_HAND), a verb before "n't" in full ("can't" -> "can" "n't") and "'ll" as "will"
+    (CLITICS)."""
+    tokens = [SIDE_HAND.get(token) or numeral_as_word(token)
+              for token in TOKEN.findall(read_counts(text.lower()))]
     return [CONTRACTED_VERBS.get(token, token) if following == "n't" else
             CLITICS.get(token, token) for token, following in zip(tokens, tokens[1:] + [""])]
 
@@ -217,7 +108,8 @@ def sentence_vector(text, word_vectors, vocabulary=None):
     counted (word_vectors.oov_counts). Beyond the seed, with a `vocabulary` (phrase_vocabulary)
     words outside it are skipped too ("take a lift turn": speech recognition's "lift" for
     "left" is a GloVe word the phrase sets never use). InstructionError if no word is left."""
-    tokens = tokenise(text)
+    tokens = [word for token in tokenise(text)
+              for word in compound_words(token, word_vectors, vocabulary)]
     if not tokens:
         raise InstructionError(f"simple instruction {text!r} has no words")
     outside = [t for t in tokens if vocabulary is not None and t not in vocabulary]
@@ -228,6 +120,15 @@ def sentence_vector(text, word_vectors, vocabulary=None):
         raise InstructionError(f"no word of {text!r} is in the vocabulary of {where} "
                                f"(unknown: {', '.join(skipped)})")
     return SentenceVector(text=text, tokens=tokens, vectors=vectors, oov=skipped)
+
+
+def compound_words(token, word_vectors, vocabulary=None):
+    """A hyphenated token that is not a known word as its parts ("about-face" -> "about",
+    "face"); any other token as it is."""
+    known = token in word_vectors and (vocabulary is None or token in vocabulary)
+    if "-" not in token or known:
+        return [token]
+    return [part for part in token.split("-") if part]
 
 
 def phrase_vocabulary(path):
@@ -264,9 +165,9 @@ def convert_instruction(sentence, word_vectors):
 # the second corner over both sides. A side word used as a noun after an ordinal ("the second
 # right", "the third left-hand turning"), an ordinal thing on a side ("the second opening on your
 # right", "the second on the right") and counting by passing a side's branches ("skip the first
-# right", "pass two lefts", "let one left go by", "not this right but the next one") count one
-# side; everything else counts corners ("the second right-hand corner" too). Tokens as `tokenise`
-# gives them.
+# right", "pass two lefts", "let one left go by", "not this right but the next one", "don't take
+# the first right") count one side; everything else counts corners ("the second right-hand
+# corner" too). Tokens as `tokenise` gives them.
 HAND = r"(?:-hand| hand)?s?"                 # "right-hand", "right hand", "rights"
 SIDE_NOUNS = rf"(?:right|left){HAND}"
 ORDINALS = r"(?:second|third)"
@@ -280,9 +181,9 @@ ONE_SIDE_COUNTS = re.compile(
     rf"\b{ORDINALS} {SIDE_NOT_CORNER}"
     rf"|\b{ORDINALS} (?:{SIDE_THINGS} )?(?:on|to) (?:the|your|its) {SIDE_NOUNS}\b"
     rf"|\b(?:skip|skipping|pass|passing|miss|missing|ignore|ignoring|past|after) (?:the )?"
-    rf"(?:first|one|two) {SIDE_NOT_CORNER}"
+    rf"(?:first(?: two)?|one|two) {SIDE_NOT_CORNER}"
     rf"|\blet (?:the )?(?:first|one|two) {SIDE_NOUNS} (?:go|pass)\b"
-    rf"|\bnot (?:this|the (?:next|first)(?: two)?) {SIDE_NOT_CORNER}")
+    rf"|\b(?:not|n't)(?: take| use)? (?:this|the (?:next|first)(?: two)?) {SIDE_NOT_CORNER}")
 
 
 def counting_mode(text, label=None):

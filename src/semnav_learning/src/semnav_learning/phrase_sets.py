@@ -16,8 +16,10 @@ SETS = ("prefix", "suffix", "class1", "class_turn", "prefix_turn", "suffix_turn_
 # Beyond the seed's sets, optional in a phrase file (empty when left out): "the second right"
 # (class_turn_counted), counting by passing ("pass one corner and" + a class_turn phrase +
 # "at the next one": prefix_turn_change, suffix_turn_next), and "go all the way down and make a
-# left" (a class1 phrase + end_join + a class_turn phrase).
-OPTIONAL_SETS = ("class_turn_counted", "prefix_turn_change", "suffix_turn_next", "end_join")
+# left" (a class1 phrase + end_join + a class_turn phrase), and counting aloud ("count two
+# corners and" + a class_turn phrase + "at the second": prefix_turn_count, suffix_turn_count).
+OPTIONAL_SETS = ("class_turn_counted", "prefix_turn_change", "suffix_turn_next", "end_join",
+                 "prefix_turn_count", "suffix_turn_count")
 # With them (a file of directions as people give them), the place may also be said before the
 # turn: recipes(place_first=True). A file without them generates the seed's sentences only.
 CHANGE_KINDS = TURN_AT   # kind-B tags: ("second", "third", "end")
@@ -97,8 +99,8 @@ def load_phrase_sets(path):
         Phrase("class_turn_counted", p.text.format(dir=side), p.split, (side, p.tag))
         for p in _by_kind(optional["class_turn_counted"], "class_turn_counted", COUNTED_KINDS)
         for side in SIDES]
-    sets["prefix_turn_change"] = _by_kind(optional["prefix_turn_change"], "prefix_turn_change",
-                                          COUNTED_KINDS)
+    for name in ("prefix_turn_change", "prefix_turn_count", "suffix_turn_count"):
+        sets[name] = _by_kind(optional[name], name, COUNTED_KINDS)
     for name in ("suffix_turn_next", "end_join"):
         sets[name] = _phrases(optional[name], name) if optional[name] else []
     others = config["others"]
@@ -127,8 +129,9 @@ def label_of(phrases):
         return TURN_CLASSES[by_set["class_turn_counted"].tag]
     if "class_turn" in by_set and "class1" in by_set:        # "go all the way down and ..."
         return TURN_CLASSES[(by_set["class_turn"].tag, "end")]
-    if "class_turn" in by_set and "prefix_turn_change" in by_set:
-        return TURN_CLASSES[(by_set["class_turn"].tag, by_set["prefix_turn_change"].tag)]
+    for counting in ("prefix_turn_change", "prefix_turn_count"):
+        if "class_turn" in by_set and counting in by_set:
+            return TURN_CLASSES[(by_set["class_turn"].tag, by_set[counting].tag)]
     for set_name, label in CORE_SET_CLASS.items():
         if set_name in by_set:
             return label
@@ -182,6 +185,8 @@ def recipes(label, place_first=False):
                       Slot("suffix_turn_next", optional=True), suffix))
         extra.append((prefix, Slot("prefix_turn", optional=True),
                       Slot("class_turn_counted", (cls.side, cls.at)), suffix))
+        extra.append((prefix, Slot("prefix_turn_count", cls.at), Slot(cls.phrase_set, cls.side),
+                      Slot("suffix_turn_count", cls.at), suffix))
     return [turn + (Slot("suffix_turn_change", cls.at), suffix)] + extra + others
 
 
