@@ -3,6 +3,7 @@ pictures, plan and JSON it writes, reusing a plan, --first, and the errors of ba
 import json
 
 import pytest
+import yaml
 
 from semnav_learning.eval_cli import argument_parser, first_of_each_class, main, spoken_specs
 from semnav_learning.evaluation import EpisodeSpec, load_plan
@@ -108,3 +109,25 @@ def test_unknown_laser_and_class_are_usage_errors(capsys):
     defaults = parser.parse_args([])
     assert [p.name for p in defaults.map] == ["office_ring.yaml", "office_comb.yaml"]
     assert defaults.docs == ROOT / "docs" / "semantic_nav" / "eval"
+
+
+def test_a_plan_is_drawn_from_the_phrases_given(tmp_path):
+    """--phrases: a new plan's sentences come from that phrase file; a bad one is named."""
+    write_l_floor(tmp_path)
+    sets = yaml.safe_load(resource("config", "semnav_phrases.yaml").read_text())
+    sets["class1"] = {"train": ["roll on to the far wall"], "held_out": ["roll on until the wall"]}
+    for split in ("train", "held_out"):
+        sets["others"][split].pop(1, None)
+    phrases = tmp_path / "phrases.yaml"
+    phrases.write_text(yaml.safe_dump(sets))
+    argv = ["--map", str(tmp_path / "l_floor.yaml"), "--policy", "expert", "--workers", "1",
+            "--episodes-per-class", "1", "--classes", "1", "--docs", str(tmp_path),
+            "--plan", str(tmp_path / "plan.json"), "--phrases", str(phrases)]
+    assert main(ROOT, argv=argv) == 0
+    [spec] = load_plan(tmp_path / "plan.json")
+    assert "roll on" in spec.sentence
+    del sets["class4"]
+    phrases.write_text(yaml.safe_dump(sets))
+    (tmp_path / "plan.json").unlink()
+    with pytest.raises(SystemExit, match=r"--phrases .*phrases.yaml: .*missing .*class4"):
+        main(ROOT, argv=argv)

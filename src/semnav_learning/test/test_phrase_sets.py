@@ -105,6 +105,13 @@ def test_directions_as_people_give_them(sets):
     assert compose([passing, left]).counting == "corners"      # corners over both sides
 
 
+def test_no_words_are_generated_for_two_classes(sets):
+    """A Class 1 phrase and end_join (Class 9 / 10 with a turn after them) must not spell a
+    prefix_turn phrase (Class 2 / 3 with the same turn): "go straight" + "and" + "turn left"."""
+    joined = {f"{c.text} {j.text}" for c in sets["class1"] for j in sets["end_join"]}
+    assert not joined & {p.text for p in sets["prefix_turn"]}
+
+
 def test_phrase_files_without_the_optional_sets_still_load(tmp_path):
     config = yaml.safe_load(CONFIG.read_text())
     for name in OPTIONAL_SETS:

@@ -19,7 +19,7 @@ from semnav_learning.evaluation import (EvaluationConfig, PolicySpec, breakdown,
                                         counting_breakdown, evaluate, failure_places,
                                         format_table, load_plan, outcome_record,
                                         plan_chain_episodes, plan_episodes, success_table)
-from semnav_learning.phrase_sets import load_phrase_sets
+from semnav_learning.phrase_sets import PhraseSetError, load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
 from semnav_learning.spoken import DEFAULT_VOICES, speak_specs, spoken_report
 
@@ -80,6 +80,10 @@ def argument_parser(root, description=None):
     parser.add_argument("--plan", type=Path, help="episode plan (JSON, or an earlier --json "
                         "result): reused when it exists (same episodes for every model and "
                         "laser), else written")
+    parser.add_argument("--phrases", type=Path,
+                        default=Path(root) / "config" / "semnav_phrases.yaml",
+                        help="phrase sets a new plan's sentences are drawn from (default: "
+                             "config/semnav_phrases.yaml)")
     return parser
 
 
@@ -157,8 +161,12 @@ def episode_specs(args, phrases):
         specs = plan_chain_episodes(oracles, args.chain, args.sentence, args.episodes_per_class,
                                     rng)
     else:
-        specs = plan_episodes(oracles, args.episodes_per_class, load_phrase_sets(phrases), rng,
-                              EvaluationConfig(), args.classes)
+        try:
+            sets = load_phrase_sets(phrases)
+        except (OSError, PhraseSetError) as error:
+            sys.exit(f"eval_semnav: --phrases {phrases}: {error}")
+        specs = plan_episodes(oracles, args.episodes_per_class, sets, rng, EvaluationConfig(),
+                              args.classes)
     if args.plan:
         args.plan.parent.mkdir(parents=True, exist_ok=True)
         args.plan.write_text(json.dumps([asdict(s) for s in specs]))
@@ -225,7 +233,7 @@ def main(root, description=None, argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     args = argument_parser(root, description).parse_args(argv)
     config = follower_config(args.follower_config)   # a bad file fails before any floor loads
-    specs, floors, oracles = episode_specs(args, Path(root) / "config" / "semnav_phrases.yaml")
+    specs, floors, oracles = episode_specs(args, args.phrases)
     if args.first or args.skip:
         specs = first_of_each_class(specs, args.first or len(specs), args.skip)
     heard = None
