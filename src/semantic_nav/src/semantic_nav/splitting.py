@@ -132,6 +132,7 @@ def read_spoken(text):
 
 
 def words(part):
+    """The set of a piece's tokens."""
     return set(TOKEN.findall(part))
 
 
@@ -156,6 +157,7 @@ def split_turns(part):
 
 
 def is_refusal(part):
+    """A piece that refuses a turn without offering its alternative (REFUSAL)."""
     return bool(REFUSAL.match(part))
 
 
