@@ -41,6 +41,14 @@ def test_beam_through_the_gap_reaches_the_outer_wall(geometry):
     assert ray_march(geometry, 1.0, 9.0, np.array([0.0]), 30.0)[0] == pytest.approx(8.9, abs=1e-9)
 
 
+def test_axis_beams_from_a_rounding_error_below_a_cell_boundary_hit_the_walls(geometry):
+    # 8.6 / 0.05 = 171.99999999999997 cells: the start sits a rounding error below a boundary,
+    # as the range table's sample points do; along the axes the walls are 1.9 m (x = 9.9),
+    # 1.3 m (y = 9.9), 7.9 m (x = 0.1, above the inner wall's end) and 8.5 m (y = 0.1) away
+    ranges = ray_march(geometry, 8.0, 8.6, np.array([0.0, 0.5, 1.0, -0.5]) * math.pi, 30.0)
+    np.testing.assert_allclose(ranges, [1.9, 1.3, 7.9, 8.5], atol=1e-9)
+
+
 def test_beam_beyond_max_range_returns_inf(geometry):
     assert np.isinf(ray_march(geometry, 1.23, 3.0, np.array([0.0]), 3.0)[0])
 
@@ -86,10 +94,19 @@ def test_utm30lx_scan_of_a_wall_is_within_its_noise(geometry):
     laser = LaserSensor(model, (0.0, 0.0, 0.0), geometry, seed=5)
     centre = 540                                   # beam straight ahead
     assert laser.angles[centre] == pytest.approx(0.0, abs=1e-9)
-    samples = np.array([laser.scan((1.23, 3.0, 0.0))[centre] for _ in range(400)])
-    samples = samples[np.isfinite(samples)]
-    assert abs(samples.mean() - 3.77) < 4 * model.noise_std / math.sqrt(samples.size)
-    assert samples.std() == pytest.approx(model.noise_std, rel=0.2)
+    # the 241 beams within +-30 deg of it end on the wall face x = 5.0 m at 3.77 m / cos
+    beams = slice(centre - 120, centre + 121)
+    expected = 3.77 / np.cos(laser.angles[beams])
+    scans = np.array([laser.scan((1.23, 3.0, 0.0))[beams] - expected for _ in range(10)])
+    scans[~np.isfinite(scans)] = np.nan             # dropouts return nothing
+    errors = scans[np.isfinite(scans)]
+    assert errors.size > 2300
+    assert abs(errors.mean()) < 4 * model.noise_std / math.sqrt(errors.size)
+    assert errors.std() == pytest.approx(model.noise_std, rel=0.1)
+    # and each beam's noise changes from scan to scan (the mean per-beam sample std of 10 scans
+    # is c4(10) = 0.973 times the noise's)
+    per_beam = np.nanstd(scans, axis=0, ddof=1)
+    assert np.nanmean(per_beam) == pytest.approx(0.973 * model.noise_std, rel=0.1)
 
 
 def test_reseed_restarts_the_noise_whatever_came_before(geometry):

@@ -17,8 +17,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-TABLE_FORMAT = "faces-dda-v2"   # bump when the table contents change (invalidates caches)
-FAR = 1e12               # [cells] stands in for "never" in cell-crossing times
+TABLE_FORMAT = "faces-dda-v3"   # bump when the table contents change (invalidates caches)
 SAFE_MARGIN = 1.5        # [cells] DT bound loss: point-to-cell-centre plus half a cell diagonal
 MAX_ITERATIONS = 4000    # guard against pathological grazing rays
 CLEARANCE_LOSS = np.sqrt(2.0)  # [cells] point-to-centre plus half the obstacle cell's diagonal
@@ -99,9 +98,11 @@ def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
     res, (h, w) = geometry.resolution, geometry.dist.shape
     # ray origins in cell units relative to the grid corner; per-axis cell-crossing data
     gx, gy = (ox - geometry.origin_x) / res, (oy - geometry.origin_y) / res
-    with np.errstate(divide="ignore"):   # an axis the ray does not move along is never crossed
-        inv_c = np.where(np.abs(cos) > 1e-12, 1.0 / cos, FAR)
-        inv_s = np.where(np.abs(sin) > 1e-12, 1.0 / sin, FAR)
+    # 1/cos and 1/sin, 0 for an axis the ray does not move along: that axis is never crossed,
+    # even from a start a rounding error below one of its cell boundaries
+    with np.errstate(divide="ignore"):
+        inv_c = np.where(np.abs(cos) > 1e-12, 1.0 / cos, 0.0)
+        inv_s = np.where(np.abs(sin) > 1e-12, 1.0 / sin, 0.0)
     step_x, step_y = (inv_c > 0).astype(float), (inv_s > 0).astype(float)
     # working set, compacted whenever fewer than half of its rays are still live
     idx = np.arange(cos.size)
@@ -126,7 +127,8 @@ def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
         if count == 0:
             break
         # exact exit from the current cell (DDA) versus the distance-transform jump
-        exit_t = np.minimum((col + sx - wx) * ic, (row + sy - wy) * is_)
+        exit_t = np.minimum(np.where(ic != 0.0, (col + sx - wx) * ic, np.inf),
+                            np.where(is_ != 0.0, (row + sy - wy) * is_, np.inf))
         t = np.maximum(t + (d - SAFE_MARGIN), exit_t + 1e-9)
         if count < live.size // 2:
             idx, wx, wy, wc, ws, ic, is_, sx, sy, t = (
@@ -187,10 +189,14 @@ class RangeTable:
     RANGE_MASK = np.uint16((1 << 15) - 1)
     NO_HIT = (1 << 15) - 1          # 32.767 m: beyond every supported max_range
 
-    def __init__(self, geometry, config, index, table):
+    def __init__(self, geometry, config, index, table, points=None):
         self.geometry, self.config = geometry, config
         self.index = index      # int32 (rows, cols): table row of each sample point, -1 if none
         self.table = table      # uint16 (n, angle_bins), see the class docstring
+        # lazy table: the (xs, ys) of the sample points and which rows are filled; None when
+        # every row was filled at build time
+        self._points = points
+        self._filled = None if points is None else np.zeros(len(points[0]), dtype=bool)
         self.bin_width = 2.0 * np.pi / config.angle_bins
         # 1/cos and 1/sin per bin, bounded so that no shift exceeds max_shift, stored twice over
         # so that any window of bins is a plain slice
@@ -203,8 +209,13 @@ class RangeTable:
         self._inv_sin = np.concatenate([inv_sin, inv_sin])
 
     @classmethod
-    def build(cls, geometry, config=None, cache_dir=None, chunk_rays=2_000_000):
-        """Tabulate every sample point with enough clearance; reuse a cached table if present."""
+    def build(cls, geometry, config=None, cache_dir=None, chunk_rays=2_000_000, lazy=False):
+        """Tabulate every sample point with enough clearance; reuse a cached table if present.
+
+        lazy: without a cached table, fill each row when a cast first needs it (the same
+        entries; a robot in one corridor needs a few hundred of the map's rows, so a node or a
+        one-off floor starts at once instead of after minutes); a lazy table is not cached.
+        """
         config = config or RangeTableConfig()
         if config.max_range * cls.MM >= cls.NO_HIT:
             raise ValueError(f"RangeTable stores ranges below {cls.NO_HIT / cls.MM} m, "
@@ -215,20 +226,40 @@ class RangeTable:
             table = np.load(cache)
             if table.shape == (xs.size, config.angle_bins):
                 return cls(geometry, config, index, table)
-        angles = np.arange(config.angle_bins) * (2.0 * np.pi / config.angle_bins)
         table = np.empty((xs.size, config.angle_bins), dtype=np.uint16)
+        if lazy:
+            return cls(geometry, config, index, table, points=(xs, ys))
         per_chunk = max(1, chunk_rays // config.angle_bins)
         for start in range(0, xs.size, per_chunk):
             stop = min(start + per_chunk, xs.size)
-            ranges, faces = ray_march(geometry, xs[start:stop, None], ys[start:stop, None],
-                                      np.broadcast_to(angles, (stop - start, angles.size)),
-                                      config.max_range, return_faces=True)
-            mm = np.where(np.isfinite(ranges), np.round(ranges * cls.MM), cls.NO_HIT)
-            table[start:stop] = mm.astype(np.uint16) | (faces.astype(np.uint16) << 15)
+            table[start:stop] = cls._tabulate(geometry, config, xs[start:stop], ys[start:stop])
         if cache is not None:
             cache.parent.mkdir(parents=True, exist_ok=True)
             np.save(cache, table)
         return cls(geometry, config, index, table)
+
+    @classmethod
+    def _tabulate(cls, geometry, config, xs, ys):
+        """Table rows (uint16 entries over every direction) of the sample points (xs, ys)."""
+        angles = np.arange(config.angle_bins) * (2.0 * np.pi / config.angle_bins)
+        ranges, faces = ray_march(geometry, xs[:, None], ys[:, None],
+                                  np.broadcast_to(angles, (xs.size, angles.size)),
+                                  config.max_range, return_faces=True)
+        mm = np.where(np.isfinite(ranges), np.round(ranges * cls.MM), cls.NO_HIT)
+        return mm.astype(np.uint16) | (faces.astype(np.uint16) << 15)
+
+    @property
+    def filled_rows(self):
+        """How many rows hold ranges (all of them unless the table is lazy)."""
+        return len(self.table) if self._filled is None else int(self._filled.sum())
+
+    def _fill(self, entry):
+        """Fill row `entry` of a lazy table if it is still empty."""
+        if self._filled is not None and not self._filled[entry]:
+            xs, ys = self._points
+            self.table[entry] = self._tabulate(self.geometry, self.config, xs[entry:entry + 1],
+                                               ys[entry:entry + 1])[0]
+            self._filled[entry] = True
 
     @staticmethod
     def _sample_points(geometry, config):
@@ -262,6 +293,7 @@ class RangeTable:
         entry = int(self.index[row, col])
         if entry < 0:
             return None
+        self._fill(entry)
         dx = x - (self.geometry.origin_x + (col + 0.5) * size)
         dy = y - (self.geometry.origin_y + (row + 0.5) * size)
         return entry, dx, dy

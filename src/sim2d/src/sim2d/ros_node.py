@@ -53,6 +53,9 @@ class NodeConfig:
     world: str = ""                 # world YAML (required)
     laser_dir: str = ""             # laser models; "" = <world dir>/../lasers
     raycast: str = ""               # "" = as the world says; "march" or "table" for all lasers
+    lazy_tables: bool = True        # a range table not yet cached fills its rows as the lasers
+                                    # need them (starts at once); false: tabulate the whole map
+                                    # first and cache it
     speed: float = 1.0              # [-] sim seconds per wall second; <= 0: as fast as possible
     step: float = 0.005             # [s] integration step
     odom_rate: float = 50.0         # [Hz] /odom, tf, ground truth, joint_states
@@ -102,11 +105,14 @@ class SimNode:
         if not self.config.world:
             rospy.logfatal("sim2d: parameter ~world (path of a world YAML) is required")
             return False
-        rospy.loginfo("sim2d: loading %s (a laser with raycast 'table' builds its range table "
-                      "once per map, cached in %s)", self.config.world, CACHE_DIR)
+        rospy.loginfo("sim2d: loading %s (range tables cached in %s are loaded; %s)",
+                      self.config.world, CACHE_DIR,
+                      "others fill as the lasers need them" if self.config.lazy_tables
+                      else "others are built for the whole map first")
         try:
             self.world = World.from_file(self.config.world, self.config.laser_dir or None,
-                                         raycast=self.config.raycast or None)
+                                         raycast=self.config.raycast or None,
+                                         lazy_tables=self.config.lazy_tables)
         except (ValueError, OSError) as error:
             rospy.logfatal("sim2d: cannot load world: %s", error)
             return False

@@ -87,7 +87,10 @@ def new_odometry(robot_config, pose):
 class World:
     """Everything in one simulated building, stepped without ROS."""
 
-    def __init__(self, config, cache_dir=CACHE_DIR):
+    def __init__(self, config, cache_dir=CACHE_DIR, lazy_tables=False):
+        """cache_dir: where range tables are kept (None: not kept); lazy_tables: a range table
+        that is not cached fills its rows as the lasers need them (always so without a
+        cache_dir) instead of tabulating the whole map first."""
         self.config = config
         self.time = 0.0
         self.grid = load_map(config.map_path)
@@ -98,6 +101,7 @@ class World:
         self.closed_boxes, self.collision_geometry = [], self.geometry
         self._apply_doors()
         self.cache_dir = cache_dir
+        self.lazy_tables = lazy_tables or cache_dir is None
         self._tables = {}
         self._held = {}        # person name -> (pose, posture, holding) last applied
         self.people = copy.deepcopy(config.people)   # the world's own, moving copies
@@ -108,7 +112,8 @@ class World:
         self._update_people(0.0)
 
     @classmethod
-    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None):
+    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None,
+                  lazy_tables=False):
         """Load a world file; raycast ("march" or "table") overrides every laser's choice."""
         config = load_world_config(path, laser_dir)
         if raycast:
@@ -117,7 +122,7 @@ class World:
             for robot in config.robots:
                 for laser in robot.lasers:
                     laser.raycast = raycast
-        return cls(config, cache_dir)
+        return cls(config, cache_dir, lazy_tables)
 
     def _camera_geometry(self, transparent):
         if not transparent:
@@ -137,7 +142,8 @@ class World:
             0.0, robot_config.radius - reach - 0.75 * table_config.cell_size - TABLE_MARGIN)
         key = (table_config.max_range, table_config.min_clearance)
         if key not in self._tables:
-            self._tables[key] = RangeTable.build(self.geometry, table_config, self.cache_dir)
+            self._tables[key] = RangeTable.build(self.geometry, table_config, self.cache_dir,
+                                                 lazy=self.lazy_tables)
         return self._tables[key]
 
     def _make_robot(self, rc, index):
