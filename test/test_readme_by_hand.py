@@ -19,6 +19,8 @@ ROOT = Path(__file__).resolve().parent.parent
 UTTERANCE = "I have a headache and fever"
 BOB_IP = "192.168.1.102"   # config/household.yaml
 DONE = 2                   # tamp_msgs/InstructionState DONE
+HANG_S = 600.0             # [s] wall-clock time after which a wait is a hang: the launch runs
+                           # slower than its speed-up on a busy machine, and that is no failure
 
 
 def free_port():
@@ -30,7 +32,7 @@ def free_port():
 def sim_time(env):
     """Seconds of simulated time now, from one /clock message (None when none came)."""
     out = subprocess.run(["rostopic", "echo", "-n", "1", "/clock/clock/secs"], env=env,
-                         capture_output=True, text=True, timeout=30)
+                         capture_output=True, text=True, timeout=120)
     try:
         return int(out.stdout.split()[0])
     except (IndexError, ValueError):
@@ -71,17 +73,17 @@ def household(tmp_path):
 
 def test_readme_utterance_after_90_s_is_served(household):
     env, journal, log = household
-    deadline = time.monotonic() + 180.0
+    deadline = time.monotonic() + HANG_S
     while (sim_time(env) or 0) < 90 and time.monotonic() < deadline:
         time.sleep(1.0)
     assert (sim_time(env) or 0) >= 90, f"simulated time never reached 90 s; see {log}"
     sent = subprocess.run(["rosrun", "perception", "send_utterance", "--ip", BOB_IP, UTTERANCE],
-                          env=env, capture_output=True, text=True, timeout=60)
+                          env=env, capture_output=True, text=True, timeout=HANG_S)
     assert sent.returncode == 0, sent.stderr
-    deadline = time.monotonic() + 240.0
+    deadline = time.monotonic() + HANG_S
     while time.monotonic() < deadline:
         requests = bob_requests(journal)
         if any(state == DONE and UTTERANCE in text for state, text in requests):
             return
         time.sleep(1.0)
-    pytest.fail(f"not served within 240 s: {bob_requests(journal)}; see {log}")
+    pytest.fail(f"not served within {HANG_S:.0f} s: {bob_requests(journal)}; see {log}")

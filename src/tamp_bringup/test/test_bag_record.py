@@ -34,6 +34,55 @@ def test_record_command_drops_the_clock():
     assert command == ["rec", "--lz4", "-O", "/r/run.bag", "/tf", "/scan", "__name:=run_recorder"]
 
 
+ROSNODE_INFO = """--------------------------------------------------------------------------------
+Node [/run_recorder]
+Publications:
+ * /rosout [rosgraph_msgs/Log]
+
+Subscriptions:
+ * /scan [sensor_msgs/LaserScan]
+ * /tf [tf2_msgs/TFMessage]
+
+Services:
+ * /run_recorder/get_loggers
+
+contacting node http://localhost:40002/ ...
+Pid: 4242
+Connections:
+ * topic: /rosout
+    * to: /rosout
+    * direction: outbound (44571 - 127.0.0.1:50100) [12]
+    * transport: TCPROS
+{scan}
+"""
+SCAN_CONNECTION = """ * topic: /scan
+    * to: /sim2d (http://localhost:41919/)
+    * direction: inbound (50102 - localhost:36139) [14]
+    * transport: TCPROS"""
+
+
+@pytest.mark.parametrize("scan, connected", [(SCAN_CONNECTION, True), ("", False),
+                                             (SCAN_CONNECTION.replace("/scan", "/scan2"), False)])
+def test_the_recording_starts_when_the_recorder_has_an_inbound_connection(
+        monkeypatch, scan, connected):
+    asked = []
+
+    def rosnode(command, env):
+        asked.append(command)
+        return ROSNODE_INFO.format(scan=scan)
+    monkeypatch.setattr(bag_record, "ros_tool", rosnode)
+    assert bag_record.recorder_connected({}, "/scan") is connected
+    assert asked == [["rosnode", "info", "/run_recorder"]]
+
+
+def test_a_subscribed_but_unconnected_or_unanswering_recorder_is_not_recording(monkeypatch):
+    monkeypatch.setattr(bag_record, "ros_tool", lambda command, env: None)
+    assert not bag_record.recorder_connected({}, "/scan")
+    subscribed = ROSNODE_INFO.format(scan="").split("contacting node")[0]   # no connection yet
+    monkeypatch.setattr(bag_record, "ros_tool", lambda command, env: subscribed)
+    assert not bag_record.recorder_connected({}, "/scan")
+
+
 def test_the_recorder_is_rosbags_record_program():
     program = Path(bag_record.record_program())
     assert program.name == "record" and os.access(program, os.X_OK)
@@ -75,7 +124,7 @@ def test_wait_until_names_what_did_not_come():
         bag_record.wait_until(lambda: False, None, 0.0, "ROS master")
     ended = subprocess.Popen(["true"])
     ended.wait()
-    with pytest.raises(bag_record.RecordError, match="the launch ended"):
+    with pytest.raises(bag_record.RecordError, match=r"^true ended \(status 0\) before ROS master"):
         bag_record.wait_until(lambda: False, ended, 10.0, "ROS master")
 
 

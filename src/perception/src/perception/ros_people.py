@@ -15,6 +15,7 @@ class HumanTableDirectory(PeopleDirectory):
         self.topic = topic
         self._lock = threading.Lock()
         self._table = None  # DictPeopleDirectory, None until the first table arrives
+        self._stamp = None  # [s] header stamp of that table
         self._subscriber = None
 
     def setup(self, sup=None):
@@ -26,11 +27,17 @@ class HumanTableDirectory(PeopleDirectory):
     def _on_table(self, msg):
         table = DictPeopleDirectory([person_from_msg(h) for h in msg.humans])
         with self._lock:
-            self._table = table
+            self._table, self._stamp = table, msg.header.stamp.to_sec()
 
     def received(self):
         with self._lock:
             return self._table is not None
+
+    def stamp(self):
+        """Header stamp [s] of the table in use (None before the first): which of human_db's
+        tables a lookup reads, for the node's diagnostics."""
+        with self._lock:
+            return self._stamp
 
     def _snapshot(self):
         with self._lock:

@@ -205,7 +205,8 @@ class VerbalNode:
             level=(DiagnosticStatus.OK if table and not not_taken and not failure
                    else DiagnosticStatus.WARN),
             message=message,
-            values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())])
+            values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())]
+            + [KeyValue("people_table_stamp", f"{self.directory.stamp() or 0.0:.6f}")])
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()
         self._diagnostics.publish(array)

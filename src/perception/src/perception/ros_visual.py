@@ -260,7 +260,7 @@ class VisualNode:
     def _on_diagnostics(self, _event):
         with self._lock:
             counts, lat = dict(self._counts), list(self._latencies)
-            last_bad = self._last_bad_frame
+            last_bad, busy = self._last_bad_frame, self._busy
         mean = sum(lat) / len(lat) if lat else 0.0
         slow = mean > self.params.slow_latency
         status = DiagnosticStatus(
@@ -270,7 +270,8 @@ class VisualNode:
                      f"slow: mean latency {mean * 1000:.1f} ms" if slow else "ok"),
             values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())]
             + [KeyValue("mean_latency_ms", f"{mean * 1000:.2f}"),
-               KeyValue("last_bad_frame", last_bad or "none")])
+               KeyValue("last_bad_frame", last_bad or "none"),
+               KeyValue("busy_with_a_request", str(busy))])
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()
         self.diagnostics.publish(array)

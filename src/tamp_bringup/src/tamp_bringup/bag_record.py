@@ -46,6 +46,7 @@ DIRECTIONS_TOPICS = (
     "/follow_directions/goal", "/follow_directions/feedback", "/follow_directions/result",
     "/follow_directions/status", "/voice_message", "/robot/say", "/diagnostics")
 NEVER_RECORDED = ("/clock",)   # `rosbag play --clock` publishes the bag's own clock
+RECORDER_NODE = "/run_recorder"   # the recorder's node name (record_command's __name)
 VIEWS = ("social_household", "semantic_nav", "sim")   # replay.launch's view:= (rviz configs)
 STOP_TIMEOUT_S = 30.0    # [s] SIGINT grace before a child is killed
 POLL_S = 0.5             # [s] period of the waits on the master
@@ -95,7 +96,7 @@ def record_command(bag, topics, program="record"):
     """The command line that records `topics` (never /clock) into `bag`, LZ4-compressed (the
     markers and odometry shrink to about a third; rosbag play and rosbag's Python API read it)."""
     kept = [topic for topic in topics if topic not in NEVER_RECORDED]
-    return [program, "--lz4", "-O", str(bag), *kept, "__name:=run_recorder"]
+    return [program, "--lz4", "-O", str(bag), *kept, f"__name:={RECORDER_NODE[1:]}"]
 
 
 def start_recorder(bag, topics, env, log_path):
@@ -116,12 +117,14 @@ def ros_tool(command, env, timeout_s=TOOL_TIMEOUT_S):
     return done.stdout if done.returncode == 0 else None
 
 
-def wait_until(check, launch, timeout_s, what):
-    """Poll `check()` until it is true; RecordError when the launch ends or time runs out."""
+def wait_until(check, process, timeout_s, what):
+    """Poll `check()` until it is true; RecordError when the process it depends on (a launch,
+    the recorder) ends or time runs out."""
     deadline = time.monotonic() + timeout_s
     while not check():
-        if launch is not None and launch.poll() is not None:
-            raise RecordError(f"the launch ended (status {launch.returncode}) before {what}")
+        if process is not None and process.poll() is not None:
+            name = Path(str(process.args[0])).name if getattr(process, "args", None) else "it"
+            raise RecordError(f"{name} ended (status {process.returncode}) before {what}")
         if time.monotonic() > deadline:
             raise RecordError(f"no {what} within {timeout_s:.0f} s")
         time.sleep(POLL_S)
@@ -166,6 +169,41 @@ def sim_time_s(env, timeout_s=TOOL_TIMEOUT_S):
         return clock["secs"] + clock["nsecs"] * 1e-9
     except (yaml.YAMLError, KeyError, TypeError):
         return None
+
+
+def recorder_connected(env, topic):
+    """Whether the recorder (RECORDER_NODE) has an inbound connection on `topic` (`rosnode
+    info`): from then on it receives the topic's messages; a subscription alone is only a
+    registration with the master."""
+    text = ros_tool(["rosnode", "info", RECORDER_NODE], env)
+    if not text or "Connections:" not in text:
+        return False
+    for block in text.split("Connections:", 1)[1].split(" * topic: ")[1:]:
+        lines = block.splitlines()
+        if lines[0].strip() == topic and any("direction: inbound" in line for line in lines):
+            return True
+    return False
+
+
+def wait_for_recording(env, recorder, topic, timeout_s=120.0):
+    """Wait until the recorder receives `topic` (a recorder starting on a loaded machine can
+    take seconds); RecordError when it ends or the (hang-guard) time runs out."""
+    wait_until(lambda: recorder_connected(env, topic), recorder, timeout_s,
+               f"recorder connection to {topic}")
+
+
+def wait_for_sim_seconds(env, seconds, launch, timeout_s=300.0):
+    """Wait until the simulator's clock has advanced `seconds` from now: a recording of a
+    given length in simulated time, however slowly a loaded machine runs the simulator."""
+    start = []
+
+    def advanced():
+        now = sim_time_s(env)
+        if now is None:
+            return False
+        start[:] = start or [now]
+        return now - start[0] >= seconds
+    wait_until(advanced, launch, timeout_s, f"{seconds:g} s of simulated time")
 
 
 def description_path(bag):

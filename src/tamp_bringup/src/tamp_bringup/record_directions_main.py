@@ -21,7 +21,8 @@ from pathlib import Path
 
 from tamp_bringup.bag_record import (DIRECTIONS_TOPICS, RecordError, free_port, replay_command,
                                      run_environment, save_robot_description, start_recorder,
-                                     stop, wait_for_master, wait_for_sim_time)
+                                     stop, wait_for_master, wait_for_recording,
+                                     wait_for_sim_time)
 from tamp_bringup.run_scenario_main import default_out_dir
 
 SENTENCE = "go straight to the end, then turn left"
@@ -78,6 +79,7 @@ def run(args, run_dir, bag):
         wait_for_master(env, launch)
         wait_for_sim_time(env, launch)
         recorder = start_recorder(bag, DIRECTIONS_TOPICS, env, run_dir / "rosbag.log")
+        wait_for_recording(env, recorder, "/scan")   # the drive starts only once it is recorded
         save_robot_description(bag, env)
         return subprocess.run(client_command(args), env=env).returncode
     except RecordError as error:

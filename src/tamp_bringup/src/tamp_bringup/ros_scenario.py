@@ -33,6 +33,7 @@ them (/humans/known); each registration (time, name, how long the dialogue took)
 import dataclasses
 import datetime
 import json
+import os
 import tempfile
 import threading
 import time
@@ -389,7 +390,10 @@ class ScenarioNode:
         if len(self.robots) > 1:
             record["trajectories"] = self.trajectories
         self.record_path.parent.mkdir(parents=True, exist_ok=True)
-        self.record_path.write_text(json.dumps(record, indent=1))
+        # written whole, then renamed: whoever waits for the file never reads half of it
+        partial = self.record_path.with_name(self.record_path.name + ".partial")
+        partial.write_text(json.dumps(record, indent=1))
+        os.replace(partial, self.record_path)
         rospy.loginfo("scenario: record written to %s", self.record_path)
 
 
@@ -405,7 +409,7 @@ def main():
                         rospy.get_param("~command",
                                         "roslaunch tamp_bringup social_household.launch"),
                         rospy.get_param("~robots", [""]))
-    if not node.setup(float(rospy.get_param("~setup_timeout", 120.0)), sup):
+    if not node.setup(float(rospy.get_param("~setup_timeout", 300.0)), sup):
         return 1
     finished = node.run(rospy.get_param("~start_place", "charging_place"))
     return 0 if finished else 1

@@ -29,7 +29,7 @@ from tamp_resources import resource
 from tamp_bringup import scenario_report_main
 from tamp_bringup.bag_record import (SCENARIO_TOPICS, RecordError, free_port, run_environment,
                                      save_robot_description, sim_time_s, start_recorder, stop,
-                                     wait_for_master, wait_for_sim_time)
+                                     wait_for_master, wait_for_recording, wait_for_sim_time)
 from tamp_bringup.progress import SimRate, count_sent_requests, scenario_line
 from tamp_bringup.scenario import load_scenario
 
@@ -135,6 +135,7 @@ def run_launch(command, env, run_dir, scenario, speed, started):
         wait_for_master(env, launch)
         wait_for_sim_time(env, launch)
         bag = start_recorder(run_dir / BAG_NAME, SCENARIO_TOPICS, env, run_dir / "rosbag.log")
+        wait_for_recording(env, bag, "/scan")
         save_robot_description(run_dir / BAG_NAME, env)
         return watch(launch, env, scenario, speed, log_path, started)
     except RecordError as error:
@@ -145,8 +146,9 @@ def run_launch(command, env, run_dir, scenario, speed, started):
         stop(launch)
 
 
-RUN_FILES = ("*.sqlite", "*.sqlite-shm", "*.sqlite-wal", "record.json", "launch.log",
-             "rosbag.log", "run.bag", "run.bag.active", "run.urdf", "rospack_cache_*")
+RUN_FILES = ("*.sqlite", "*.sqlite-shm", "*.sqlite-wal", "record.json", "record.json.partial",
+             "launch.log", "rosbag.log", "run.bag", "run.bag.active", "run.urdf",
+             "rospack_cache_*")
 
 
 def fresh_run_dir(run_dir):
