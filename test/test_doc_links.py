@@ -4,6 +4,8 @@ import importlib.machinery
 import importlib.util
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -16,13 +18,19 @@ def load_checker():
     return module
 
 
-def test_every_docs_file_is_linked_from_a_readme():
-    unlinked, _ = load_checker().check(ROOT)
+@pytest.fixture(scope="module")
+def workspace_check():
+    """(unlinked, broken) of the workspace, checked once for the two tests below."""
+    return load_checker().check(ROOT)
+
+
+def test_every_docs_file_is_linked_from_a_readme(workspace_check):
+    unlinked, _ = workspace_check
     assert unlinked == [], "docs/ files no README links to (link them or delete them)"
 
 
-def test_every_link_points_to_a_file():
-    _, broken = load_checker().check(ROOT)
+def test_every_link_points_to_a_file(workspace_check):
+    _, broken = workspace_check
     assert broken == [], "links to missing files"
 
 

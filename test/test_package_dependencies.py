@@ -8,6 +8,7 @@ package finds its files by path arithmetic (`parents[`, `../../../`): it asks ro
 `$(find ...)`.
 """
 import ast
+import functools
 import re
 from pathlib import Path
 
@@ -48,6 +49,7 @@ def python_files(package_dir, parts):
                 yield path
 
 
+@functools.cache   # two tests read the runtime packages' files
 def imported_packages(path):
     """Top-level names of the workspace packages that a Python file imports."""
     tree = ast.parse(path.read_text(), str(path))

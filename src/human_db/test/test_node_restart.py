@@ -73,12 +73,14 @@ def _free_port():
         return probe.getsockname()[1]
 
 
-@pytest.fixture
-def ros_env(tmp_path):
-    """A roscore of our own on a free port, with ROS_HOME in tmp_path."""
+@pytest.fixture(scope="module")
+def ros_env(tmp_path_factory):
+    """A roscore of our own on a free port, with ROS_HOME in a temporary directory; one for the
+    module's tests (each starts its own nodes, on databases of its own)."""
     port = _free_port()
+    home = tmp_path_factory.mktemp("ros")
     env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{port}", ROS_HOSTNAME="localhost",
-               ROS_HOME=str(tmp_path / "ros"), ROS_LOG_DIR=str(tmp_path / "ros" / "log"))
+               ROS_HOME=str(home), ROS_LOG_DIR=str(home / "log"))
     core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, start_new_session=True)
     deadline = time.monotonic() + TIMEOUT
@@ -176,7 +178,8 @@ def test_a_locked_database_is_retried_then_stops_the_node_naming_the_file(ros_en
     holder = sqlite3.connect(db_path, isolation_level=None)
     holder.execute("BEGIN EXCLUSIVE")          # another process's exclusive lock
     try:
-        node = _start_node(ros_env, db_path, "_open_retry_s:=2.0")
+        # SQLite gives up on the lock after 0.1 s: one retry 0.9 s later, then the budget is out
+        node = _start_node(ros_env, db_path, "_busy_timeout:=0.1", "_open_retry_s:=1.0")
         try:
             output = node.communicate(timeout=TIMEOUT)[0]
         finally:
@@ -188,4 +191,4 @@ def test_a_locked_database_is_retried_then_stops_the_node_naming_the_file(ros_en
     assert output.count(f"human_db: {db_path}: another process holds a lock on the database "
                         "(SQLite: database is locked); retry ") == 1
     assert (f"human_db: not starting: {db_path}: another process holds a lock on the database "
-            "(SQLite: database is locked) and kept it for the 2 s start-up budget") in output
+            "(SQLite: database is locked) and kept it for the 1 s start-up budget") in output

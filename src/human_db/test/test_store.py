@@ -6,6 +6,7 @@ import time
 import pytest
 from human_factories import make_human
 
+from human_db import store as store_module
 from human_db.colour import ColourIndex
 from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidColour, InvalidHuman,
                              StoreBusy, UnknownHuman)
@@ -304,40 +305,78 @@ def _hold_exclusive(path):
     return holder
 
 
-def test_a_locked_database_is_retried_for_the_budget_then_refused(tmp_path):
+class SkippedPauses:
+    """human_db.store's wallclock with its pauses between attempts skipped: monotonic() is the
+    real clock plus every pause taken, so SQLite's own busy waits still count."""
+
+    def __init__(self):
+        self.pauses = []
+
+    def monotonic(self):
+        return time.monotonic() + sum(self.pauses)
+
+    def sleep(self, seconds):
+        self.pauses.append(seconds)
+
+    def __getattr__(self, name):    # time(), ...: the time module's
+        return getattr(time, name)
+
+
+@pytest.fixture
+def clock(monkeypatch):
+    clock = SkippedPauses()
+    monkeypatch.setattr(store_module, "wallclock", clock)
+    return clock
+
+
+# SQLite gives up on a lock after 0.05 s, so the store paces its attempts with its own pauses
+FAST_BUSY = dict(busy_timeout=0.05)
+
+
+def test_a_locked_database_is_retried_for_the_budget_then_refused(tmp_path, clock):
     path = tmp_path / "humans.sqlite"
     holder = _hold_exclusive(path)
     retries = []
-    started = time.monotonic()
+    started = clock.monotonic()
     try:
         with pytest.raises(StoreBusy) as caught:
-            HumanStore(path, StoreConfig(open_retry=2.5), on_retry=retries.append)
+            HumanStore(path, StoreConfig(open_retry=2.5, **FAST_BUSY),
+                       on_retry=lambda message: retries.append((clock.monotonic(), message)))
     finally:
         holder.execute("ROLLBACK")
         holder.close()
-    elapsed = time.monotonic() - started
-    assert 2.5 <= elapsed < 4.0
+    assert clock.monotonic() - started >= 2.5        # the whole budget, then refused
+    assert sum(clock.pauses) <= 2.5 and clock.pauses[-1] < store_module.OPEN_RETRY_PAUSE
     assert str(caught.value).startswith(f"{path}: another process holds a lock on the database "
                                         "(SQLite: database is locked) and kept it for the 2.5 s "
                                         "start-up budget (open_retry)")
-    assert len(retries) == 2                        # one line per retry, about 1 s apart
-    assert retries[0].startswith(f"{path}: another process holds a lock on the database")
-    assert "retry 1," in retries[0] and "retry 2," in retries[1]
+    # one line per retry, paced about a pause apart (attempt starts are OPEN_RETRY_PAUSE apart;
+    # each line follows SQLite's real busy wait, 0.05 s, longer on a busy machine): three when
+    # those waits leave room for them in the budget, never fewer than two
+    assert 2 <= len(retries) <= 3
+    assert all(b[0] - a[0] > 0.5 * store_module.OPEN_RETRY_PAUSE
+               for a, b in zip(retries, retries[1:]))
+    assert retries[0][1].startswith(f"{path}: another process holds a lock on the database")
+    assert all(f"retry {k}," in message for k, (_, message) in enumerate(retries, 1))
 
 
-def test_a_lock_released_within_the_budget_lets_the_store_open(tmp_path, alice):
+def test_a_lock_released_within_the_budget_lets_the_store_open(tmp_path, alice, clock):
     path = tmp_path / "humans.sqlite"
     holder = _hold_exclusive(path)
-    release = threading.Timer(1.5, lambda: holder.execute("ROLLBACK"))
-    release.start()
     retries = []
+
+    def release_after_the_first_retry(message):
+        retries.append(message)
+        if len(retries) == 1:
+            holder.execute("ROLLBACK")
+
     try:
-        store = HumanStore(path, StoreConfig(open_retry=10.0), on_retry=retries.append)
+        store = HumanStore(path, StoreConfig(open_retry=10.0, **FAST_BUSY),
+                           on_retry=release_after_the_first_retry)
     finally:
-        release.join()
         holder.close()
     store.register(alice)
-    assert store.get("Alice").name == "Alice" and 1 <= len(retries) <= 3
+    assert store.get("Alice").name == "Alice" and len(retries) == 1
     store.close()
 
 

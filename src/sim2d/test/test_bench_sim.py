@@ -43,7 +43,7 @@ def test_bad_arguments_are_named(argv, message, capsys):
     assert message in capsys.readouterr().err
 
 
-def test_a_tiny_run_writes_every_figure(tmp_path, capsys):
+def test_a_tiny_run_writes_every_figure(tmp_path, capsys, lazy_tables):
     out = tmp_path / "sim.json"
     assert bench.main(["--seconds", "0.2", "--accuracy-scans", "1", "--json", str(out)]) == 0
     figures = json.loads(out.read_text())
@@ -59,7 +59,7 @@ def test_a_tiny_run_writes_every_figure(tmp_path, capsys):
     assert "real-time factor: penguin" in printed and "step time: penguin p50" in printed
 
 
-def test_crowds_stand_apart_in_free_space_and_walk_in_sight():
+def test_crowds_stand_apart_in_free_space_and_walk_in_sight(lazy_tables):
     from tamp_resources import resource
     from sim2d.bench_crowd import FREE_CLEARANCE, crowd_world
     from sim2d.raycast import segments_clear
@@ -76,7 +76,7 @@ def test_crowds_stand_apart_in_free_space_and_walk_in_sight():
         assert [e.time for e in person.schedule] == [1.0, 21.0, 41.0]
 
 
-def test_windowed_and_every_beam_crowds_drive_the_same_run(capsys):
+def test_windowed_and_every_beam_crowds_drive_the_same_run(capsys, lazy_tables):
     """The overlays see the same ranges, cast together or one by one, so the steered robots
     take the same paths; the --crowd table prints one row per robots x people."""
     from tamp_resources import resource

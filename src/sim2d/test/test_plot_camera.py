@@ -8,7 +8,7 @@ from sim2d.world import World
 HOUSEHOLD = resource("config", "worlds", "household.yaml")
 
 
-def test_camera_view_runs_the_world_and_places_the_robot():
+def test_camera_view_runs_the_world_and_places_the_robot(lazy_tables):
     world = World.from_file(HOUSEHOLD)
     frame, robot = plot_camera.camera_view(world, "pepper", (1.0, 2.0, 0.5), time_s=0.2)
     assert world.time == pytest.approx(0.2)        # four steps of 0.05 s
@@ -16,7 +16,7 @@ def test_camera_view_runs_the_world_and_places_the_robot():
     assert frame is not None
 
 
-def test_unknown_robot_names_the_robots_there():
+def test_unknown_robot_names_the_robots_there(lazy_tables):
     with pytest.raises(ValueError, match="no robot named 'r2d2' in the world \\(it has: pepper\\)"):
         plot_camera.camera_view(World.from_file(HOUSEHOLD), "r2d2")
 
@@ -32,7 +32,7 @@ def test_bad_arguments_are_named(argv, message, capsys):
     assert message in capsys.readouterr().err
 
 
-def test_main_prints_the_detections_and_writes_the_png(tmp_path, capsys):
+def test_main_prints_the_detections_and_writes_the_png(tmp_path, capsys, lazy_tables):
     out = tmp_path / "camera.png"
     assert plot_camera.main(["--out", str(out), "--time", "1"]) == 0
     # what the script printed before it moved here: Pepper's start pose sees the dining table

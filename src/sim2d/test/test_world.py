@@ -98,7 +98,10 @@ def test_objects_behind_a_wall_or_the_camera_are_not_detected(world):
     assert "chair" not in labels     # behind the robot: outside the field of view
 
 
-def test_person_walks_her_schedule(world):
+def test_person_walks_her_schedule(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["robots"] = data["robots"][:1]    # no Penguin: its 1081-beam scans are not checked here
+    world = World(load_world_config(write_world(tmp_path, data), LASER_DIR), cache_dir=None)
     for _ in range(int(10.0 / 0.05)):
         world.step(0.05)
     bob = world.people[0]
@@ -225,6 +228,7 @@ def door_world(tmp_path, room_map):
     data = world_dict(room_map)
     data["doors"] = [DOOR]
     data["people"], data["robots"][0]["camera"] = [], None
+    data["robots"] = data["robots"][:1]    # Pepper alone: the Penguin's scans are not checked
     data["robots"][0]["pose"] = [4.0, 9.0, 0.0]
     data["robots"][0]["lasers"][0]["seed"] = 7
     return World(load_world_config(write_world(tmp_path, data), LASER_DIR), cache_dir=None)
