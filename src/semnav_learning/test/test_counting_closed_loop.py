@@ -27,6 +27,7 @@ def follower():
     ("take the second right", COUNT_SIDE, 24.0),                # 4th corner, 2nd right
     ("turn right at the second corner", COUNT_CORNERS, 12.0),   # 2nd corner, 1st right
 ])
+@pytest.mark.long      # two drives of 12 m and 24 m with the URG-04LX's rays marched: ~6 s
 def test_the_robot_turns_into_the_branch_its_counting_names(floor, follower, sentence,
                                                             counting, branch_x):
     world, oracle = floor

@@ -50,13 +50,13 @@ def test_the_model_card_joins_the_dagger_and_training_summaries(tmp_path):
 
 def test_collect_only_writes_the_states_of_one_round(tmp_path, capsys):
     write_l_floor(tmp_path)
-    assert main(ROOT, argv=[
+    assert main(ROOT, argv=[        # class 4, turn around: the shortest episode
         "--init", str(ROOT / "models" / "semantic_nav" / "default.keras"), "--collect-only",
-        "--floors", str(tmp_path / "l_floor.yaml"), "--classes", "1", "--per-class", "1",
+        "--floors", str(tmp_path / "l_floor.yaml"), "--classes", "4", "--per-class", "1",
         "--world", str(ROOT / "config" / "worlds" / "office_penguin_urg.yaml"),
         "--work-dir", str(tmp_path / "dagger")]) == 0
     records = read_records(tmp_path / "dagger" / "round1.records")
-    assert [r.instruction_class for r in records] == [1] and len(records[0].samples) > 10
+    assert [r.instruction_class for r in records] == [4] and len(records[0].samples) > 10
     assert not (tmp_path / "dagger" / "summary.json").exists()     # no training round
     printed = capsys.readouterr().out
     assert f"round 1: 1/1 episodes reached the goal on the training floors; " \

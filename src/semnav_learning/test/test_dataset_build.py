@@ -54,9 +54,11 @@ def test_resume_keeps_a_finished_floor_and_adds_earlier_floors(tiny_build):
     folder, summary = tiny_build
     records = folder / "ds" / "train" / "l_floor.records"
     written = records.stat().st_mtime_ns
-    # another split this time: the finished l_floor is read back from its entry, not rebuilt
+    # another split this time (turning around: a short drive): the finished l_floor is read
+    # back from its entry, not rebuilt
     again = build_dataset(tiny_config(folder, split={"validation": ["l_floor"]}, resume=True,
-                                      classes=[1]), progress=False)
+                                      classes=[4]), progress=False)
+    assert again["splits"]["validation"]["l_floor"]["per_class"] == {4: 1}
     assert again["splits"]["train"]["l_floor"] == summary["splits"]["train"]["l_floor"]
     assert records.stat().st_mtime_ns == written
 

@@ -20,10 +20,17 @@ def l_corridor(tmp_path_factory):
     return l_floor_world(tmp_path_factory.mktemp("world"))
 
 
-def test_turn_left_at_the_corner_in_the_simulator(l_corridor):
+@pytest.fixture(scope="module")
+def turn_left(l_corridor):
+    """The expert's "turn left" from the corridor's start: to the L corner, 1 m into the branch
+    (driven once for the two tests that look at it)."""
     world, oracle = l_corridor
-    demo = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
+    return demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
                        rng=np.random.default_rng(0))
+
+
+def test_turn_left_at_the_corner_in_the_simulator(turn_left):
+    demo = turn_left
     assert demo.ok, demo
     x, y, yaw = demo.final_pose
     assert (x, y) == pytest.approx((9.0, 2.9), abs=0.75)      # 1.0 m into the branch
@@ -42,12 +49,11 @@ def test_turn_left_at_the_corner_in_the_simulator(l_corridor):
     np.testing.assert_array_equal(again.ranges, sequence.samples[5].ranges)   # NaN == NaN
 
 
-def test_turn_after_the_end_starts_where_go_to_the_end_stops(l_corridor):
+def test_turn_after_the_end_starts_where_go_to_the_end_stops(l_corridor, turn_left):
     """after=(1,): "turn left" standing at the corner that "go straight to the end" reached
     (the oracle's class-1 goal, episodes.chain_goals), not from the corridor's start."""
     world, oracle = l_corridor
-    whole = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
-                        rng=np.random.default_rng(0))
+    whole = turn_left
     end = oracle.goal((1.0, 1.0, 0.0), 1, oracle.walk((1.0, 1.0, 0.0))).pose
     demo = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 3,
                        rng=np.random.default_rng(0), after=(1,))
@@ -76,8 +82,8 @@ def test_record_rate_records_one_scan_per_period(l_corridor):
     """record_rate 5 Hz on the 10 Hz URG-04LX: half the samples of the same drive, still
     ending with the 6 s of standing (30 samples at 5 Hz)."""
     world, oracle = l_corridor
-    full = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 1)
-    half = demonstrate(world, "penguin", oracle, (1.0, 1.0, 0.0), 1, record_rate=5.0)
+    full = demonstrate(world, "penguin", oracle, (5.0, 1.0, 0.0), 1)
+    half = demonstrate(world, "penguin", oracle, (5.0, 1.0, 0.0), 1, record_rate=5.0)
     assert full.ok and half.ok
     assert len(half.sequence.samples) == pytest.approx(len(full.sequence.samples) / 2, abs=3)
     assert all(s.v == 0.0 and s.omega == 0.0 for s in half.sequence.samples[-30:])
@@ -90,7 +96,7 @@ def test_world_for_floor_starts_the_robot_on_this_floor(tmp_path):
     of the corridor wall, whose centre is 3 m from its walls."""
     write_l_floor(tmp_path)
     world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml",
-                            tmp_path / "l_floor.yaml", cache_dir=None)
+                            tmp_path / "l_floor.yaml", cache_dir=None, raycast="march")
     x, y, _ = world.robot("penguin").state.pose
     clearance = world.geometry.clearance(np.array([x]), np.array([y]))[0]
     assert clearance == pytest.approx(2.9, abs=0.1)     # 3 m minus half the 0.2 m walls

@@ -15,11 +15,14 @@ ROOT = resource()      # holds config/ and maps/ as the workspace does
 
 @pytest.fixture(scope="module")
 def expert_run(tmp_path_factory):
-    """One expert episode per applicable class of the L floor, its plan written."""
+    """One expert episode per applicable class of the L floor, its plan written (40 starts
+    sampled: classes 5 to 8 never apply here, and the default 240 only take longer). The
+    URG-04LX: the range table of the L floor that test_evaluation and test_recipe use too."""
     folder = tmp_path_factory.mktemp("eval_cli")
     write_l_floor(folder)
     argv = ["--map", str(folder / "l_floor.yaml"), "--policy", "expert", "--workers", "1",
-            "--episodes-per-class", "1", "--docs", str(folder / "docs"), "--name", "tiny",
+            "--episodes-per-class", "1", "--candidates", "40", "--laser", "urg04lx",
+            "--docs", str(folder / "docs"), "--name", "tiny",
             "--json", str(folder / "tiny.json"), "--plan", str(folder / "plan.json")]
     assert main(ROOT, argv=argv) == 0
     return folder, argv
@@ -38,7 +41,7 @@ def test_a_run_writes_its_plan_table_pictures_and_episodes(expert_run, capsys):
     assert result["policy"]["total"][1] == len(specs)
     assert result["args"]["policy"] == "expert" and "expert" not in result    # no reference
     markdown = (folder / "docs" / "tiny.md").read_text()
-    assert markdown.startswith("**tiny** (expert, utm30lx, l_floor, seed 0)")
+    assert markdown.startswith("**tiny** (expert, urg04lx, l_floor, seed 0)")
     assert markdown.rstrip().endswith("`scripts/eval_semnav " + " ".join(argv) + "`")
     assert (folder / "docs" / "tiny_paths.png").stat().st_size > 1000
 
@@ -47,8 +50,8 @@ def test_a_written_plan_is_reused_and_first_keeps_n_per_class(expert_run, tmp_pa
     folder, _ = expert_run
     docs = tmp_path / "docs"
     main(ROOT, argv=["--plan", str(folder / "plan.json"), "--policy", "expert", "--workers",
-                     "1", "--first", "1", "--classes", "1", "--docs", str(docs), "--name", "again",
-                     "--json", str(tmp_path / "again.json")])
+                     "1", "--first", "1", "--classes", "1", "--laser", "urg04lx", "--docs",
+                     str(docs), "--name", "again", "--json", str(tmp_path / "again.json")])
     again = json.loads((tmp_path / "again.json").read_text())
     first = json.loads((folder / "tiny.json").read_text())
     # the plan's episodes, not a new draw for --classes 1; the expert drives them alike
@@ -121,7 +124,8 @@ def test_a_plan_is_drawn_from_the_phrases_given(tmp_path):
     phrases = tmp_path / "phrases.yaml"
     phrases.write_text(yaml.safe_dump(sets))
     argv = ["--map", str(tmp_path / "l_floor.yaml"), "--policy", "expert", "--workers", "1",
-            "--episodes-per-class", "1", "--classes", "1", "--docs", str(tmp_path),
+            "--episodes-per-class", "1", "--classes", "1", "--laser", "urg04lx",
+            "--docs", str(tmp_path),
             "--plan", str(tmp_path / "plan.json"), "--phrases", str(phrases)]
     assert main(ROOT, argv=argv) == 0
     [spec] = load_plan(tmp_path / "plan.json")

@@ -31,11 +31,22 @@ def l_floor(tmp_path_factory):
     return folder, {str(folder / "l_floor.yaml"): RouteOracle(grid)}
 
 
-def test_plan_has_n_per_applicable_class_and_a_fifth_held_out(l_floor):
+@pytest.fixture(scope="module")
+def sets():
+    return load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
+
+
+@pytest.fixture(scope="module")
+def plan(l_floor, sets):
+    """10 episodes per applicable class of the L floor."""
     _, oracles = l_floor
-    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
     config = EvaluationConfig(candidates=40, batch=20, min_starts=2)
-    specs = plan_episodes(oracles, 10, sets, np.random.default_rng(0), config)
+    return plan_episodes(oracles, 10, sets, np.random.default_rng(0), config)
+
+
+def test_plan_has_n_per_applicable_class_and_a_fifth_held_out(l_floor, plan):
+    _, oracles = l_floor
+    specs = plan
     per_class = {}
     for spec in specs:
         per_class.setdefault(spec.labels[0], []).append(spec)
@@ -50,10 +61,9 @@ def test_plan_has_n_per_applicable_class_and_a_fifth_held_out(l_floor):
     assert all(oracle.field.at(*s.start[:2]) >= 0.4 for s in specs)
 
 
-def test_plan_of_chosen_classes_only(l_floor):
+def test_plan_of_chosen_classes_only(l_floor, sets):
     """DAgger rounds on the classes a model gets wrong (dagger_semnav --classes)."""
     _, oracles = l_floor
-    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
     config = EvaluationConfig(candidates=40, batch=20, min_starts=2)
     specs = plan_episodes(oracles, 5, sets, np.random.default_rng(1), config, classes=(4, 1))
     assert sorted(s.labels[0] for s in specs) == [1] * 5 + [4] * 5
@@ -96,7 +106,7 @@ def test_chain_plan_takes_starts_where_the_whole_chain_applies(l_floor):
 def test_expert_episodes_in_a_worker_process(l_floor):
     folder, oracles = l_floor
     floor = next(iter(oracles))
-    specs = [EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False),
+    specs = [EpisodeSpec(floor, (5.0, 1.0, 0.0), (1,), "go straight to the end", False),
              EpisodeSpec(floor, (1.2, 0.9, 0.05), (4,), "turn around", True)]
     outcomes = evaluate(specs, folder / "world.yaml", PolicySpec(kind="expert"), workers=2,
                         raycast="march", laser_dir=ROOT / "config" / "lasers")
@@ -107,32 +117,38 @@ def test_expert_episodes_in_a_worker_process(l_floor):
     assert rows == [(1, 1, 1, 1.0), (4, 1, 1, 1.0)] and total == ("Total", 2, 2, 1.0)
 
 
-def test_an_episode_sees_the_same_laser_noise_whatever_ran_before(l_floor):
+MODEL_RUN = dict(raycast="march", laser_dir=ROOT / "config" / "lasers")
+
+
+@pytest.fixture(scope="module")
+def model_episodes(l_floor):
+    """The default model's episodes a, b, a in this process: "go straight to the end" from
+    3.4 m before the corridor's end wall, "turn around" (a held-out phrasing), then a again."""
+    folder, oracles = l_floor
+    floor = next(iter(oracles))
+    a = EpisodeSpec(floor, (6.5, 1.0, 0.0), (1,), "go straight to the end", False)
+    b = EpisodeSpec(floor, (1.5, 0.8, 0.1), (4,), "turn around", True)
+    specs = [a, b, a]
+    return specs, evaluate(specs, folder / "world.yaml", PolicySpec(), workers=1, **MODEL_RUN)
+
+
+def test_an_episode_sees_the_same_laser_noise_whatever_ran_before(model_episodes):
     """Each episode reseeds the laser from its own spec (episode_seed), so a model's episode
     drives the same path first in a worker or after another episode."""
-    folder, oracles = l_floor
-    floor = next(iter(oracles))
-    a = EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False)
-    b = EpisodeSpec(floor, (1.5, 0.8, 0.1), (4,), "turn around", True)
+    (a, b, _), outcomes = model_episodes
     assert episode_seed(a) == episode_seed(EpisodeSpec(*astuple(a))) != episode_seed(b)
-    outcomes = evaluate([a, b, a], folder / "world.yaml", PolicySpec(), workers=1,
-                        raycast="march", laser_dir=ROOT / "config" / "lasers")
-    assert outcomes[0].steps > 10
+    assert outcomes[0].steps > 10 and outcomes[1].steps > 10
     assert outcomes[0].path == outcomes[2].path and outcomes[0].reason == outcomes[2].reason
+    assert outcomes[0].path != outcomes[1].path
 
 
-def test_spawned_workers_drive_what_this_process_drives(l_floor):
+def test_spawned_workers_drive_what_this_process_drives(l_floor, model_episodes):
     """The trainer's closed-loop monitor runs its episodes in spawned workers: the same
     outcomes, in spec order, as in-process."""
-    folder, oracles = l_floor
-    floor = next(iter(oracles))
-    specs = [EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False),
-             EpisodeSpec(floor, (1.5, 0.8, 0.1), (4,), "turn around", True),
-             EpisodeSpec(floor, (2.0, 1.0, 0.0), (1,), "walk to the end of the hall", False)]
-    run = dict(raycast="march", laser_dir=ROOT / "config" / "lasers")
-    here = evaluate(specs, folder / "world.yaml", PolicySpec(), workers=1, **run)
+    folder, _ = l_floor
+    specs, here = model_episodes
     spawned = evaluate(specs, folder / "world.yaml", PolicySpec(), workers=2,
-                       start_method="spawn", **run)
+                       start_method="spawn", **MODEL_RUN)
     assert [o.spec for o in spawned] == specs
     assert [(o.success, o.reason, o.path) for o in spawned] == \
         [(o.success, o.reason, o.path) for o in here]
@@ -153,7 +169,7 @@ def test_floors_load_once_for_every_evaluate_call_in_a_process(l_floor, monkeypa
     monkeypatch.setattr(evaluation, "world_for_floor", counting)
     monkeypatch.setattr(evaluation, "_WORKER", {})
     lasers = ROOT / "config" / "lasers"
-    spec = EpisodeSpec(floor, (1.0, 1.0, 0.0), (1,), "go straight to the end", False)
+    spec = EpisodeSpec(floor, (1.2, 0.9, 0.05), (4,), "turn around", False)
     for _ in range(2):
         outcome, = evaluate([spec], folder / "world.yaml", PolicySpec(kind="expert"), workers=1,
                             raycast="march", laser_dir=lasers)
@@ -164,13 +180,12 @@ def test_floors_load_once_for_every_evaluate_call_in_a_process(l_floor, monkeypa
     assert built == [floor, floor]
 
 
-def test_plan_file_round_trip_and_a_bad_plan_is_named(l_floor, tmp_path):
-    _, oracles = l_floor
-    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
-    specs = plan_episodes(oracles, 3, sets, np.random.default_rng(2), EvaluationConfig())
-    plan = tmp_path / "plan.json"
-    plan.write_text(json.dumps([asdict(s) for s in specs]))
-    assert load_plan(plan) == specs
+def test_plan_file_round_trip_and_a_bad_plan_is_named(plan, tmp_path):
+    specs = plan
+    assert any(s.held_out for s in specs) and not all(s.held_out for s in specs)
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps([asdict(s) for s in specs]))
+    assert load_plan(path) == specs
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps([{"floor": "x.yaml"}]))
     with pytest.raises(ValueError, match="bad.json: not an evaluation plan"):
@@ -256,9 +271,14 @@ def test_mcnemar_exact_against_the_binomial_tail_by_hand():
 
 
 def _mcnemar_by_fractions(only_first, only_second):
-    """Independent exact reference: 2 · sum_{i<=k} C(n, i) / 2^n in rationals, capped at 1."""
+    """Independent exact reference: 2 · sum_{i<=k} C(n, i) / 2^n in rationals, capped at 1
+    (C(n, i) by the exact recurrence C(n, i) = C(n, i - 1) (n - i + 1) / i)."""
     n, k = only_first + only_second, min(only_first, only_second)
-    return float(min(Fraction(1), 2 * Fraction(sum(math.comb(n, i) for i in range(k + 1)), 2 ** n)))
+    term = tail = 1
+    for i in range(1, k + 1):
+        term = term * (n - i + 1) // i
+        tail += term
+    return float(min(Fraction(1), 2 * Fraction(tail, 2 ** n)))
 
 
 @pytest.mark.parametrize("only_first, only_second", [
@@ -301,13 +321,12 @@ def test_paired_comparison_counts_discordant_episodes_per_class():
         paired_comparison(first, first[:3])
 
 
-def test_a_plan_counts_one_side_where_its_sentence_says_so(tmp_path):
+def test_a_plan_counts_one_side_where_its_sentence_says_so(tmp_path, sets):
     """On the alternating floor the class 5 episodes whose sentence counts the right-hand
     branches ("take the second right") are judged by that count; the others by the corners."""
     from semnav_alternating_floor import alternating_floor_world
     _, oracle = alternating_floor_world(tmp_path)
     floor = str(tmp_path / "alternating.yaml")
-    sets = load_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
     specs = plan_episodes({floor: oracle}, 40, sets, np.random.default_rng(4),
                           EvaluationConfig(), classes=(5,))
     side = [s for s in specs if s.countings == ("side",)]

@@ -26,28 +26,42 @@ def sets():
 
 @dataclass
 class Generated:
-    """One pass over every training sentence of a class (millions in all: kept as texts)."""
+    """One pass over the texts of every training sentence of a class (millions in all)."""
 
     texts: set = field(default_factory=set)
-    labels: set = field(default_factory=set)
     count: int = 0
-    held_out_phrases: int = 0
     every_97th: list = field(default_factory=list)
 
 
 @pytest.fixture(scope="module")
 def train_sentences(sets):
+    """enumerate_texts: the texts of enumerate_sentences without a Sentence each (the same
+    texts in the same order: test_texts_are_the_texts_of_the_sentences)."""
     out = {}
     for label in CLASS_IDS:
-        g = out[label] = Generated()
-        for i, sentence in enumerate(enumerate_sentences(sets, label, "train")):
-            g.texts.add(sentence.text)
-            g.labels.add(sentence.label)
-            g.count += 1
-            g.held_out_phrases += any(p.held_out for p in sentence.phrases)
-            if i % 97 == 0:
-                g.every_97th.append(sentence)
+        texts = list(enumerate_texts(sets, label, "train"))
+        out[label] = Generated(set(texts), len(texts), texts[::97])
     return out
+
+
+def first_phrases(node):
+    """A phrase file's content cut to the first phrase of every list: every set, kind, split
+    and class is kept, so every recipe generates every combination of sets it has."""
+    if isinstance(node, list):
+        return node[:1]
+    if isinstance(node, dict):
+        return {key: first_phrases(value) for key, value in node.items()}
+    return node
+
+
+@pytest.fixture(scope="module")
+def few_sets(tmp_path_factory):
+    """The phrase sets with one phrase per list: whole Sentences for every combination of sets
+    of every class and split in a second. A sentence's label and split follow from the sets
+    and kinds its phrases were taken from (label_of, _choices), never from their words."""
+    path = tmp_path_factory.mktemp("phrases") / "first_phrases.yaml"
+    path.write_text(yaml.safe_dump(first_phrases(yaml.safe_load(CONFIG.read_text()))))
+    return load_phrase_sets(path)
 
 
 def _find(sets, name, text):
@@ -136,10 +150,24 @@ def test_suffix_turn_kinds(sets):
                    ).label == 10
 
 
-def test_every_class_is_generated_with_its_own_label(train_sentences):
+def test_every_class_is_generated_with_its_own_label(train_sentences, few_sets):
     for label, generated in train_sentences.items():
         assert generated.count > 100, label
-        assert generated.labels == {label}
+    for label in CLASS_IDS:
+        for split in ("train", "validation", "held_out"):
+            sentences = list(enumerate_sentences(few_sets, label, split))
+            assert sentences and {s.label for s in sentences} == {label}, (label, split)
+
+
+def test_texts_are_the_texts_of_the_sentences(few_sets):
+    """enumerate_texts yields enumerate_sentences' texts: in the same order for training (every
+    97th training sentence above), in another order for the other splits."""
+    for label in CLASS_IDS:
+        assert list(enumerate_texts(few_sets, label)) == [
+            s.text for s in enumerate_sentences(few_sets, label)], label
+        for split in ("validation", "held_out"):
+            assert Counter(enumerate_texts(few_sets, label, split)) == Counter(
+                s.text for s in enumerate_sentences(few_sets, label, split)), (label, split)
 
 
 def test_enumeration_counts_follow_the_set_sizes(sets, train_sentences):
@@ -161,11 +189,13 @@ def test_the_place_can_be_said_before_the_turn(train_sentences):
     assert "at the next corner turn right" in train_sentences[2].texts
 
 
-def test_held_out_sentences_never_occur_in_training(sets, train_sentences):
+def test_held_out_sentences_never_occur_in_training(sets, train_sentences, few_sets):
     for label in CLASS_IDS:
         held = list(enumerate_texts(sets, label, "held_out"))
-        assert held and not train_sentences[label].texts & set(held)
-        assert train_sentences[label].held_out_phrases == 0
+        assert held and train_sentences[label].texts.isdisjoint(held)
+        # training sentences take training phrases only (every combination of sets)
+        assert not any(p.split != "train" for s in enumerate_sentences(few_sets, label)
+                       for p in s.phrases)
     # enumerate_texts yields exactly enumerate_sentences' texts (here on the smallest class)
     assert Counter(enumerate_texts(sets, 4, "held_out")) == Counter(
         s.text for s in enumerate_sentences(sets, 4, "held_out"))
@@ -197,8 +227,9 @@ def test_held_out_sampling_ignores_validation_phrases(tmp_path):
         entry.pop("validation", None)
     plain = tmp_path / "phrases.yaml"
     plain.write_text(yaml.safe_dump(config))
-    draws = [[sample_sentence(load_phrase_sets(path), label, np.random.default_rng(9),
-                              "held_out").text for label in CLASS_IDS] for path in (CONFIG, plain)]
+    loaded = [load_phrase_sets(path) for path in (CONFIG, plain)]
+    draws = [[sample_sentence(sets, label, np.random.default_rng(9), "held_out").text
+              for label in CLASS_IDS] for sets in loaded]
     assert draws[0] == draws[1]
     with pytest.raises(PhraseSetError, match="no validation phrase"):
         sample_sentence(load_phrase_sets(plain), 4, np.random.default_rng(0), "validation")
@@ -206,8 +237,8 @@ def test_held_out_sampling_ignores_validation_phrases(tmp_path):
 
 def test_generated_sentences_are_single_simple_instructions(train_sentences):
     for generated in train_sentences.values():
-        for sentence in generated.every_97th:
-            assert split_instruction(sentence.text) == [sentence.text]
+        for text in generated.every_97th:
+            assert split_instruction(text) == [text]
 
 
 def test_sampling_is_reproducible_and_labelled(sets):

@@ -19,6 +19,8 @@ FLOOR = ("maps", "office_ring.yaml")       # under the workspace root
 SENTENCE = "go straight to the end, then turn left"
 CORRIDOR = (6.0, 24.0, 5.0)                # x from, x to, y of office_ring's south corridor [m]
 WALL_GAP = 0.36                            # [m] ahead in the guard's worst case (reach 0.35 m)
+PLACES = 200                               # scans cast along the corridor, then repeated
+KERAS_CALLS, WORST_CASE_CALLS = 100, 200   # timed calls of those parts (fewer in a short run)
 
 
 def argument_parser(description=None):
@@ -27,7 +29,10 @@ def argument_parser(description=None):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--model", help="model file (default: the follower's default)")
     parser.add_argument("--untrained", action="store_true")
-    parser.add_argument("--steps", type=int, default=2000)
+    parser.add_argument("--steps", type=int, default=2000,
+                        help="control steps per laser; also caps the timed Keras steps and "
+                             "guard worst cases, and a run of fewer than 200 marches the "
+                             "UTM-30LX's rays instead of using its range table")
     return parser
 
 
@@ -59,14 +64,14 @@ def spread(ms):
     return f"p50 {np.percentile(ms, 50):.3f} ms, p99 {np.percentile(ms, 99):.3f} ms"
 
 
-def scans(template, floor, count, raycast):
-    """`count` sim2d scans along the south ring corridor (at most 200 places, repeated) ->
-    (scans, the laser's model)."""
+def scans(template, floor, count, raycast, places=PLACES):
+    """`count` sim2d scans along the south ring corridor (at most `places` places, repeated)
+    -> (scans, the laser's model)."""
     world = world_for_floor(template, floor, raycast=raycast)
     robot = world.robots[0]
     x_from, x_to, y = CORRIDOR
     out = [robot.lasers[0].scan((float(x), y, 0.0)) for x in np.linspace(x_from, x_to,
-                                                                          min(count, 200))]
+                                                                          min(count, places))]
     return [out[i % len(out)] for i in range(count)], sim_laser_model(robot)
 
 
@@ -96,9 +101,11 @@ def step_times_ms(policy, ranges, laser):
 
 
 def bench_laser(policy, laser_name, templates, floor, steps):
-    """Print the control step's latency on one laser and its parts."""
-    ranges, laser = scans(templates[laser_name], floor, steps,
-                          "table" if laser_name == "utm30lx" else "march")
+    """Print the control step's latency on one laser and its parts. The UTM-30LX scans come
+    from sim2d's range table as in the simulator, but a short run (fewer steps than PLACES)
+    marches its few rays: building office_ring's table takes about a minute on a new machine."""
+    table = laser_name == "utm30lx" and steps >= PLACES
+    ranges, laser = scans(templates[laser_name], floor, steps, "table" if table else "march")
     ms = step_times_ms(policy, ranges, laser)
     print(f"{laser_name} ({laser.beams} beams): control step {spread(ms)}, "
           f"max {ms.max():.3f} ms over {len(ms)} steps "
@@ -114,12 +121,13 @@ def bench_laser(policy, laser_name, templates, floor, steps):
     wall = blocked_scan(templates, floor, laser_name)
     v_move = policy.config.postprocess.v_move
     steered = call_ms(lambda: steer_around(0.4, 0.0, scan_points(wall, laser), v_move,
-                                           policy.config.guard, 0.5), 200)
+                                           policy.config.guard, 0.5),
+                      min(WORST_CASE_CALLS, steps))
     print(f"  the guard's worst case (a wall 0.36 m ahead, every arc tried on the base's "
           f"path from ω 0.5 rad/s): {spread(steered)}")
 
 
-def keras_step_ms(model, calls=100):
+def keras_step_ms(model, calls=KERAS_CALLS):
     """Times of one Keras step (words + one scan, no state kept) [ms]."""
     from semantic_nav.network import CORNER_CLASSES, has_count_input
     rng = np.random.default_rng(0)
@@ -143,7 +151,7 @@ def main(root, description=None, argv=None):
     templates, floor = laser_templates(root), Path(root).joinpath(*FLOOR)
     for laser_name in ("utm30lx", "urg04lx"):
         bench_laser(policy, laser_name, templates, floor, args.steps)
-    keras = keras_step_ms(model)
+    keras = keras_step_ms(model, min(KERAS_CALLS, args.steps))
     print(f"Keras model, one step (words + one scan, no state kept): {spread(keras)}")
     began = time.perf_counter()
     policy.start(SENTENCE)

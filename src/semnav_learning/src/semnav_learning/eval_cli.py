@@ -45,6 +45,9 @@ def argument_parser(root, description=None):
     parser.add_argument("--laser", choices=sorted(laser_templates(root)), default="utm30lx")
     parser.add_argument("--episodes-per-class", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--candidates", type=int, default=EvaluationConfig().candidates,
+                        help="corridor starts a new plan samples per floor at most (fewer: a "
+                             "floor where some classes never apply is sampled sooner)")
     parser.add_argument("--json", type=Path, help="write every episode and the table here")
     parser.add_argument("--model", help="model file of the follower (default: its default)")
     parser.add_argument("--follower-config", type=Path,
@@ -153,20 +156,21 @@ def episode_specs(args, phrases):
         floors = sorted({s.floor for s in specs})
         return specs, floors, {f: RouteOracle(load_map(f)) for f in floors}
     rng = np.random.default_rng(args.seed)
+    batch = min(EvaluationConfig().batch, args.candidates)      # starts sampled per round
+    config = EvaluationConfig(candidates=args.candidates, batch=batch)
     floors = [str(p.resolve()) for p in args.map]
     oracles = {f: RouteOracle(load_map(f)) for f in floors}
     if args.chain:
         if not args.sentence:
             sys.exit("--chain needs --sentence (the chained instruction's words)")
         specs = plan_chain_episodes(oracles, args.chain, args.sentence, args.episodes_per_class,
-                                    rng)
+                                    rng, config)
     else:
         try:
             sets = load_phrase_sets(phrases)
         except (OSError, PhraseSetError) as error:
             sys.exit(f"eval_semnav: --phrases {phrases}: {error}")
-        specs = plan_episodes(oracles, args.episodes_per_class, sets, rng, EvaluationConfig(),
-                              args.classes)
+        specs = plan_episodes(oracles, args.episodes_per_class, sets, rng, config, args.classes)
     if args.plan:
         args.plan.parent.mkdir(parents=True, exist_ok=True)
         args.plan.write_text(json.dumps([asdict(s) for s in specs]))

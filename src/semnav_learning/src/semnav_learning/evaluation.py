@@ -18,7 +18,6 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.stats import binomtest
 
 from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy, chain_applies,
@@ -404,6 +403,9 @@ def mcnemar_exact(only_first, only_second):
     The tail is `scipy.stats.binomtest` (Fagerland, Lydersen & Laake, "The McNemar test for
     binary matched-pairs data", BMC Med. Res. Methodol. 13:91, 2013), which stays finite for
     any number of discordant pairs."""
+    # imported here: scipy.stats takes most of the import time of this module, which every
+    # spawned worker process of `evaluate` pays before its first episode
+    from scipy.stats import binomtest
     n = only_first + only_second
     if n == 0:
         return 1.0

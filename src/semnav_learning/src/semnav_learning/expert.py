@@ -170,11 +170,13 @@ class Rehearsal:
     min_clearance: float    # closest approach of the robot centre to an obstacle [m]
 
 
-def rehearse(oracle, start, label, config=None, rng=None, start_offset=(0.0, 0.0, 0.0)):
+def rehearse(oracle, start, label, config=None, rng=None, start_offset=(0.0, 0.0, 0.0),
+             walk=None):
     """Drive class `label` from `start` (optionally displaced) with the expert and unicycle
-    kinematics; None when the class is not applicable here."""
+    kinematics; None when the class is not applicable here. `walk`: oracle.walk(start) when
+    the caller has it (every class from one start needs the same walk, the costly part)."""
     config = config or ExpertConfig()
-    walk = oracle.walk(start)
+    walk = oracle.walk(start) if walk is None else walk
     goal = oracle.goal(start, label, walk)
     if goal is None:
         return None

@@ -235,8 +235,19 @@ def enumerate_texts(sets, label, split="train"):
                        + [texts(slot, ("train", split)) for slot in recipe[k + 1:]]
                        for k in range(len(recipe))]
         for pools in layouts:
-            for combination in itertools.product(*pools):
-                yield " ".join(t for t in combination if t is not None)
+            yield from _joined(pools)
+
+
+def _joined(pools):
+    """Every combination of one text from each pool (None: the slot left out), its texts joined
+    by spaces, in itertools.product's order. Built slot by slot, one concatenation per text
+    rather than a join over a generator: the checks over every sentence (millions) run about
+    three times faster."""
+    texts = [None]                  # None: no phrase yet
+    for pool in pools:
+        texts = [left if text is None else text if left is None else f"{left} {text}"
+                 for left in texts for text in pool]
+    return ["" if text is None else text for text in texts]
 
 
 def sample_sentence(sets, label, rng, split="train"):
