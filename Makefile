@@ -1,5 +1,5 @@
 # Thin targets over scripts/. `make demo` and `make test` are the README's two commands.
-.PHONY: setup demo test lint clean train
+.PHONY: setup demo test test-long lint clean train
 
 setup:
 	bash scripts/setup
@@ -9,6 +9,10 @@ demo:
 
 test:
 	bash scripts/test
+
+# the long closed-loop checks `make test` leaves out (README.md, "The long tests")
+test-long:
+	bash scripts/test_long
 
 # `make train ARGS=--install` also copies the models over models/semantic_nav/
 train:
