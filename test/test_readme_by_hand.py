@@ -71,6 +71,7 @@ def household(tmp_path):
             launch.kill()
 
 
+@pytest.mark.long      # a minute of the whole household at 6x: `make test-long`
 def test_readme_utterance_after_90_s_is_served(household):
     env, journal, log = household
     deadline = time.monotonic() + HANG_S
