@@ -1,4 +1,5 @@
 from catkin_pkg.python_setup import generate_distutils_setup
 from setuptools import setup
 
-setup(**generate_distutils_setup(packages=["task_planner"], package_dir={"": "src"}))
+setup(**generate_distutils_setup(packages=["task_planner", "task_planner.behaviours"],
+                                 package_dir={"": "src"}))

@@ -32,7 +32,7 @@ def test_low_battery_sends_the_robot_to_charge(line_graph, tmp_path):
                            charge_w=36.0, low_fraction=0.5)
     battery = BatteryModel(config)
     executor = make_executor(line_graph, PriorityFirst(), tmp_path)
-    executor.charging = Charging(battery, A, 8, Priority("self_generated", 1.0, 0.9))
+    executor.state.charging = Charging(battery, A, 8, Priority("self_generated", 1.0, 0.9))
     far = make_instruction(1, D, gamma=3.0, beta=0.94, duration=0, function=1)
     trace = run_executor(executor, [(0.0, far)], NavigationModel(line_graph, 0.5))
     # A->B 2 s, B->C 4 s at 36 W: 0.06 Wh spent, 0.04 left (40 % < 50 %) at C at 6 s:

@@ -222,7 +222,7 @@ def test_person_not_seen_while_looking_is_searched_after_the_wait(line_graph, tm
     executor.receive([visit], 0.0)
     assert executor.tick(2.9) == []
     assert executor.tick(3.0) == [Navigate(C, 1)]   # on to his last known place
-    assert executor.search[1] == [C] and executor.searched[1] == [B]
+    assert executor.state.search[1] == [C] and executor.state.searched[1] == [B]
 
 
 def dynamic_household_arrivals(graph, count=12, seed=3):

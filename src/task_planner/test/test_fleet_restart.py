@@ -156,10 +156,10 @@ def test_a_move_serves_the_instruction_the_robot_claimed(line_graph, tmp_path):
     a, b = fleet(line_graph, tmp_path, starts=(A, D))
     slow = make_instruction(1, C, gamma=1.0, beta=0.99, duration=60, function=1)
     a.receive([slow], 0.0)
-    assert (a.mode, a.goal, a.goal_for) == (MOVING, B, 1)
+    assert (a.mode, a.goal, a.state.goal_for) == (MOVING, B, 1)
     urgent = make_instruction(2, D, gamma=9.0, beta=0.9, duration=4, function=2, start_time=1.0)
     a.receive([urgent], 1.0)                           # mid-edge; D lies through B too
-    assert (a.mode, a.goal, a.goal_for, a.fleet.held) == (MOVING, B, 2, 2)
+    assert (a.mode, a.goal, a.state.goal_for, a.fleet.held) == (MOVING, B, 2, 2)
     assert a.fleet.pool.claimable(1.0) == [1]
 
 
@@ -292,14 +292,14 @@ def test_a_robot_stops_serving_what_another_robot_took_while_it_was_out_of_step(
     a, b = fleet(line_graph, tmp_path, starts=(A, D))
     far = make_instruction(1, C, gamma=3.0, beta=0.99, duration=4, function=1)
     a.receive([far], 0.0)                                # a claims 1 and drives A -> B
-    assert (a.mode, a.goal_for) == (MOVING, 1)
+    assert (a.mode, a.state.goal_for) == (MOVING, 1)
     b.tick(11.0)                                         # a's lease ran out: b takes 1
     assert b.fleet.held == 1
     failing_once(monkeypatch, a.fleet.pool, "share")
     with pytest.raises(sqlite3.OperationalError):
         a.receive([make_instruction(2, A, function=2)], 11.5)
     commands = a.tick(11.75)                             # rejoins: 1 is b's now
-    assert a.mode != MOVING or a.goal_for != 1
+    assert a.mode != MOVING or a.state.goal_for != 1
     assert StopMotion() in commands
     assert (11.75, "lost 1 to another robot") in a.log
     assert a.buffer.get(1).is_open                       # b serves it, not failed here

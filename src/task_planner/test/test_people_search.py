@@ -5,6 +5,7 @@ import pytest
 from planner_factories import make_instruction
 
 from task_planner.baselines import FirstComeFirstServe, PriorityFirst
+from task_planner.behaviours.searching import where
 from task_planner.executor import Executor, ExecutorConfig
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Wait
 from task_planner.executor_sim import NavigationModel, run_executor
@@ -81,7 +82,7 @@ def test_person_moved_unseen_is_found_by_search_and_served_there(graph, tmp_path
     people = PeopleAtPlaces()
     people.seen("Bob", B, stamp=0.0)
     executor = executor_for(graph, tmp_path, people, fresh_s=1.0)
-    executor.looked_s[A] = 0.0
+    executor.state.looked_s[A] = 0.0
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
     assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]
     # A->B 2 s; three 1 s turns at B; B->C 4 s; three turns at C; C->D 6 s
@@ -89,7 +90,7 @@ def test_person_moved_unseen_is_found_by_search_and_served_there(graph, tmp_path
     for clock in (3.0, 4.0, 5.0):
         assert commands[0].yaw is not None
         commands = executor.arrived(clock)
-    assert commands == [Navigate(C, 1)] and executor.searched[1] == [B]
+    assert commands == [Navigate(C, 1)] and executor.state.searched[1] == [B]
     commands = executor.arrived(9.0)
     for clock in (10.0, 11.0, 12.0):
         commands = executor.arrived(clock)
@@ -127,7 +128,7 @@ def test_idle_robot_patrols_and_drops_the_patrol_for_an_instruction(graph, tmp_p
     people = PeopleAtPlaces()
     people.predicted["Carol"] = C
     executor = executor_for(graph, tmp_path, people, patrol=True, patrol_interval_s=30.0)
-    executor.looked_s.update({A: 0.0, B: 0.0, C: 0.0, D: 0.0})
+    executor.state.looked_s.update({A: 0.0, B: 0.0, C: 0.0, D: 0.0})
     assert executor.tick(100.0) == [Navigate(B, 0)]          # on the way to C
     assert executor.arrived(102.0) == [Navigate(C, 0)]
     assert executor.arrived(106.0) == [Navigate(C, 0, yaw=math.pi / 2)]
@@ -150,19 +151,19 @@ def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
     people = PeopleAtPlaces()
     executor = executor_for(graph, tmp_path, people, follow_belief=True)
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Bob")
-    executor.looked_s.update({A: 0.0, B: 0.0, C: 0.0})
+    executor.state.looked_s.update({A: 0.0, B: 0.0, C: 0.0})
     # never seen, no schedule: his search is planned once, stalest place first (D)
     assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]   # on the way to D
-    assert executor.search[1] == [D, A, B, C]
+    assert executor.state.search[1] == [D, A, B, C]
     executor.node = B                          # the plan does not change as the robot moves
-    assert executor._where(visit) == D
+    assert where(executor.state, visit) == D
     people.seen("Bob", C, stamp=0.5)           # perception sees him at C
-    assert executor._where(visit) == C
+    assert where(executor.state, visit) == C
     people.missed("Bob", C)                    # a look at C misses him: the search again
-    assert executor._where(visit) == D
+    assert where(executor.state, visit) == D
     chat = make_instruction(2, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Ann")
     people.predicted["Ann"] = C                # her schedule's place comes first
-    assert executor._where(chat) == C
+    assert where(executor.state, chat) == C
 
 
 def test_look_dwells_on_each_heading_before_it_turns_on(graph, tmp_path):
@@ -185,7 +186,7 @@ def test_a_look_that_sees_nobody_ends_after_the_last_dwell(graph, tmp_path):
     executor.receive([visit], 0.0)
     assert executor.arrived(1.0) == [Wait(3.0)]
     assert executor.tick(3.0) == [Navigate(A, 1)]       # on to the next place of the search
-    assert executor.searched[1] == [B] and executor.looked_s[B] == 3.0
+    assert executor.state.searched[1] == [B] and executor.state.looked_s[B] == 3.0
 
 
 def own_then_chat(graph, tmp_path, function, name, duration):
@@ -222,7 +223,7 @@ def test_an_interrupted_own_instruction_waits_until_people_are_served(graph, tmp
     assert executor.receive([chat], 10.0)[1][2] == Navigate(B, 1)
     assert executor.arrived(12.0)[0] == Execute(1, "chat", 60.0)
     executor.tick(72.0)                        # the chat is done: the music comes back
-    assert executor.goal == A and executor.goal_for == 100000
+    assert executor.goal == A and executor.state.goal_for == 100000
 
 
 def test_the_table_gives_sightings_and_the_schedules_predictions():

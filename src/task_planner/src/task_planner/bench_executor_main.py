@@ -81,7 +81,7 @@ def run_flood(args, settings, graph, folder):
             started = time.perf_counter()
             executor.arrived(clock)
         else:
-            clock = executor.executing[1] if executor.executing else clock
+            clock = executor.state.executing[1] if executor.state.executing else clock
             started = time.perf_counter()
             executor.tick(clock)
         decision_s.append(time.perf_counter() - started)

@@ -178,6 +178,7 @@ class ExecutorNode:
         self.view_planner = make_planner(params.planner, settings,  # plays the plan forward
                                          use=EXECUTOR)
         self._view_key, self._view_time = None, -float("inf")
+        self._tree_text, self._tree_time = "", -float("inf")   # /task_planner/tree, published
 
     @staticmethod
     def _fleet(params):
@@ -209,6 +210,7 @@ class ExecutorNode:
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self.marker_pub = rospy.Publisher("~markers", MarkerArray, queue_size=1,
                                           latch=True)
+        self.tree_pub = rospy.Publisher("~tree", String, queue_size=1, latch=True)
         self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
             rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
@@ -326,6 +328,7 @@ class ExecutorNode:
             if self.executor.buffer.version != version:
                 self._publish_state()
             self._publish_view()
+            self._publish_tree()
 
     def _receive(self, now):
         inbox, self.inbox = self.inbox, []
@@ -461,6 +464,18 @@ class ExecutorNode:
                          -1 if executor.goal is None else executor.goal,
                          plan_max=self.params.plan_view_max)
         self.marker_pub.publish(plan_markers(view, self.graph, self.params.frame_id))
+
+    def _publish_tree(self):
+        """The behaviour tree with each node's status of the last tick, when it changed (at
+        most every marker_period)."""
+        wall = time.monotonic()
+        if wall - self._tree_time < self.params.marker_period:
+            return
+        self._tree_time = wall
+        text = self.executor.drawing()
+        if text != self._tree_text:
+            self._tree_text = text
+            self.tree_pub.publish(String(text))
 
     def _publish_state(self):
         self.state_pub.publish(buffer_to_msg(self.executor.buffer, rospy.Time.now()))

@@ -1,0 +1,175 @@
+"""What the executor's behaviours share (ROS-free): the robot's collaborators, its state, and the
+event being handled. The behaviour tree (task_planner.behaviours.tree) and the functions of the
+behaviour modules read and change one Context; commands for the robot collect in `out`.
+"""
+import math
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any
+from collections.abc import Callable
+
+import py_trees
+from py_trees.common import Status
+
+from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING
+
+
+@dataclass(frozen=True)
+class ExecutorConfig:
+    speed_mps: float = 0.5        # robot speed along graph edges, for the planners [m/s]
+    max_goal_attempts: int = 3    # navigation attempts per goal before its instruction fails
+    latency_window: int = 1000    # decisions whose wall time is kept (decision_s)
+    battery_save_wh: float = 0.5  # journal the battery level when it moved this much [Wh]
+    verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
+    look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
+    look_dwell_s: float = 0.0     # stay on each heading this long, perception catching up [s]
+    fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
+    search_all_places: bool = False  # search every place, not only the last known ones
+    follow_belief: bool = False   # serve a person where the robot believes them (else: where
+                                  # the instruction says, until a search begins)
+    pass_wait_s: float = 0.0      # after an abort ask to pass and wait this long [s] (0: no)
+    pass_request: str = "Excuse me, may I pass?"
+    patrol: bool = False          # look at stale places while idle
+    own_yields: bool = False      # a person's request interrupts the robot's own instruction
+    own_kept: tuple = ("charge", "introduce")  # own functions that are never interrupted
+    yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
+    patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
+    never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]
+    corridors: tuple = ()         # graph nodes one robot of a fleet at a time drives through
+    corridor_wait_s: float = 60.0  # wait this long for a corridor, then drive on [s]
+    corridor_poll_s: float = 1.0  # look again whether the corridor is free this often [s]
+    one_robot_per_place: bool = False  # in a fleet, leave the instructions at a place to the
+                                  # robot that holds one there (small rooms fit one robot)
+
+
+@dataclass(frozen=True)
+class Charging:
+    """The low-battery rule: where to charge, with which function code and priority."""
+
+    battery: Any           # battery.BatteryModel
+    place: int             # charging place (graph node)
+    function_code: int     # robot function `charge`
+    priority: Any          # reward.Priority of self-generated instructions (Table 5-5)
+
+
+# the events the tree handles: a periodic step, a navigation outcome, new instructions, a cancel
+TICK, ARRIVED, ABORTED, RECEIVED, CANCELLED = "tick", "arrived", "aborted", "received", "cancelled"
+
+
+@dataclass(eq=False)
+class Context:
+    """The executor's collaborators and state, shared by its behaviours."""
+
+    buffer: Any                    # task_buffer.TaskBuffer: the journal of instructions
+    graph: Any                     # graph.Graph: the home's topological graph
+    planner: Any                   # a planner_api node or target planner
+    people: Any                    # people_belief.PeopleAtPlaces: where people were seen
+    functions: dict                # robot function code -> robot_functions.RobotFunction
+    config: ExecutorConfig
+    node: int                      # last node reached
+    node_planner: bool = True      # the planner decides node by node (else: targets)
+    charging: Charging | None = None  # None: a robot without a battery model
+    fleet: Any = None              # fleet_link.FleetLink, or None for a robot on its own
+    mode: str = IDLE
+    goal: int | None = None        # node being driven to while MOVING
+    goal_for: int = 0              # instruction id the current move is for
+    attempts: int = 0              # navigation attempts on the current goal
+    executing: tuple | None = None  # (instruction id, end time [s]) while EXECUTING
+    verifying: tuple | None = None  # (instruction id, give-up time [s]) while VERIFYING
+    looking: list | None = None    # [instruction id (0: patrol), headings left, since, end of
+                                   #  the last heading's dwell (None: turning)] while LOOKING
+    search: dict = field(default_factory=dict)    # instruction id -> places still to search
+    searched: dict = field(default_factory=dict)  # instruction id -> places already searched
+    search_start: dict = field(default_factory=dict)  # instruction id -> its first miss [s]
+    looked_s: dict = field(default_factory=dict)  # node -> when the robot last looked there [s]
+    retry_at: float | None = None  # when to retry an aborted goal after asking to pass, or
+                                   # to look again whether a corridor is free [s]
+    corridor_wait: float | None = None  # since when the robot waits for a corridor [s]
+    deferred: set = field(default_factory=set)  # own instructions waiting for people's
+    lost_claims: set = field(default_factory=set)  # ids another robot held at the claim
+    patrol_goal: int | None = None  # place an idle patrol is driving to
+    problem_key: tuple | None = None  # the instructions the cached problem was made from
+    problem: Any = None            # problem.Problem of the open instructions
+    target: tuple | None = None    # (problem, index) a target planner is driving to
+    saved_wh: float | None = None  # battery level last journalled [Wh]
+    in_fleet: bool = False         # rejoined the fleet (at the first event with a time)
+    owed: list = field(default_factory=list)  # commands of an event that raised afterwards
+    log: list = field(default_factory=list)   # (time [s], event text): why each move was made
+    decision_s: deque = field(default_factory=deque)      # wall time of the latest decisions
+    decision_cpu_s: deque = field(default_factory=deque)  # and their thread CPU time [s]
+    decide: Callable | None = None    # (now) -> commands: decide at the robot's node
+    redecide: Callable | None = None  # (now) -> commands: decide again on news (both set by
+                                      # tree.build_tree to task_planner.behaviours.deciding's)
+    # the event being handled
+    event: str = TICK
+    now: float = 0.0
+    reason: str = ""               # why navigation gave up (ABORTED)
+    inbox: list = field(default_factory=list)    # instructions to journal (RECEIVED)
+    results: list = field(default_factory=list)  # (record, error) per instruction taken in
+    cancelled: Any = None          # the record to withdraw as it was before the event
+                                   # (CANCELLED; task_buffer.Record)
+    synced: list = field(default_factory=list)   # commands of this event's fleet rejoin
+    out: list = field(default_factory=list)      # commands for the robot
+
+    def serving(self):
+        """Id of the instruction the robot is moving for, looking for, verifying or executing
+        (0 when idle or patrolling)."""
+        if self.mode == MOVING:
+            return self.goal_for
+        if self.mode == LOOKING:
+            return self.looking[0]
+        if self.mode == VERIFYING:
+            return self.verifying[0]
+        if self.mode == EXECUTING:
+            return self.executing[0]
+        return 0
+
+    def corridors_of(self, nodes):
+        """The names of the corridors among graph nodes `nodes`."""
+        return {self.graph.names[n] for n in nodes if n in self.config.corridors}
+
+
+class Leaf(py_trees.behaviour.Behaviour):
+    """A leaf of the executor's tree: `step(ctx)` runs it and returns its status (success,
+    failure or running); a leaf that is not for the event or the mode fails, so a selector
+    tries the next one."""
+
+    def __init__(self, name, ctx):
+        super().__init__(name)
+        self.ctx = ctx
+
+    def update(self):
+        return self.step(self.ctx)
+
+    def step(self, ctx):
+        raise NotImplementedError
+
+
+class Action(Leaf):
+    """A leaf that always runs `act(ctx)` (returning commands) and succeeds."""
+
+    def __init__(self, name, ctx, act: Callable):
+        super().__init__(name, ctx)
+        self.act = act
+
+    def step(self, ctx):
+        ctx.out += self.act(ctx)
+        return Status.SUCCESS
+
+
+class IsEvent(Leaf):
+    """Succeeds when the event being handled is `event`."""
+
+    def __init__(self, ctx, event):
+        super().__init__(f"{event}?", ctx)
+        self.event = event
+
+    def step(self, ctx):
+        return Status.SUCCESS if ctx.event == self.event else Status.FAILURE
+
+
+def still_busy(ctx, mode):
+    """RUNNING while the robot is still in `mode`; FAILURE once its step changed the mode, so
+    the next leaves of the activity selector (each for its own mode) take their turn in the
+    same tick: a look that ended in a move may drive, a robot gone idle decides."""
+    return Status.RUNNING if ctx.mode == mode else Status.FAILURE

@@ -1,0 +1,170 @@
+"""The decision (ROS-free), thesis 000 §4.2.5 Fig. 4-14: fetch the open instructions, decode
+them into a planning problem (reward, decay factor, destination, chains), ask the configured
+planner, then serve here or drive to the next neighbouring node. New instructions re-decide at
+once; while driving the decision is taken from the node just left and may turn the robot back
+mid-edge (§4 "dynamic"). With nothing to decide an idle robot may patrol. In a fleet the robot
+decides among the instructions no other robot holds and claims its choice before it drives.
+"""
+import time
+
+import numpy as np
+from py_trees.common import Status
+
+from task_planner.behaviours.context import Leaf
+from task_planner.behaviours.driving import drive
+from task_planner.behaviours.looking import serve_here
+from task_planner.behaviours.patrolling import patrol
+from task_planner.behaviours.searching import served_where
+from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, \
+    Navigate, StopMotion
+from task_planner.instruction import HUMAN
+from task_planner.problem import Problem
+from task_planner.task_buffer import PENDING
+
+
+def decide(ctx, now):
+    """Fetch, decode, decide at the robot's node; returns the commands of the decision."""
+    commands = []
+    ctx.lost_claims.clear()
+    while True:
+        decision = timed_decision(ctx, now)
+        if decision is None:
+            if ctx.fleet:
+                ctx.fleet.release()
+            return commands + (patrol(ctx, now) if ctx.config.patrol else [])
+        problem, index, step = decision
+        instruction_id = int(problem.ids[index])
+        if ctx.fleet and not ctx.fleet.claim(instruction_id, now, int(problem.node[index])):
+            ctx.lost_claims.add(instruction_id)
+            continue  # another robot took it first: choose among the rest
+        if step is None:
+            commands += serve_here(ctx, instruction_id, now)
+            if ctx.mode in (EXECUTING, VERIFYING, LOOKING):
+                return commands
+            continue  # failed, or the person is searched elsewhere: decide again
+        ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = MOVING, step, instruction_id, 1
+        ctx.patrol_goal = None
+        ctx.log.append((now, f"move {ctx.graph.names[ctx.node]} -> "
+                             f"{ctx.graph.names[step]} for {instruction_id}"))
+        return commands + drive(ctx, now)
+
+
+def redecide(ctx, now):
+    """Decide again on news: a patrol gives way at once; an idle robot decides; a driving
+    robot may turn back mid-edge. A robot function, the look for its person and a wait to
+    pass go on."""
+    if ctx.mode == LOOKING and ctx.looking[0] == 0:
+        ctx.mode, ctx.looking = IDLE, None
+        return [StopMotion()] + decide(ctx, now)
+    if ctx.mode == IDLE:
+        return decide(ctx, now)
+    if ctx.mode != MOVING or ctx.retry_at is not None:
+        return []
+    ctx.lost_claims.clear()
+    decision = timed_decision(ctx, now)
+    if decision is None:
+        return []
+    problem, index, step = decision
+    if ctx.fleet and not ctx.fleet.claim(int(problem.ids[index]), now,
+                                         int(problem.node[index])):
+        return []  # another robot took it first: drive on, the next event decides again
+    if step == ctx.goal:
+        # a patrol's move now serves the instruction; in a fleet the move serves the one
+        # the robot claimed (the one before went back to the pool)
+        if not ctx.goal_for or ctx.fleet:
+            ctx.goal_for, ctx.patrol_goal = int(problem.ids[index]), None
+        return []
+    # Any other decision goes through the node just left: turn back to it mid-edge.
+    ctx.patrol_goal = None
+    ctx.node, ctx.goal = ctx.goal, ctx.node
+    ctx.goal_for, ctx.attempts = int(problem.ids[index]), 1
+    ctx.log.append((now, f"turn back to {ctx.graph.names[ctx.goal]} for {ctx.goal_for}"))
+    return [Navigate(ctx.goal, ctx.goal_for)]
+
+
+def timed_decision(ctx, now):
+    """Fetch, decode and decide at the robot's node, timed (wall and thread CPU time, the
+    latter leaving out waiting for a core on a loaded machine): (problem, index, next node),
+    or None when nothing is eligible."""
+    started, started_cpu = time.perf_counter(), time.thread_time()
+    problem, available = fetch_and_decode(ctx, now)
+    decision = None
+    if len(available):
+        index, step = ask_planner(ctx, problem, ctx.node, now, available)
+        decision = problem, index, step
+    ctx.decision_s.append(time.perf_counter() - started)
+    ctx.decision_cpu_s.append(time.thread_time() - started_cpu)
+    return decision
+
+
+def fetch_and_decode(ctx, now):
+    """Fig. 4-14 fetch + decode: the open instructions as a Problem, and the eligible indices.
+
+    A searched instruction's destination is the place being searched. The planner is reset
+    only when the instruction set changes, so its per-set memory (the loop guard) holds. An
+    own instruction that gave way to a person waits until no person's instruction is open.
+    In a fleet, an instruction another robot holds is not eligible.
+    """
+    pending = [r for r in ctx.buffer.open_records() if r.state == PENDING]
+    if not any(r.instruction.type == HUMAN for r in pending):
+        ctx.deferred.clear()
+    instructions = tuple(served_where(ctx, r.instruction) for r in pending)
+    if instructions != ctx.problem_key:
+        ctx.problem = Problem(ctx.graph, instructions, ctx.config.speed_mps, ctx.node)
+        ctx.problem_key = instructions
+        ctx.planner.reset(ctx.problem)
+    done = ctx.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
+    skipped, busy_places = ctx.deferred, ()
+    if ctx.fleet:
+        taken = ctx.fleet.taken(now)
+        skipped = skipped | ctx.lost_claims | taken
+        if ctx.config.one_robot_per_place:
+            busy_places = ctx.fleet.busy_places(now)
+    available = np.array([k for k, r in enumerate(pending)
+                          if (r.instruction.previous_id == 0
+                              or r.instruction.previous_id in done)
+                          and r.instruction.id not in skipped
+                          and instructions[k].destination not in busy_places], dtype=int)
+    return ctx.problem, available
+
+
+def ask_planner(ctx, problem, node, now, available):
+    """(instruction index, next node), next node None when the decision is to serve here."""
+    if ctx.node_planner:  # node planner (the seed's, Algorithm 4-2)
+        action, value = ctx.planner.decide(node, now, available)
+        if action == "serve":
+            return int(value), None
+        return heading(problem, node, value, available), int(value)
+    # Target planner: ask once per target; keep driving to it until the set changes.
+    kept = ctx.target
+    if kept is not None and kept[0] is problem and kept[1] in available:
+        index = kept[1]
+    else:
+        index = int(ctx.planner.choose(node, now, available))
+        ctx.target = (problem, index)
+    if problem.node[index] == node:
+        return index, None
+    return index, int(problem.graph.next_hop[node, problem.node[index]])
+
+
+def heading(problem, node, neighbour, available):
+    """The instruction a node planner's move serves: strongest Eq. 4-2 term through it."""
+    nodes = problem.node[available]
+    through = available[problem.graph.next_hop[node, nodes] == neighbour]
+    candidates = through if len(through) else available
+    travel_s = problem.travel_s[node, problem.node[candidates]]
+    terms = problem.gamma[candidates] * np.power(problem.beta[candidates], travel_s)
+    return int(candidates[int(np.argmax(terms))])
+
+
+class Deciding(Leaf):
+    """An idle robot asks the planner: serve here, drive on, or patrol."""
+
+    def __init__(self, ctx):
+        super().__init__("decide: serve, drive or patrol", ctx)
+
+    def step(self, ctx):
+        if ctx.mode != IDLE:
+            return Status.FAILURE
+        ctx.out += decide(ctx, ctx.now)
+        return Status.SUCCESS

@@ -1,0 +1,134 @@
+"""Finding an instruction's person at the robot's place (ROS-free): serve when they were seen
+here, else look around (turns in place while perception watches, each heading held a dwell) or
+stand and look, then search on (thesis 000 §4.2.1: the robot observes the household). A look
+without an instruction (0) is a patrol's.
+"""
+import math
+
+from py_trees.common import Status
+
+from task_planner.behaviours.context import Leaf, still_busy
+from task_planner.behaviours.searching import search_next
+from task_planner.behaviours.serving import execute, fail
+from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Navigate, StopMotion, \
+    Verify, Wait
+from task_planner.robot_functions import RobotFunctionError, function_for
+
+
+def serve_here(ctx, instruction_id, now):
+    """Verify the target person is here, then execute the robot function (or look, search or
+    fail)."""
+    instruction = ctx.buffer.get(instruction_id).instruction
+    try:
+        function = function_for(ctx.functions, instruction)
+    except RobotFunctionError as error:
+        return fail(ctx, instruction_id, now, str(error))
+    target = instruction.target
+    if target and not ctx.people.is_at(target, ctx.node, now - ctx.config.fresh_s):
+        if ctx.config.look_headings > 0:
+            return start_look(ctx, instruction_id, now)
+        if ctx.config.verify_wait_s > 0:
+            until = now + ctx.config.verify_wait_s
+            ctx.mode, ctx.verifying = VERIFYING, (instruction_id, until)
+            ctx.log.append((now, f"look for {target} at {ctx.graph.names[ctx.node]}"))
+            return [Verify(instruction_id, target, until)]
+        return search_next(ctx, instruction, now)
+    return execute(ctx, instruction, function, now)
+
+
+def stand_and_look(ctx, now):
+    """While standing to look for the target person: execute once they are here, else search
+    on when the wait is over."""
+    instruction_id, until = ctx.verifying
+    record = ctx.buffer.get(instruction_id)
+    if ctx.people.is_at(record.instruction.target, ctx.node):
+        ctx.mode, ctx.verifying = IDLE, None
+        return execute(ctx, record.instruction, function_for(ctx.functions, record.instruction),
+                       now)
+    if now < until:
+        return []
+    ctx.mode, ctx.verifying = IDLE, None
+    return search_next(ctx, record.instruction, now)
+
+
+def start_look(ctx, instruction_id, now):
+    """Turn through `look_headings` headings on this node (evenly spaced after the one the
+    robot arrived with), perception watching meanwhile."""
+    count = max(1, ctx.config.look_headings)
+    yaw = float(ctx.graph.poses[ctx.node][2])
+    headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
+    ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None]
+    what = (f"for {ctx.buffer.get(instruction_id).instruction.target}" if instruction_id
+            else "(patrol)")
+    ctx.log.append((now, f"look around {ctx.graph.names[ctx.node]} {what}"))
+    return [Navigate(ctx.node, instruction_id, yaw=headings[0])]
+
+
+def look_step(ctx, now):
+    """A heading of the look was reached: dwell on it while perception catches up (the
+    camera sees little while turning), then turn to the next one or end the look."""
+    if ctx.config.look_dwell_s > 0 and ctx.looking[3] is None:
+        ctx.looking[3] = now + ctx.config.look_dwell_s
+        return [Wait(ctx.looking[3])]
+    ctx.looking[3] = None
+    instruction_id, headings = ctx.looking[:2]
+    if headings:
+        ctx.looking[1] = headings[1:]
+        return [Navigate(ctx.node, instruction_id, yaw=headings[0])]
+    return end_look(ctx, now)
+
+
+def end_look(ctx, now):
+    """The look is over without finding an instruction's person: search on (or decide)."""
+    instruction_id = ctx.looking[0]
+    ctx.looked_s[ctx.node] = now
+    ctx.mode, ctx.looking = IDLE, None
+    if not instruction_id:
+        ctx.patrol_goal = None
+        return ctx.decide(now)
+    record = ctx.buffer.get(instruction_id)
+    if not record.is_open:
+        return ctx.decide(now)
+    return search_next(ctx, record.instruction, now) + ctx.decide(now)
+
+
+def look_found(ctx, now):
+    """While looking for an instruction's person: serve them once perception sees them."""
+    instruction_id, _, since, _ = ctx.looking
+    if not instruction_id:
+        return []
+    instruction = ctx.buffer.get(instruction_id).instruction
+    if not ctx.people.is_at(instruction.target, ctx.node, since):
+        return []
+    ctx.mode, ctx.looking = IDLE, None
+    ctx.looked_s[ctx.node] = now
+    return [StopMotion()] + execute(ctx, instruction, function_for(ctx.functions, instruction),
+                                    now)
+
+
+class StandingToLook(Leaf):
+    """While standing to look for a person: serve them, or search on when the wait is over."""
+
+    def __init__(self, ctx):
+        super().__init__("stand and look", ctx)
+
+    def step(self, ctx):
+        if ctx.mode != VERIFYING:
+            return Status.FAILURE
+        ctx.out += stand_and_look(ctx, ctx.now)
+        return still_busy(ctx, VERIFYING)
+
+
+class LookingAround(Leaf):
+    """While looking around: serve the person once seen; after a heading's dwell, turn on."""
+
+    def __init__(self, ctx):
+        super().__init__("look around", ctx)
+
+    def step(self, ctx):
+        if ctx.mode != LOOKING:
+            return Status.FAILURE
+        ctx.out += look_found(ctx, ctx.now)
+        if ctx.mode == LOOKING and ctx.looking[3] is not None and ctx.now >= ctx.looking[3]:
+            ctx.out += look_step(ctx, ctx.now)
+        return still_busy(ctx, LOOKING)

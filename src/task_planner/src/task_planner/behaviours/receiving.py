@@ -1,0 +1,73 @@
+"""Taking in new instructions (ROS-free): journal them in one transaction (in a fleet: checked
+against and shared with the pool under its write lock), then react: a person's request
+interrupts the robot's own instruction (giving_way), and the robot decides again.
+"""
+from py_trees.common import Status
+
+from task_planner.behaviours.context import RECEIVED, Leaf
+from task_planner.behaviours.giving_way import yield_own
+from task_planner.instruction import HUMAN
+
+
+def new_id(ctx, previous_id=0):
+    """The id for an instruction whose sender lets the robot choose (its fleet's, if any)."""
+    own = ctx.buffer.next_id(previous_id)
+    return ctx.fleet.next_id(own - 1) if ctx.fleet else own
+
+
+def journal(ctx, instructions, now):
+    """Journal `instructions` (one transaction; in a fleet also shared with the pool, an id
+    the pool holds for another instruction refused before it is journalled): a (record, error)
+    per instruction."""
+    if ctx.fleet is None:
+        return ctx.buffer.submit_many(instructions, now)
+    # under the pool's write lock from the id check to the share
+    with ctx.fleet.transaction():
+        refused = ctx.fleet.conflicts(instructions)
+        journalled = iter(ctx.buffer.submit_many(
+            [i for i in instructions if i.id not in refused], now))
+        results = [(None, refused[i.id]) if i.id in refused else next(journalled)
+                   for i in instructions]
+        ctx.fleet.share([record.instruction for record, _ in results if record])
+    return results
+
+
+def react(ctx, results, now):
+    """Log what was journalled or refused; a person's request interrupts the robot's own
+    instruction; decide again. Returns the commands."""
+    for record, error in results:
+        ctx.log.append((now, f"refused: {error}" if error else
+                        f"received {record.instruction.id}"))
+    if not any(record is not None for record, _ in results):
+        return []
+    from_people = any(r is not None and r.instruction.type == HUMAN for r, _ in results)
+    commands = yield_own(ctx, now) if from_people else []
+    return commands + ctx.redecide(now)
+
+
+def take_in(ctx, instructions, now, owed=()):
+    """Journal and react (claims as at a tick, each committed after the pool transaction);
+    returns (results, commands). When the journal write raises, the robot rejoins the fleet
+    at its next event, and `owed` (commands already ordered) go out with it."""
+    try:
+        results = journal(ctx, instructions, now)
+    except Exception:
+        if ctx.fleet is not None:
+            ctx.in_fleet = False   # rolled back: the next event rejoins from the journal
+            ctx.owed = list(owed)  # the rejoin's stop goes out with the next tick
+        raise
+    return results, react(ctx, results, now)
+
+
+class TakingIn(Leaf):
+    """New instructions (a RECEIVED event): journal them and react."""
+
+    def __init__(self, ctx):
+        super().__init__("take in, give way, decide again", ctx)
+
+    def step(self, ctx):
+        if ctx.event != RECEIVED:
+            return Status.FAILURE
+        ctx.results, commands = take_in(ctx, ctx.inbox, ctx.now, owed=ctx.synced)
+        ctx.out += commands
+        return Status.SUCCESS

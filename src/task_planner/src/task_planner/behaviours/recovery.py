@@ -1,0 +1,73 @@
+"""Recovery (ROS-free): after a navigation abort the robot asks to pass, waits and retries the
+goal (`max_goal_attempts` in all), then fails the instruction the move was for and decides again;
+a fault in a step fails the instruction being served (journalled, so a restart never re-runs it)
+and stops the robot.
+"""
+from py_trees.common import Status
+
+from task_planner.behaviours.context import ABORTED, Leaf
+from task_planner.behaviours.looking import look_step
+from task_planner.behaviours.serving import fail
+from task_planner.executor_commands import IDLE, LOOKING, MOVING, Navigate, Say, StopMotion, Wait
+from task_planner.task_buffer import ACTIVE
+
+
+def recover(ctx, now, reason):
+    """Navigation gave up on the goal: ask to pass and retry it, then fail the instruction
+    it was for (a turn of a look around is skipped)."""
+    if ctx.mode == LOOKING:
+        return look_step(ctx, now)
+    if ctx.mode != MOVING:
+        raise RuntimeError(f"abort reported while {ctx.mode}")
+    if ctx.attempts < ctx.config.max_goal_attempts:
+        ctx.attempts += 1
+        ctx.log.append((now, f"retry {ctx.attempts} to {ctx.graph.names[ctx.goal]}"))
+        if ctx.config.pass_wait_s > 0:  # perhaps someone stands in the way
+            ctx.retry_at = now + ctx.config.pass_wait_s
+            return [Say(ctx.config.pass_request), Wait(ctx.retry_at)]
+        return [Navigate(ctx.goal, ctx.goal_for)]
+    goal, ctx.mode, ctx.goal = ctx.goal, IDLE, None
+    if not ctx.goal_for and ctx.patrol_goal is not None:  # patrol elsewhere for now
+        ctx.looked_s[ctx.patrol_goal], ctx.patrol_goal = now, None
+    if ctx.goal_for and ctx.buffer.get(ctx.goal_for).is_open:
+        fail(ctx, ctx.goal_for, now,
+             f"navigation to {ctx.graph.names[goal]} aborted "
+             f"{ctx.config.max_goal_attempts} times: {reason}")
+    return ctx.decide(now)
+
+
+def fault(ctx, now, reason, fail_it=True):
+    """A step of the executor raised: fail the instruction being served with `reason`, stop,
+    and go idle. With `fail_it` off (another robot of the fleet holds it now) it is left open,
+    not failed. Returns the commands; the next tick decides afresh."""
+    instruction_id = ctx.serving()
+    ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = IDLE, None, 0, 0
+    ctx.executing = ctx.verifying = ctx.looking = ctx.retry_at = None
+    ctx.corridor_wait = None
+    ctx.patrol_goal = ctx.target = None
+    ctx.problem_key = ctx.problem = None
+    commands = [StopMotion()]
+    if not fail_it:
+        if instruction_id and ctx.buffer.get(instruction_id).state == ACTIVE:
+            ctx.buffer.requeue(instruction_id)   # its function was cut short here
+        ctx.log.append((now, f"stop: {reason}"))
+        return commands
+    ctx.in_fleet = False   # a pool write may have failed: the next event rejoins
+    if instruction_id and ctx.buffer.get(instruction_id).is_open:
+        commands += fail(ctx, instruction_id, now, f"fault while serving it: {reason}")
+    else:
+        ctx.log.append((now, f"fault: {reason}"))
+    return commands
+
+
+class Recovering(Leaf):
+    """Navigation gave up on its goal (an ABORTED event): retry, or fail and decide again."""
+
+    def __init__(self, ctx):
+        super().__init__("recover: ask to pass, retry, fail", ctx)
+
+    def step(self, ctx):
+        if ctx.event != ABORTED:
+            return Status.FAILURE
+        ctx.out += recover(ctx, ctx.now, ctx.reason)
+        return Status.SUCCESS

@@ -1,0 +1,60 @@
+"""Searching for a person who is not where the robot believed them (ROS-free): where to serve an
+instruction (its destination, the place being searched, or where its person was last seen), and
+the next place to search after a miss, until none is left ("<name> not found").
+"""
+from dataclasses import replace
+
+from task_planner.behaviours.serving import end_search, fail
+from task_planner.people_belief import search_order
+
+
+def where(ctx, instruction):
+    """Where to serve an instruction. Following the belief: where its person was last seen,
+    else the next place of their search (planned once, from where the robot is, so the goal
+    does not change as the robot moves). Otherwise: the place being searched, else its
+    destination."""
+    target, key = instruction.target, instruction.id
+    if ctx.config.follow_belief and target:
+        seen = ctx.people.now.get(target)
+        if seen is not None:
+            return seen
+        if key not in ctx.search and ctx.config.search_all_places:
+            ctx.search[key] = search_order(target, ctx.people, ctx.looked_s,
+                                           range(ctx.graph.size), ctx.searched.get(key, ()),
+                                           ctx.graph.shortest[ctx.node])
+    queue = ctx.search.get(key)
+    return queue[0] if queue else instruction.destination
+
+
+def served_where(ctx, instruction):
+    """The instruction with the destination it is served at (copied only when that differs:
+    a flood of instructions is decoded at every decision)."""
+    place = where(ctx, instruction)
+    return instruction if place == instruction.destination else \
+        replace(instruction, destination=place)
+
+
+def search_next(ctx, instruction, now):
+    """Person not here: go on to their next last known place, or fail having searched all."""
+    searched = ctx.searched.setdefault(instruction.id, [])
+    if not searched:
+        ctx.search_start[instruction.id] = now
+    searched.append(ctx.node)
+    ctx.people.missed(instruction.target, ctx.node)
+    if ctx.config.search_all_places:
+        queue = search_order(instruction.target, ctx.people, ctx.looked_s,
+                             range(ctx.graph.size), searched, ctx.graph.shortest[ctx.node])
+    else:
+        queue = ctx.search.get(instruction.id)
+        if queue is None:  # first miss, at the instruction's own destination
+            queue = ctx.people.last_known_places(instruction.target)
+        queue = [p for p in queue if p not in searched]
+    if queue:
+        ctx.search[instruction.id] = queue
+        ctx.log.append((now, f"{instruction.target} not at {ctx.graph.names[ctx.node]}; "
+                             f"search {ctx.graph.names[queue[0]]}"))
+        return []
+    looked = ", ".join(ctx.graph.names[n] for n in searched)
+    end_search(ctx, instruction, now, found=False)
+    return fail(ctx, instruction.id, now,
+                f"{instruction.target} not found (searched {looked})")

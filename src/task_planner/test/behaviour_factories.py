@@ -1,0 +1,28 @@
+"""A behaviours' Context on a small graph, for the tests of task_planner.behaviours."""
+from task_planner.baselines import FirstComeFirstServe
+from task_planner.behaviours.context import Context, ExecutorConfig
+from task_planner.behaviours.tree import build_tree
+from task_planner.people_belief import PeopleAtPlaces
+from task_planner.planner_api import NODE, kind_of
+from task_planner.robot_functions import load_robot_functions
+from task_planner.task_buffer import BufferConfig, TaskBuffer
+from tamp_resources import resource
+
+FUNCTIONS = load_robot_functions(resource("config") / "robot_functions.yaml")
+A, B, C, D = range(4)  # line_graph: A -1- B -2- C -3- D (metres), 0.5 m/s
+
+
+def make_context(graph, tmp_path, node=A, people=None, planner=None, **config):
+    """A Context whose decide hooks are wired (build_tree), with FCFS unless told."""
+    planner = planner or FirstComeFirstServe()
+    ctx = Context(TaskBuffer(tmp_path / "buffer.sqlite", BufferConfig(node_count=graph.size)),
+                  graph, planner, people or PeopleAtPlaces(), FUNCTIONS,
+                  ExecutorConfig(speed_mps=0.5, **config), node=node,
+                  node_planner=kind_of(planner) == NODE)
+    build_tree(ctx)
+    return ctx
+
+
+def journal(ctx, *instructions, now=0.0):
+    """Journal `instructions` (no reaction); their records."""
+    return [record for record, _ in ctx.buffer.submit_many(list(instructions), now)]

@@ -1,0 +1,68 @@
+"""task_planner.behaviours.deciding: the planner's decision, serve here or drive, turn back."""
+import numpy as np
+from behaviour_factories import A, B, C, D, make_context, journal
+from planner_factories import make_instruction
+from py_trees.common import Status
+
+from task_planner.baselines import PriorityFirst
+from task_planner.behaviours.deciding import Deciding, decide, heading, redecide
+from task_planner.executor_commands import EXECUTING, IDLE, MOVING, Navigate, StopMotion
+from task_planner.problem import Problem
+from task_planner.ripple_planner import RipplePlanner
+
+
+def test_an_instruction_here_is_served_and_one_elsewhere_driven_to(line_graph, tmp_path):
+    ctx = make_context(line_graph, tmp_path, node=B)
+    journal(ctx, make_instruction(1, B, duration=5, function=1),
+            make_instruction(2, D, duration=5, function=1))
+    assert decide(ctx, 0.0)[0].function == "chat" and ctx.mode == EXECUTING
+    ctx.mode = IDLE
+    ctx.buffer.finish(1, 5.0)
+    assert decide(ctx, 5.0) == [Navigate(C, 2)]
+    assert ctx.log[-1] == (5.0, "move B -> C for 2")
+    assert len(ctx.decision_s) == len(ctx.decision_cpu_s) == 2
+
+
+def test_a_successor_waits_for_its_predecessor(line_graph, tmp_path):
+    ctx = make_context(line_graph, tmp_path)
+    journal(ctx, make_instruction(2, B, function=1, previous_id=1))
+    assert decide(ctx, 0.0) == [] and ctx.mode == IDLE
+
+
+def test_a_new_instruction_can_turn_the_robot_back_mid_edge(line_graph, tmp_path):
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst())
+    journal(ctx, make_instruction(1, D, gamma=1.0, function=1))
+    decide(ctx, 0.0)
+    assert (ctx.mode, ctx.goal) == (MOVING, C)
+    journal(ctx, make_instruction(2, A, gamma=9.0, function=1), now=1.0)
+    assert redecide(ctx, 1.0) == [Navigate(B, 2)]     # back through the node just left
+    assert (ctx.node, ctx.goal, ctx.goal_for) == (C, B, 2)
+
+
+def test_a_patrol_gives_way_at_once(posed_line_graph, tmp_path):
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=2)
+    ctx.mode, ctx.looking = "looking", [0, [], 0.0, None]   # looking around for the patrol
+    journal(ctx, make_instruction(1, D, function=1))
+    assert redecide(ctx, 1.0) == [StopMotion(), Navigate(C, 1)]
+
+
+def test_heading_picks_the_strongest_eq_4_2_term_through_the_neighbour(star_graph):
+    instructions = (make_instruction(1, 1, gamma=3.0, beta=0.9),
+                    make_instruction(2, 2, gamma=5.0, beta=0.9),
+                    make_instruction(3, 2, gamma=4.0, beta=0.99))
+    problem = Problem(star_graph, instructions, 0.5, 0)
+    available = np.arange(3)
+    # from the hub every leaf is 8 s away: 5 * 0.9 ** 8 = 2.15 < 4 * 0.99 ** 8 = 3.69
+    assert heading(problem, 0, 2, available) == 2
+
+
+def test_the_decide_leaf_runs_only_when_idle(line_graph, tmp_path):
+    ctx = make_context(line_graph, tmp_path, planner=RipplePlanner())
+    journal(ctx, make_instruction(1, C, function=1))
+    leaf = Deciding(ctx)
+    ctx.mode, ctx.now, ctx.out = MOVING, 0.0, []
+    leaf.tick_once()
+    assert leaf.status == Status.FAILURE and ctx.out == []
+    ctx.mode = IDLE
+    leaf.tick_once()
+    assert leaf.status == Status.SUCCESS and ctx.out == [Navigate(B, 1)]

@@ -1,0 +1,74 @@
+"""task_planner.behaviours.looking: serve here, or look around / stand and look for the person."""
+import math
+
+from behaviour_factories import B, make_context, journal
+from planner_factories import make_instruction
+from py_trees.common import Status
+
+from task_planner.behaviours.looking import (LookingAround, StandingToLook, look_step,
+                                             serve_here, start_look)
+from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, VERIFYING, Execute,
+                                            Navigate, StopMotion, Verify, Wait)
+from task_planner.people_belief import PeopleAtPlaces
+
+
+def test_a_person_seen_here_is_served_at_once(posed_line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Bob", B, stamp=0.0)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3)
+    journal(ctx, make_instruction(1, B, duration=20, function=3, target="Bob"))
+    assert serve_here(ctx, 1, 1.0)[0] == Execute(1, "check_status", 20.0)
+    assert ctx.mode == EXECUTING
+
+
+def test_an_absent_person_starts_a_look_around_of_evenly_spaced_turns(posed_line_graph,
+                                                                      tmp_path):
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=3)
+    journal(ctx, make_instruction(1, B, function=3, target="Bob"))
+    assert serve_here(ctx, 1, 1.0) == [Navigate(B, 1, yaw=math.pi / 2)]
+    assert ctx.mode == LOOKING and ctx.looking == [1, [math.pi, 3 * math.pi / 2], 1.0, None]
+    assert look_step(ctx, 2.0) == [Navigate(B, 1, yaw=math.pi)]
+
+
+def test_a_heading_is_held_a_dwell_before_the_next_turn(posed_line_graph, tmp_path):
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=2, look_dwell_s=0.6)
+    start_look(ctx, 0, 0.0)                        # a patrol's look
+    assert look_step(ctx, 1.0) == [Wait(1.6)]
+    leaf = LookingAround(ctx)
+    ctx.now = 1.5
+    leaf.tick_once()
+    assert leaf.status == Status.RUNNING and ctx.looking[3] == 1.6
+    ctx.now = 1.6
+    ctx.out = []
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 0, yaw=4 * math.pi / 3)]
+
+
+def test_the_look_leaf_serves_the_person_once_perception_sees_them(posed_line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3)
+    journal(ctx, make_instruction(1, B, duration=20, function=3, target="Bob"))
+    serve_here(ctx, 1, 1.0)
+    people.seen("Bob", B, stamp=1.5)
+    leaf = LookingAround(ctx)
+    ctx.now, ctx.out = 1.6, []
+    leaf.tick_once()
+    assert ctx.out[:2] == [StopMotion(), Execute(1, "check_status", 20.0)]
+    assert ctx.mode == EXECUTING       # the look is over: the leaf hands on (execute runs)
+    assert leaf.status == Status.FAILURE
+
+
+def test_standing_to_look_searches_on_when_the_wait_is_over(line_graph, tmp_path):
+    """Bob was never seen anywhere: B was the only place to look, so the search ends there."""
+    ctx = make_context(line_graph, tmp_path, node=B, verify_wait_s=2.0)
+    journal(ctx, make_instruction(1, B, function=3, target="Bob"))
+    assert serve_here(ctx, 1, 1.0) == [Verify(1, "Bob", 3.0)]
+    assert ctx.mode == VERIFYING
+    leaf = StandingToLook(ctx)
+    ctx.now = 2.0
+    leaf.tick_once()
+    assert leaf.status == Status.RUNNING
+    ctx.now = 3.0
+    leaf.tick_once()
+    assert ctx.mode == IDLE and leaf.status == Status.FAILURE
+    assert ctx.buffer.get(1).reason == "Bob not found (searched B)"

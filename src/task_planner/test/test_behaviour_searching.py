@@ -1,0 +1,49 @@
+"""task_planner.behaviours.searching: where to serve, and the next place to search."""
+from behaviour_factories import A, B, C, D, make_context, journal
+from planner_factories import make_instruction
+
+from task_planner.behaviours.searching import search_next, served_where, where
+from task_planner.executor_commands import Say
+from task_planner.people_belief import PeopleAtPlaces
+from task_planner.task_buffer import FAILED
+
+
+def test_without_the_belief_an_instruction_is_served_at_its_destination(line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Bob", D, stamp=0.0)
+    ctx = make_context(line_graph, tmp_path, people=people)
+    visit = make_instruction(1, B, function=3, target="Bob")
+    assert where(ctx, visit) == B and served_where(ctx, visit) is visit
+
+
+def test_following_the_belief_serves_where_the_person_was_seen(line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Bob", D, stamp=0.0)
+    ctx = make_context(line_graph, tmp_path, people=people, follow_belief=True)
+    visit = make_instruction(1, B, function=3, target="Bob")
+    assert where(ctx, visit) == D and served_where(ctx, visit).destination == D
+
+
+def test_a_miss_searches_the_last_known_places_then_fails(line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Bob", C, stamp=0.0)
+    people.seen("Bob", B, stamp=1.0)              # last seen at B, before that at C
+    ctx = make_context(line_graph, tmp_path, node=B, people=people)
+    record, = journal(ctx, make_instruction(1, B, function=3, target="Bob"))
+    assert search_next(ctx, record.instruction, 5.0) == []
+    assert ctx.search[1] == [C] and ctx.searched[1] == [B]
+    assert where(ctx, record.instruction) == C
+    ctx.node = C
+    assert search_next(ctx, record.instruction, 9.0) == [
+        Say("Sorry, I could not complete request 1.")]
+    failed = ctx.buffer.get(1)
+    assert failed.state == FAILED and failed.reason == "Bob not found (searched B, C)"
+    assert ctx.buffer.searches() == [(1, "Bob", 5.0, 9.0, False, ["B", "C"])]
+
+
+def test_searching_all_places_goes_on_to_places_never_looked_at(line_graph, tmp_path):
+    ctx = make_context(line_graph, tmp_path, node=B, search_all_places=True)
+    ctx.looked_s.update({A: 0.0, B: 0.0})
+    record, = journal(ctx, make_instruction(1, B, function=3, target="Zoe"))
+    search_next(ctx, record.instruction, 5.0)
+    assert ctx.search[1][0] in (C, D) and B not in ctx.search[1]
