@@ -1,4 +1,5 @@
-"""Guard: every package's core modules import without rospy (the one rule of DESIGN.md).
+"""Guard: every package's core modules import without rospy (docs/DESIGN.md, "ROS-free cores,
+thin nodes").
 
 ROS-layer modules are named `ros_*.py` or `conversions.py`; everything else under
 src/<pkg>/src/<pkg>/ is core and must not pull rospy in, directly or through another module.

@@ -1,4 +1,4 @@
-"""Guard: the packages depend on each other in one direction (DESIGN.md, workspace layout).
+"""Guard: the packages depend on each other in one direction (docs/DESIGN.md, "Layers").
 
 The runtime packages run on the robot; the simulator and the navigation mocks stand in for the
 hardware and the navigation stack; bringup and learning put the system together and train it.
