@@ -35,8 +35,8 @@ SCENARIO_TOPICS = (
     "/move_base/goal", "/move_base/result", "/move_base/status", "/move_base/feedback",
     "/move_base/cancel", "/move_base/plan", "/move_base_simple/goal",
     "/task_planner/instructions", "/task_planner/state", "/task_planner/markers",
-    "/humans/known", "/humans/observed", "/robot/say", "/voice_message",
-    "/introduction/dialogue_open", "/diagnostics")
+    "/task_planner/activity", "/task_planner/tree", "/humans/known", "/humans/observed",
+    "/robot/say", "/voice_message", "/introduction/dialogue_open", "/diagnostics")
 # what replay.launch's semantic_nav view (config/rviz/semantic_nav.rviz) draws, the Penguin's
 # base (penguin_sim.launch) and the direction and its action (launch/semantic_nav.launch)
 DIRECTIONS_TOPICS = (

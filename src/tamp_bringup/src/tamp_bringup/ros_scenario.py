@@ -78,6 +78,7 @@ class ScenarioNode:
         self.lock = threading.Lock()
         self.robots = tuple(robots)        # namespaces ("" = the one robot's global topics)
         self.trajectories = {r: [] for r in self.robots}
+        self.activities = {r: [] for r in self.robots}  # robot -> [[t, activity], ...]
         self.said, self.state, self.events = [], None, []
         self.poses = {}                    # robot -> (stamp, x, y) of its ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
@@ -102,6 +103,10 @@ class ScenarioNode:
     def _on_say(self, msg):
         with self.lock:
             self.said.append((rospy.get_time(), msg.data))
+
+    def _on_activity(self, robot, msg):
+        with self.lock:
+            self.activities[robot].append([rospy.get_time(), msg.data])
 
     def _on_state(self, msg):
         with self.lock:
@@ -145,6 +150,8 @@ class ScenarioNode:
             sup.subscriber(f"{prefix}/base_pose_ground_truth", Odometry,
                            lambda msg, r=robot: self._on_pose(r, msg), queue_size=1)
             sup.subscriber(f"{prefix}/robot/say", String, self._on_say, queue_size=20)
+            sup.subscriber(f"{prefix}/task_planner/activity", String,
+                           lambda msg, r=robot: self._on_activity(r, msg), queue_size=20)
         if "" not in self.robots:   # the introduction node speaks for the fleet
             sup.subscriber("/robot/say", String, self._on_say, queue_size=20)
         sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
@@ -386,6 +393,7 @@ class ScenarioNode:
             registrations=self.registrations,
             said=[[t - self.t0, text] for t, text in self.said],
             truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
+            activities={r: [[t - self.t0, a] for t, a in c] for r, c in self.activities.items()},
             belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()})
         if len(self.robots) > 1:
             record["trajectories"] = self.trajectories

@@ -18,6 +18,8 @@ import numpy as np
 from task_planner.baselines import PlannerTooLarge
 from tamp_bringup.belief_report import (belief_markdown, history_sources, people_accuracy,
                                         read_searches)
+from tamp_bringup.goals_report import goals_markdown, run_goals
+from tamp_bringup.time_report import plot_time, robot_shares, time_markdown
 from task_planner.exact import SolverTimeout, exact_optimum
 from task_planner.fleet import RobotStart, run_fleet
 from task_planner.fleet_exact import fleet_exact_optimum
@@ -96,6 +98,7 @@ class ModelFigures:
     reward: float
     curve: tuple            # (times [s from the scenario start], accumulated reward)
     order: tuple            # instruction ids in service order
+    starts: dict = None     # instruction id -> start of its service [s from the scenario start]
 
 
 def arrivals_problem(graph, entries, speed_mps, start_node, t0):
@@ -114,12 +117,15 @@ def arrivals_problem(graph, entries, speed_mps, start_node, t0):
 def _figures(name, problem, schedule):
     times, rewards = reward_curve(problem, schedule)
     order = tuple(int(problem.ids[index]) for index, _ in schedule.served)
+    starts = {int(problem.ids[index]): float(end) - float(problem.duration[index])
+              for (index, _), end in zip(schedule.served, schedule.completion)}
     return ModelFigures(name, schedule_reward(problem, schedule), (tuple(times), tuple(rewards)),
-                        order)
+                        order, starts)
 
 
 MODEL_PLANNERS = tuple((e.name, f"{e.label} (model)") for e in entries(SCENARIO_MODEL))
 EXACT_LABEL = "Exact optimum (model, arrivals known)"
+GOALS_MODEL = "rollout"   # the model schedule a run's service times are measured against
 
 
 def model_figures(problem, settings, exact_time_limit_s=60.0):
@@ -303,9 +309,10 @@ def replay_markdown(replay):
             "```bash", "source scripts/env.sh", replay, "```", ""]
 
 
-def report_markdown(record, entries, figures, run, order_problems, files, belief_lines=(),
+def report_markdown(record, entries, figures, run, order_problems, files, sections=(),
                     replay=None, fleet=None):
-    """REPORT.md text of one run; belief_lines: belief_report.belief_markdown's section;
+    """REPORT.md text of one run; sections: lines placed after the counts (the goals, what the
+    robot knew of the people, where its time went);
     replay: the command that replays the run's rosbag (None: no section); fleet:
     fleet_figures (None: no section)."""
     t0 = float(record["t0"])
@@ -328,7 +335,7 @@ def report_markdown(record, entries, figures, run, order_problems, files, belief
              "- order: " + ("respects chains (`previous_id`) and, at each place, priorities"
                             if not order_problems else "; ".join(order_problems)), "",
              *(replay_markdown(replay) if replay else ()),
-             *belief_lines,
+             *sections,
              "## Accumulated reward", "",
              f"![reward]({files['rewards']})", "",
              "The black curve is this run, measured in the simulator (rewards from the "
@@ -393,18 +400,27 @@ def write_report(record_path, journal_paths, graph, settings, map_path, graph_pa
     run = run_curve(entries, t0)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    files = dict(rewards="rewards.png", trajectory="trajectory.png")
+    files = dict(rewards="rewards.png", trajectory="trajectory.png", time="time.png")
     plot_rewards(out_dir / files["rewards"], run, figures, f"Scenario {record['scenario']}")
     plot_trajectory(out_dir / files["trajectory"], map_path, graph_path,
                     record.get("trajectories") or {"": record["trajectory"]},
                     f"Robot trajectory, scenario {record['scenario']}")
+    shares = robot_shares(record)
+    if shares:
+        plot_time(out_dir / files["time"], shares, f"Where the time went, scenario "
+                                                   f"{record['scenario']}")
     problems = check_order(entries)
     searches = [s for path in journal_paths for s in read_searches(path)]
     sources = history_sources(humans_path) if humans_path else {}
+    model = next(f for f in figures if f.name == dict(MODEL_PLANNERS)[GOALS_MODEL])
+    goals = run_goals(record, entries, searches, model, t0)
     (out_dir / "REPORT.md").write_text(
         report_markdown(record, entries, figures, run, problems, files,
-                        belief_markdown(record, entries, searches, t0, sources), replay, fleet))
+                        goals_markdown(goals)
+                        + belief_markdown(record, entries, searches, t0, sources)
+                        + time_markdown(shares, files["time"]), replay, fleet))
     return dict(summary(entries), order_problems=problems,
                 model={f.name: f.reward for f in figures}, fleet=fleet,
                 belief=people_accuracy(record),
-                searches=len(searches), sources=sources, replay=replay)
+                searches=len(searches), sources=sources, replay=replay, time=shares,
+                goals=goals)

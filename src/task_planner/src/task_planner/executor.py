@@ -16,6 +16,7 @@ from collections import deque
 
 import numpy as np
 
+from task_planner.behaviours.accounting import activity
 from task_planner.behaviours.charging import BATTERY_KEY, save_battery
 from task_planner.behaviours.context import (ABORTED, ARRIVED, CANCELLED, RECEIVED, TICK,
                                              Charging, Context, ExecutorConfig)
@@ -106,6 +107,10 @@ class Executor:
     def serving(self):
         """Id of the instruction the robot serves (0 when idle or patrolling)."""
         return self.state.serving()
+
+    def activity(self):
+        """What the robot does now (behaviours.accounting: travel, look around, searching, ...)."""
+        return activity(self.state)
 
     def drawing(self):
         """The behaviour tree with each node's status of the last event (text)."""

@@ -179,6 +179,7 @@ class ExecutorNode:
                                          use=EXECUTOR)
         self._view_key, self._view_time = None, -float("inf")
         self._tree_text, self._tree_time = "", -float("inf")   # /task_planner/tree, published
+        self._activity = ""                                      # /task_planner/activity, published
 
     @staticmethod
     def _fleet(params):
@@ -211,6 +212,7 @@ class ExecutorNode:
         self.marker_pub = rospy.Publisher("~markers", MarkerArray, queue_size=1,
                                           latch=True)
         self.tree_pub = rospy.Publisher("~tree", String, queue_size=1, latch=True)
+        self.activity_pub = rospy.Publisher("~activity", String, queue_size=10, latch=True)
         self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
             rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
@@ -329,6 +331,7 @@ class ExecutorNode:
                 self._publish_state()
             self._publish_view()
             self._publish_tree()
+            self._publish_activity()
 
     def _receive(self, now):
         inbox, self.inbox = self.inbox, []
@@ -464,6 +467,13 @@ class ExecutorNode:
                          -1 if executor.goal is None else executor.goal,
                          plan_max=self.params.plan_view_max)
         self.marker_pub.publish(plan_markers(view, self.graph, self.params.frame_id))
+
+    def _publish_activity(self):
+        """What the robot does now (travel, look around, searching, ...), when it changed."""
+        label = self.executor.activity()
+        if label != self._activity:
+            self._activity = label
+            self.activity_pub.publish(String(label))
 
     def _publish_tree(self):
         """The behaviour tree with each node's status of the last tick, when it changed (at

@@ -1,0 +1,46 @@
+"""tamp_bringup.goals_report: each figure of a run beside its goal, on hand-computed numbers."""
+from test_scenario_report import SETTINGS, journal
+
+from tamp_bringup.goals_report import goals_markdown, run_goals, service_delays
+from tamp_bringup.scenario_report import arrivals_problem, model_figures, read_journal
+
+
+def figures_and_entries(tmp_path, line_graph):
+    entries = read_journal(journal(tmp_path, line_graph, first_served=2))
+    problem = arrivals_problem(line_graph, entries, speed_mps=1.0, start_node=0, t0=0.0)
+    return {f.name: f for f in model_figures(problem, SETTINGS)}, entries
+
+
+def test_service_delays_against_the_model_schedule(tmp_path, line_graph):
+    figures, entries = figures_and_entries(tmp_path, line_graph)
+    fcfs = figures["FCFS (model)"]
+    # FCFS from A at 1 m/s: 1 starts at B at 1 s, 2 at 2 s (after 1's 1 s), 3 at C at 5 s;
+    # the run started 2 at 1 s, 1 at 2 s and 3 at 5 s
+    assert fcfs.starts == {1: 1.0, 2: 2.0, 3: 5.0}
+    assert service_delays(entries, fcfs.starts, 0.0) == {1: 1.0, 2: -1.0, 3: 0.0}
+    assert service_delays(entries, fcfs.starts, -2.0) == {1: 3.0, 2: 1.0, 3: 2.0}
+
+
+def test_each_figure_beside_its_goal(tmp_path, line_graph):
+    figures, entries = figures_and_entries(tmp_path, line_graph)
+    record = dict(sim_s=6.0, registrations=[],
+                  truth={"Bob": [[0.0, "A"]], "Ann": [[0.0, "B"]]},
+                  belief={"Bob": [[0.0, "A"]], "Ann": [[3.0, "B"]]})
+    searches = [(1, "Bob", 10.0, 80.0, True, ["A", "B"])]
+    goals = {g.figure: g for g in run_goals(record, entries, searches,
+                                            figures["FCFS (model)"], 0.0)}
+    assert goals["person requests served"].value == "3 of 3"
+    median = goals["service start after the model's (FCFS (model)), median"]
+    worst = goals["service start after the model's (FCFS (model)), worst"]
+    assert (median.value, median.met, worst.value, worst.met) == ("0 s", True, "1 s", True)
+    longest = goals["longest search (interrupted ones included)"]
+    assert (longest.value, longest.met) == ("70 s", False)
+    assert goals["the robot's own instructions served"].value == "0 of 0"
+    belief = goals["belief accuracy from the run start, lowest resident"]
+    # Ann is believed at B from 3 s on: 7 of the 13 samples 0, 0.5, ..., 6 s
+    assert belief.value == f"{7 / 13:.2f} (Ann)" and not belief.met
+    share = goals["run reward / the model's (FCFS (model))"]
+    assert share.value == f"1.840 / 1.590 = {1.84049 / 1.59049:.2f}" and share.met
+    lines = goals_markdown(list(goals.values()))
+    assert lines[0] == "## Goals"
+    assert "| longest search (interrupted ones included) | 70 s | ≤ 60 s | **no** |" in lines
