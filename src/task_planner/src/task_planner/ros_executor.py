@@ -13,6 +13,7 @@ import dataclasses
 import math
 import os
 import queue
+import sqlite3
 import threading
 import time
 from collections import deque
@@ -271,7 +272,19 @@ class ExecutorNode:
                 instruction = instruction_from_msg(msg)
             except InvalidInstruction as error:
                 return self._refused(msg, allocate, str(error))
-            results, commands = self.executor.receive([instruction], rospy.get_time())
+            try:
+                results, commands = self.executor.receive([instruction], rospy.get_time())
+            except Exception as exc:
+                if self.executor.buffer.holds(instruction.id):
+                    # journalled (acknowledged), then a later write or step raised
+                    self._step_fault(exc)
+                    results, commands = [(self.executor.buffer.get(instruction.id), "")], []
+                elif isinstance(exc, sqlite3.Error):   # a write before it failed (full disk)
+                    results, commands = [(None, f"instruction {instruction.id}: "
+                                                f"{JOURNAL_FAILED}: writing "
+                                                f"{self.params.journal} failed: {exc}")], []
+                else:
+                    raise   # not journalled: the caller gets the error
             self._carry_out(commands)
             self._publish_state()
         record, error = results[0]
@@ -303,16 +316,27 @@ class ExecutorNode:
     # ---- the executor step ----
 
     def _tick_fault(self, exc):
-        """A step raised (the supervisor logged it): fail the instruction being served with the
-        reason, so neither this run nor a restart runs it again, and stop."""
+        """A tick raised (the supervisor logged it): see _step_fault."""
         with self.lock:
-            now = rospy.get_time()
-            instruction_id = self.executor.serving()
+            self._step_fault(exc)
+
+    def _step_fault(self, exc):
+        """A step of the executor raised (the caller holds the lock): fail the instruction being
+        served with the reason, so neither this run nor a restart runs it again, and stop. A
+        journal write that failed (a full disk) is an ERROR on diagnostics; when even the
+        failure cannot be journalled, the robot still stops."""
+        now = rospy.get_time()
+        instruction_id = self.executor.serving()
+        level = DiagnosticStatus.ERROR if isinstance(exc, sqlite3.Error) else DiagnosticStatus.WARN
+        try:
             commands = self.executor.fault(now, fault_text(exc))
-            self._event(f"fault in the executor step: {fault_text(exc)}"
-                        + (f"; instruction {instruction_id} failed" if instruction_id else ""))
-            self._carry_out(commands)
-            self._publish_state()
+            failed = f"; instruction {instruction_id} failed" if instruction_id else ""
+        except sqlite3.Error as error:
+            commands, failed = [StopMotion()], f"; writing {self.params.journal} failed: {error}"
+            level = DiagnosticStatus.ERROR
+        self._event(f"fault in the executor step: {fault_text(exc)}{failed}", level)
+        self._carry_out(commands)
+        self._publish_state()
 
     def _tick(self, _event):
         with self.lock:
