@@ -126,3 +126,63 @@ def test_no_package_finds_its_files_by_path_arithmetic():
             if PATH_ARITHMETIC.search(line):
                 offenders.append(f"{path.relative_to(SRC)}:{number}: {line.strip()}")
     assert not offenders, "\n".join(offenders)
+
+
+def module_name(path):
+    """The dotted module name of a library file src/<pkg>/src/<module path>.py."""
+    package_root = path.parents[len(path.relative_to(SRC).parts) - 3]
+    return ".".join(path.relative_to(package_root).with_suffix("").parts).removesuffix(
+        ".__init__")
+
+
+def module_imports(path, modules):
+    """The workspace library modules a file imports (at any depth: lazy imports count)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            found |= {node.module} | {f"{node.module}.{alias.name}" for alias in node.names}
+    return found & modules
+
+
+def import_cycles(graph):
+    """The sets of modules that import each other, directly or round a loop (strongly connected
+    components of more than one module), each sorted."""
+    index, low, stack, on_stack, cycles = {}, {}, [], set(), []
+
+    def visit(module):
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        on_stack.add(module)
+        for other in sorted(graph[module]):
+            if other not in index:
+                visit(other)
+                low[module] = min(low[module], low[other])
+            elif other in on_stack:
+                low[module] = min(low[module], index[other])
+        if low[module] == index[module]:
+            component = []
+            while not component or component[-1] != module:
+                component.append(stack.pop())
+                on_stack.discard(component[-1])
+            if len(component) > 1:
+                cycles.append(sorted(component))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return cycles
+
+
+def test_import_cycles_are_found():
+    graph = {"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}, "a.w": {"a.x"}, "b.v": set()}
+    assert import_cycles(graph) == [["a.x", "a.y", "a.z"]]
+    assert import_cycles({"a.x": {"a.y"}, "a.y": set()}) == []
+
+
+def test_no_two_library_modules_import_each_other():
+    paths = {module_name(path): path for path in sorted(SRC.glob("*/src/*/**/*.py"))}
+    modules = set(paths)
+    graph = {name: module_imports(path, modules) - {name} for name, path in paths.items()}
+    assert import_cycles(graph) == []

@@ -8,8 +8,9 @@ import re
 import pytest
 import yaml
 
-from semnav_learning.recipe import (RESUME_LINE, RecipeError, RecipeRun, Schedule, Unit,
-                                    UnitProgress, load_recipe, main)
+from semnav_learning.recipe import (RecipeError, RecipeRun, Schedule, Unit, UnitProgress,
+                                    load_recipe, main)
+from semnav_learning.recipe_format import RESUME_LINE
 from semnav_l_floor import write_l_floor
 from semnav_train_data import write_words
 from tamp_resources import resource

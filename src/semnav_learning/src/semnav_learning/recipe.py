@@ -16,7 +16,6 @@ import dataclasses
 import json
 import multiprocessing
 import os
-import re
 import shutil
 import signal
 import sys
@@ -27,6 +26,8 @@ from pathlib import Path
 import yaml
 
 from semnav_learning.dataset_build import DatasetConfig
+from semnav_learning.recipe_format import RecipeError
+from semnav_learning.recipe_units import UnitRunner
 from semnav_learning.trainer import TrainerConfig, format_duration
 from semnav_learning.training import TrainingConfig
 
@@ -53,17 +54,6 @@ REQUIRED = {"plan": ("floors", "per_class"), "dagger": ("model", "floors"),
 REFERENCES = {("train", "dataset"): ("build",), ("train", "closed_loop_plan"): ("plan",),
               ("train", "init"): MODEL_KINDS, ("train", "dagger_records"): ("dagger",),
               ("dagger", "model"): MODEL_KINDS, ("classifier", "init"): MODEL_KINDS}
-# Trainer lines that end a part of a training unit -> what the parts are
-PROGRESS_LINE = {"epochs": re.compile(r"^Epoch (\d+)/(\d+) - "),
-                 "Z_w batches": re.compile(r"^Z_w: (\d+)/(\d+) batches")}
-# The Trainer line of a resumed training: parts done in an earlier run
-RESUME_LINE = re.compile(r"^resuming after epoch (\d+)/(\d+) ")
-
-
-class RecipeError(ValueError):
-    """A recipe that cannot run: names the key (or unit) that is wrong."""
-
-
 @dataclass
 class Unit:
     """One unit of work of a stage."""
@@ -328,7 +318,6 @@ class RecipeRun:
         self.report(f"recipe {self.recipe.path.name}: {len(units)} units, "
                     f"{sum(u.name in done for u in units)} done earlier; estimate "
                     f"{format_duration(schedule.eta())}; work directory {self.recipe.work_dir}")
-        from semnav_learning.recipe_units import UnitRunner
         runner = UnitRunner(self.recipe, self.report)
         for index, unit in enumerate(units, 1):
             label = f"[{index}/{len(units)}] {unit.stage}/{unit.name}"

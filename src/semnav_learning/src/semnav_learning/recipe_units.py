@@ -9,7 +9,7 @@ import json
 
 import numpy as np
 
-from semnav_learning.recipe import PROGRESS_LINE, RESUME_LINE, RecipeError
+from semnav_learning.recipe_format import PROGRESS_LINE, RESUME_LINE, RecipeError
 from semnav_learning.trainer import Trainer, TrainerConfig, TrainingError
 from semnav_learning.training import TrainingConfig
 
