@@ -1,11 +1,11 @@
 """task_planner.behaviours.looking: serve here, or look around / stand and look for the person."""
 import math
 
-from behaviour_factories import B, make_context, journal
+from behaviour_factories import B, C, make_context, journal
 from planner_factories import make_instruction
 from py_trees.common import Status
 
-from task_planner.behaviours.looking import (LookingAround, StandingToLook, look_step,
+from task_planner.behaviours.looking import (LookingAround, StandingToLook, end_look, look_step,
                                              serve_here, start_look)
 from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, VERIFYING, Execute,
                                             Navigate, StopMotion, Verify, Wait)
@@ -72,3 +72,39 @@ def test_standing_to_look_searches_on_when_the_wait_is_over(line_graph, tmp_path
     leaf.tick_once()
     assert ctx.mode == IDLE and leaf.status == Status.FAILURE
     assert ctx.buffer.get(1).reason == "Bob not found (searched B)"
+
+
+def swept_b(posed_line_graph, tmp_path, people, look_again_s):
+    """The robot at B has looked all around it (0-4 s, a patrol's look); Ann's instruction at B
+    comes next."""
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=1,
+                       fresh_s=1.0, look_again_s=look_again_s)
+    start_look(ctx, 0, 0.0)
+    assert end_look(ctx, 4.0) == [] and ctx.mode == IDLE
+    journal(ctx, make_instruction(1, B, duration=20, function=3, target="Ann"), now=5.0)
+    return ctx
+
+
+def test_a_place_just_looked_all_around_is_not_looked_around_again(posed_line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Ann", C, stamp=0.0)                 # Ann was last seen at C
+    ctx = swept_b(posed_line_graph, tmp_path, people, look_again_s=20.0)
+    assert ctx.swept[B] == (0.0, 4.0)
+    assert serve_here(ctx, 1, 6.0) == [] and ctx.mode == IDLE   # no second look: search on
+    assert ctx.search[1] == [C]
+    assert ctx.log[-2] == (6.0, "Ann not seen in the look around B 2 s ago")
+    (tmp_path / "always").mkdir()
+    again = swept_b(posed_line_graph, tmp_path / "always", people, look_again_s=0.0)
+    assert serve_here(again, 1, 6.0) == [Navigate(B, 1, yaw=math.pi)]   # looks again
+
+
+def test_whoever_that_look_saw_counts_as_here(posed_line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Ann", B, stamp=2.0)                 # seen during the look, 4 s before
+    ctx = swept_b(posed_line_graph, tmp_path, people, look_again_s=20.0)
+    assert serve_here(ctx, 1, 6.0)[0] == Execute(1, "check_status", 20.0)
+
+
+def test_a_look_long_ago_is_looked_again(posed_line_graph, tmp_path):
+    ctx = swept_b(posed_line_graph, tmp_path, PeopleAtPlaces(), look_again_s=20.0)
+    assert serve_here(ctx, 1, 30.0) == [Navigate(B, 1, yaw=math.pi)]

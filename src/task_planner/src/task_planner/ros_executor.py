@@ -78,6 +78,8 @@ class NodeParams:
     look_headings: int = 6         # turns in place to look around a place: 6 steps of 51°, each
                                    # within the camera's 57° field of view
     look_dwell: float = 0.6        # stay on each heading this long (3 camera frames) [s]
+    look_again: float = 20.0       # a place looked all around this recently is not looked
+                                   # around again for another person [s]; 0 = look every time
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
     search_all_places: bool = True  # search every place (else only the last known ones)
     follow_belief: bool = True     # serve people where perception last saw them (or their
@@ -122,8 +124,8 @@ class NodeParams:
         positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease",
                     "corridor_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
-                         "look_dwell", "pass_wait", "patrol_interval", "marker_period",
-                         "plan_view_max", "state_recent", "max_preemptions")
+                         "look_dwell", "look_again", "pass_wait", "patrol_interval",
+                         "marker_period", "plan_view_max", "state_recent", "max_preemptions")
         for name in positive + at_least_zero:
             value = getattr(self, name)
             low_ok = value > 0 if name in positive else value >= 0
@@ -148,7 +150,7 @@ class ExecutorNode:
             self.executor_functions,
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
                            verify_wait_s=params.verify_wait, look_headings=params.look_headings,
-                           look_dwell_s=params.look_dwell,
+                           look_dwell_s=params.look_dwell, look_again_s=params.look_again,
                            fresh_s=params.fresh, search_all_places=params.search_all_places,
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,

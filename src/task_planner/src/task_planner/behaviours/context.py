@@ -23,6 +23,9 @@ class ExecutorConfig:
     verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
     look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
     look_dwell_s: float = 0.0     # stay on each heading this long, perception catching up [s]
+    look_again_s: float = 0.0     # a place looked all around this recently is not looked around
+                                  # again: whoever that look saw is here, anyone else is
+                                  # searched for elsewhere at once [s] (0: look every time)
     fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
     search_all_places: bool = False  # search every place, not only the last known ones
     follow_belief: bool = False   # serve a person where the robot believes them (else: where
@@ -82,6 +85,8 @@ class Context:
     searched: dict = field(default_factory=dict)  # instruction id -> places already searched
     search_start: dict = field(default_factory=dict)  # instruction id -> its first miss [s]
     looked_s: dict = field(default_factory=dict)  # node -> when the robot last looked there [s]
+    swept: dict = field(default_factory=dict)     # node -> (start, end) [s] of the last look
+                                                  # that turned through every heading there
     retry_at: float | None = None  # when to retry an aborted goal after asking to pass, or
                                    # to look again whether a corridor is free [s]
     corridor_wait: float | None = None  # since when the robot waits for a corridor [s]

@@ -1,7 +1,8 @@
 """Finding an instruction's person at the robot's place (ROS-free): serve when they were seen
 here, else look around (turns in place while perception watches, each heading held a dwell) or
 stand and look, then search on (thesis 000 §4.2.1: the robot observes the household). A look
-without an instruction (0) is a patrol's.
+without an instruction (0) is a patrol's. A place looked all around within `look_again_s` is not
+looked around again: whoever that look saw counts as here, anyone else is searched for elsewhere.
 """
 import math
 
@@ -24,7 +25,13 @@ def serve_here(ctx, instruction_id, now):
     except RobotFunctionError as error:
         return fail(ctx, instruction_id, now, str(error))
     target = instruction.target
-    if target and not ctx.people.is_at(target, ctx.node, now - ctx.config.fresh_s):
+    swept = recent_sweep(ctx, now)
+    since = now - ctx.config.fresh_s if swept is None else min(now - ctx.config.fresh_s, swept[0])
+    if target and not ctx.people.is_at(target, ctx.node, since):
+        if swept is not None:   # looked all around here just now: not here
+            ctx.log.append((now, f"{target} not seen in the look around "
+                                 f"{ctx.graph.names[ctx.node]} {now - swept[1]:.0f} s ago"))
+            return search_next(ctx, instruction, now)
         if ctx.config.look_headings > 0:
             return start_look(ctx, instruction_id, now)
         if ctx.config.verify_wait_s > 0:
@@ -34,6 +41,15 @@ def serve_here(ctx, instruction_id, now):
             return [Verify(instruction_id, target, until)]
         return search_next(ctx, instruction, now)
     return execute(ctx, instruction, function, now)
+
+
+def recent_sweep(ctx, now):
+    """(start, end) [s] of a look all around the robot's place that ended at most
+    `look_again_s` ago, else None."""
+    swept = ctx.swept.get(ctx.node)
+    if ctx.config.look_again_s <= 0 or swept is None or now - swept[1] > ctx.config.look_again_s:
+        return None
+    return swept
 
 
 def stand_and_look(ctx, now):
@@ -80,8 +96,9 @@ def look_step(ctx, now):
 
 def end_look(ctx, now):
     """The look is over without finding an instruction's person: search on (or decide)."""
-    instruction_id = ctx.looking[0]
+    instruction_id, since = ctx.looking[0], ctx.looking[2]
     ctx.looked_s[ctx.node] = now
+    ctx.swept[ctx.node] = (since, now)
     ctx.mode, ctx.looking = IDLE, None
     if not instruction_id:
         ctx.patrol_goal = None
