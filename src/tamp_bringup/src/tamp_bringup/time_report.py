@@ -45,7 +45,7 @@ def plot_time(path, shares, title):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     robots = list(shares)
-    fig, ax = plt.subplots(figsize=(7.0, 1.6 + 0.5 * len(robots)))
+    fig, ax = plt.subplots(figsize=(8.0, 1.8 + 0.5 * len(robots)))
     left = [0.0] * len(robots)
     colours = plt.get_cmap("tab10")
     for k, label in enumerate(ACTIVITIES):
@@ -57,7 +57,7 @@ def plot_time(path, shares, title):
         left = [a + b for a, b in zip(left, widths)]
     ax.set_xlabel("simulated time [s]")
     ax.set_title(title)
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.35), ncol=5)
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
