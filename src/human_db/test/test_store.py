@@ -50,7 +50,7 @@ def test_initialization_then_recall_on_the_table_5_1_example(store, bob):
 def test_file_is_wal_at_the_latest_schema_version(store):
     connection = sqlite3.connect(store.path)
     assert connection.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
-    assert connection.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 2
+    assert connection.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 3
     connection.close()
 
 
@@ -172,9 +172,22 @@ def test_a_version_1_database_is_migrated_keeping_its_people(tmp_path):
     assert (carol.location, carol.last_seen, carol.shirt_colour[2]) == ("bedroom", None, (7, 8, 9))
     store.update("Carol", now=1.0, activity="read", source="perception")
     assert store.where_was("Carol", 2.0).activity == "read"
+    assert store.shirts("Carol") == [(0.0, ((1, 2, 3), (4, 5, 6), (7, 8, 9)), "migrated")]
     version = sqlite3.connect(path).execute("PRAGMA user_version").fetchone()[0]
     assert version == SCHEMA_VERSION
     store.close()
+
+
+def test_a_clothes_change_keeps_the_old_shirt_in_the_shirt_history(store, alice):
+    store.register(alice, now=5.0)
+    pyjamas = ((20, 20, 90), (22, 22, 95), (21, 21, 92))
+    store.update("Alice", now=80.0, location="bedroom", source="recall", shirt_colour=pyjamas)
+    assert store.get("Alice").shirt_colour == pyjamas
+    times, shirts, sources = zip(*store.shirts("Alice"))
+    assert times == (5.0, 80.0) and sources == ("register", "recall")
+    assert shirts == (alice.shirt_colour, pyjamas)
+    store.update("Alice", now=90.0, location="office", source="perception")
+    assert len(store.shirts("Alice")) == 2          # an observation is not a new shirt
 
 
 def _refused_untouched(path, needle):
@@ -280,7 +293,7 @@ def test_a_foreign_database_with_a_human_db_table_name_is_refused_untouched(tmp_
     connection.commit()
     connection.close()
     error = _refused_untouched(foreign, r"holds tables \['history', 'tags'\], which do not match "
-                                        r"human_db's schema version 2")
+                                        r"human_db's schema version 3")
     assert "not a human_db database" in str(error)
     connection = sqlite3.connect(foreign)
     tables = [r[0] for r in connection.execute("SELECT name FROM sqlite_master ORDER BY name")]

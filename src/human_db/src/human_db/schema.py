@@ -41,6 +41,20 @@ MIGRATIONS = (
         "CREATE INDEX history_by_human_time ON history (human_id, time)",
         "CREATE UNIQUE INDEX humans_by_ip ON humans (ip) WHERE ip != ''",
     ),
+    # v3: every shirt a person has been registered in (§3.2.3: "needs to update once the human
+    # changes his/her clothes"); a clothes change keeps the old shirt here.
+    (
+        f"""CREATE TABLE shirts (
+            id INTEGER PRIMARY KEY,
+            human_id INTEGER NOT NULL REFERENCES humans (id) ON DELETE CASCADE,
+            time REAL NOT NULL,
+            {_COLOUR_DEFS},
+            source TEXT NOT NULL)""",
+        "CREATE INDEX shirts_by_human_time ON shirts (human_id, time)",
+        f"""INSERT INTO shirts (human_id, time, {', '.join(COLOUR_COLUMNS)}, source)
+            SELECT id, COALESCE(last_seen, 0), {', '.join(COLOUR_COLUMNS)}, 'migrated'
+            FROM humans""",
+    ),
 )
 
 SCHEMA_VERSION = len(MIGRATIONS)

@@ -240,6 +240,7 @@ class HumanStore:
                 assignments = ", ".join(f"{c} = ?" for c in COLOUR_COLUMNS)
                 connection.execute(f"UPDATE humans SET {assignments} WHERE id = ?",
                                    tuple(int(c) for c in colours.ravel()) + (human_id,))
+                _record_shirt(connection, human_id, now, colours, source or "update")
             if entries is not None:
                 _replace_schedules(connection, human_id, entries)
             if observed:
@@ -300,6 +301,17 @@ class HumanStore:
                 "SELECT time, location, activity, source FROM history WHERE human_id = ? "
                 "AND time >= ? AND time <= ? ORDER BY time, id", (human_id, since, until))
             return [HistoryEntry(*row) for row in rows]
+        return self._transaction(work, write=False)
+
+    def shirts(self, name):
+        """Every shirt `name` has been registered in, oldest first: [(time [s], ((r, g, b) x 3),
+        source)] (source "register", "migrated", or the updater's, e.g. "recall")."""
+        def work(connection):
+            human_id = _row_or_raise(connection, "SELECT id FROM humans WHERE name = ?", name)[0]
+            rows = connection.execute(
+                f"SELECT time, {', '.join(COLOUR_COLUMNS)}, source FROM shirts "
+                "WHERE human_id = ? ORDER BY time, id", (human_id,)).fetchall()
+            return [(r[0], (tuple(r[1:4]), tuple(r[4:7]), tuple(r[7:10])), r[10]) for r in rows]
         return self._transaction(work, write=False)
 
     def where_was(self, name, when):
@@ -473,10 +485,19 @@ def _register(connection, human, replace, now):
         assignments = ", ".join(f"{c} = ?" for c in _HUMAN_COLUMNS[1:])
         connection.execute(f"UPDATE humans SET {assignments} WHERE id = ?", values + (human_id,))
     _replace_schedules(connection, human_id, human.schedules)
+    _record_shirt(connection, human_id, now, human.shirt_colour, "register")
     if human.location or human.activity:
         connection.execute("INSERT INTO history (human_id, time, location, activity, source) "
                            "VALUES (?, ?, ?, ?, 'register')",
                            (human_id, now, human.location, human.activity))
+
+
+def _record_shirt(connection, human_id, now, colours, source):
+    """Add a shirt to the person's shirt history (schema v3)."""
+    values = tuple(int(c) for joint in colours for c in joint)
+    connection.execute(f"INSERT INTO shirts (human_id, time, {', '.join(COLOUR_COLUMNS)}, source) "
+                       f"VALUES (?, ?, {', '.join('?' * len(values))}, ?)",
+                       (human_id, now) + values + (source,))
 
 
 def _refuse_shared_ip(connection, ip, name):
