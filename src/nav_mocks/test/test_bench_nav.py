@@ -65,6 +65,8 @@ def march_household(folder):
     for laser in (laser for robot in robots for laser in robot["lasers"]):
         laser["raycast"] = "march"
     (folder / "lasers").symlink_to(resource("config", "lasers"))   # <world dir>/../lasers
+    (folder / "camera_calibration.yaml").symlink_to(resource("config",
+                                                             "camera_calibration.yaml"))
     (folder / "worlds").mkdir()
     world = folder / "worlds" / "household_march.yaml"
     world.write_text(yaml.safe_dump({"base": str(household), "robots": robots}))

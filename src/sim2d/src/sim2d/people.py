@@ -2,7 +2,8 @@
 
 A schedule is a list of timed moves: at `time` [s] the person walks (standing, activity
 "walking") along the optional `via` waypoints to `pose`, then takes the entry's posture and
-activity there.
+activity there, and puts on the entry's shirt if it names one (pyjamas before bed, a coat to go
+out): thesis 000 §3.2.3's "needs to update once the human changes his/her clothes".
 """
 import math
 from dataclasses import dataclass, field
@@ -20,6 +21,7 @@ class ScheduleEntry:
     holding: str = ""           # name of the object in the hands ("" = none)
     looking_at: str = ""        # name of the object looked at ("" = straight ahead)
     via: list = field(default_factory=list)   # [[x, y], ...] waypoints [m]
+    shirt_colour: tuple = None  # clothes put on at the destination (as Person's); None = same
 
 
 @dataclass
@@ -74,3 +76,5 @@ class Person:
             self.pose = tuple(entry.pose)
             self.posture, self.activity = entry.posture, entry.activity
             self.holding, self.looking_at = entry.holding, entry.looking_at
+            if entry.shirt_colour is not None:
+                self.shirt_colour = entry.shirt_colour

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from sim2d.camera import Camera, CameraFrame, hidden_face
+from sim2d.camera import Camera, CameraFrame, hidden_by_boxes, hidden_face
+from sim2d.detection_model import make_detection_model
 from sim2d.kinematics import DIFFERENTIAL, RobotState, step_robot, wheels_to_twist
 from sim2d.laser import LaserSensor
 from sim2d.laser_batch import batch_key, scan_many
@@ -160,7 +161,8 @@ class World:
         camera = None
         if rc.camera is not None:
             camera = Camera(rc.camera.top, rc.camera.bottom, rc.camera.detection,
-                            self.camera_geometry)
+                            self.camera_geometry,
+                            make_detection_model(rc.camera.detection, rc.camera.calibration))
         return Robot(rc, RobotState(pose=tuple(rc.pose)), new_odometry(rc, rc.pose),
                      lasers, list(rc.lasers), camera, [None] * len(lasers),
                      [laser.model.scan_time for laser in lasers])
@@ -323,19 +325,40 @@ class World:
         objects = list(self.objects.values())
         targets = [p.pose[:2] for p in people] + [o.pose[:2] for o in objects]
         seen = camera.in_line_of_sight(pose, targets)
+        ideal = camera.model.name == "ideal"
+        blockers = [] if ideal else [(o.pose[0], o.pose[1], o.pose[2], o.elevation, o.size)
+                                     for o in objects if not o.held_by]
         for person, visible in zip(people, seen[:len(people)]):
-            if not visible or camera.missed():
+            if not visible:
                 continue
             look = self.objects[person.looking_at].centre() if person.looking_at else None
             keypoints, _ = person_keypoints(person.posture, person.pose,
                                             holding=bool(person.holding), look_target=look)
-            skeleton, box = camera.detect_person(person.name, keypoints, person.shirt_colour, pose,
-                                                 hidden=hidden_face(keypoints, pose))
+            lighting = self.config.lighting_at(*person.pose[:2])
+            hidden = list(hidden_face(keypoints, pose))
+            behind = (hidden_by_boxes(keypoints, camera.eye(pose), blockers) if blockers
+                      else np.zeros(len(keypoints), dtype=bool))
+            share = float(behind.mean())
+            if camera.person_missed(keypoints, pose, share, lighting):
+                continue
+            skeleton, box = camera.detect_person(
+                person.name, keypoints, person.shirt_colour, pose,
+                hidden=sorted(set(hidden) | set(np.flatnonzero(behind).tolist())),
+                lighting=lighting, hidden_fraction=share)
             if skeleton is not None:
                 frame.skeletons.append(skeleton)
+            if box is not None and (skeleton is not None or not ideal):
                 frame.objects.append(box)
-        candidates = [(o.name, o.label, o.corners(), o.centre())
-                      for o, visible in zip(objects, seen[len(people):])
-                      if visible and not camera.missed()]
-        frame.objects.extend(camera.detect_objects(candidates, pose))
+        if ideal:
+            candidates = [(o.name, o.label, o.corners(), o.centre())
+                          for o, visible in zip(objects, seen[len(people):])
+                          if visible and not camera.missed()]
+            frame.objects.extend(camera.detect_objects(candidates, pose))
+            return frame
+        shown = [o for o, visible in zip(objects, seen[len(people):]) if visible]
+        labels = sorted({o.label for o in objects})
+        frame.objects.extend(camera.detect_objects(
+            [(o.name, o.label, o.corners(), o.centre()) for o in shown], pose,
+            lighting=[self.config.lighting_at(*o.pose[:2]) for o in shown], labels=labels))
+        frame.objects.extend(camera.false_detections(self.config.lighting_at(*pose[:2]), labels))
         return frame

@@ -10,6 +10,7 @@ from pathlib import Path
 import yaml
 
 from sim2d.camera import CameraConfig, DetectionConfig
+from sim2d.detection_model import DAYLIGHT, CalibrationError, load_calibration
 from sim2d.kinematics import DIFFERENTIAL, HOLONOMIC, DriveLimits, WheelConfig
 from sim2d.laser import LaserModelError, find_laser_model
 from floorplan.occupancy_map import load_map
@@ -40,6 +41,7 @@ class CameraRig:
     bottom: CameraConfig
     detection: DetectionConfig
     rate: float = 10.0          # [Hz] detection frames per second
+    calibration: object = None  # detection_model.Calibration of the calibrated model
 
 
 @dataclass
@@ -75,6 +77,24 @@ class WorldConfig:
     objects: list = field(default_factory=list)
     camera_transparent: list = field(default_factory=list)   # [[x0, y0, x1, y1]] [m]
     doors: list = field(default_factory=list)   # [DoorConfig]
+    lighting: list = field(default_factory=list)   # [LightingZone]; daylight elsewhere
+
+    def lighting_at(self, x, y):
+        """Name of the lighting at map point (x, y): the first zone holding it, else daylight."""
+        for zone in self.lighting:
+            x0, y0, x1, y1 = zone.box
+            if x0 <= x <= x1 and y0 <= y <= y1:
+                return zone.condition
+        return DAYLIGHT
+
+
+@dataclass
+class LightingZone:
+    """A part of the home lit as one row of the camera calibration table says."""
+
+    name: str
+    box: tuple                  # (x0, y0, x1, y1) map-frame rectangle [m]
+    condition: str              # a lighting row of the calibration table (dim, tungsten, ...)
 
 
 @dataclass
@@ -86,7 +106,9 @@ class DoorConfig:
     closed: bool = False        # state at start
 
 
-TOP_KEYS = ("base", "map", "graph", "camera_transparent", "doors", "robots", "people", "objects")
+TOP_KEYS = ("base", "map", "graph", "camera_transparent", "doors", "lighting", "robots", "people",
+            "objects")
+LIGHTING_KEYS = ("name", "box", "condition")
 ROBOT_KEYS = ("name", "namespace", "drive", "radius", "pose", "limits", "wheels", "odometry",
               "lasers", "camera")
 LASER_KEYS = ("model", "mount") + tuple(k for k in LaserMount.__dataclass_fields__
@@ -95,7 +117,8 @@ CAMERA_KEYS = ("rate", "top", "bottom", "detection")
 PERSON_KEYS = ("name", "shirt_colour", "pose", "posture", "activity", "holding", "looking_at",
                "schedule", "radius", "walking_speed")
 SHIRT_KEYS = ("joint1", "joint2", "joint5")
-ENTRY_KEYS = ("time", "pose", "posture", "activity", "holding", "looking_at", "via")
+ENTRY_KEYS = ("time", "pose", "posture", "activity", "holding", "looking_at", "via",
+              "shirt_colour")
 OBJECT_KEYS = ("name", "label", "pose", "elevation", "size")
 DOOR_KEYS = ("name", "box", "closed")
 ELBOW_MARGIN = 0.05     # [m] a resting person's floor disc beyond the disc the lasers see
@@ -182,7 +205,20 @@ class _Parser:
         top = _dataclass_from(CameraConfig, data.get("top"), f"{where}.top")
         bottom = _dataclass_from(CameraConfig, data.get("bottom"), f"{where}.bottom")
         detection = _dataclass_from(DetectionConfig, data.get("detection"), f"{where}.detection")
-        return CameraRig(top, bottom, detection, _number(data.get("rate", 10.0), f"{where}.rate"))
+        calibration = None
+        if detection.model == "calibrated":
+            if not detection.calibration:
+                self.fail(f"{where}.detection: the calibrated model needs 'calibration' (the "
+                          "table scripts/calibrate_camera writes)")
+            try:
+                calibration = load_calibration(self.path.parent / detection.calibration)
+            except CalibrationError as error:
+                self.fail(f"{where}.detection: {error}")
+        elif detection.model != "ideal":
+            self.fail(f"{where}.detection: model must be 'calibrated' or 'ideal', got "
+                      f"{detection.model!r}")
+        return CameraRig(top, bottom, detection, _number(data.get("rate", 10.0), f"{where}.rate"),
+                         calibration)
 
     def robot(self, data, i):
         where = f"robots[{i}]"
@@ -221,7 +257,10 @@ class _Parser:
                               activity=data.get("activity", "standing"),
                               holding=data.get("holding", ""),
                               looking_at=data.get("looking_at", ""),
-                              via=[self.pose(p, f"{where}.via")[:2] for p in data.get("via", [])])
+                              via=[self.pose(p, f"{where}.via")[:2] for p in data.get("via", [])],
+                              shirt_colour=(self.shirt_colour(data["shirt_colour"], where,
+                                                              f"{path}.shirt_colour")
+                                            if "shirt_colour" in data else None))
         if entry.posture not in POSTURES:
             self.fail(f"{where}: posture must be one of {POSTURES}, got {entry.posture!r}")
         return entry
@@ -308,13 +347,41 @@ class _Parser:
                     if ref and ref not in object_names:
                         self.fail(f"person {person.name!r} refers to unknown object {ref!r}")
         self.check_passages(map_path, robots, people)
+        lighting = self.lighting(data.get("lighting") or [], robots)
         return WorldConfig(self.path, map_path, graph_path, robots, people, objects,
                            [list(map(float, r)) for r in data.get("camera_transparent", [])],
-                           self.doors(data.get("doors", [])))
+                           self.doors(data.get("doors", [])), lighting)
+
+    def lighting(self, entries, robots):
+        """The lighting zones; each condition must be a row of every calibrated camera's table."""
+        zones = [self.lighting_zone(z, i) for i, z in enumerate(entries)]
+        tables = [r.camera.calibration for r in robots
+                  if r.camera is not None and r.camera.calibration is not None]
+        for table in tables:
+            for zone in zones:
+                if zone.condition not in table.lighting:
+                    self.fail(f"lighting {zone.name!r}: condition {zone.condition!r} is not a "
+                              f"lighting row of {table.path} (rows: "
+                              f"{', '.join(table.lighting)})")
+        return zones
+
+    def lighting_zone(self, data, index):
+        where = f"lighting[{index}]"
+        self.keys(data, LIGHTING_KEYS, where)
+        missing = [k for k in LIGHTING_KEYS if k not in data]
+        if missing:
+            self.fail(f"{where}: missing {', '.join(missing)}")
+        box = data["box"]
+        if not isinstance(box, (list, tuple)) or len(box) != 4:
+            self.fail(f"{where}: box must be [x0, y0, x1, y1], got {box!r}")
+        box = tuple(_number(v, f"{self.path}: {where}.box") for v in box)
+        if box[0] >= box[2] or box[1] >= box[3]:
+            self.fail(f"{where}: box must have x0 < x1 and y0 < y1, got {list(box)}")
+        return LightingZone(str(data["name"]), box, str(data["condition"]))
 
     def with_base(self, data):
-        """`data` over the keys of its `base` world (one level; the base's map and graph paths
-        stay relative to the base's folder)."""
+        """`data` over the keys of its `base` world (one level; the base's map, graph and camera
+        calibration paths stay relative to the base's folder)."""
         if "base" not in data:
             return data
         base_path = (self.path.parent / str(data.pop("base"))).resolve()
@@ -324,6 +391,11 @@ class _Parser:
         for key in ("map", "graph"):
             if base.get(key):
                 base[key] = str((base_path.parent / base[key]).resolve())
+        for robot in base.get("robots") or []:
+            detection = ((robot or {}).get("camera") or {}).get("detection") or {}
+            if detection.get("calibration"):
+                detection["calibration"] = str((base_path.parent
+                                                / detection["calibration"]).resolve())
         return {**base, **data}
 
     def read(self, path):
