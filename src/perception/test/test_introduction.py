@@ -14,8 +14,9 @@ from task_planner.instruction import ROBOT
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
 
-from perception.answers import AnswerError, parse_age, parse_gender, parse_name
-from perception.introduction import (AGE, COMPLETE, FAILED, GENDER, NAME, SUBMITTING,
+from perception.answers import (AnswerError, closest_name, parse_age, parse_gender, parse_name,
+                                parse_yes_no)
+from perception.introduction import (AGE, COMPLETE, CONFIRM, FAILED, GENDER, NAME, SUBMITTING,
                                      IntroductionConfig, IntroductionDialogue, NewcomerWatch,
                                      seen_shirt)
 from tamp_resources import resource
@@ -234,3 +235,55 @@ def test_an_aborted_dialogue_is_failed_and_says_it_gives_up():
 def test_the_greeting_asks_the_name():
     functions = {f.name: f for f in load_robot_functions(CONFIG / "robot_functions.yaml").values()}
     assert functions["introduce"].say.endswith(IntroductionConfig().name_question)
+
+
+def test_a_resident_in_new_clothes_is_recalled_by_name_without_more_questions():
+    """§3.2.3: a registered person whose shirt no longer matches is met like a stranger; their
+    name (any case) ends the dialogue, and the shirt seen now is theirs."""
+    talk = IntroductionDialogue(IntroductionConfig(), WHITE, 100.0, "bedroom",
+                                residents=("Alice", "Carol"))
+    turn = talk.hear("My name is carol.", "", 104.0)
+    assert (turn.say, turn.state) == ("", COMPLETE)
+    assert talk.recalled == "Carol"
+    assert talk.shirt() == ((236, 236, 230), (222, 222, 216), (226, 226, 220))
+    assert talk.welcome() == "Thank you, Carol. I will know you in these clothes now."
+    stranger = IntroductionDialogue(IntroductionConfig(), WHITE, 100.0, "bedroom",
+                                    residents=("Alice", "Carol"))
+    assert stranger.hear("My name is Frank.", "", 104.0).state == GENDER
+    assert stranger.recalled == ""
+
+
+def test_a_name_heard_close_to_a_residents_is_asked_back_never_guessed():
+    """Whisper heard "Carol" as "Carl" (clothes_change rostest): the robot asks; a yes recalls
+    Carol, a no makes the person a new one under the name as heard."""
+    talk = IntroductionDialogue(IntroductionConfig(), WHITE, 100.0, "bedroom",
+                                residents=("Alice", "Carol"))
+    turn = talk.hear("My name is Carl.", "", 104.0)
+    assert (turn.say, turn.state) == ("Did you say Carol?", CONFIRM)
+    turn = talk.hear("Yes.", "", 106.0)
+    assert (turn.state, talk.recalled) == (COMPLETE, "Carol")
+    other = IntroductionDialogue(IntroductionConfig(), WHITE, 100.0, "bedroom",
+                                 residents=("Alice", "Carol"))
+    other.hear("My name is Carl.", "192.168.1.150", 104.0)
+    assert other.hear("I'm Oh.", "192.168.1.150", 105.0).say.startswith("Sorry, I did not catch "
+                                                                         "a yes or a no")
+    turn = other.hear("No.", "192.168.1.150", 106.0)
+    assert (turn.say, turn.state) == ("Thank you, Carl. Are you a man or a woman?", GENDER)
+    assert other.recalled == ""
+
+
+@pytest.mark.parametrize("text, value", [("Yes.", True), ("Yeah, that's right.", True),
+                                         ("No.", False), ("Nope", False)])
+def test_yes_no_answers(text, value):
+    assert parse_yes_no(text) is value
+
+
+@pytest.mark.parametrize("text", ["Maybe.", "Yes, no.", ""])
+def test_unclear_yes_no_is_refused(text):
+    with pytest.raises(AnswerError, match="yes or a no"):
+        parse_yes_no(text)
+
+
+def test_closest_name_needs_a_near_spelling():
+    assert closest_name("Carl", ["Alice", "Carol"], 0.75) == "Carol"
+    assert closest_name("Frank", ["Alice", "Carol", "David"], 0.75) == ""

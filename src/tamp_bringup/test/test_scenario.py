@@ -2,8 +2,8 @@
 
 import pytest
 
-from tamp_bringup.scenario import (ScenarioError, Visitor, load_scenario, place_of, timeline,
-                                   visitor_answer)
+from tamp_bringup.scenario import (ScenarioError, Visitor, clothes_changers, load_scenario,
+                                   place_of, resident_answer, timeline, visitor_answer)
 from tamp_resources import resource
 
 ROOT = resource()
@@ -136,3 +136,21 @@ def test_day_start_is_a_time_of_day():
     assert clock_seconds("07:05", "day_start") == 7 * 3600 + 5 * 60
     with pytest.raises(ScenarioError, match="day_start: expected a quoted time of day"):
         clock_seconds(1105, "day_start")       # unquoted 18:25 is a base-60 number in YAML
+
+
+def test_a_resident_in_new_clothes_answers_her_name_and_whether_it_was_heard_right():
+    from perception.introduction import IntroductionConfig
+    dialogue = IntroductionConfig()
+    assert resident_answer("Carol", dialogue.name_question) == "My name is Carol."
+    assert resident_answer("Carol", dialogue.confirm_question.format(name="Carol")) == "Yes."
+    assert resident_answer("Carol", dialogue.confirm_question.format(name="Alice")) == "No."
+    assert resident_answer("Carol", dialogue.recalled.format(name="Carol")) == ""
+
+
+def test_moves_that_change_clothes_are_marked():
+    scenario = load_scenario(ROOT / "config" / "scenarios" / "household_clothes.yaml")
+    assert [(m.person, m.place, m.clothes) for m in scenario.moves] == [
+        ("Carol", "bedroom", True)]
+    assert clothes_changers(scenario) == ("Carol",)
+    assert not any(m.clothes for m in load_scenario(
+        ROOT / "config" / "scenarios" / "household_day.yaml").moves)

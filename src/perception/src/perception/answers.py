@@ -120,3 +120,29 @@ def parse_age(text):
     if not 0 < age <= MAX_AGE:
         raise AnswerError(f"{age} years is not an age I can believe")
     return age
+
+
+YES_WORDS = frozenset({"yes", "yeah", "yep", "yup", "correct", "right", "sure", "exactly"})
+NO_WORDS = frozenset({"no", "nope", "wrong", "not", "incorrect"})
+
+
+def parse_yes_no(text):
+    """True for "Yes.", "Yeah, that's right", False for "No.", "Nope"; AnswerError when the
+    answer holds both or neither."""
+    words = set(_words(text))
+    yes, no = bool(words & YES_WORDS), bool(words & NO_WORDS)
+    if yes == no:
+        raise AnswerError(f"I did not catch a yes or a no in '{text}'")
+    return yes
+
+
+def closest_name(name, names, similarity):
+    """The name of `names` spelt most like `name` with a similarity (difflib ratio, case
+    ignored) of at least `similarity`, or "" when none is (a misheard "Carl" for "Carol")."""
+    import difflib
+    best, best_ratio = "", similarity
+    for candidate in names:
+        ratio = difflib.SequenceMatcher(None, name.lower(), candidate.lower()).ratio()
+        if ratio >= best_ratio:
+            best, best_ratio = candidate, ratio
+    return best

@@ -16,7 +16,10 @@ Two parts, both ROS-free:
 - `IntroductionDialogue` runs the questions once the robot is there: the `introduce` function's
   greeting asks the name, then the dialogue asks the gender and the age, re-asks (boundedly) what
   it cannot read, and produces the human_db `Human` with the stranger's shirt colours and the
-  phone address the answers came from, in the place where the robot met them.
+  phone address the answers came from, in the place where the robot met them. A name the
+  household already has is a resident in new clothes (§3.2.3: the system "needs to update once
+  the human changes his/her clothes"): the dialogue ends there and `recalled` names them, whose
+  shirt colours the node then updates.
 """
 from dataclasses import dataclass
 
@@ -25,10 +28,12 @@ from human_db.colour import mean_shirt_distance, shirt_colours
 from human_db.model import Human
 from task_planner.instruction import ROBOT, Instruction
 
-from perception.answers import AnswerError, parse_age, parse_gender, parse_name
+from perception.answers import (AnswerError, closest_name, parse_age, parse_gender, parse_name,
+                                parse_yes_no)
 
 # Dialogue states: the question being waited for, then the end states.
 NAME, GENDER, AGE, COMPLETE, FAILED = "name", "gender", "age", "complete", "failed"
+CONFIRM = "confirm"   # "Did you say Carol?": a heard name close to a resident's
 SUBMITTING = -1   # Stranger.instruction_id while their introduce instruction is being submitted
 
 
@@ -44,6 +49,9 @@ class IntroductionConfig:
     gender_question: str = "Are you a man or a woman?"
     age_question: str = "How old are you?"
     welcome: str = "Nice to meet you, {name}."
+    recalled: str = "Thank you, {name}. I will know you in these clothes now."
+    confirm_question: str = "Did you say {name}?"
+    name_similarity: float = 0.75  # [-] difflib ratio from which a heard name may be a resident's
     give_up: str = "I am sorry, I could not understand you. Let us try again later."
 
 
@@ -182,18 +190,24 @@ class IntroductionDialogue:
 
     QUESTIONS = (NAME, GENDER, AGE)
 
-    def __init__(self, config, colours, started, place=""):
+    def __init__(self, config, colours, started, place="", residents=()):
         self.config, self.colours, self.place = config, np.array(colours), place
         self.state, self.retries, self.asked_at = NAME, 0, started
         self.started = started
         self.answers = {}     # question -> parsed value
         self.ip = ""          # phone of the first answer; "" = the robot's microphone
+        self.residents = {name.lower(): name for name in residents}   # registered names
+        self.recalled = ""    # the resident this stranger turned out to be ("" = a new person)
+        self.heard_name = ""  # CONFIRM: the name as heard, taken if the resident's is denied
+        self.candidate = ""   # CONFIRM: the resident whose name it may be
 
     @property
     def open(self):
         return self.state not in (COMPLETE, FAILED)
 
     def _question(self):
+        if self.state == CONFIRM:
+            return self.config.confirm_question.format(name=self.candidate)
         return {NAME: self.config.name_question, GENDER: self.config.gender_question,
                 AGE: self.config.age_question}[self.state]
 
@@ -201,11 +215,37 @@ class IntroductionDialogue:
         """One answer from the person; returns the Turn (next question, re-ask or the end)."""
         if not self.open:
             raise RuntimeError(f"dialogue is {self.state}; no answer expected")
-        reader = {NAME: parse_name, GENDER: parse_gender, AGE: parse_age}[self.state]
+        reader = {NAME: parse_name, GENDER: parse_gender, AGE: parse_age,
+                  CONFIRM: parse_yes_no}[self.state]
         try:
             value = reader(text)
         except AnswerError as error:
             return self._ask_again(f"Sorry, {error}.", now)
+        if self.state == CONFIRM:
+            return self._confirmed(value, ip, now)
+        if self.state == NAME and value.lower() in self.residents:
+            return self._recall(self.residents[value.lower()])
+        if self.state == NAME:
+            candidate = closest_name(value, self.residents.values(), self.config.name_similarity)
+            if candidate:   # never guess: ask whether the speech-to-text misheard a resident
+                self.state, self.heard_name, self.candidate = CONFIRM, value, candidate
+                self.retries, self.asked_at, self.ip = 0, now, self.ip or ip
+                return Turn(self._question(), CONFIRM)
+        return self._take(value, ip, now)
+
+    def _recall(self, name):
+        self.recalled = self.answers[NAME] = name
+        self.state = COMPLETE
+        return Turn("", COMPLETE)
+
+    def _confirmed(self, yes, ip, now):
+        if yes:
+            return self._recall(self.candidate)
+        self.state = NAME       # not the resident: a new person with the name as heard
+        return self._take(self.heard_name, ip, now)
+
+    def _take(self, value, ip, now):
+        """Record an answer to the current question and ask the next."""
         self.ip = self.ip or ip
         self.answers[self.state] = value
         self.state = self.QUESTIONS[self.QUESTIONS.index(self.state) + 1] \
@@ -247,4 +287,9 @@ class IntroductionDialogue:
                      ip=self.ip, location=self.place)
 
     def welcome(self):
-        return self.config.welcome.format(name=self.answers[NAME])
+        text = self.config.recalled if self.recalled else self.config.welcome
+        return text.format(name=self.answers[NAME])
+
+    def shirt(self):
+        """The shirt colours ((r, g, b) x 3) the person wears now."""
+        return tuple(tuple(int(c) for c in joint) for joint in self.colours)

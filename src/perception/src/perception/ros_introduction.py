@@ -7,7 +7,9 @@ Unidentified people on /humans/observed -> an `introduce` instruction submitted 
 fleet ACTIVE in any robot's state of ~state_topics, since the robot that received the instruction
 need not be the one that serves it) the
 node asks the gender and the age on /robot/say, reads the answers from /voice_message, registers
-the person with /human_db/register and says "Nice to meet you, NAME.".
+the person with /human_db/register and says "Nice to meet you, NAME.". A name human_db already
+lists is a resident whose clothes changed: the node updates their shirt colours (and place) with
+/human_db/update, source "recall" (human_db keeps the old shirt), and says so.
 
 Which utterances are answers: while a dialogue is open, every utterance whose phone is not a
 registered person's (a stranger's phone, or the robot's own microphone, ip "") is an answer. The
@@ -37,7 +39,7 @@ from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Utterance
-from tamp_msgs.srv import RegisterHuman
+from tamp_msgs.srv import RegisterHuman, UpdateHuman
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
 from task_planner.ros_submit import SubmitClient
@@ -92,7 +94,7 @@ class IntroductionNode:
         self._open_until = None   # ~dialogue_open is true until this time [s]; None = closed
         self._published_open = None
         self._counts = {"instructions": 0, "not_submitted": 0, "dialogues": 0, "registered": 0,
-                        "not_met": 0,
+                        "recalled": 0, "not_met": 0,
                         "answers": 0, "refused_answers": 0, "bad_observations": 0}
         self._last = ""           # last registration or failure, for diagnostics
         self._timers = []
@@ -110,6 +112,7 @@ class IntroductionNode:
             p.config, (function.code, function.duration_s),
             self._priority(p), load_graph(p.graph).place_ids())
         self.register = rospy.ServiceProxy("human_db/register", RegisterHuman)
+        self.update = rospy.ServiceProxy("human_db/update", UpdateHuman)
         # acknowledged: a lost or refused introduce instruction must not block later meetings
         self.submit = SubmitClient(p.register_timeout)
         self.say = rospy.Publisher("robot/say", String, queue_size=5)
@@ -227,8 +230,10 @@ class IntroductionNode:
                       next((r for r in records if r.state in ENDED), records[0]))
         if record.state == InstructionState.ACTIVE and self._met_id != stranger.instruction_id:
             self.stranger, self._met_id = stranger, stranger.instruction_id
+            with self._lock:
+                residents = tuple(self._known or ())
             self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
-                                                 stranger.place)
+                                                 stranger.place, residents)
             self._open_until = now
             self.answers_until.publish(Time(rospy.Time(0)))  # answers until the dialogue ends
             self._count("dialogues")
@@ -261,6 +266,9 @@ class IntroductionNode:
                            f"#{self.stranger.instruction_id}", met=False)
 
     def _register(self, now):
+        if self.dialogue.recalled:
+            self._recall(now)
+            return
         try:
             human = self.dialogue.human()
             reply = self._call_register(human)
@@ -278,6 +286,28 @@ class IntroductionNode:
         problem = reply.message if reply is not None else problem
         self.say.publish(String(f"I am sorry, I could not remember you: {problem}"))
         self._end(now, f"registration refused: {problem}", met=False)
+
+    def _recall(self, now):
+        """A resident in new clothes: their shirt becomes the one seen now (human_db keeps the
+        old one in its shirt history), in the place the robot met them."""
+        name = self.dialogue.recalled
+        try:
+            rospy.wait_for_service("human_db/update", self.params.register_timeout)
+            reply = self.update(name=name, location=self.dialogue.place, source="recall",
+                                set_shirt_color=True,
+                                shirt_color=[c for joint in self.dialogue.shirt() for c in joint])
+            problem = reply.message
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            reply, problem = None, str(error)
+        if reply is not None and reply.success:
+            self.say.publish(String(self.dialogue.welcome()))
+            self.watch.registered(self.stranger, name)
+            self._count("recalled")
+            self._end(now, f"recalled {name} in new clothes after "
+                           f"{now - self.dialogue.started:.1f} s", met=True)
+            return
+        self.say.publish(String(f"I am sorry, I could not remember your clothes: {problem}"))
+        self._end(now, f"recall of {name} refused: {problem}", met=False)
 
     def _call_register(self, human):
         rospy.wait_for_service("human_db/register", self.params.register_timeout)
@@ -316,7 +346,7 @@ class IntroductionNode:
             counts, table = dict(self._counts), self._known is not None
         state = self.dialogue.state if self.dialogue is not None and self.dialogue.open \
             else "idle"
-        failed = self._last and not self._last.startswith("registered")
+        failed = self._last and not self._last.startswith(("registered", "recalled"))
         level = DiagnosticStatus.OK if table and not failed else DiagnosticStatus.WARN
         message = (f"no human table on {self.params.humans_topic}" if not table else
                    self._last if failed else "ok")

@@ -90,6 +90,11 @@ def belief_markdown(record, entries, searches, t0, sources=None):
     met = record.get("registrations", [])
     lines += [f"- {r['name']} at {r['time']:.1f} s (dialogue {r.get('dialogue_s', 0.0):.1f} s)"
               for r in met] or ["- nobody"]
+    if record.get("recalls"):
+        lines += ["", "Residents recalled in new clothes (asked their name again, shirt updated):",
+                  ""]
+        lines += [f"- {r['person']} in the {r['place']} at {r['time']:.1f} s (dialogue "
+                  f"{r['dialogue_s']:.1f} s)" for r in record["recalls"]]
     own = [e for e in entries if e.instruction.type == ROBOT]
     lines += ["", f"The robot's own instructions: {len(own)} "
               f"({sum(e.state == 'done' for e in own)} served).", ""]

@@ -29,6 +29,9 @@ place, and the record holds every robot's trajectory; the task buffer it reads
 (/task_planner/state, /task_planner/get_buffer, remapped by the launch file) is one robot's, which
 holds every instruction of the fleet. Their requests are held until human_db lists
 them (/humans/known); each registration (time, name, how long the dialogue took) is recorded.
+A resident whose world move puts on a new shirt answers the robot's name question the same way,
+on the robot's microphone (ip ""), while the robot is in the place the move took them; when
+human_db's table shows their shirt changed, the recall is recorded.
 """
 import dataclasses
 import datetime
@@ -51,7 +54,8 @@ from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
 from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
-from tamp_bringup.scenario import load_scenario, place_of, timeline, visitor_answer
+from tamp_bringup.scenario import (
+    clothes_changers, load_scenario, place_of, resident_answer, timeline, visitor_answer)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
@@ -83,6 +87,9 @@ class ScenarioNode:
         self.poses = {}                    # robot -> (stamp, x, y) of its ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
         self.table = {}                    # human_db's table: name -> phone ip
+        self.shirts = {}                   # human_db's table: name -> shirt colours (9 values)
+        self.changed = {}                  # resident in new clothes -> (place, shirt before)
+        self.recalls = []                  # dict(time, person, place, dialogue_s)
         self.heard = 0                     # sentences of self.said the visitors have heard
         self.sent = {}                     # request index -> when it was sent [s]
         self.held = []                     # (index, request) of visitors not registered yet
@@ -129,6 +136,7 @@ class ScenarioNode:
             if kind == "belief":
                 with self.lock:
                     self.table = {human.name: human.ip for human in msg.humans}
+                    self.shirts = {human.name: tuple(human.shirt_color) for human in msg.humans}
                 for human in msg.humans:
                     _changed(self.belief.setdefault(human.name, []), now, human.location)
                 continue
@@ -161,18 +169,7 @@ class ScenarioNode:
         self.audio = rospy.Publisher("/audio_utterance", AudioUtterance, queue_size=2)
         rospy.wait_for_service("/task_planner/get_buffer", timeout)
         self.get_buffer = rospy.ServiceProxy("/task_planner/get_buffer", GetTaskBuffer)
-        self.spoken = {}
-        workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
-        self.answers = {}   # (visitor name, answer text) -> (rate, samples)
-        if any(r.spoken for r in self.scenario.requests) or self.scenario.visitors:
-            from perception.speech_synthesis import synthesise
-            for k, request in enumerate(self.scenario.requests):
-                if request.spoken:
-                    self.spoken[k] = _wav_samples(synthesise(request.text, workdir / f"{k}.wav"))
-            for visitor in self.scenario.visitors:
-                for question, text in visitor.answers.items():
-                    self.answers[visitor.name, text] = _wav_samples(synthesise(
-                        text, workdir / f"{visitor.name}_{question}.wav"))
+        self._synthesise()
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline and not rospy.is_shutdown() and (
                 self.voice.get_num_connections() == 0
@@ -188,6 +185,31 @@ class ScenarioNode:
             time.sleep(0.2)
         rospy.logerr("scenario: human_db never listed %s", ", ".join(sorted(speakers)))
         return False
+
+    def _synthesise(self):
+        """espeak-ng speech of the spoken requests, the visitors' answers and the answers of
+        the residents who change clothes."""
+        self.spoken = {}
+        self.answers = {}   # (person, answer text) -> (rate, samples)
+        changers = clothes_changers(self.scenario)
+        if not (any(r.spoken for r in self.scenario.requests) or self.scenario.visitors
+                or changers):
+            return
+        from perception.speech_synthesis import synthesise
+        workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
+        for k, request in enumerate(self.scenario.requests):
+            if request.spoken:
+                self.spoken[k] = _wav_samples(synthesise(request.text, workdir / f"{k}.wav"))
+        for visitor in self.scenario.visitors:
+            for question, text in visitor.answers.items():
+                self.answers[visitor.name, text] = _wav_samples(synthesise(
+                    text, workdir / f"{visitor.name}_{question}.wav"))
+        for person in changers:
+            for said, kind in (("your name", "name"), (f"Did you say {person}?", "yes"),
+                               ("Did you say nobody?", "no")):
+                text = resident_answer(person, said)
+                self.answers[person, text] = _wav_samples(synthesise(
+                    text, workdir / f"{person}_{kind}.wav"))
 
     def _send(self, index, request):
         if request.visitor and self._registered(request.person) is None:
@@ -243,6 +265,38 @@ class ScenarioNode:
                 self.audio.publish(msg)
                 self._event(msg.header.stamp.to_sec(), f"{visitor.name} (visitor, phone "
                             f"{visitor.ip}) answers \"{answer}\" to \"{text}\" (audio -> STT)")
+            self._answer_in_new_clothes(text, places)
+
+    def _answer_in_new_clothes(self, said, places):
+        """The first resident in new clothes in a robot's place answers a name question on the
+        robot's microphone (ip "")."""
+        for person, (place, _) in self.changed.items():
+            answer = resident_answer(person, said)
+            if place not in places or not answer:
+                continue
+            self.dialogues.setdefault(person, dict(start=rospy.get_time(), answers=[]))
+            rate, samples = self.answers[person, answer]
+            msg = AudioUtterance(ip="", sample_rate=rate, samples=samples.tolist())
+            msg.header.stamp = rospy.Time.now()
+            self.audio.publish(msg)
+            self._event(msg.header.stamp.to_sec(), f"{person} (in new clothes) answers "
+                        f"\"{answer}\" to \"{said}\" on the robot's microphone (audio -> STT)")
+            return
+
+    def _notice_recalls(self):
+        """Residents whose shirt human_db changed since they changed clothes: recalled."""
+        with self.lock:
+            shirts = dict(self.shirts)
+        for person, (place, before) in list(self.changed.items()):
+            if shirts.get(person, before) == before:
+                continue
+            now = rospy.get_time()
+            start = self.dialogues.pop(person, dict(start=now))["start"]
+            del self.changed[person]
+            self.recalls.append(dict(time=now - self.t0, person=person, place=place,
+                                     dialogue_s=now - start))
+            self._event(now, f"the robot recalled {person} in new clothes in the {place} "
+                             f"after a {now - start:.1f} s dialogue")
 
     def _meet_visitors(self):
         """Record registrations; send the requests held for visitors now registered."""
@@ -266,8 +320,14 @@ class ScenarioNode:
             self._send(index, request)
 
     def _move(self, move):
+        if move.clothes:
+            with self.lock:
+                before = self.shirts.get(move.person)
+            self.changed[move.person] = (move.place, before)
         self._event(rospy.get_time(), f"{move.person} sets off to the {move.place} "
-                                      f"({move.activity}), unannounced")
+                                      f"({move.activity}"
+                                      f"{', to change clothes' if move.clothes else ''}), "
+                                      "unannounced")
 
     def _event(self, now, what):
         self.events.append(dict(time=now - self.t0, what=what))
@@ -304,8 +364,8 @@ class ScenarioNode:
             source = self._registered(request.person) if request.visitor else request.person
             match = next((r for r in unmatched if r.instruction.source == source
                           and r.instruction.start_time >= self.sent[index] - 0.5), None)
-            if match is None:
-                return False
+            if match is None or match.state in OPEN:
+                return False   # the buffer read may be newer than `state`: open there too
             unmatched.remove(match)
         return True
 
@@ -352,9 +412,10 @@ class ScenarioNode:
                                 f"{fault_text(failure[0])}")
             with self.sup.guard("run", "grading") as failure:
                 self._grade()
-                if self.scenario.visitors:
+                if self.scenario.visitors or self.changed:
                     self._answer_questions()
                     self._meet_visitors()
+                    self._notice_recalls()
                 last_pose = self._record_pose(last_pose)
                 finished = now > last_request and self._finished()
             if failure:
@@ -390,7 +451,7 @@ class ScenarioNode:
                            visitor=r.visitor, sent=self.sent[k] - self.t0 if k in self.sent
                            else None)
                       for k, r in enumerate(self.scenario.requests)],
-            registrations=self.registrations,
+            registrations=self.registrations, recalls=self.recalls,
             said=[[t - self.t0, text] for t, text in self.said],
             truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
             activities={r: [[t - self.t0, a] for t, a in c] for r, c in self.activities.items()},

@@ -8,7 +8,10 @@ time, `person` says `text` into their phone; `spoken: true` sends it as synthesi
 the speech-to-text node instead of as text. `visitors` are people of the world who are not in
 the household: the robot meets them (thesis 000 §3.2.3, perception's introduction node) and they
 answer its questions through the speech path; their requests are sent only once they are
-registered. `ros_scenario.py` plays it; `scenario_report.py` writes what happened.
+registered. A resident whose move in the world puts on a new shirt (a schedule entry's
+`shirt_colour`) is a stranger to the robot's camera until it asks their name again; they answer
+"My name is NAME." on the robot's microphone. `ros_scenario.py` plays it; `scenario_report.py`
+writes what happened.
 """
 import re
 from dataclasses import dataclass
@@ -57,6 +60,7 @@ class Move:
     person: str
     place: str           # graph place of the destination pose
     activity: str
+    clothes: bool = False  # True: they put on another shirt there
 
 
 @dataclass(frozen=True)
@@ -94,7 +98,8 @@ def _people_places(world, graph_spec, where):
             if not place:
                 raise ScenarioError(f"{where}: {name}'s move at {entry['time']} s ends in no "
                                     f"place ({entry['pose'][:2]})")
-            moves.append(Move(float(entry["time"]), name, place, entry.get("activity", "")))
+            moves.append(Move(float(entry["time"]), name, place, entry.get("activity", ""),
+                              entry.get("shirt_colour") is not None))
     return initial, tuple(sorted(moves, key=lambda m: (m.time_s, m.person)))
 
 
@@ -106,6 +111,23 @@ def visitor_answer(visitor, said):
         if phrase in lowered:
             return visitor.answers[question]
     return ""
+
+
+def resident_answer(person, said):
+    """What a resident in new clothes answers when the robot says `said`: their name when it
+    asks for it, yes or no when it asks back whether it heard a name right ("Did you say
+    Carol?", perception's IntroductionConfig.confirm_question), "" otherwise."""
+    lowered = said.lower()
+    asked_back = re.search(r"did you say ([a-z][a-z' -]*)\?", lowered)
+    if asked_back:
+        return "Yes." if asked_back.group(1).strip() == person.lower() else "No."
+    return f"My name is {person}." if dict(QUESTION_PHRASES)["name"] in lowered else ""
+
+
+
+def clothes_changers(scenario):
+    """The people whose moves put on a new shirt, in the order of their first change."""
+    return tuple(dict.fromkeys(m.person for m in scenario.moves if m.clothes))
 
 
 def _visitors(spec, world, graph_spec, household_names, where):
