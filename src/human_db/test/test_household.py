@@ -2,31 +2,63 @@
 import itertools
 
 import pytest
+import yaml
 
 from human_db.colour import ColourIndex, mean_shirt_distance
-from human_db.errors import DuplicateHuman, InvalidHuman
+from human_db.errors import DuplicateHuman, InvalidHuman, UnknownHuman
 from human_db.household import (dump_household, export_household, format_clock,
-                                import_household, load_household, parse_clock)
+                                import_household, load_household, load_shirts, parse_clock,
+                                register_shirts)
 from human_db.store import HumanStore
 from tamp_resources import resource
 
 HOUSEHOLD = resource("config") / "household.yaml"
+SHIRTS = resource("config") / "household_shirts.yaml"
 MAP_PLACES = {"office", "bedroom", "charging_place", "alley", "living_room", "dining_room",
               "welcome"}
 
 
-def test_demo_household_has_four_people_with_distinct_shirts():
+def test_demo_household_has_four_people_the_robot_has_not_met():
     places, humans = load_household(HOUSEHOLD)
     assert set(places) == MAP_PLACES
     assert [h.name for h in humans] == ["Alice", "Bob", "Carol", "David"]
     assert len({h.ip for h in humans}) == 4 and all(h.ip for h in humans)
     assert {h.gender for h in humans} == {"female", "male"}
-    for a, b in itertools.combinations(humans, 2):
-        assert mean_shirt_distance(a.shirt_colour, b.shirt_colour) > 200.0, (a.name, b.name)
-    index = ColourIndex.from_humans(humans)
-    assert [index.identify(h.shirt_colour).name for h in humans] == [h.name for h in humans]
+    assert all(h.shirt_colour is None for h in humans)     # registered when met (§3.2.3)
     for human in humans:
         assert human.schedules and {e.place for e in human.schedules} <= MAP_PLACES
+
+
+def test_the_shirts_file_dresses_them_as_the_worlds_do_and_apart():
+    shirts = load_shirts(SHIRTS)
+    assert sorted(shirts) == ["Alice", "Bob", "Carol", "David"]
+    for a, b in itertools.combinations(shirts, 2):
+        assert mean_shirt_distance(shirts[a], shirts[b]) > 200.0, (a, b)
+    for world in ("household.yaml", "household_day.yaml"):
+        people = yaml.safe_load((resource("config") / "worlds" / world).read_text())["people"]
+        for person in people:
+            if person["name"] in shirts:
+                worn = tuple(tuple(person["shirt_colour"][k]) for k in ("joint1", "joint2",
+                                                                         "joint5"))
+                assert worn == shirts[person["name"]], (world, person["name"])
+
+
+def test_registered_shirts_make_everyone_met(tmp_path):
+    store = HumanStore(tmp_path / "h.sqlite")
+    import_household(store, HOUSEHOLD, now=0.0)
+    assert ColourIndex.from_humans(store.humans()).names == []
+    assert register_shirts(store, SHIRTS, now=0.0) == ["Alice", "Bob", "Carol", "David"]
+    index = ColourIndex.from_humans(store.humans())
+    shirts = load_shirts(SHIRTS)
+    assert [index.identify(shirts[n]).name for n in sorted(shirts)] == sorted(shirts)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("shirts:\n  Zoe: {joint1: [1, 2, 3], joint2: [1, 2, 3], joint5: [1, 2, 3]}\n")
+    with pytest.raises(UnknownHuman, match="Zoe"):
+        register_shirts(store, bad)
+    bad.write_text("shirts:\n  Bob: {joint1: [1, 2, 3], joint2: [1, 2, 3]}\n")
+    with pytest.raises(InvalidHuman, match=r"bad.yaml: shirts: Bob: missing keys \['joint5'\]"):
+        load_shirts(bad)
+    store.close()
 
 
 def test_export_then_import_gives_the_same_people(tmp_path):

@@ -1,4 +1,5 @@
 """The SQLite store: round trips, history, bad input, WAL, migrations, refusing bad files."""
+import dataclasses
 import sqlite3
 import threading
 import time
@@ -50,7 +51,7 @@ def test_initialization_then_recall_on_the_table_5_1_example(store, bob):
 def test_file_is_wal_at_the_latest_schema_version(store):
     connection = sqlite3.connect(store.path)
     assert connection.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
-    assert connection.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 3
+    assert connection.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 4
     connection.close()
 
 
@@ -293,7 +294,7 @@ def test_a_foreign_database_with_a_human_db_table_name_is_refused_untouched(tmp_
     connection.commit()
     connection.close()
     error = _refused_untouched(foreign, r"holds tables \['history', 'tags'\], which do not match "
-                                        r"human_db's schema version 3")
+                                        r"human_db's schema version 4")
     assert "not a human_db database" in str(error)
     connection = sqlite3.connect(foreign)
     tables = [r[0] for r in connection.execute("SELECT name FROM sqlite_master ORDER BY name")]
@@ -397,3 +398,19 @@ def test_a_lock_released_within_the_budget_lets_the_store_open(tmp_path, alice, 
 def test_open_retry_must_be_a_finite_number_of_seconds(value):
     with pytest.raises(ValueError, match="open_retry must be a finite number of seconds >= 0"):
         StoreConfig(open_retry=value)
+
+
+def test_a_person_not_met_yet_has_no_shirt_until_one_is_registered(store, alice):
+    """§3.2.3: the robot stores the colours when it meets someone; before that they match
+    nobody (the identification table leaves them out) and have no shirt history."""
+    unmet = dataclasses.replace(alice, shirt_colour=None)
+    store.register(unmet, now=1.0)
+    assert store.get("Alice").shirt_colour is None
+    assert store.shirt_colour_table()[0] == []
+    assert store.shirts("Alice") == []
+    met = ((200, 40, 40), (190, 35, 45), (185, 30, 40))
+    store.update("Alice", now=30.0, location="office", source="recall", shirt_colour=met)
+    assert store.get("Alice").shirt_colour == met
+    names, colours = store.shirt_colour_table()
+    assert names == ["Alice"] and colours[0].tolist() == [list(c) for c in met]
+    assert [source for _, _, source in store.shirts("Alice")] == ["recall"]

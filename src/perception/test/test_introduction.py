@@ -22,9 +22,8 @@ from perception.introduction import (AGE, COMPLETE, CONFIRM, FAILED, GENDER, NAM
 from tamp_resources import resource
 
 CONFIG = resource("config")
-HOUSEHOLD = yaml.safe_load((CONFIG / "household.yaml").read_text())["humans"]
-SHIRTS = {h["name"]: np.array([h["shirt_color"][j] for j in ("joint1", "joint2", "joint5")])
-          for h in HOUSEHOLD}
+SHIRTS = {name: np.array([shirt[j] for j in ("joint1", "joint2", "joint5")]) for name, shirt in
+          yaml.safe_load((CONFIG / "household_shirts.yaml").read_text())["shirts"].items()}
 WHITE = np.array([[236, 236, 230], [222, 222, 216], [226, 226, 220]])   # the visitor's shirt
 PLACES = {"charging_place": 0, "living_room": 2, "welcome": 3}
 

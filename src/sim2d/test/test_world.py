@@ -210,11 +210,14 @@ def test_place_robot_starts_an_episode_at_rest(world):
 
 
 def test_household_people_agree_with_the_human_database():
-    """config/worlds/household.yaml and config/household.yaml name the same people and shirts."""
+    """config/worlds/household.yaml dresses the people of config/household.yaml in the shirts
+    of config/household_shirts.yaml (the human database has none until the robot meets them)."""
     repo = LASER_DIR.parent.parent
     humans = yaml.safe_load((repo / "config" / "household.yaml").read_text())["humans"]
-    expected = {h["name"]: tuple(tuple(h["shirt_color"][k]) for k in ("joint1", "joint2", "joint5"))
-                for h in humans}
+    shirts = yaml.safe_load((repo / "config" / "household_shirts.yaml").read_text())["shirts"]
+    assert sorted(shirts) == sorted(h["name"] for h in humans)
+    expected = {name: tuple(tuple(shirt[k]) for k in ("joint1", "joint2", "joint5"))
+                for name, shirt in shirts.items()}
     world = load_world_config(repo / "config" / "worlds" / "household.yaml", LASER_DIR)
     assert {p.name: p.shirt_colour for p in world.people} == expected
     assert len(world.objects) >= 30

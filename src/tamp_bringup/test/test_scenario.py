@@ -1,9 +1,11 @@
 """Scenario files: requests, the people's initial places and moves from the world, bad input."""
 
+import numpy as np
 import pytest
 
-from tamp_bringup.scenario import (ScenarioError, Visitor, clothes_changers, load_scenario,
-                                   place_of, resident_answer, timeline, visitor_answer)
+from tamp_bringup.scenario import (GIVE_UP_PHRASE, INTRODUCE_TEXT, ScenarioError, Visitor,
+                                   load_scenario, place_of, resident_answer, residents,
+                                   seen_shirt, timeline, visitor_answer, who_answers)
 from tamp_resources import resource
 
 ROOT = resource()
@@ -147,10 +149,31 @@ def test_a_resident_in_new_clothes_answers_her_name_and_whether_it_was_heard_rig
     assert resident_answer("Carol", dialogue.recalled.format(name="Carol")) == ""
 
 
-def test_moves_that_change_clothes_are_marked():
+def test_moves_that_change_clothes_carry_the_new_shirt():
     scenario = load_scenario(ROOT / "config" / "scenarios" / "household_clothes.yaml")
-    assert [(m.person, m.place, m.clothes) for m in scenario.moves] == [
-        ("Carol", "bedroom", True)]
-    assert clothes_changers(scenario) == ("Carol",)
-    assert not any(m.clothes for m in load_scenario(
-        ROOT / "config" / "scenarios" / "household_day.yaml").moves)
+    pyjamas = ((30, 30, 40), (26, 26, 36), (28, 28, 38))
+    assert [(m.person, m.place, m.shirt) for m in scenario.moves] == [
+        ("Carol", "bedroom", pyjamas)]
+    assert scenario.shirts == {"Carol": ((46, 160, 72), (40, 146, 64), (42, 150, 66))}
+    assert residents(scenario) == ("Carol",)
+    day = load_scenario(ROOT / "config" / "scenarios" / "household_day.yaml")
+    assert not any(m.clothes for m in day.moves)
+    assert residents(day) == ("Alice", "Bob", "Carol", "David")     # Frank is a visitor
+
+
+def test_the_person_asked_is_the_one_whose_shirt_the_robot_saw():
+    """Carol and Frank both in the living room: the introduce instruction names the shirt the
+    robot saw (perception's text), and the nearest shirt answers."""
+    from perception.introduction import IntroductionConfig, NewcomerWatch
+    from task_planner.reward import Priority
+    watch = NewcomerWatch(IntroductionConfig(min_sightings=1), (9, 20),
+                          Priority("self_generated", 3.0, 0.9), {"living_room": 2})
+    frank_seen = np.array([[220, 226, 219], [209, 218, 205], [230, 221, 222]])
+    text = watch.observe(frank_seen, "living_room", 1.0, []).text
+    assert text.startswith(INTRODUCE_TEXT)
+    assert seen_shirt(text) == tuple(tuple(int(c) for c in rgb) for rgb in frank_seen)
+    wearing = {"Carol": ((46, 160, 72),) * 3, "Frank": ((236, 236, 230),) * 3}
+    assert who_answers(seen_shirt(text), wearing) == "Frank"
+    assert who_answers(None, wearing) == "Carol" and who_answers(None, {}) is None
+    assert seen_shirt("remind Bob: time to eat") is None
+    assert GIVE_UP_PHRASE in IntroductionConfig().give_up.lower()

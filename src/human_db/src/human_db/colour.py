@@ -112,7 +112,9 @@ class ColourIndex:
 
     @classmethod
     def from_humans(cls, humans, config=IdentificationConfig()):
-        return cls([h.name for h in humans], [h.shirt_colour for h in humans], config)
+        """The people with a shirt (those not met yet have none and match nobody)."""
+        met = [h for h in humans if h.shirt_colour is not None]
+        return cls([h.name for h in met], [h.shirt_colour for h in met], config)
 
     def identify_many(self, observed):
         """(N, 3, 3) observed colours -> N Matches (or None)."""

@@ -35,7 +35,8 @@ def stamp_or_none(stamp):
 def human_to_msg(human):
     return HumanMsg(
         name=human.name, ip=human.ip, gender=human.gender == "male", age=human.age,
-        shirt_color=colours_to_msg(human.shirt_colour), location=human.location,
+        shirt_color=colours_to_msg(human.shirt_colour or ((0, 0, 0),) * 3),
+        shirt_known=human.shirt_colour is not None, location=human.location,
         activity=human.activity, schedules=[schedule_to_msg(e) for e in human.schedules],
         last_seen=rospy.Time(0) if human.last_seen is None else rospy.Time.from_sec(
             human.last_seen))
@@ -45,6 +46,7 @@ def human_from_msg(msg):
     """Raises InvalidHuman naming the offending field."""
     return Human(
         name=msg.name, ip=msg.ip, gender="male" if msg.gender else "female", age=int(msg.age),
-        shirt_colour=colours_from_msg(msg.shirt_color), location=msg.location,
+        shirt_colour=colours_from_msg(msg.shirt_color) if msg.shirt_known else None,
+        location=msg.location,
         activity=msg.activity, schedules=tuple(schedule_from_msg(s) for s in msg.schedules),
         last_seen=stamp_or_none(msg.last_seen))

@@ -1,8 +1,9 @@
 """The household as a YAML file (config/household.yaml): import into and export from the store.
 
 Layout: an optional `places` list (then every location and schedule place must be one of them)
-and a `humans` list; each human has name, ip, gender, age, shirt_color {joint1, joint2, joint5:
-[R, G, B]}, optional location, activity, last_seen [s] and schedules [{start, end, place,
+and a `humans` list; each human has name, ip, gender, age, optional shirt_color {joint1, joint2,
+joint5: [R, G, B]} (without it the robot has not met them yet and registers their shirt when it
+does, thesis 000 §3.2.3), location, activity, last_seen [s] and schedules [{start, end, place,
 activity}] with times as quoted "HH:MM" or "HH:MM:SS" strings (unquoted 12:30 is a base-60 number
 in YAML 1.1, hence the quotes).
 """
@@ -10,12 +11,13 @@ import re
 
 import yaml
 
+from human_db.colour import shirt_colours
 from human_db.errors import InvalidHuman
 from human_db.model import DAY, Human, ScheduleEntry
 
 HUMAN_KEYS = ("name", "ip", "gender", "age", "shirt_color", "location", "activity", "last_seen",
               "schedules")
-REQUIRED_KEYS = ("name", "gender", "age", "shirt_color")
+REQUIRED_KEYS = ("name", "gender", "age")
 JOINT_KEYS = ("joint1", "joint2", "joint5")
 SCHEDULE_KEYS = ("start", "end", "place", "activity")
 _CLOCK = re.compile(r"^(\d{1,2}):(\d{2})(?::(\d{2}))?$")
@@ -68,10 +70,11 @@ def human_from_dict(entry, where, places=()):
         raise InvalidHuman(f"{where}: expected a mapping, got {entry!r}")
     where = f"{where} ({entry.get('name', '?')})"
     _check_keys(entry, HUMAN_KEYS, REQUIRED_KEYS, where)
-    colour = entry["shirt_color"]
-    if not isinstance(colour, dict):
-        raise InvalidHuman(f"{where}: shirt_color must map {JOINT_KEYS} to [R, G, B]")
-    _check_keys(colour, JOINT_KEYS, JOINT_KEYS, f"{where}: shirt_color")
+    colour = entry.get("shirt_color")
+    if colour is not None:
+        if not isinstance(colour, dict):
+            raise InvalidHuman(f"{where}: shirt_color must map {JOINT_KEYS} to [R, G, B]")
+        _check_keys(colour, JOINT_KEYS, JOINT_KEYS, f"{where}: shirt_color")
     schedules = entry.get("schedules") or []
     if not isinstance(schedules, list):
         raise InvalidHuman(f"{where}: schedules must be a list")
@@ -80,7 +83,8 @@ def human_from_dict(entry, where, places=()):
     try:
         human = Human(
             name=entry["name"], ip=str(entry.get("ip") or ""), gender=entry["gender"],
-            age=entry["age"], shirt_colour=tuple(colour[k] for k in JOINT_KEYS),
+            age=entry["age"],
+            shirt_colour=None if colour is None else tuple(colour[k] for k in JOINT_KEYS),
             location=entry.get("location") or "", activity=entry.get("activity") or "",
             last_seen=entry.get("last_seen"), schedules=schedules)
     except InvalidHuman as error:  # same error class, with the file and entry in front
@@ -123,11 +127,12 @@ def _check_places(human, places, where):
 
 def human_to_dict(human):
     """Human -> one `humans` entry of a household file (inverse of human_from_dict)."""
-    entry = {"name": human.name, "ip": human.ip, "gender": human.gender, "age": human.age,
-             "shirt_color": {k: list(c) for k, c in zip(JOINT_KEYS, human.shirt_colour)},
-             "location": human.location, "activity": human.activity,
+    entry = {"name": human.name, "ip": human.ip, "gender": human.gender, "age": human.age}
+    if human.shirt_colour is not None:
+        entry["shirt_color"] = {k: list(c) for k, c in zip(JOINT_KEYS, human.shirt_colour)}
+    entry.update({"location": human.location, "activity": human.activity,
              "schedules": [{"start": format_clock(e.start), "end": format_clock(e.end),
-                            "place": e.place, "activity": e.activity} for e in human.schedules]}
+                            "place": e.place, "activity": e.activity} for e in human.schedules]})
     if human.last_seen is not None:
         entry["last_seen"] = human.last_seen
     return entry
@@ -138,6 +143,38 @@ def dump_household(humans, places=()):
     document = {"places": list(places)} if places else {}
     document["humans"] = [human_to_dict(human) for human in humans]
     return yaml.safe_dump(document, sort_keys=False, default_flow_style=None, allow_unicode=True)
+
+
+def load_shirts(path):
+    """A shirts file ({shirts: {name: {joint1, joint2, joint5: [R, G, B]}}}: the shirts people
+    were registered in before the run) -> {name: ((r, g, b) x 3)}; InvalidHuman names the file
+    and the entry."""
+    try:
+        with open(path, encoding="utf-8") as stream:
+            document = yaml.safe_load(stream)
+    except (OSError, yaml.YAMLError) as error:
+        raise InvalidHuman(f"{path}: cannot read shirts file: {error}") from error
+    if not isinstance(document, dict) or set(document) != {"shirts"} or \
+            not isinstance(document["shirts"], dict):
+        raise InvalidHuman(f"{path}: expected a mapping with only a 'shirts' mapping")
+    shirts = {}
+    for name, colour in document["shirts"].items():
+        where = f"{path}: shirts: {name}"
+        if not isinstance(colour, dict):
+            raise InvalidHuman(f"{where}: must map {JOINT_KEYS} to [R, G, B]")
+        _check_keys(colour, JOINT_KEYS, JOINT_KEYS, where)
+        shirts[str(name)] = tuple(tuple(int(c) for c in joint) for joint in shirt_colours(
+            [colour[k] for k in JOINT_KEYS], where))
+    return shirts
+
+
+def register_shirts(store, path, now=None):
+    """Give each person of a shirts file that shirt (source "register"): a run that starts with
+    everyone already met. Returns the names; UnknownHuman names a person the store lacks."""
+    shirts = load_shirts(path)
+    for name, shirt in shirts.items():
+        store.update(name, now=now, source="register", shirt_colour=shirt)
+    return list(shirts)
 
 
 def import_household(store, path, replace=False, now=None):

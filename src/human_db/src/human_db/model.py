@@ -56,7 +56,8 @@ class Human:
     name: str
     gender: str                      # "female" or "male"
     age: int                         # [years]
-    shirt_colour: tuple              # ((r, g, b) at joint 1, at joint 2, at joint 5)
+    shirt_colour: tuple | None       # ((r, g, b) at joint 1, at joint 2, at joint 5); None =
+                                     # not met yet (§3.2.3: stored when the robot meets them)
     ip: str = ""                     # phone IP of the voice app; "" = no phone
     location: str = ""               # semantic location (graph place name); "" = unknown
     activity: str = ""               # current activity; "" = unknown
@@ -71,8 +72,10 @@ class Human:
         if isinstance(self.age, bool) or not isinstance(self.age, int) or \
                 not 0 <= self.age <= MAX_AGE:
             raise InvalidHuman(f"{where}: age must be an integer in 0-{MAX_AGE}, got {self.age!r}")
-        colours = shirt_colours(self.shirt_colour, f"{where}: shirt colour")
-        object.__setattr__(self, "shirt_colour", tuple(tuple(int(c) for c in j) for j in colours))
+        if self.shirt_colour is not None:
+            colours = shirt_colours(self.shirt_colour, f"{where}: shirt colour")
+            object.__setattr__(self, "shirt_colour",
+                               tuple(tuple(int(c) for c in j) for j in colours))
         object.__setattr__(self, "ip", check_ip(self.ip, where))
         object.__setattr__(self, "schedules", check_schedules(self.schedules, where))
 

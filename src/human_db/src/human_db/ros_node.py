@@ -24,7 +24,7 @@ from human_db.colour import ColourIndex, IdentificationConfig
 from human_db.conversions import (colours_from_msg, human_from_msg, human_to_msg,
                                   schedule_from_msg)
 from human_db.errors import HumanDbError, InvalidHuman, StoreBusy
-from human_db.household import import_household
+from human_db.household import import_household, register_shirts
 from human_db.model import check_observation_time
 from human_db.store import HumanStore, StoreConfig
 from supervision.health import fault_text
@@ -36,6 +36,8 @@ from supervision.ros_supervisor import Supervisor
 class NodeParams:
     db_path: str                    # SQLite file; created when missing
     household: str = ""             # YAML imported when the database holds nobody; "" = none
+    shirts: str = ""                # with household: a shirts file registered right after the
+                                    # import (everyone met before the run); "" = nobody met
     threshold: float = 200.0        # identification threshold (mean ΔC, §5.2.3)
     publish_period: float = 0.1     # [s] how often a change is looked for and /humans/known sent
     diagnostics_period: float = 1.0  # [s]
@@ -90,6 +92,10 @@ class HumanDbNode:
             names = import_household(self.store, self.params.household, now=rospy.get_time())
             rospy.loginfo("human_db: imported %s from %s", ", ".join(names),
                           self.params.household)
+            if self.params.shirts:
+                met = register_shirts(self.store, self.params.shirts, now=rospy.get_time())
+                rospy.loginfo("human_db: %s met before the run (shirts from %s)",
+                              ", ".join(met), self.params.shirts)
         self.sup = sup = Supervisor("human_db: human_db", hardware_id=self.store.path)
         self._known = rospy.Publisher("humans/known", HumanArray, queue_size=1, latch=True)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)

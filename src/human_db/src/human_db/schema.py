@@ -55,6 +55,12 @@ MIGRATIONS = (
             SELECT id, COALESCE(last_seen, 0), {', '.join(COLOUR_COLUMNS)}, 'migrated'
             FROM humans""",
     ),
+    # v4: a person the robot has not met yet has no shirt (§3.2.3 Initialization phase: the
+    # colours are stored when the robot meets them); their colour columns hold 0.
+    (
+        "ALTER TABLE humans ADD COLUMN shirt_known INTEGER NOT NULL DEFAULT 1 "
+        "CHECK (shirt_known IN (0, 1))",
+    ),
 )
 
 SCHEMA_VERSION = len(MIGRATIONS)

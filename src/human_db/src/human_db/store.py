@@ -23,7 +23,7 @@ OPEN_RETRY_PAUSE = 1.0       # [s] at start, one attempt per this long while the
 SQLITE_BUSY, SQLITE_LOCKED = 5, 6
 SYNCHRONOUS_LEVELS = ("OFF", "NORMAL", "FULL", "EXTRA")
 _HUMAN_COLUMNS = ("id", "name", "ip", "gender", "age") + COLOUR_COLUMNS + (
-    "location", "activity", "last_seen")
+    "location", "activity", "last_seen", "shirt_known")
 
 
 @dataclass(frozen=True)
@@ -238,7 +238,8 @@ class HumanStore:
                 name)
             if colours is not None:
                 assignments = ", ".join(f"{c} = ?" for c in COLOUR_COLUMNS)
-                connection.execute(f"UPDATE humans SET {assignments} WHERE id = ?",
+                connection.execute(f"UPDATE humans SET {assignments}, shirt_known = 1 "
+                                   "WHERE id = ?",
                                    tuple(int(c) for c in colours.ravel()) + (human_id,))
                 _record_shirt(connection, human_id, now, colours, source or "update")
             if entries is not None:
@@ -285,11 +286,11 @@ class HumanStore:
             lambda c: c.execute("SELECT COUNT(*) FROM humans").fetchone()[0], write=False)
 
     def shirt_colour_table(self):
-        """(names, (M, 3, 3) int array) of every person, ordered by name: the input of
-        identification, read with one query."""
+        """(names, (M, 3, 3) int array) of every person the robot has met (a shirt registered),
+        ordered by name: the input of identification, read with one query."""
         rows = self._transaction(lambda c: c.execute(
-            f"SELECT name, {', '.join(COLOUR_COLUMNS)} FROM humans ORDER BY name").fetchall(),
-            write=False)
+            f"SELECT name, {', '.join(COLOUR_COLUMNS)} FROM humans WHERE shirt_known = 1 "
+            "ORDER BY name").fetchall(), write=False)
         colours = np.array([row[1:] for row in rows], dtype=np.int64).reshape(len(rows), 3, 3)
         return [row[0] for row in rows], colours
 
@@ -485,7 +486,8 @@ def _register(connection, human, replace, now):
         assignments = ", ".join(f"{c} = ?" for c in _HUMAN_COLUMNS[1:])
         connection.execute(f"UPDATE humans SET {assignments} WHERE id = ?", values + (human_id,))
     _replace_schedules(connection, human_id, human.schedules)
-    _record_shirt(connection, human_id, now, human.shirt_colour, "register")
+    if human.shirt_colour is not None:
+        _record_shirt(connection, human_id, now, human.shirt_colour, "register")
     if human.location or human.activity:
         connection.execute("INSERT INTO history (human_id, time, location, activity, source) "
                            "VALUES (?, ?, ?, ?, 'register')",
@@ -510,9 +512,11 @@ def _refuse_shared_ip(connection, ip, name):
 
 
 def _human_values(human):
-    colours = tuple(channel for joint in human.shirt_colour for channel in joint)
+    known = human.shirt_colour is not None
+    colours = tuple(channel for joint in human.shirt_colour for channel in joint) if known \
+        else (0,) * len(COLOUR_COLUMNS)
     return (human.name, human.ip, human.gender, human.age) + colours + (
-        human.location, human.activity, human.last_seen)
+        human.location, human.activity, human.last_seen, int(known))
 
 
 def _replace_schedules(connection, human_id, entries):
@@ -543,7 +547,8 @@ def _load_human(connection, where, key):
 def _human_from_row(row, schedules):
     values = dict(zip(_HUMAN_COLUMNS, row))
     colours = [values[c] for c in COLOUR_COLUMNS]
+    shirt = (colours[0:3], colours[3:6], colours[6:9]) if values["shirt_known"] else None
     return Human(name=values["name"], ip=values["ip"], gender=values["gender"],
-                 age=values["age"], shirt_colour=(colours[0:3], colours[3:6], colours[6:9]),
+                 age=values["age"], shirt_colour=shirt,
                  location=values["location"], activity=values["activity"],
                  schedules=tuple(schedules), last_seen=values["last_seen"])

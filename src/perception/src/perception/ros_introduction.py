@@ -88,7 +88,8 @@ class IntroductionNode:
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
         self._states = {}         # state topic -> latest TaskBufferState
-        self._known = None        # {name: ((r, g, b) x 3, ip)}; None until the first table
+        self._known = None        # {name: (shirt (r, g, b) x 3, None = not met; ip)}; None
+                                  # until the first table
         self.watch = self.dialogue = self.stranger = None
         self._met_id = 0          # id of the introduce instruction the last dialogue was for
         self._open_until = None   # ~dialogue_open is true until this time [s]; None = closed
@@ -147,7 +148,8 @@ class IntroductionNode:
             self._frames.append(msg)
 
     def _on_known(self, msg):
-        table = {h.name: (colours_from_msg(h.shirt_color), h.ip) for h in msg.humans}
+        table = {h.name: (colours_from_msg(h.shirt_color) if h.shirt_known else None, h.ip)
+                 for h in msg.humans}
         with self._lock:
             self._known = table
 
@@ -188,7 +190,7 @@ class IntroductionNode:
     def _look(self, frame, known):
         stamp = frame.header.stamp.to_sec() if not frame.header.stamp.is_zero() \
             else rospy.get_time()
-        shirts = [colours for colours, _ in known.values()]
+        shirts = [colours for colours, _ in known.values() if colours is not None]
         for person in frame.humans:
             if person.name:
                 continue
@@ -303,7 +305,7 @@ class IntroductionNode:
             self.say.publish(String(self.dialogue.welcome()))
             self.watch.registered(self.stranger, name)
             self._count("recalled")
-            self._end(now, f"recalled {name} in new clothes after "
+            self._end(now, f"recalled {name} by name, shirt registered after "
                            f"{now - self.dialogue.started:.1f} s", met=True)
             return
         self.say.publish(String(f"I am sorry, I could not remember your clothes: {problem}"))

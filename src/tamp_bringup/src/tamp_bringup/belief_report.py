@@ -91,10 +91,11 @@ def belief_markdown(record, entries, searches, t0, sources=None):
     lines += [f"- {r['name']} at {r['time']:.1f} s (dialogue {r.get('dialogue_s', 0.0):.1f} s)"
               for r in met] or ["- nobody"]
     if record.get("recalls"):
-        lines += ["", "Residents recalled in new clothes (asked their name again, shirt updated):",
-                  ""]
-        lines += [f"- {r['person']} in the {r['place']} at {r['time']:.1f} s (dialogue "
-                  f"{r['dialogue_s']:.1f} s)" for r in record["recalls"]]
+        lines += ["", "Residents met by name (asked who they are, the shirt seen registered in "
+                  "human_db):", ""]
+        lines += [f"- {r['person']} in the {r['place']} at {r['time']:.1f} s "
+                  f"({r.get('why', 'new clothes')}, dialogue {r['dialogue_s']:.1f} s)"
+                  for r in record["recalls"]]
     own = [e for e in entries if e.instruction.type == ROBOT]
     lines += ["", f"The robot's own instructions: {len(own)} "
               f"({sum(e.state == 'done' for e in own)} served).", ""]

@@ -55,7 +55,8 @@ from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
 from tamp_bringup.scenario import (
-    clothes_changers, load_scenario, place_of, resident_answer, timeline, visitor_answer)
+    GIVE_UP_PHRASE, INTRODUCE_TEXT, load_scenario, place_of, resident_answer, residents,
+    seen_shirt, timeline, visitor_answer, who_answers)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
@@ -87,9 +88,12 @@ class ScenarioNode:
         self.poses = {}                    # robot -> (stamp, x, y) of its ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
         self.table = {}                    # human_db's table: name -> phone ip
-        self.shirts = {}                   # human_db's table: name -> shirt colours (9 values)
-        self.changed = {}                  # resident in new clothes -> (place, shirt before)
-        self.recalls = []                  # dict(time, person, place, dialogue_s)
+        self.shirts = {}                   # human_db's table: name -> shirt (9 values) or None
+        self.unmet = {}                    # resident to (re)meet -> the shirt human_db had then
+        self.recalls = []                  # dict(time, person, place, dialogue_s, why)
+        self.wearing = dict(scenario.shirts or {})   # person -> the shirt the world has on them
+        self.where = {p: place for p, (place, _) in scenario.initial.items()}   # their place
+        self.speaking = None               # who is answering the robot's questions now
         self.heard = 0                     # sentences of self.said the visitors have heard
         self.sent = {}                     # request index -> when it was sent [s]
         self.held = []                     # (index, request) of visitors not registered yet
@@ -136,7 +140,13 @@ class ScenarioNode:
             if kind == "belief":
                 with self.lock:
                     self.table = {human.name: human.ip for human in msg.humans}
-                    self.shirts = {human.name: tuple(human.shirt_color) for human in msg.humans}
+                    self.shirts = {human.name: tuple(human.shirt_color) if human.shirt_known
+                                   else None for human in msg.humans}
+                for human in msg.humans:   # residents nobody has met answer when asked
+                    if (not human.shirt_known and human.name in self.where
+                            and human.name not in self.unmet
+                            and human.name not in {v.name for v in self.scenario.visitors}):
+                        self.unmet[human.name] = None
                 for human in msg.humans:
                     _changed(self.belief.setdefault(human.name, []), now, human.location)
                 continue
@@ -187,13 +197,13 @@ class ScenarioNode:
         return False
 
     def _synthesise(self):
-        """espeak-ng speech of the spoken requests, the visitors' answers and the answers of
-        the residents who change clothes."""
+        """espeak-ng speech of the spoken requests, the visitors' answers and the residents'
+        answers (their name, yes, no)."""
         self.spoken = {}
         self.answers = {}   # (person, answer text) -> (rate, samples)
-        changers = clothes_changers(self.scenario)
+        people = residents(self.scenario)
         if not (any(r.spoken for r in self.scenario.requests) or self.scenario.visitors
-                or changers):
+                or people):
             return
         from perception.speech_synthesis import synthesise
         workdir = Path(tempfile.mkdtemp(prefix="scenario_audio_"))
@@ -204,7 +214,7 @@ class ScenarioNode:
             for question, text in visitor.answers.items():
                 self.answers[visitor.name, text] = _wav_samples(synthesise(
                     text, workdir / f"{visitor.name}_{question}.wav"))
-        for person in changers:
+        for person in people:
             for said, kind in (("your name", "name"), (f"Did you say {person}?", "yes"),
                                ("Did you say nobody?", "no")):
                 text = resident_answer(person, said)
@@ -243,59 +253,68 @@ class ScenarioNode:
                     visitor.name if visitor.name in table else None)
 
     def _answer_questions(self):
-        """Visitors in a robot's place answer what it asked them, as speech from their phone."""
+        """The person the robot is asking, in a robot's place, answers: a visitor from their
+        phone, a resident to (re)meet on the robot's microphone (ip "")."""
         with self.lock:
-            said, poses = self.said[self.heard:], list(self.poses.values())
+            said, poses, state = self.said[self.heard:], list(self.poses.values()), self.state
             self.heard = len(self.said)
         if not poses:
             return
         places = {place_of(self.graph_spec, pose[1], pose[2]) for pose in poses}
+        registered = {r["visitor"] for r in self.registrations}
+        visitors = {v.name: v for v in self.scenario.visitors if v.name not in registered}
         for _, text in said:
-            for visitor in self.scenario.visitors:
-                answer = visitor_answer(visitor, text)
-                if visitor.place not in places or not answer or visitor.name in {
-                        r["visitor"] for r in self.registrations}:
-                    continue
-                dialogue = self.dialogues.setdefault(visitor.name, dict(start=rospy.get_time(),
-                                                                        answers=[]))
-                dialogue["answers"].append([text, answer])
-                rate, samples = self.answers[visitor.name, answer]
-                msg = AudioUtterance(ip=visitor.ip, sample_rate=rate, samples=samples.tolist())
-                msg.header.stamp = rospy.Time.now()
-                self.audio.publish(msg)
-                self._event(msg.header.stamp.to_sec(), f"{visitor.name} (visitor, phone "
-                            f"{visitor.ip}) answers \"{answer}\" to \"{text}\" (audio -> STT)")
-            self._answer_in_new_clothes(text, places)
-
-    def _answer_in_new_clothes(self, said, places):
-        """The first resident in new clothes in a robot's place answers a name question on the
-        robot's microphone (ip "")."""
-        for person, (place, _) in self.changed.items():
-            answer = resident_answer(person, said)
-            if place not in places or not answer:
+            if GIVE_UP_PHRASE in text.lower():
+                self.speaking = None
+            here = {name: self.wearing[name] for name in list(visitors) + list(self.unmet)
+                    if self.where.get(name) in places}
+            person = self.speaking if self.speaking in here else who_answers(
+                self._seen_stranger(state), here)
+            if person is None:
                 continue
-            self.dialogues.setdefault(person, dict(start=rospy.get_time(), answers=[]))
+            visitor = visitors.get(person)
+            answer = visitor_answer(visitor, text) if visitor else resident_answer(person, text)
+            if not answer:
+                continue
+            self.speaking = person
+            dialogue = self.dialogues.setdefault(person, dict(start=rospy.get_time(),
+                                                              answers=[]))
+            dialogue["answers"].append([text, answer])
             rate, samples = self.answers[person, answer]
-            msg = AudioUtterance(ip="", sample_rate=rate, samples=samples.tolist())
+            ip = visitor.ip if visitor else ""
+            msg = AudioUtterance(ip=ip, sample_rate=rate, samples=samples.tolist())
             msg.header.stamp = rospy.Time.now()
             self.audio.publish(msg)
-            self._event(msg.header.stamp.to_sec(), f"{person} (in new clothes) answers "
-                        f"\"{answer}\" to \"{said}\" on the robot's microphone (audio -> STT)")
-            return
+            where = f"visitor, phone {ip}" if visitor else "on the robot's microphone"
+            self._event(msg.header.stamp.to_sec(), f"{person} ({where}) answers \"{answer}\" to "
+                        f"\"{text}\" (audio -> STT)")
+
+    @staticmethod
+    def _seen_stranger(state):
+        """The shirt the robot saw on the stranger it is meeting (its active introduce
+        instruction), or None."""
+        for record in state.instructions if state is not None else ():
+            if record.state == ACTIVE and record.instruction.text.startswith(INTRODUCE_TEXT):
+                return seen_shirt(record.instruction.text)
+        return None
 
     def _notice_recalls(self):
-        """Residents whose shirt human_db changed since they changed clothes: recalled."""
+        """Residents whose shirt human_db registered since they were to be (re)met: met."""
         with self.lock:
             shirts = dict(self.shirts)
-        for person, (place, before) in list(self.changed.items()):
-            if shirts.get(person, before) == before:
+        for person, before in list(self.unmet.items()):
+            if shirts.get(person) in (None, before):
                 continue
             now = rospy.get_time()
             start = self.dialogues.pop(person, dict(start=now))["start"]
-            del self.changed[person]
+            del self.unmet[person]
+            if self.speaking == person:
+                self.speaking = None
+            why = "first meeting" if before is None else "new clothes"
+            place = self.where[person]
             self.recalls.append(dict(time=now - self.t0, person=person, place=place,
-                                     dialogue_s=now - start))
-            self._event(now, f"the robot recalled {person} in new clothes in the {place} "
+                                     dialogue_s=now - start, why=why))
+            self._event(now, f"the robot registered {person}'s shirt in the {place} ({why}) "
                              f"after a {now - start:.1f} s dialogue")
 
     def _meet_visitors(self):
@@ -306,6 +325,8 @@ class ScenarioNode:
             name = self._registered(visitor.name)
             if name is None:
                 continue
+            if self.speaking == visitor.name:
+                self.speaking = None
             now = rospy.get_time()
             dialogue = self.dialogues.get(visitor.name, dict(start=now, answers=[]))
             self.registrations.append(dict(
@@ -320,10 +341,13 @@ class ScenarioNode:
             self._send(index, request)
 
     def _move(self, move):
+        self.where[move.person] = move.place
         if move.clothes:
+            self.wearing[move.person] = move.shirt
             with self.lock:
                 before = self.shirts.get(move.person)
-            self.changed[move.person] = (move.place, before)
+            if before is not None:          # not met yet: still to be met, in any clothes
+                self.unmet[move.person] = before
         self._event(rospy.get_time(), f"{move.person} sets off to the {move.place} "
                                       f"({move.activity}"
                                       f"{', to change clothes' if move.clothes else ''}), "
@@ -412,7 +436,7 @@ class ScenarioNode:
                                 f"{fault_text(failure[0])}")
             with self.sup.guard("run", "grading") as failure:
                 self._grade()
-                if self.scenario.visitors or self.changed:
+                if self.scenario.visitors or self.unmet:
                     self._answer_questions()
                     self._meet_visitors()
                     self._notice_recalls()

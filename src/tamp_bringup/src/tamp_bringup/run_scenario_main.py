@@ -8,7 +8,8 @@ build/scenario/<UTC time>/ of the workspace. Starts its own roscore port and ROS
 directory, DIR/run unless --run-dir: the launch log, the record, the journals, the logs and
 run.bag, a rosbag of the run that `roslaunch tamp_bringup replay.launch bag:=.../run.bag` replays
 in rviz; an earlier run's files there are removed first, and a folder holding other files is
-refused), launches `roslaunch tamp_bringup social_household.launch` with the scenario node,
+refused), launches `roslaunch tamp_bringup social_household.launch` with the scenario node
+and no shirt in human_db (the robot meets each resident and asks who they are, §3.2.3),
 prints a progress line with an ETA every 10 s until the scenario ends, then writes REPORT.md and
 the PNGs as scripts/scenario_report does. With --fleet the same people and requests are served
 by two robots (`household_fleet.launch` on config/worlds/household_fleet.yaml), and the report
@@ -94,7 +95,8 @@ def launch_command(args, scenario, path, run_dir, port):
             f"record:={run_dir / 'record.json'}", f"command:={command}",
             f"self_instructions:={str(not args.no_self_instructions).lower()}",
             f"patrol:={str(not args.no_patrol).lower()}",
-            f"utc_offset:={scenario.day_start_s:g}"]
+            f"utc_offset:={scenario.day_start_s:g}",
+            "shirts:="]   # nobody met: the robot asks each resident who they are (§3.2.3)
 
 
 def report_arguments(run_dir, out_dir, bag=None, fleet=False):

@@ -60,7 +60,11 @@ class Move:
     person: str
     place: str           # graph place of the destination pose
     activity: str
-    clothes: bool = False  # True: they put on another shirt there
+    shirt: tuple = None  # the shirt they put on there ((r, g, b) x 3); None = same clothes
+
+    @property
+    def clothes(self):
+        return self.shirt is not None
 
 
 @dataclass(frozen=True)
@@ -75,6 +79,7 @@ class Scenario:
     planner: str         # task planner of the executor (planner_registry, EXECUTOR)
     visitors: tuple = ()  # Visitor
     day_start_s: float = 0.0  # time of day at simulated time 0 [s since midnight] (schedules)
+    shirts: dict = None  # person -> the shirt they wear at t = 0 ((r, g, b) x 3), from the world
 
 
 def place_of(graph_spec, x, y):
@@ -85,22 +90,31 @@ def place_of(graph_spec, x, y):
     return ""
 
 
+def world_shirt(value):
+    """A world file's shirt_colour ([r, g, b] or {joint1, joint2, joint5}) -> ((r, g, b) x 3)."""
+    if isinstance(value, dict):
+        return tuple(tuple(value[k]) for k in ("joint1", "joint2", "joint5"))
+    return (tuple(value),) * 3
+
+
 def _people_places(world, graph_spec, where):
-    initial, moves = {}, []
+    initial, moves, shirts = {}, [], {}
     for person in world.get("people", []):
         name = person["name"]
         place = place_of(graph_spec, *person["pose"][:2])
         if not place:
             raise ScenarioError(f"{where}: {name} starts at {person['pose'][:2]}, in no place")
         initial[name] = (place, person.get("activity", ""))
+        shirts[name] = world_shirt(person["shirt_colour"])
         for entry in person.get("schedule", []):
             place = place_of(graph_spec, *entry["pose"][:2])
             if not place:
                 raise ScenarioError(f"{where}: {name}'s move at {entry['time']} s ends in no "
                                     f"place ({entry['pose'][:2]})")
+            shirt = entry.get("shirt_colour")
             moves.append(Move(float(entry["time"]), name, place, entry.get("activity", ""),
-                              entry.get("shirt_colour") is not None))
-    return initial, tuple(sorted(moves, key=lambda m: (m.time_s, m.person)))
+                              None if shirt is None else world_shirt(shirt)))
+    return initial, tuple(sorted(moves, key=lambda m: (m.time_s, m.person))), shirts
 
 
 def visitor_answer(visitor, said):
@@ -125,9 +139,36 @@ def resident_answer(person, said):
 
 
 
-def clothes_changers(scenario):
-    """The people whose moves put on a new shirt, in the order of their first change."""
-    return tuple(dict.fromkeys(m.person for m in scenario.moves if m.clothes))
+# The introduce instruction's text and the dialogue's give-up sentence (perception.introduction:
+# NewcomerWatch._introduce, IntroductionConfig.give_up): who is being met, and when it ended.
+INTRODUCE_TEXT = "meet the unknown person"
+GIVE_UP_PHRASE = "try again later"
+SEEN_SHIRT = re.compile(r"\((\d+), (\d+), (\d+)\)")
+
+
+def seen_shirt(text):
+    """The shirt an introduce instruction names ("meet the unknown person in bedroom (shirt
+    (39, 2, 26) (42, 15, 5) (62, 0, 31))", perception.introduction) -> ((r, g, b) x 3), or None."""
+    found = SEEN_SHIRT.findall(text)
+    return tuple(tuple(int(c) for c in rgb) for rgb in found[:3]) if len(found) >= 3 else None
+
+
+def who_answers(seen, wearing):
+    """Of the people in the robot's place ({name: the shirt they wear}), the one the robot is
+    asking: whose shirt is nearest (Eq. 3-10, joints 1, 2, 5) to the shirt it saw (`seen`, None
+    when not known: the first of them)."""
+    from human_db.colour import mean_shirt_distance
+    if not wearing:
+        return None
+    if seen is None:
+        return next(iter(wearing))
+    return min(wearing, key=lambda name: mean_shirt_distance(seen, wearing[name]))
+
+
+def residents(scenario):
+    """The people of the world who live in the household (not visitors), in world order."""
+    visitors = {v.name for v in scenario.visitors}
+    return tuple(name for name in scenario.initial if name not in visitors)
 
 
 def _visitors(spec, world, graph_spec, household_names, where):
@@ -195,7 +236,7 @@ def load_scenario(path):
                 for k, entry in enumerate(spec["requests"])]
     if not requests:
         raise ScenarioError(f"{path}: no requests")
-    initial, moves = _people_places(world, graph_spec, world_path)
+    initial, moves, shirts = _people_places(world, graph_spec, world_path)
     unknown = sorted(set(initial) - set(ips))
     if unknown:
         raise ScenarioError(f"{world_path}: people neither in the household nor visitors: "
@@ -208,7 +249,7 @@ def load_scenario(path):
                     requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
                     initial=initial, timeout_s=timeout_s,
                     planner=str(spec.get("planner", "seed")), visitors=visitors,
-                    day_start_s=day_start_s)
+                    day_start_s=day_start_s, shirts=shirts)
 
 
 def clock_seconds(text, where):
