@@ -84,7 +84,7 @@ def test_launch_command_carries_the_scenario_and_the_switches(tmp_path):
     assert f"record:={tmp_path / 'record.json'}" in command
     assert f"planner:={scenario.planner}" in command
     assert f"command:=scripts/run_scenario {path} --speed 2.5" in command
-    assert "shirts:=" in command          # nobody met: the robot asks each resident (§3.2.3)
+    assert "shirts:=none" in command      # nobody met: the robot asks each resident (§3.2.3)
 
 
 def test_a_fleet_run_launches_two_robots_and_reports_both_journals(tmp_path):

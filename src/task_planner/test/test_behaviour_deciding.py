@@ -5,8 +5,11 @@ from planner_factories import make_instruction
 from py_trees.common import Status
 
 from task_planner.baselines import PriorityFirst
-from task_planner.behaviours.deciding import Deciding, decide, heading, redecide
+from task_planner.behaviours.deciding import (Deciding, decide, heading, redecide,
+                                              waiting_for_a_meeting)
 from task_planner.executor_commands import EXECUTING, IDLE, MOVING, Navigate, StopMotion
+from task_planner.instruction import ROBOT
+from task_planner.people_belief import PeopleAtPlaces
 from task_planner.problem import Problem
 from task_planner.ripple_planner import RipplePlanner
 
@@ -66,3 +69,23 @@ def test_the_decide_leaf_runs_only_when_idle(line_graph, tmp_path):
     ctx.mode = IDLE
     leaf.tick_once()
     assert leaf.status == Status.SUCCESS and ctx.out == [Navigate(B, 1)]
+
+
+def test_a_request_for_someone_never_seen_waits_while_a_stranger_is_to_be_met(line_graph,
+                                                                             tmp_path):
+    """Carol has never been seen (not met: the camera cannot tell who she is), so her chat
+    waits while the robot has a stranger to meet; Bob's, seen in A, does not. Met, or with no
+    stranger, her request is eligible again."""
+    people = PeopleAtPlaces()
+    people.seen("Bob", A, 1.0)
+    ctx = make_context(line_graph, tmp_path, node=B, people=people, planner=PriorityFirst())
+    carol, bob, meet = journal(
+        ctx, make_instruction(1, C, gamma=8.0, function=1, source="Carol", target="Carol"),
+        make_instruction(2, A, gamma=5.0, function=1, source="Bob", target="Bob"),
+        make_instruction(3, D, gamma=1.0, function=9, type=ROBOT, source="robot"))
+    pending = [carol, bob, meet]
+    assert waiting_for_a_meeting(ctx, pending) == {1}
+    assert decide(ctx, 2.0) == [Navigate(A, 2)]          # Bob's, not Carol's stronger one
+    assert waiting_for_a_meeting(ctx, [carol, bob]) == set()
+    people.seen("Carol", D, 3.0)
+    assert waiting_for_a_meeting(ctx, pending) == set()

@@ -9,8 +9,10 @@ Two parts, both ROS-free:
   worth meeting: all three shirt joints seen, no registered person and no stranger already being
   met within the identification threshold (Eq. 3-10, mean over joints 1, 2, 5 below 200), seen in
   `min_sightings` frames. It then gives the robot a robot-type `introduce` instruction (Table 4-1)
-  at the place the stranger was seen, with the self-generated priority and no target (the
-  executor serves it at the place without looking for a known person). The instruction carries
+  for that stranger (each their own: a household that starts with nobody met has several
+  strangers at once; the node holds one dialogue at a time) at the place the stranger was seen,
+  with the self-generated priority and no target (the executor serves it at the place without
+  looking for a known person). The instruction carries
   the provisional id 1 (task_planner.submission): the node submits it with id 0 and tells the
   watch the id the task buffer allocated (`taken`), or that it was not taken (`not_taken`).
 - `IntroductionDialogue` runs the questions once the robot is there: the `introduce` function's
@@ -78,7 +80,7 @@ def seen_shirt(values):
 
 
 class NewcomerWatch:
-    """Unidentified people -> `introduce` instructions, one stranger at a time.
+    """Unidentified people -> `introduce` instructions, one per stranger.
 
     Args:
         config: IntroductionConfig.
@@ -101,9 +103,9 @@ class NewcomerWatch:
                 best, best_distance = stranger, distance
         return best
 
-    def open_stranger(self):
-        """The stranger whose introduce instruction is open, or None."""
-        return next((s for s in self.strangers if s.instruction_id and not s.name), None)
+    def open_strangers(self):
+        """The strangers whose introduce instruction is open (or being submitted)."""
+        return [s for s in self.strangers if s.instruction_id and not s.name]
 
     def observe(self, colours, place, stamp, known):
         """One sighting of an unidentified person; returns an introduce Instruction or None.
@@ -129,7 +131,7 @@ class NewcomerWatch:
             stranger.sightings += 1
         if stranger.name or stranger.instruction_id:
             return None
-        if stranger.sightings < self.config.min_sightings or self.open_stranger() is not None:
+        if stranger.sightings < self.config.min_sightings:
             return None
         return self._introduce(stranger, stamp)
 

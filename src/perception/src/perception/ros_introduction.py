@@ -219,33 +219,44 @@ class IntroductionNode:
         rospy.loginfo("introduction: #%d: %s", instruction_id, instruction.text)
 
     def _follow(self, states, now):
-        """Start the dialogue when the introduce instruction becomes ACTIVE (in any robot's
-        state); give the stranger a rest when it ended without one."""
-        stranger = self.watch.open_stranger()
-        if stranger is None or self.dialogue is not None and self.dialogue.open:
-            return
-        records = [r for state in states for r in state.instructions
-                   if r.instruction.id == stranger.instruction_id]
-        if not records:
-            return
-        record = next((r for r in records if r.state == InstructionState.ACTIVE),
-                      next((r for r in records if r.state in ENDED), records[0]))
-        if record.state == InstructionState.ACTIVE and self._met_id != stranger.instruction_id:
-            self.stranger, self._met_id = stranger, stranger.instruction_id
-            with self._lock:
-                residents = tuple(self._known or ())
-            self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
-                                                 stranger.place, residents)
-            self._open_until = now
-            self.answers_until.publish(Time(rospy.Time(0)))  # answers until the dialogue ends
-            self._count("dialogues")
-            rospy.loginfo("introduction: meeting the stranger of #%d in %s; waiting for a name",
-                          stranger.instruction_id, stranger.place)
-        elif record.state in ENDED and self._met_id != stranger.instruction_id:
-            self._last = f"#{stranger.instruction_id} ended unmet: {record.reason or 'no reason'}"
-            self.watch.not_met(stranger, now)
-            self._count("not_met")
-            rospy.logwarn("introduction: %s", self._last)
+        """Start a dialogue when a stranger's introduce instruction becomes ACTIVE (in any
+        robot's state; one dialogue at a time); give a stranger whose instruction ended without
+        one a rest. An open dialogue whose instruction ended (the robot moved on) ends too: its
+        answers could only come from someone else."""
+        if self.dialogue is not None and self.dialogue.open:
+            records = [r for state in states for r in state.instructions
+                       if r.instruction.id == self._met_id]
+            if records and all(r.state in ENDED for r in records):
+                self.dialogue.abort()
+                self._end(now, f"#{self._met_id} ended before the stranger answered", met=False)
+        for stranger in self.watch.open_strangers():
+            records = [r for state in states for r in state.instructions
+                       if r.instruction.id == stranger.instruction_id]
+            if not records or self._met_id == stranger.instruction_id:
+                continue
+            record = next((r for r in records if r.state == InstructionState.ACTIVE),
+                          next((r for r in records if r.state in ENDED), records[0]))
+            if record.state == InstructionState.ACTIVE and not (
+                    self.dialogue is not None and self.dialogue.open):
+                self._meet(stranger, now)
+            elif record.state in ENDED:
+                self._last = (f"#{stranger.instruction_id} ended unmet: "
+                              f"{record.reason or 'no reason'}")
+                self.watch.not_met(stranger, now)
+                self._count("not_met")
+                rospy.logwarn("introduction: %s", self._last)
+
+    def _meet(self, stranger, now):
+        self.stranger, self._met_id = stranger, stranger.instruction_id
+        with self._lock:
+            residents = tuple(self._known or ())
+        self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
+                                             stranger.place, residents)
+        self._open_until = now
+        self.answers_until.publish(Time(rospy.Time(0)))  # answers until the dialogue ends
+        self._count("dialogues")
+        rospy.loginfo("introduction: meeting the stranger of #%d in %s; waiting for a name",
+                      stranger.instruction_id, stranger.place)
 
     def _answer(self, msg, now):
         self._count("answers")

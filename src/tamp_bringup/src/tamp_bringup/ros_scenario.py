@@ -61,6 +61,8 @@ from tamp_bringup.scenario import (
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
 ACTIVE, HUMAN = 1, 0  # tamp_msgs/InstructionState ACTIVE, tamp_msgs/Instruction HUMAN
+WHO_WAIT_S = 3.0  # [s of simulated time] a question waits this long for the task buffer state
+                  # that names the stranger asked, when several people could answer
 
 
 def _changed(changes, now, place):
@@ -257,19 +259,25 @@ class ScenarioNode:
         phone, a resident to (re)meet on the robot's microphone (ip "")."""
         with self.lock:
             said, poses, state = self.said[self.heard:], list(self.poses.values()), self.state
+            first = self.heard
             self.heard = len(self.said)
         if not poses:
             return
         places = {place_of(self.graph_spec, pose[1], pose[2]) for pose in poses}
         registered = {r["visitor"] for r in self.registrations}
         visitors = {v.name: v for v in self.scenario.visitors if v.name not in registered}
-        for _, text in said:
+        for k, (said_at, text) in enumerate(said):
             if GIVE_UP_PHRASE in text.lower():
                 self.speaking = None
             here = {name: self.wearing[name] for name in list(visitors) + list(self.unmet)
                     if self.where.get(name) in places}
-            person = self.speaking if self.speaking in here else who_answers(
-                self._seen_stranger(state), here)
+            seen = self._seen_stranger(state)
+            if (self.speaking not in here and len(here) > 1 and seen is None
+                    and rospy.get_time() - said_at < WHO_WAIT_S):
+                with self.lock:   # who is asked shows once the state has the meeting ACTIVE
+                    self.heard = first + k
+                return
+            person = self.speaking if self.speaking in here else who_answers(seen, here)
             if person is None:
                 continue
             visitor = visitors.get(person)

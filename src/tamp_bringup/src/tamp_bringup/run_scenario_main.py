@@ -96,7 +96,7 @@ def launch_command(args, scenario, path, run_dir, port):
             f"self_instructions:={str(not args.no_self_instructions).lower()}",
             f"patrol:={str(not args.no_patrol).lower()}",
             f"utc_offset:={scenario.day_start_s:g}",
-            "shirts:="]   # nobody met: the robot asks each resident who they are (§3.2.3)
+            "shirts:=none"]   # nobody met: the robot asks each resident who they are (§3.2.3)
 
 
 def report_arguments(run_dir, out_dir, bag=None, fleet=False):

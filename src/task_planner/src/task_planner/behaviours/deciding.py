@@ -21,6 +21,8 @@ from task_planner.instruction import HUMAN
 from task_planner.problem import Problem
 from task_planner.task_buffer import PENDING
 
+INTRODUCE = "introduce"   # the robot function that meets a stranger (config/robot_functions.yaml)
+
 
 def decide(ctx, now):
     """Fetch, decode, decide at the robot's node; returns the commands of the decision."""
@@ -102,8 +104,10 @@ def fetch_and_decode(ctx, now):
 
     A searched instruction's destination is the place being searched. The planner is reset
     only when the instruction set changes, so its per-set memory (the loop guard) holds. An
-    own instruction that gave way to a person waits until no person's instruction is open.
-    In a fleet, an instruction another robot holds is not eligible.
+    own instruction that gave way to a person waits until no person's instruction is open, and
+    a person's instruction for someone the robot has never seen waits while it has a stranger
+    to meet (`waiting_for_a_meeting`). In a fleet, an instruction another robot holds is not
+    eligible.
     """
     pending = [r for r in ctx.buffer.open_records() if r.state == PENDING]
     if not any(r.instruction.type == HUMAN for r in pending):
@@ -114,7 +118,7 @@ def fetch_and_decode(ctx, now):
         ctx.problem_key = instructions
         ctx.planner.reset(ctx.problem)
     done = ctx.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
-    skipped, busy_places = ctx.deferred, ()
+    skipped, busy_places = ctx.deferred | waiting_for_a_meeting(ctx, pending), ()
     if ctx.fleet:
         taken = ctx.fleet.taken(now)
         skipped = skipped | ctx.lost_claims | taken
@@ -126,6 +130,20 @@ def fetch_and_decode(ctx, now):
                           and r.instruction.id not in skipped
                           and instructions[k].destination not in busy_places], dtype=int)
     return ctx.problem, available
+
+
+def waiting_for_a_meeting(ctx, pending):
+    """Ids of the people's instructions that wait for a meeting: their person has never been
+    seen (not met yet, so the camera cannot tell who they are; thesis 000 §3.2.3) while an
+    `introduce` instruction is pending. Looking for them cannot succeed; the stranger the robot
+    is to meet may be them."""
+    meeting = any(r.instruction.type != HUMAN
+                  and getattr(ctx.functions.get(r.instruction.function), "name", "") == INTRODUCE
+                  for r in pending)
+    if not meeting:
+        return set()
+    return {r.instruction.id for r in pending if r.instruction.type == HUMAN
+            and r.instruction.target and not ctx.people.knows(r.instruction.target)}
 
 
 def ask_planner(ctx, problem, node, now, available):
