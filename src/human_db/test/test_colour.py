@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from human_db.colour import (ColourIndex, IdentificationConfig, Match, approximate_colour_distance,
-                             best_matches, identify_first_below_threshold, mean_shirt_distance,
-                             shirt_colours, shirt_distance_matrix)
+                             best_matches, identifies, identify_first_below_threshold,
+                             mean_shirt_distance, shirt_colours, shirt_distance_matrix)
 from human_db.errors import InvalidColour
 
 # Table 5-1: shirt colours at joints 1, 2, 5 of the query image (a) and the test image (b).
@@ -123,3 +123,20 @@ def test_shirt_colours_accepts_flat_and_nested():
 def test_malformed_colours_are_refused_with_the_reason(bad, needle):
     with pytest.raises(InvalidColour, match=needle):
         shirt_colours(bad, "test colour")
+
+
+def test_two_similar_shirts_under_threshold_identify_nobody_with_a_margin():
+    """Never a silent guess between two people in similar shirts: with a margin the sighting of
+    the test above (20 from Near, 60 from Far) is ambiguous; a clear winner stays identified."""
+    observed = np.array([[200, 30, 40]] * 3)
+    far, near = np.array([[200, 60, 40]] * 3), np.array([[200, 40, 40]] * 3)
+    index = ColourIndex(["Far", "Near"], np.stack([far, near]),
+                        IdentificationConfig(threshold=200.0, margin=60.0))
+    assert index.identify(observed) is None
+    assert not identifies(observed, [far, near], IdentificationConfig(200.0, 60.0))
+    blue = np.array([[30, 60, 200]] * 3)
+    index = ColourIndex(["Near", "Blue"], np.stack([near, blue]),
+                        IdentificationConfig(threshold=200.0, margin=60.0))
+    assert index.identify(observed).name == "Near"           # Blue is far above the threshold
+    assert identifies(observed, [near, blue], IdentificationConfig(200.0, 60.0))
+    assert not identifies(observed, [], IdentificationConfig())

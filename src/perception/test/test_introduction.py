@@ -290,3 +290,17 @@ def test_unclear_yes_no_is_refused(text):
 def test_closest_name_needs_a_near_spelling():
     assert closest_name("Carl", ["Alice", "Carol"], 0.75) == "Carol"
     assert closest_name("Frank", ["Alice", "Carol", "David"], 0.75) == ""
+
+
+def test_a_sighting_two_registered_shirts_fit_alike_is_met_not_guessed(watch):
+    """Two residents in similar blues: a sighting between them is a stranger to meet (the robot
+    asks who it is), while one near a single shirt is identified."""
+    navy, royal = np.array([[30, 60, 170]] * 3), np.array([[30, 60, 200]] * 3)
+    between = np.array([[30, 60, 185]] * 3)
+    assert mean_shirt_distance(between, navy) < 200 and mean_shirt_distance(between, royal) < 200
+    meet = [watch.observe(between, "living_room", float(t), [navy, royal]) for t in range(3)]
+    assert meet[-1] is not None and meet[-1].destination_name == "living_room"
+    watch.taken(21)
+    red = np.array([[200, 30, 40]] * 3)
+    assert all(watch.observe(np.array([[202, 32, 42]] * 3), "welcome", float(t), [navy, red])
+               is None for t in range(3))

@@ -18,6 +18,8 @@ CHANNEL_MAX = 255    # 8-bit RGB
 @dataclass(frozen=True)
 class IdentificationConfig:
     threshold: float = 200.0  # mean approximate colour distance below which people match (§5.2.3)
+    margin: float = 0.0       # > 0: a runner-up also below threshold and within this of the
+                              # closest makes the sighting ambiguous: nobody (ask, never guess)
 
 
 @dataclass(frozen=True)
@@ -88,18 +90,36 @@ def identify_first_below_threshold(observed, names, stored, threshold):
     return None
 
 
-def best_matches(distances, names, threshold):
+def best_matches(distances, names, threshold, margin=0.0):
     """Per row of `distances` (N, M): the closest person below threshold and the distance, or None.
 
     Improves Algorithm 3-1 (which returns the first person below threshold) by returning the
-    closest one and its distance.
+    closest one and its distance. With `margin` > 0 a row whose runner-up is also below the
+    threshold and within `margin` of the closest is ambiguous (two people in similar shirts):
+    None, so the robot asks instead of guessing.
     """
     distances = np.asarray(distances, dtype=np.float64)
     if distances.shape[1] == 0:
         return [None] * distances.shape[0]
-    best = distances.argmin(axis=1)
-    return [Match(names[m], float(row[m])) if row[m] < threshold else None
-            for row, m in zip(distances, best)]
+    order = np.argsort(distances, axis=1)
+    matches = []
+    for row, ranked in zip(distances, order):
+        best = row[ranked[0]]
+        runner_up = row[ranked[1]] if len(ranked) > 1 else np.inf
+        ambiguous = margin > 0 and runner_up < threshold and runner_up - best < margin
+        matches.append(Match(names[ranked[0]], float(best))
+                       if best < threshold and not ambiguous else None)
+    return matches
+
+
+def identifies(observed, shirts, config):
+    """True when the sighting's shirt (3, 3) names exactly one of `shirts` [(3, 3)] under
+    `config` (below the threshold, not ambiguous)."""
+    if len(shirts) == 0:
+        return False
+    distances = shirt_distance_matrix(np.asarray(observed)[None], np.asarray(shirts))
+    return best_matches(distances, list(range(len(shirts))), config.threshold,
+                        config.margin)[0] is not None
 
 
 class ColourIndex:
@@ -120,7 +140,7 @@ class ColourIndex:
         """(N, 3, 3) observed colours -> N Matches (or None)."""
         observed = np.asarray(observed, dtype=np.float64).reshape(-1, 3, 3)
         distances = shirt_distance_matrix(observed, self.colours)
-        return best_matches(distances, self.names, self.config.threshold)
+        return best_matches(distances, self.names, self.config.threshold, self.config.margin)
 
     def identify(self, observed):
         """One observation (9 values or 3 x RGB) -> best Match below threshold, or None."""

@@ -39,6 +39,8 @@ class NodeParams:
     shirts: str = ""                # with household: a shirts file registered right after the
                                     # import (everyone met before the run); "" = nobody met
     threshold: float = 200.0        # identification threshold (mean ΔC, §5.2.3)
+    ambiguity_margin: float = 60.0  # a runner-up within this of the closest (both below the
+                                    # threshold) identifies nobody: the robot asks, never guesses
     publish_period: float = 0.1     # [s] how often a change is looked for and /humans/known sent
     diagnostics_period: float = 1.0  # [s]
     busy_timeout: float = 5.0       # [s] SQLite busy timeout per statement
@@ -231,7 +233,8 @@ class HumanDbNode:
             if self._index is not None and self._index_revision == revision:
                 return self._index
         names, colours = self.store.shirt_colour_table()
-        index = ColourIndex(names, colours, IdentificationConfig(self.params.threshold))
+        index = ColourIndex(names, colours, IdentificationConfig(self.params.threshold,
+                                                                 self.params.ambiguity_margin))
         with self._lock:
             self._index, self._index_revision = index, revision
         return index

@@ -26,7 +26,7 @@ Two parts, both ROS-free:
 from dataclasses import dataclass
 
 import numpy as np
-from human_db.colour import mean_shirt_distance, shirt_colours
+from human_db.colour import IdentificationConfig, identifies, mean_shirt_distance, shirt_colours
 from human_db.model import Human
 from task_planner.instruction import ROBOT, Instruction
 
@@ -42,6 +42,8 @@ SUBMITTING = -1   # Stranger.instruction_id while their introduce instruction is
 @dataclass(frozen=True)
 class IntroductionConfig:
     threshold: float = 200.0       # mean ΔC (Eq. 3-10) below which two shirts are one person
+    ambiguity_margin: float = 60.0  # human_db's ~ambiguity_margin: a sighting two registered
+                                    # shirts fit about equally well is met (asked), not guessed
     min_sightings: int = 3         # frames a stranger is seen in before the robot goes to meet
     max_retries: int = 2           # re-asks of one question before the dialogue is given up
     answer_timeout: float = 45.0   # [s] without an answer before a question is asked again
@@ -118,7 +120,8 @@ class NewcomerWatch:
         """
         if colours is None or not place:
             return None
-        if any(mean_shirt_distance(colours, c) < self.config.threshold for c in known):
+        if identifies(colours, list(known), IdentificationConfig(self.config.threshold,
+                                                                 self.config.ambiguity_margin)):
             return None   # identified since visual perception asked human_db
         stranger = self._matching(colours)
         if stranger is None:

@@ -67,14 +67,16 @@ class IntroductionParams:
                                           # /task_planner/submit
     state_topics: tuple = ("task_planner/state",)  # ~state_topics: the executors' states (one
                                           # per robot of a fleet)
-    config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~min_sightings,
+    config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
+                                          # ~min_sightings,
                                           # ~max_retries, ~answer_timeout, ~retry_after
 
 
 def read_params():
     """Node parameters; KeyError names a missing required one."""
     config = config_from_params(IntroductionConfig, only=(
-        "threshold", "min_sightings", "max_retries", "answer_timeout", "retry_after"))
+        "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
+        "retry_after"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
         "period", "close_linger", "register_timeout", "state_topics"),
