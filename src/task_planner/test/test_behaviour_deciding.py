@@ -89,3 +89,5 @@ def test_a_request_for_someone_never_seen_waits_while_a_stranger_is_to_be_met(li
     assert waiting_for_a_meeting(ctx, [carol, bob]) == set()
     people.seen("Carol", D, 3.0)
     assert waiting_for_a_meeting(ctx, pending) == set()
+    ctx.searched[2] = [A]          # Bob was not where the robot looked: maybe in new clothes
+    assert waiting_for_a_meeting(ctx, pending) == {2}

@@ -301,3 +301,18 @@ def test_a_fault_while_idle_only_stops(line_graph, tmp_path):
 def test_a_step_planner_is_refused_with_a_reason(line_graph, tmp_path):
     with pytest.raises(ValueError, match="decides every step along an edge"):
         make_executor(line_graph, StepRipplePlanner(), tmp_path)
+
+
+def test_a_function_over_early_finishes_at_the_next_tick(line_graph, tmp_path):
+    """An introduce dialogue that is over ends its 60 s function: the robot does not stand
+    there for the rest of the minute."""
+    executor = make_executor(line_graph, FirstComeFirstServe(), tmp_path)
+    commands = executor.receive([make_instruction(1, A, duration=60, function=9, type=1,
+                                                  source="robot")], now=0.0)[1]
+    assert Execute(1, "introduce", 60.0) in commands
+    assert not executor.function_over(2, 8.0)            # not the one executing
+    assert executor.function_over(1, 8.0)
+    executor.tick(8.0)
+    record = executor.buffer.get(1)
+    assert (record.state, record.completion_time) == (DONE, 8.0)
+    assert not executor.function_over(1, 9.0)            # over already

@@ -33,7 +33,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import colours_from_msg, human_to_msg
 from human_db.errors import HumanDbError
 from floorplan.semantic_graph import load_graph
-from std_msgs.msg import Bool, String, Time
+from std_msgs.msg import Bool, String, Time, UInt32
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
@@ -70,6 +70,12 @@ class IntroductionParams:
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
                                           # ~min_sightings,
                                           # ~max_retries, ~answer_timeout, ~retry_after
+
+
+def over_topic(state_topic):
+    """The executor's ~function_over topic beside its state topic ("robot1/task_planner/state"
+    -> "robot1/task_planner/function_over")."""
+    return state_topic.rsplit("/", 1)[0] + "/function_over"
 
 
 def read_params():
@@ -119,6 +125,9 @@ class IntroductionNode:
         # acknowledged: a lost or refused introduce instruction must not block later meetings
         self.submit = SubmitClient(p.register_timeout)
         self.say = rospy.Publisher("robot/say", String, queue_size=5)
+        # a dialogue that is over ends the introduce function at once, on every robot's executor
+        self.function_over = [rospy.Publisher(over_topic(topic), UInt32, queue_size=5)
+                              for topic in p.state_topics]
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
         self.answers_until = rospy.Publisher("~answers_until", Time, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
@@ -329,6 +338,8 @@ class IntroductionNode:
         return self.register(human=human_to_msg(human), replace=False)
 
     def _end(self, now, what, met):
+        for publisher in self.function_over:
+            publisher.publish(UInt32(self._met_id))
         if not met:
             self.watch.not_met(self.stranger, now)
             self._count("not_met")

@@ -100,6 +100,17 @@ class Executor:
         `fail` off, leave it open: another robot holds it), stop, and go idle."""
         return fault(self.state, now, reason, fail_it=fail)
 
+    def function_over(self, instruction_id, now):
+        """The robot function of `instruction_id` ended before its time was up (an introduce
+        dialogue that is over): the next tick finishes it. False when the robot is not
+        executing that instruction."""
+        ctx = self.state
+        if ctx.executing is None or ctx.executing[0] != instruction_id:
+            return False
+        ctx.executing = (instruction_id, min(ctx.executing[1], now))
+        ctx.log.append((now, f"function of {instruction_id} over early"))
+        return True
+
     def new_id(self, previous_id=0):
         """The id for an instruction whose sender lets the robot choose (its fleet's, if any)."""
         return new_id(self.state, previous_id)

@@ -26,7 +26,7 @@ from actionlib_msgs.msg import GoalStatus
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
-from std_msgs.msg import String
+from std_msgs.msg import String, UInt32
 from tamp_msgs.msg import HumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
 from supervision.health import fault_text
@@ -164,6 +164,7 @@ class ExecutorNode:
             fleet=self._fleet(params))
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans = [], None
+        self.functions_over = []   # ids from ~function_over: functions that ended early
         # move_base results: a lock-free queue, because actionlib calls done callbacks holding
         # its goal mutex, which cancel_goal (called under self.lock) takes too
         self.results = queue.SimpleQueue()
@@ -236,6 +237,7 @@ class ExecutorNode:
         sup.subscriber("~instructions", InstructionMsg, self._on_instruction,
                        queue_size=1000)
         sup.subscriber("humans/known", HumanArray, self._on_humans, queue_size=1)
+        sup.subscriber("~function_over", UInt32, self._on_function_over, queue_size=10)
         sup.service("~submit", SubmitInstruction, self._submit)
         sup.service("~cancel", CancelInstruction, self._cancel)
         sup.service("~get_buffer", GetTaskBuffer, self._get_buffer)
@@ -250,6 +252,10 @@ class ExecutorNode:
     def _on_instruction(self, msg):
         with self.lock:
             self.inbox.append(msg)
+
+    def _on_function_over(self, msg):
+        with self.lock:
+            self.functions_over.append(int(msg.data))
 
     def _on_humans(self, msg):
         with self.lock:
@@ -347,6 +353,9 @@ class ExecutorNode:
             version, decisions = self.executor.buffer.version, len(self.executor.decision_s)
             started = time.perf_counter()
             commands = self._receive(now) + self._navigation_results(now)
+            over, self.functions_over = self.functions_over, []
+            for instruction_id in over:
+                self.executor.function_over(instruction_id, now)
             commands += self.executor.tick(now)
             busy = (self.executor.buffer.version != version or commands
                     or len(self.executor.decision_s) != decisions)

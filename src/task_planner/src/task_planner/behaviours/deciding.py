@@ -133,17 +133,18 @@ def fetch_and_decode(ctx, now):
 
 
 def waiting_for_a_meeting(ctx, pending):
-    """Ids of the people's instructions that wait for a meeting: their person has never been
-    seen (not met yet, so the camera cannot tell who they are; thesis 000 §3.2.3) while an
-    `introduce` instruction is pending. Looking for them cannot succeed; the stranger the robot
-    is to meet may be them."""
+    """Ids of the people's instructions that wait for a meeting while an `introduce` instruction
+    is pending: their person has never been seen (not met yet, so the camera cannot tell who
+    they are; thesis 000 §3.2.3), or was not where the robot looked (they may have changed
+    clothes). The stranger the robot is to meet may be them."""
     meeting = any(r.instruction.type != HUMAN
                   and getattr(ctx.functions.get(r.instruction.function), "name", "") == INTRODUCE
                   for r in pending)
     if not meeting:
         return set()
     return {r.instruction.id for r in pending if r.instruction.type == HUMAN
-            and r.instruction.target and not ctx.people.knows(r.instruction.target)}
+            and r.instruction.target and (not ctx.people.knows(r.instruction.target)
+                                          or ctx.searched.get(r.instruction.id))}
 
 
 def ask_planner(ctx, problem, node, now, available):
