@@ -151,7 +151,7 @@ def test_a_resident_in_new_clothes_answers_her_name_and_whether_it_was_heard_rig
 
 def test_moves_that_change_clothes_carry_the_new_shirt():
     scenario = load_scenario(ROOT / "config" / "scenarios" / "household_clothes.yaml")
-    pyjamas = ((30, 30, 40), (26, 26, 36), (28, 28, 38))
+    pyjamas = ((200, 30, 200), (186, 26, 188), (190, 28, 192))
     assert [(m.person, m.place, m.shirt) for m in scenario.moves] == [
         ("Carol", "bedroom", pyjamas)]
     assert scenario.shirts == {"Carol": ((46, 160, 72), (40, 146, 64), (42, 150, 66))}
