@@ -94,6 +94,7 @@ class NewcomerWatch:
     def __init__(self, config, function, priority, place_ids):
         self.config, self.function, self.priority = config, function, priority
         self.place_ids = place_ids
+        self.identification = IdentificationConfig(config.threshold, config.ambiguity_margin)
         self.strangers = []    # Stranger, in the order first seen
 
     def _matching(self, colours):
@@ -120,8 +121,7 @@ class NewcomerWatch:
         """
         if colours is None or not place:
             return None
-        if identifies(colours, list(known), IdentificationConfig(self.config.threshold,
-                                                                 self.config.ambiguity_margin)):
+        if identifies(colours, list(known), self.identification):
             return None   # identified since visual perception asked human_db
         stranger = self._matching(colours)
         if stranger is None:

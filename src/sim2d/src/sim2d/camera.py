@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from sim2d.detection_model import IdealModel
 from sim2d.raycast import segments_clear
 from sim2d.skeleton import (
     L_EAR, L_EYE, L_SHOULDER, NECK, NOSE, NUM_KEYPOINTS, R_EAR, R_EYE, R_SHOULDER)
@@ -258,7 +259,6 @@ class Camera:
     """The robot's stacked cameras plus the detector models that read them."""
 
     def __init__(self, top, bottom, detection, occluders, model=None):
-        from sim2d.detection_model import IdealModel
         self.top, self.bottom, self.detection = top, bottom, detection
         self.occluders = occluders          # GridGeometry of what blocks the view (walls)
         self.model = model if model is not None else IdealModel(detection)

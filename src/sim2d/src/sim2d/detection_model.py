@@ -50,7 +50,7 @@ class Calibration:
     confusions: dict            # true label -> ((found label, count), ...)
 
 
-def _field(row, key, where):
+def _field(row, key):
     value = row.get(key)
     return 0.0 if value is None else float(value)
 
@@ -66,13 +66,12 @@ def load_calibration(path):
     try:
         lighting = {}
         for row in table["lighting"]:
-            where = f"{path}: lighting {row['name']}"
             lighting[row["name"]] = LightingErrors(
-                _field(row, "miss_rate", where), _field(row, "pose_miss_rate", where),
-                _field(row, "object_miss_rate", where), _field(row, "label_confusion_rate", where),
+                _field(row, "miss_rate"), _field(row, "pose_miss_rate"),
+                _field(row, "object_miss_rate"), _field(row, "label_confusion_rate"),
                 tuple(float(v) for v in row.get("colour_factor") or (1.0, 1.0, 1.0)),
-                _field(row, "colour_residual", where), _field(row, "false_people_per_image", where),
-                _field(row, "false_objects_per_image", where))
+                _field(row, "colour_residual"), _field(row, "false_people_per_image"),
+                _field(row, "false_objects_per_image"))
         if DAYLIGHT not in lighting:
             raise CalibrationError(f"camera calibration {path}: no {DAYLIGHT!r} lighting row")
         errors = [row["keypoint_error"] for row in table["scale"]
