@@ -7,6 +7,7 @@ import pytest
 from semantic_nav.follower import (ROOT, DirectionFollower, FollowerCommand, FollowerConfig,
                                    ModelMissingError, UnknownInstructionError)
 from semantic_nav.collision_guard import GuardConfig
+from supervision.config_file import ConfigError
 from semantic_nav.doorways import DoorConfig
 from semantic_nav.laser_layer import model_from_scan
 from semantic_nav.postprocess import PostprocessConfig
@@ -261,12 +262,12 @@ def test_follower_config_file(tmp_path):
     with pytest.raises(ValueError, match="halt_steps"):
         load_follower_config(bad)
     bad.write_text("doors:\n  wide: 1.0\n")
-    with pytest.raises(ValueError, match="doors: unknown key.*wide"):
+    with pytest.raises(ConfigError, match="doors: unknown key 'wide' \\(did you mean 'width'\\?\\)"):
         load_follower_config(bad)
     bad.write_text("guard:\n  enabled: 1\n")
     with pytest.raises(ValueError, match="enabled"):
         load_follower_config(bad)
-    with pytest.raises(FileNotFoundError, match="none.yaml"):
+    with pytest.raises(ConfigError, match="none.yaml: no such follower config"):
         load_follower_config(tmp_path / "none.yaml")
 
 

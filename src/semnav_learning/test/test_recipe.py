@@ -192,7 +192,7 @@ def write(folder, recipe):
 
 @pytest.mark.parametrize("change, message", [
     (lambda r: r["stages"][1]["units"][0]["train"].update(epoch=3),
-     r"stages\[1\]\.units\[0\]\.train\.epoch: unknown key"),
+     r"stages\[1\]\.units\[0\]\.train\.epoch: unknown key 'epoch' \(did you mean 'epochs'\?\)"),
     (lambda r: r["stages"][0]["units"][0]["build"].update(per_klass=3),
      r"stages\[0\]\.units\[0\]\.build\.per_klass: unknown key"),
     (lambda r: r["stages"][1]["units"][0]["train"].update(dataset=["nowhere"]),

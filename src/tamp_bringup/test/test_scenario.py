@@ -93,8 +93,55 @@ def test_missing_key_and_file(tmp_path):
     path.write_text("world: x.yaml\n")
     with pytest.raises(ScenarioError, match="missing 'household'"):
         load_scenario(path)
-    with pytest.raises(ScenarioError, match="cannot read"):
+    with pytest.raises(ScenarioError, match="none.yaml: no such scenario file$"):
         load_scenario(tmp_path / "none.yaml")
+
+
+@pytest.mark.parametrize("extra, requests, message", [
+    ("planer: fcfs\n", '  - {time: 1, person: Bob, text: "hi"}\n',
+     r"scenario.yaml: unknown key 'planer' \(did you mean 'planner'\?\)"),
+    ("", '  - {time: 1, person: Bob, txt: "hi"}\n',
+     r"request 1: unknown key 'txt' \(did you mean 'text'\?\)"),
+    ("planner: fcsf\n", '  - {time: 1, person: Bob, text: "hi"}\n',
+     r"planner: unknown planner 'fcsf' \(known: .*fcfs"),
+    ("timeout_s: soon\n", '  - {time: 1, person: Bob, text: "hi"}\n',
+     "timeout_s must be a number of seconds > 0, got 'soon'"),
+])
+def test_unknown_keys_and_values_are_refused_with_the_nearest(tmp_path, extra, requests, message):
+    with pytest.raises(ScenarioError, match=message):
+        load_scenario(write_with_frank(tmp_path, requests, extra))
+
+
+def test_a_visitors_misspelt_key_is_refused(tmp_path):
+    path = write_scenario(tmp_path, '  - {time: 1, person: Bob, text: "hi"}\n')
+    path.write_text(FRANK.replace("gender:", "gendre:") + path.read_text())
+    with pytest.raises(ScenarioError, match=r"visitor 1: unknown key 'gendre' \(did you mean "
+                                            r"'gender'\?\)"):
+        load_scenario(path)
+
+
+@pytest.mark.parametrize("name", ["household_short.yaml", "household_day.yaml",
+                                  "household_clothes.yaml"])
+def test_a_scenario_copied_out_of_the_workspace_loads_as_it_is(tmp_path, name):
+    original = resource("config", "scenarios", name)
+    copy = tmp_path / name
+    copy.write_text(original.read_text())
+    scenario, there = load_scenario(copy), load_scenario(original)
+    assert scenario == there
+    assert scenario.world == resource("config", "worlds", scenario.world.name).resolve()
+
+
+def test_a_file_next_to_the_scenario_wins_and_a_missing_one_is_named(tmp_path):
+    path = write_with_frank(tmp_path, '  - {time: 1, person: Bob, text: "hi"}\n')
+    (tmp_path / "household.yaml").write_text(resource("config", "household.yaml").read_text())
+    path.write_text(path.read_text().replace(f"household: {ROOT}/config/household.yaml",
+                                             "household: household.yaml"))
+    assert load_scenario(path).requests[0].ip == "192.168.1.102"
+    path.write_text(path.read_text().replace("household: household.yaml",
+                                             "household: ../elsewhere/household.yaml"))
+    with pytest.raises(ScenarioError, match=r"household: '../elsewhere/household.yaml' is "
+                                            r"neither next to the scenario nor among"):
+        load_scenario(path)
 
 
 def test_a_visitor_answers_the_robots_introduction_questions():

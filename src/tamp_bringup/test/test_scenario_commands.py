@@ -1,5 +1,7 @@
 """scripts/run_scenario's and scripts/scenario_report's libraries: arguments, the launch command,
 the summary lines, stopping a child."""
+import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -10,6 +12,7 @@ from tamp_resources import resource
 from tamp_bringup import run_scenario_main, scenario_report_main
 from tamp_bringup.scenario import load_scenario
 
+SCRIPTS = Path(os.environ["TAMP_WS"]) / "scripts"
 RESULT = {"requests": 3, "served": 2, "failed": 1, "instructions": 4,
           "states": {"done": 3, "failed": 1}, "reward": 1.23456,
           "model": {"FCFS (model)": 0.5, "Ours(seed/node) (model)": 1.0},
@@ -133,3 +136,26 @@ def test_a_run_folder_is_emptied_of_an_earlier_run_and_a_foreign_one_refused(tmp
     assert sorted(p.name for p in run.iterdir()) == ["notes.txt", "record.json"]  # untouched
     run_scenario_main.fresh_run_dir(tmp_path / "new")
     assert (tmp_path / "new").is_dir()
+
+
+@pytest.mark.parametrize("text, message", [
+    (None, r"^run_scenario: error: \S*nowhere.yaml: no such scenario file$"),
+    ("requests: [\n", r"^run_scenario: error: \S*bad.yaml: not valid YAML \(line 2, column 1: "),
+    ("BROKEN_PERSON", r"^run_scenario: error: \S*bad.yaml: request 1: unknown person 'Zed' "),
+])
+def test_a_user_mistake_is_one_line_and_exit_status_2(tmp_path, text, message):
+    if text is None:
+        path = tmp_path / "nowhere.yaml"
+    else:
+        path = tmp_path / "bad.yaml"
+        path.write_text(text if text != "BROKEN_PERSON" else resource(
+            "config", "scenarios", "household_short.yaml").read_text().replace(
+            "person: Alice", "person: Zed", 1))
+    done = subprocess.run([sys.executable, str(SCRIPTS / "run_scenario"), str(path)],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("\n") == 1 and done.stdout == "", done.stderr
+    assert re.match(message, done.stderr), done.stderr
+    debug = subprocess.run([sys.executable, str(SCRIPTS / "run_scenario"), str(path), "--debug"],
+                           capture_output=True, text=True, timeout=120)
+    assert debug.returncode == 1 and "Traceback (most recent call last)" in debug.stderr

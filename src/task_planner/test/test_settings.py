@@ -66,7 +66,7 @@ def test_missing_keys_are_named_and_battery_keys_only_when_used(tmp_path):
 
 
 @pytest.mark.parametrize("text, message", [
-    ("speed_mps: [0.5\n", r"not valid YAML: "),
+    ("speed_mps: [0.5\n", r"not valid YAML \(line 2, column 1: "),
     ("- 0.5\n", r"expected a mapping of settings, got \[0.5\]"),
     ("", r"expected a mapping of settings, got None"),
 ])
@@ -77,6 +77,5 @@ def test_a_malformed_file_is_named(tmp_path, text, message):
 
 
 def test_a_missing_file_is_named(tmp_path):
-    with pytest.raises(SettingsError, match=rf"^{tmp_path}/nope.yaml: cannot read the settings "
-                                            r"file: .*No such file"):
+    with pytest.raises(SettingsError, match=rf"^{tmp_path}/nope.yaml: no such settings file$"):
         load_settings(tmp_path / "nope.yaml")

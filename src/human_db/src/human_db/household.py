@@ -11,6 +11,8 @@ import re
 
 import yaml
 
+from supervision import config_file
+
 from human_db.colour import shirt_colours
 from human_db.errors import InvalidHuman
 from human_db.model import DAY, Human, ScheduleEntry
@@ -46,16 +48,10 @@ def format_clock(seconds):
 
 def load_household(path):
     """Read and validate a household file; return (places, [Human]). Errors name file and entry."""
-    try:
-        with open(path, encoding="utf-8") as stream:
-            document = yaml.safe_load(stream)
-    except (OSError, yaml.YAMLError) as error:
-        raise InvalidHuman(f"{path}: cannot read household file: {error}") from error
+    document = config_file.read_yaml(path, InvalidHuman, "household file")
     if not isinstance(document, dict) or not isinstance(document.get("humans"), list):
         raise InvalidHuman(f"{path}: expected a mapping with a 'humans' list")
-    unknown = set(document) - {"places", "humans"}
-    if unknown:
-        raise InvalidHuman(f"{path}: unknown top-level keys {sorted(unknown)}")
+    config_file.check_keys(document, ("places", "humans"), str(path), InvalidHuman)
     places = document.get("places") or []
     if not isinstance(places, list) or not all(isinstance(p, str) for p in places):
         raise InvalidHuman(f"{path}: 'places' must be a list of place names")
@@ -107,9 +103,7 @@ def _schedule_from_dict(entry, where):
 
 
 def _check_keys(entry, allowed, required, where):
-    unknown = set(entry) - set(allowed)
-    if unknown:
-        raise InvalidHuman(f"{where}: unknown keys {sorted(unknown)} (allowed: {list(allowed)})")
+    config_file.check_keys(entry, allowed, where, InvalidHuman)
     missing = [key for key in required if key not in entry]
     if missing:
         raise InvalidHuman(f"{where}: missing keys {missing}")
@@ -149,11 +143,7 @@ def load_shirts(path):
     """A shirts file ({shirts: {name: {joint1, joint2, joint5: [R, G, B]}}}: the shirts people
     were registered in before the run) -> {name: ((r, g, b) x 3)}; InvalidHuman names the file
     and the entry."""
-    try:
-        with open(path, encoding="utf-8") as stream:
-            document = yaml.safe_load(stream)
-    except (OSError, yaml.YAMLError) as error:
-        raise InvalidHuman(f"{path}: cannot read shirts file: {error}") from error
+    document = config_file.read_yaml(path, InvalidHuman, "shirts file")
     if not isinstance(document, dict) or set(document) != {"shirts"} or \
             not isinstance(document["shirts"], dict):
         raise InvalidHuman(f"{path}: expected a mapping with only a 'shirts' mapping")

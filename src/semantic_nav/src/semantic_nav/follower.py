@@ -26,6 +26,7 @@ from semantic_nav.laser_layer import load_laser_config
 from semantic_nav.misheard import readings, reads_homophones
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from semantic_nav.splitting import SPLITTINGS, TOKEN, InstructionError, split_instruction
+from supervision import config_file
 from tamp_resources import resource
 
 ROOT = resource()
@@ -94,23 +95,19 @@ class FollowerConfig:
 
 def _section(cls, values, where):
     """A config dataclass from a YAML mapping; unknown keys are named."""
-    if not isinstance(values, dict):
-        raise ValueError(f"{where}: expected a mapping, got {values!r}")
-    known = [f.name for f in fields(cls)]
-    unknown = sorted(set(values) - set(known))
-    if unknown:
-        raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} "
-                         f"(known: {', '.join(known)})")
+    config_file.check_keys(values, [f.name for f in fields(cls)], where)
     default = cls()
     converted = {}
     for key, value in values.items():
         kind = type(getattr(default, key))
         if kind is bool and not isinstance(value, bool):
-            raise ValueError(f"{where}.{key}: expected true or false, got {value!r}")
+            raise config_file.ConfigError(f"{where}.{key}: expected true or false, got "
+                                          f"{value!r}")
         try:
             converted[key] = kind(value)
         except (TypeError, ValueError):
-            raise ValueError(f"{where}.{key}: expected a {kind.__name__}, got {value!r}") \
+            raise config_file.ConfigError(f"{where}.{key}: expected a {kind.__name__}, got "
+                                          f"{value!r}") \
                 from None
     return replace(default, **converted)
 
@@ -118,15 +115,13 @@ def _section(cls, values, where):
 def load_follower_config(path):
     """A FollowerConfig from a YAML file (config/semnav_follower.yaml lists every key with its
     default): top-level control_period and laser_config, sections postprocess, guard and doors. Keys
-    left out keep their defaults; an unknown key or a wrong type is a ValueError naming it."""
-    import yaml
+    left out keep their defaults; an unknown key (with the nearest known one) or a wrong type is a
+    ConfigError naming it."""
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"follower config {path} not found")
-    data = yaml.safe_load(path.read_text()) or {}
+    data = config_file.read_yaml(path, what="follower config") or {}
     where = str(path)
     if not isinstance(data, dict):
-        raise ValueError(f"{where}: expected a mapping of follower settings")
+        raise config_file.ConfigError(f"{where}: expected a mapping of follower settings")
     sections = {"postprocess": PostprocessConfig, "guard": GuardConfig, "doors": DoorConfig}
     top = {k: v for k, v in data.items() if k not in sections}
     config = _section(FollowerConfig, top, where)
@@ -137,7 +132,7 @@ def load_follower_config(path):
         if name in data:
             setattr(config, name, _section(cls, data[name], f"{where}: {name}"))
     if config.splitting not in SPLITTINGS:
-        raise ValueError(f"{where}.splitting: one of {', '.join(SPLITTINGS)}, got "
+        raise config_file.ConfigError(f"{where}.splitting: one of {', '.join(SPLITTINGS)}, got "
                          f"{config.splitting!r}")
     return config
 

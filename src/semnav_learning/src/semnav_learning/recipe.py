@@ -23,13 +23,13 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
 
 from semnav_learning.dataset_build import DatasetConfig
 from semnav_learning.recipe_format import RecipeError
 from semnav_learning.recipe_units import UnitRunner
 from semnav_learning.trainer import TrainerConfig, format_duration
 from semnav_learning.training import TrainingConfig
+from supervision import config_file
 
 KINDS = ("build", "plan", "train", "dagger", "classifier", "evaluate")
 MODEL_KINDS = ("train", "classifier")
@@ -97,10 +97,10 @@ def _mapping(value, where):
 
 
 def _check_keys(mapping, allowed, where):
-    unknown = sorted(set(mapping) - set(allowed))
-    if unknown:
-        raise RecipeError(f"{where}.{unknown[0]}: unknown key (allowed: "
-                          f"{', '.join(sorted(allowed))})")
+    for key in mapping:
+        if key not in allowed:
+            raise RecipeError(f"{where}.{key}: "
+                              f"{config_file.unknown_key_message(key, sorted(allowed))}")
 
 
 def _check_overrides(overrides, where):
@@ -172,11 +172,7 @@ def _stage_units(stages, where="stages"):
 def load_recipe(path, root):
     """Read and check a recipe YAML -> Recipe; RecipeError naming the key that is wrong."""
     path, root = Path(path), Path(root)
-    try:
-        data = yaml.safe_load(path.read_text())
-    except (OSError, yaml.YAMLError) as error:
-        raise RecipeError(f"{path}: {error}") from error
-    data = _mapping(data, str(path))
+    data = _mapping(config_file.read_yaml(path, RecipeError, "recipe"), str(path))
     _check_keys(data, TOP_KEYS, str(path))
     if "work_dir" not in data:
         raise RecipeError(f"{path}.work_dir: missing")

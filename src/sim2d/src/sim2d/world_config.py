@@ -2,12 +2,9 @@
 
 See config/worlds/README.md for the format. Every error names the file and the offending entry.
 """
-import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import yaml
 
 from sim2d.camera import CameraConfig, DetectionConfig
 from sim2d.detection_model import DAYLIGHT, CalibrationError, load_calibration
@@ -18,9 +15,10 @@ from sim2d.odometry import OdometryConfig
 from sim2d.passage_check import PassageCheck, PassageConfig, blockage_message, resting_poses
 from sim2d.people import POSTURES, Person, ScheduleEntry
 from floorplan.semantic_graph import load_graph
+from supervision import config_file
 
 
-class WorldError(ValueError):
+class WorldError(config_file.ConfigError):
     """A world file that cannot be used; the message names the file and the problem."""
 
 
@@ -124,21 +122,10 @@ DOOR_KEYS = ("name", "box", "closed")
 ELBOW_MARGIN = 0.05     # [m] a resting person's floor disc beyond the disc the lasers see
 
 
-def unknown_key_message(key, allowed):
-    """"unknown key 'raduis' (did you mean 'radius'?)": the nearest valid key, or the list."""
-    near = difflib.get_close_matches(str(key), list(allowed), n=1)
-    hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(allowed)}"
-    return f"unknown key {key!r} ({hint})"
-
-
 def check_keys(data, allowed, where):
-    """Raise WorldError "<where>: unknown key ..." for the first key of `data` not in `allowed`;
-    `where` names the file and the field path (e.g. "worlds/w.yaml: people[2]")."""
-    if not isinstance(data, dict):
-        raise WorldError(f"{where}: expected a mapping, got {data!r}")
-    for key in data:
-        if key not in allowed:
-            raise WorldError(f"{where}: {unknown_key_message(key, allowed)}")
+    """Raise WorldError "<where>: unknown key ... (did you mean ...?)" for the first key of
+    `data` not in `allowed`; `where` names the file and the field path."""
+    return config_file.check_keys(data, allowed, where, WorldError)
 
 
 def _dataclass_from(cls, data, where):
@@ -325,7 +312,7 @@ class _Parser:
             self.fail("expected a mapping with at least 'map'")
         for key in data:
             if key not in TOP_KEYS:
-                self.fail(unknown_key_message(key, TOP_KEYS))
+                self.fail(config_file.unknown_key_message(key, TOP_KEYS))
         map_path = (self.path.parent / data["map"]).resolve()
         graph_path = None
         if data.get("graph"):
@@ -399,10 +386,7 @@ class _Parser:
         return {**base, **data}
 
     def read(self, path):
-        try:
-            data = yaml.safe_load(path.read_text())
-        except (OSError, yaml.YAMLError) as error:
-            raise WorldError(f"{self.path}: cannot read world file {path}: {error}") from error
+        data = config_file.read_yaml(path, WorldError, "world file")
         if not isinstance(data, dict):
             self.fail(f"{path}: expected a mapping with at least 'map'")
         return data

@@ -17,8 +17,12 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
+from human_db.errors import InvalidHuman
+from human_db.household import load_household
 from matplotlib.path import Path as Polygon
+from supervision import config_file
+from tamp_resources import resource
+from task_planner.planner_registry import PLANNERS
 
 
 # What a visitor answers: the question is recognised by a phrase of perception's introduction
@@ -28,7 +32,13 @@ QUESTION_PHRASES = (("name", "your name"), ("gender", "a man or a woman"), ("age
 GENDERS = ("female", "male")
 
 
-class ScenarioError(ValueError):
+TOP_KEYS = ("name", "world", "household", "graph", "planner", "timeout_s", "day_start",
+            "visitors", "requests")
+REQUEST_KEYS = ("time", "person", "text", "spoken")
+VISITOR_KEYS = ("name", "gender", "age", "ip", "answers")
+
+
+class ScenarioError(config_file.ConfigError):
     """A scenario file that cannot be played; the message names the file and the entry."""
 
 
@@ -176,8 +186,7 @@ def _visitors(spec, world, graph_spec, household_names, where):
     visitors = []
     for k, entry in enumerate(spec.get("visitors") or []):
         what = f"{where}: visitor {k + 1}"
-        if not isinstance(entry, dict):
-            raise ScenarioError(f"{what}: expected a mapping, got {entry!r}")
+        config_file.check_keys(entry, VISITOR_KEYS, what, ScenarioError)
         name = entry.get("name")
         if name not in poses:
             raise ScenarioError(f"{what}: {name!r} is not a person of the world")
@@ -200,6 +209,7 @@ def _visitors(spec, world, graph_spec, household_names, where):
 
 
 def _request(entry, ips, visitors, where):
+    config_file.check_keys(entry, REQUEST_KEYS, where, ScenarioError)
     person, text, time_s = entry.get("person"), str(entry.get("text", "")).strip(), \
         entry.get("time")
     if person not in ips:
@@ -214,24 +224,27 @@ def _request(entry, ips, visitors, where):
 
 
 def load_scenario(path):
-    """Read and check a scenario file; paths in it are relative to the file."""
+    """Read and check a scenario file. Its `world`, `graph` and `household` paths are found next
+    to the file, else among the workspace's scenarios (config/scenarios/), so a scenario copied
+    out of the workspace runs as it is."""
     path = Path(path)
-    try:
-        spec = yaml.safe_load(path.read_text())
-    except (OSError, yaml.YAMLError) as error:
-        raise ScenarioError(f"{path}: cannot read: {error}") from error
+    spec = config_file.read_yaml(path, ScenarioError, "scenario file")
+    config_file.check_keys(spec, TOP_KEYS, str(path), ScenarioError)
     for key in ("world", "household", "graph", "requests"):
-        if key not in (spec or {}):
+        if key not in spec:
             raise ScenarioError(f"{path}: missing '{key}'")
-    base = path.parent
-    world_path = (base / spec["world"]).resolve()
-    world = yaml.safe_load(world_path.read_text())
-    graph_path = (base / spec["graph"]).resolve()
-    graph_spec = yaml.safe_load(graph_path.read_text())
-    household = yaml.safe_load((base / spec["household"]).read_text())
-    ips = {h["name"]: str(h["ip"]) for h in household["humans"]}
+    world_path, graph_path, household_path = (_named_file(spec, key, path)
+                                              for key in ("world", "graph", "household"))
+    world = config_file.read_yaml(world_path, ScenarioError, "world file")
+    graph_spec = config_file.read_yaml(graph_path, ScenarioError, "graph file")
+    try:
+        ips = {human.name: human.ip for human in load_household(household_path)[1]}
+    except InvalidHuman as error:
+        raise ScenarioError(str(error)) from None
     visitors = _visitors(spec, world, graph_spec, set(ips), path)
     ips.update({v.name: v.ip for v in visitors})
+    if not isinstance(spec["requests"], list):
+        raise ScenarioError(f"{path}: requests must be a list, got {spec['requests']!r}")
     requests = [_request(entry, ips, {v.name for v in visitors}, f"{path}: request {k + 1}")
                 for k, entry in enumerate(spec["requests"])]
     if not requests:
@@ -241,15 +254,29 @@ def load_scenario(path):
     if unknown:
         raise ScenarioError(f"{world_path}: people neither in the household nor visitors: "
                             f"{', '.join(unknown)}")
-    timeout_s = float(spec.get("timeout_s", 600.0))
-    if timeout_s <= 0:
-        raise ScenarioError(f"{path}: timeout_s must be > 0, got {timeout_s}")
+    timeout_s = spec.get("timeout_s", 600.0)
+    if not isinstance(timeout_s, (int, float)) or timeout_s <= 0:
+        raise ScenarioError(f"{path}: timeout_s must be a number of seconds > 0, got "
+                            f"{timeout_s!r}")
+    planner = str(spec.get("planner", "seed"))
+    if planner not in PLANNERS:
+        raise ScenarioError(f"{path}: planner: unknown planner {planner!r} (known: "
+                            f"{', '.join(PLANNERS)})")
     day_start_s = clock_seconds(spec.get("day_start", "00:00"), f"{path}: day_start")
     return Scenario(name=str(spec.get("name", path.stem)), world=world_path, graph=graph_path,
                     requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
-                    initial=initial, timeout_s=timeout_s,
-                    planner=str(spec.get("planner", "seed")), visitors=visitors,
-                    day_start_s=day_start_s, shirts=shirts)
+                    initial=initial, timeout_s=float(timeout_s), planner=planner,
+                    visitors=visitors, day_start_s=day_start_s, shirts=shirts)
+
+
+def _named_file(spec, key, path):
+    """The file a scenario's `key` names: next to the scenario, else among the workspace's
+    scenarios; ScenarioError names the key and where it looked."""
+    found = config_file.find_file(str(spec[key]), path.parent, resource("config", "scenarios"))
+    if found is None:
+        raise ScenarioError(f"{path}: {key}: {spec[key]!r} is neither next to the scenario nor "
+                            f"among the workspace's scenarios ({resource('config', 'scenarios')})")
+    return found
 
 
 def clock_seconds(text, where):

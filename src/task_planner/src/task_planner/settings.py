@@ -6,15 +6,13 @@ one) or a value out of its range is a SettingsError naming the file, the key and
 `config/task_planner.yaml: speed_mps must be a finite number > 0 [m/s], got 0`. A speed of 0 used
 to pass and make the executor's first tick divide by zero.
 """
-import difflib
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
-import yaml
+from supervision import config_file
 
 
-class SettingsError(ValueError):
+class SettingsError(config_file.ConfigError):
     """The settings file cannot be used; the message names the file, the key and the value."""
 
 
@@ -77,9 +75,7 @@ def check_settings(settings, where, required=REQUIRED):
     for key, value in settings.items():
         rule = SETTINGS.get(key)
         if rule is None:
-            near = difflib.get_close_matches(str(key), list(SETTINGS), n=1)
-            hint = f"did you mean {near[0]!r}?" if near else f"known: {', '.join(SETTINGS)}"
-            raise SettingsError(f"{where}: unknown key {key!r} ({hint})")
+            raise SettingsError(f"{where}: {config_file.unknown_key_message(key, SETTINGS)}")
         if not rule.accepts(value):
             raise SettingsError(f"{where}: {key} must be {rule.describe()}, got {value!r}")
     missing = [key for key in required if key not in settings]
@@ -90,10 +86,5 @@ def check_settings(settings, where, required=REQUIRED):
 
 def load_settings(path, required=REQUIRED):
     """The checked mapping of the YAML settings file at `path` (see check_settings)."""
-    try:
-        settings = yaml.safe_load(Path(path).read_text())
-    except (OSError, UnicodeDecodeError) as error:
-        raise SettingsError(f"{path}: cannot read the settings file: {error}") from error
-    except yaml.YAMLError as error:
-        raise SettingsError(f"{path}: not valid YAML: {error}") from error
+    settings = config_file.read_yaml(path, SettingsError, "settings file")
     return check_settings(settings, str(path), required)
