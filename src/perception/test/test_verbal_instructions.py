@@ -3,8 +3,9 @@ import pytest
 from verbal_test_support import TABLE_5_5, WS
 
 from perception.requests import RejectedUtterance
-from perception.verbal_instructions import (DictPeopleDirectory, InstructionBuilder, Person,
-                                            priority_level, refusal_sentence)
+from perception.verbal_instructions import (PHONE_MAX_CHARS, DictPeopleDirectory,
+                                            InstructionBuilder, Person, priority_level,
+                                            refusal_sentence, rejection_sentence)
 from task_planner.instruction import HUMAN
 from task_planner.reward import Priority
 from task_planner.robot_functions import function_for, load_robot_functions
@@ -163,11 +164,29 @@ def test_a_request_not_taken_is_said_with_the_reason(pipeline):
     ("Ich habe Kopfschmerzen und Fieber.", "does not look English"),
     ("Check Zed status.", "unknown target name 'Zed'"),
     ("The weather is nice today.", "no robot function requested"),
+    ("Please check on Zoe.", "unknown target name 'Zoe'"),
 ])
-def test_bad_input_yields_no_instruction(pipeline, text, reason):
-    with pytest.raises(RejectedUtterance, match=reason):
+def test_bad_input_yields_no_instruction_and_a_spoken_reason(pipeline, text, reason):
+    with pytest.raises(RejectedUtterance, match=reason) as caught:
         pipeline.process(text, ALEX, 0.0)
+    assert rejection_sentence(caught.value) == f"Sorry, I cannot take your request: {caught.value}"
     assert pipeline.process("Chat with me", ALEX, 0.0)[1].instructions   # still working
+
+
+@pytest.mark.parametrize("ip, reason", [
+    ("1" * 91, "the phone address has 91 characters, more than the 90 a phone address may have"),
+    ("10.0.0.1 x", "the phone address '10.0.0.1 x' holds spaces or control characters"),
+    ("10.0.0.1\n", r"the phone address '10.0.0.1\\n' holds spaces or control characters"),
+])
+def test_a_bad_phone_address_is_refused_not_a_fault(pipeline, ip, reason):
+    with pytest.raises(RejectedUtterance, match=f"^{reason}$"):
+        pipeline.process("Play a song", ip, 0.0)
+
+
+def test_the_longest_phone_address_fits_an_anonymous_source(pipeline):
+    ip = "1" * PHONE_MAX_CHARS
+    (music,) = pipeline.process("Play a song", ip, 0.0)[1].instructions
+    assert music.source == f"anonymous@{ip}" and len(music.source) == 100
 
 
 @pytest.mark.parametrize("terms, sentiment, level", [

@@ -53,6 +53,7 @@ def test_two_part_sentence_runs_to_success():
     assert seen[0] == (0, "go straight to the end", 1)
     assert seen[3] == (1, "turn left", 3)
     assert session.outcome.status == SUCCEEDED and session.outcome.completed == 2
+    assert session.outcome.spoken == "I have arrived."    # announced: the person hears "done"
     assert (v, w) == (0.0, 0.0) and len(seen) == 7
     assert math.isnan(feedback.confidence)
     assert feedback.corners == -1           # a follower without the corner count
@@ -84,11 +85,14 @@ def test_time_limit_and_stop_abort_with_progress():
     assert session.step([1.0] * 1081, LASER, 7.5)[:2] == (0.0, 0.0)
     assert session.outcome.status == ABORTED and "not finished after 2 s" in \
         session.outcome.message
+    assert session.outcome.spoken == ("Sorry, I could not finish following your directions in 2 "
+                                      "seconds. I am staying here.")
     other = FollowSession(ScriptedFollower([1, 3], steps=2), "go on, then turn left", 0.0, 60.0)
     for k in range(3):
         other.step([1.0] * 1081, LASER, 0.1 * k)
     outcome = other.stop("preempted")
     assert (outcome.status, outcome.completed, outcome.message) == (ABORTED, 1, "preempted")
+    assert outcome.spoken == ""    # stopped from outside: whoever stopped it knows
 
 
 class RecordingFollower(ScriptedFollower):

@@ -262,7 +262,8 @@ def test_follower_config_file(tmp_path):
     with pytest.raises(ValueError, match="halt_steps"):
         load_follower_config(bad)
     bad.write_text("doors:\n  wide: 1.0\n")
-    with pytest.raises(ConfigError, match="doors: unknown key 'wide' \\(did you mean 'width'\\?\\)"):
+    with pytest.raises(ConfigError,
+                       match="doors: unknown key 'wide' \\(did you mean 'width'\\?\\)"):
         load_follower_config(bad)
     bad.write_text("guard:\n  enabled: 1\n")
     with pytest.raises(ValueError, match="enabled"):

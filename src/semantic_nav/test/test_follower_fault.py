@@ -19,7 +19,7 @@ FAULT_SPOKEN = ("Sorry, I had to stop following your directions: my controller f
 
 
 class Follower:
-    """Drives at 0.3 m/s for ever; `broken` makes its step (or its start) raise."""
+    """Drives at 0.3 m/s until `arrived`; `broken` makes its step (or its start) raise."""
 
     control_period = 0.1
     doorway_points = []
@@ -28,6 +28,7 @@ class Follower:
 
     def __init__(self):
         self.broken = None   # None, "step" or "start"
+        self.arrived = False
 
     def start(self, sentence):
         if self.broken == "start":
@@ -38,7 +39,7 @@ class Follower:
     def step(self, ranges, laser):
         if self.broken == "step":
             raise RuntimeError("network exploded")
-        return FollowerCommand(0.3, 0.1, 0, 1, False)
+        return FollowerCommand(0.3, 0.1, 0, 1, self.arrived)
 
 
 class Recorder:
@@ -223,3 +224,14 @@ def test_a_goal_callback_fault_ends_the_accepted_goal(node):
     tick(node)
     assert node.server.status["second"] == GoalStatus.ACTIVE
 
+
+
+def test_a_voice_message_direction_that_ends_is_announced(node):
+    with node.lock:
+        node.voice = SENTENCE
+    tick(node)
+    assert node.source == "/voice_message" and node.say_pub.sent == []
+    node.follower.arrived = True
+    tick(node)
+    assert last_cmd(node) == (0.0, 0.0) and node.session is None
+    assert [m.data for m in node.say_pub.sent] == ["I have arrived."]

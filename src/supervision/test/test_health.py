@@ -1,7 +1,7 @@
 """supervision.health: the guard, the heartbeat and the report levels, on a fake clock."""
 import pytest
 
-from supervision.health import ERROR, OK, Health, HealthConfig
+from supervision.health import ERROR, OK, Health, HealthConfig, fatal_report
 
 
 class Clock:
@@ -117,3 +117,22 @@ def test_config_refuses_non_positive_or_non_finite(field, value):
 def test_worker_refuses_a_bad_period(health):
     with pytest.raises(ValueError, match="worker 'tick': period_s must be positive"):
         health.worker("tick", period_s=0.0)
+
+
+def test_the_last_words_of_a_dying_node_name_the_exception_where_and_why():
+    def load():
+        raise TypeError("'<' not supported between instances of 'str' and 'int'")
+    try:
+        load()
+    except TypeError as exc:
+        message, values = fatal_report(exc)
+    assert message == ("not running: TypeError: '<' not supported between instances of 'str' "
+                       "and 'int' (raised at test_health.py:" + str(load.__code__.co_firstlineno
+                                                                   + 1) + " in load)")
+    assert dict(values) == {"exception": "TypeError",
+                            "reason": "'<' not supported between instances of 'str' and 'int'",
+                            "raised at": f"test_health.py:{load.__code__.co_firstlineno + 1} "
+                                         "in load"}
+    assert fatal_report(ValueError("never raised")) == (
+        "not running: ValueError: never raised",
+        [("exception", "ValueError"), ("reason", "never raised"), ("raised at", "")])

@@ -157,3 +157,19 @@ def test_a_dataclass_without_annotations_that_resolve_coerces_by_its_defaults():
 def test_get_param_and_has_param_come_as_a_pair():
     with pytest.raises(TypeError, match="both"):
         config_from_params(Params, get_param=lambda name: None)
+
+
+def test_the_values_read_are_logged_on_one_line_with_the_unset_ones_as_defaults():
+    lines = []
+    params = FakeParams({"node": {"graph": "g", "period": 2, "limits": {"high": 4}}})
+    params.read(Params, only=("graph", "period", "enabled", "limits"), log=lines.append)
+    assert lines == ["/node: parameters graph='g', period=2.0, limits/high=4.0; "
+                     "defaults enabled=True, limits/low=0.0"]
+
+
+def test_a_long_value_is_shortened_in_the_log_line():
+    lines = []
+    FakeParams({"node": {"graph": "x" * 300}}).read(Params, only=("graph",), log=lines.append)
+    assert lines[0].startswith("/node: parameters graph='xxx")
+    assert lines[0].endswith("...; defaults none")
+    assert len(lines[0]) < 200

@@ -26,7 +26,8 @@ def test_an_absent_person_starts_a_look_around_of_evenly_spaced_turns(posed_line
     ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=3)
     journal(ctx, make_instruction(1, B, function=3, target="Bob"))
     assert serve_here(ctx, 1, 1.0) == [Navigate(B, 1, yaw=math.pi / 2)]
-    assert ctx.mode == LOOKING and ctx.looking == [1, [math.pi, 3 * math.pi / 2], 1.0, None]
+    assert ctx.mode == LOOKING and ctx.looking == [1, [math.pi, 3 * math.pi / 2], 1.0, None,
+                                                   None]
     assert look_step(ctx, 2.0) == [Navigate(B, 1, yaw=math.pi)]
 
 
@@ -40,6 +41,54 @@ def test_a_heading_is_held_a_dwell_before_the_next_turn(posed_line_graph, tmp_pa
     assert leaf.status == Status.RUNNING and ctx.looking[3] == 1.6
     ctx.now = 1.6
     ctx.out = []
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 0, yaw=4 * math.pi / 3)]
+
+
+def test_a_heading_is_held_until_perception_analysed_frames_taken_there(posed_line_graph,
+                                                                        tmp_path):
+    people = PeopleAtPlaces()
+    people.analysed(0.5)                           # perception reports its frames
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=2,
+                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0)
+    start_look(ctx, 0, 0.0)
+    assert look_step(ctx, 1.0) == [Wait(1.6)]      # heading reached at 1.0
+    leaf = LookingAround(ctx)
+    people.analysed(0.9)                           # taken before the heading was reached
+    people.analysed(1.2)
+    ctx.now, ctx.out = 2.0, []                     # the dwell is over, one frame of two
+    leaf.tick_once()
+    assert ctx.out == [] and leaf.status == Status.RUNNING
+    people.analysed(1.8)
+    ctx.now = 2.1
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 0, yaw=4 * math.pi / 3)]
+
+
+def test_a_heading_is_left_after_the_wait_when_perception_falls_silent(posed_line_graph,
+                                                                       tmp_path):
+    people = PeopleAtPlaces()
+    people.analysed(0.5)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=2,
+                       look_dwell_s=0.6, look_frames=3, look_frames_wait_s=5.0)
+    start_look(ctx, 0, 0.0)
+    look_step(ctx, 1.0)
+    leaf = LookingAround(ctx)
+    ctx.now, ctx.out = 5.9, []
+    leaf.tick_once()
+    assert ctx.out == []
+    ctx.now = 6.0                                  # held 5 s: turn on all the same
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 0, yaw=4 * math.pi / 3)]
+
+
+def test_without_frame_reports_the_dwell_alone_counts(posed_line_graph, tmp_path):
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=2, look_dwell_s=0.6,
+                       look_frames=3)
+    start_look(ctx, 0, 0.0)
+    look_step(ctx, 1.0)
+    leaf = LookingAround(ctx)
+    ctx.now, ctx.out = 1.6, []
     leaf.tick_once()
     assert ctx.out == [Navigate(B, 0, yaw=4 * math.pi / 3)]
 

@@ -49,7 +49,8 @@ def test_a_number_passes_as_it_is_and_names_no_place():
     args = parse_args(REQUIRED + ["--destination", "42", "--function", "77"])
     assert (args.destination, args.function, args.status, args.destination_name) == \
         (42, 77, 0, "")
-    args = parse_args(REQUIRED + ["--destination", "office", "--destination-name", "study"])
+    args = parse_args(REQUIRED + ["--destination", "office", "--destination-name", "study",
+                                  "--function", "chat"])
     assert (args.destination, args.destination_name) == (expected_places()["office"], "study")
 
 
@@ -59,7 +60,8 @@ def test_a_number_passes_as_it_is_and_names_no_place():
     ("--destination", "kitchen", "charging_place (0)"),
 ])
 def test_a_bad_name_names_itself_and_the_choices(option, value, first_choice, capsys):
-    argv = REQUIRED + ["--destination", "alley"] if option != "--destination" else REQUIRED
+    argv = REQUIRED + (["--destination", "alley"] if option != "--destination" else []) + (
+        ["--function", "chat"] if option != "--function" else [])
     with pytest.raises(SystemExit) as exit_:
         parse_args(argv + [option, value])
     assert exit_.value.code == 2

@@ -234,6 +234,16 @@ def test_destination_name_of_another_node_is_refused(journal):
     assert [r.instruction.id for r in buffer.records()] == [1, 2]
 
 
+def test_a_function_that_is_no_robot_function_is_refused_naming_the_known_ones(journal):
+    buffer = TaskBuffer(journal, BufferConfig(functions=((1, "chat"), (3, "check_status"))))
+    buffer.submit(make_instruction(1, 2, function=3), now=0.0)
+    with pytest.raises(TaskBufferError, match=r"^instruction 2: function 99 is no robot function "
+                                              r"\(known: 1 chat, 3 check_status\)$"):
+        buffer.submit(make_instruction(2, 2, function=99), now=0.0)
+    assert [r.instruction.id for r in buffer.records()] == [1]
+    TaskBuffer(":memory:").submit(make_instruction(1, 2, function=99), now=0.0)  # no check
+
+
 def test_successor_whose_predecessor_never_arrives_fails_naming_it(journal):
     buffer = TaskBuffer(journal)  # waits 300 s
     buffer.submit(make_instruction(4, 1, previous_id=99), now=10.0)

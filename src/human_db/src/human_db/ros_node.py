@@ -4,7 +4,8 @@ Every service handler and timer runs under one supervision.ros_supervisor.Superv
 the database refuses is answered with success false (or found false) and the reason; an
 unexpected fault while serving a request is answered with rospy's service error naming the
 reason, counted as a failed request, and raises the node's "human_db: human_db: supervision"
-status to ERROR; the next request is served as usual."""
+status to ERROR; the next request is served as usual. People whose rows do not load (the store's
+quarantine) are left out and keep "human_db: database" at WARN, naming each row and why."""
 import dataclasses
 import os
 import threading
@@ -30,6 +31,8 @@ from human_db.store import HumanStore, StoreConfig
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
+
+QUARANTINE_SHOWN = 20   # quarantined rows listed on /diagnostics (their count always is)
 
 
 @dataclass(frozen=True)
@@ -102,6 +105,8 @@ class HumanDbNode:
         self._known = rospy.Publisher("humans/known", HumanArray, queue_size=1, latch=True)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         self._publish_table()
+        for row, reason in self.store.quarantined.items():
+            rospy.logwarn("human_db: humans row %d: %s", row, reason)
         handlers = (("~register", RegisterHuman, self._register), ("~get", GetHuman, self._get),
                     ("~update", UpdateHuman, self._update),
                     ("~identify", IdentifyHuman, self._identify),
@@ -271,10 +276,18 @@ class HumanDbNode:
             status.level = DiagnosticStatus.WARN if new_failures else DiagnosticStatus.OK
             status.message = (f"{people} people" if not new_failures else
                               f"{new_failures} failed requests; last: {last_failure}")
+        quarantined = self.store.quarantined
+        if quarantined and status.level != DiagnosticStatus.ERROR:
+            status.level = DiagnosticStatus.WARN
+            status.message += (f"; {len(quarantined)} row(s) that do not load quarantined "
+                               "(reasons in the values)")
         self._failed_at_last_report = counts["failed"]
         values = dict(people=people, requests=counts["requests"], refused=counts["refused"],
                       failed=counts["failed"], busy_retries=self.store.busy_retries,
-                      last_write_ms=f"{write_ms:.2f}", revision=self.store.revision)
+                      last_write_ms=f"{write_ms:.2f}", revision=self.store.revision,
+                      quarantined_rows=len(quarantined))
+        values.update((f"humans row {row}", reason)
+                      for row, reason in list(quarantined.items())[:QUARANTINE_SHOWN])
         status.values = [KeyValue(key, str(value)) for key, value in values.items()]
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()

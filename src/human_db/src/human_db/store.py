@@ -1,5 +1,10 @@
 """The household store (thesis 000 §3.4): SQLite in WAL mode with schema migrations, a history of
 observations, and safe concurrent use (one connection per working thread, busy timeout + retry).
+
+A person's row that does not load (SQLite keeps any value in any column: a BLOB or number for a
+text, text for a time, a schedule entry of the wrong kind; written by hand or damaged) is left
+out of `humans` and the shirt table, with the reason in `quarantined`; `get` refuses it with the
+reason. The other people are served as usual.
 """
 import math
 import os
@@ -71,6 +76,7 @@ class HumanStore:
         self._lock = threading.Lock()  # guards the pool and the counters
         self._pool = []                # idle connections; a working thread takes its own
         self._connections = []         # every connection, to close them all
+        self._quarantined = {}         # humans row id -> why it does not load (last `humans`)
         check_database_file(self.path)
         self._open()
 
@@ -176,6 +182,12 @@ class HumanStore:
         return result
 
     @property
+    def quarantined(self):
+        """{humans row id: reason} of the rows the last `humans` left out: they do not load."""
+        with self._lock:
+            return dict(self._quarantined)
+
+    @property
     def revision(self):
         """A number that changes whenever this process commits a write."""
         with self._lock:
@@ -270,29 +282,37 @@ class HumanStore:
         return self._transaction(lambda c: _load_human(c, "ip = ?", ip), write=False)
 
     def humans(self):
-        """Every household member, ordered by name."""
+        """Every household member whose row loads, ordered by name; the others are left out
+        and kept in `quarantined` with the reason."""
         def work(connection):
             rows = connection.execute(f"SELECT {', '.join(_HUMAN_COLUMNS)} FROM humans "
                                       "ORDER BY name").fetchall()
             schedules = {}
-            for row in connection.execute("SELECT human_id, start_s, end_s, place, activity "
-                                          "FROM schedules"):
-                schedules.setdefault(row[0], []).append(ScheduleEntry(*row[1:]))
-            return [_human_from_row(row, schedules.get(row[0], ())) for row in rows]
-        return self._transaction(work, write=False)
+            for row in connection.execute("SELECT human_id, rowid, start_s, end_s, place, "
+                                          "activity FROM schedules"):
+                schedules.setdefault(row[0], []).append(row[1:])
+            humans, quarantined = [], {}
+            for row in rows:
+                try:
+                    humans.append(_human_from_row(row, schedules.get(row[0], ())))
+                except InvalidHuman as error:
+                    quarantined[row[0]] = f"quarantined: {self.path}: {error}"
+            return humans, quarantined
+        humans, quarantined = self._transaction(work, write=False)
+        with self._lock:
+            self._quarantined = quarantined
+        return humans
 
     def count(self):
         return self._transaction(
             lambda c: c.execute("SELECT COUNT(*) FROM humans").fetchone()[0], write=False)
 
     def shirt_colour_table(self):
-        """(names, (M, 3, 3) int array) of every person the robot has met (a shirt registered),
-        ordered by name: the input of identification, read with one query."""
-        rows = self._transaction(lambda c: c.execute(
-            f"SELECT name, {', '.join(COLOUR_COLUMNS)} FROM humans WHERE shirt_known = 1 "
-            "ORDER BY name").fetchall(), write=False)
-        colours = np.array([row[1:] for row in rows], dtype=np.int64).reshape(len(rows), 3, 3)
-        return [row[0] for row in rows], colours
+        """(names, (M, 3, 3) int array) of every person the robot has met (a shirt registered)
+        whose row loads, ordered by name: the input of identification."""
+        met = [human for human in self.humans() if human.shirt_colour is not None]
+        colours = np.array([h.shirt_colour for h in met], dtype=np.int64).reshape(len(met), 3, 3)
+        return [human.name for human in met], colours
 
     def history(self, name, since=-math.inf, until=math.inf):
         """The person's history with since <= time <= until [s], oldest first."""
@@ -539,16 +559,52 @@ def _load_human(connection, where, key):
     if row is None:
         what = "has phone IP" if where.startswith("ip") else "named"
         raise UnknownHuman(f"no household member {what} {key!r}")
-    entries = [ScheduleEntry(*r) for r in connection.execute(
-        "SELECT start_s, end_s, place, activity FROM schedules WHERE human_id = ?", (row[0],))]
-    return _human_from_row(row, entries)
+    schedules = connection.execute("SELECT rowid, start_s, end_s, place, activity FROM schedules "
+                                   "WHERE human_id = ?", (row[0],)).fetchall()
+    return _human_from_row(row, schedules)
 
 
 def _human_from_row(row, schedules):
+    """The Human of a humans row and its schedules rows (rowid, start_s, end_s, place,
+    activity); InvalidHuman naming the row and why when it does not load."""
     values = dict(zip(_HUMAN_COLUMNS, row))
-    colours = [values[c] for c in COLOUR_COLUMNS]
-    shirt = (colours[0:3], colours[3:6], colours[6:9]) if values["shirt_known"] else None
-    return Human(name=values["name"], ip=values["ip"], gender=values["gender"],
-                 age=values["age"], shirt_colour=shirt,
-                 location=values["location"], activity=values["activity"],
-                 schedules=tuple(schedules), last_seen=values["last_seen"])
+    try:
+        problem = _column_problem(values)
+        if problem:
+            raise InvalidHuman(problem)
+        colours = [values[c] for c in COLOUR_COLUMNS]
+        shirt = (colours[0:3], colours[3:6], colours[6:9]) if values["shirt_known"] else None
+        return Human(name=values["name"], ip=values["ip"], gender=values["gender"],
+                     age=values["age"], shirt_colour=shirt,
+                     location=values["location"], activity=values["activity"],
+                     schedules=tuple(_schedule_entry(r) for r in schedules),
+                     last_seen=values["last_seen"])
+    except InvalidHuman as error:
+        raise InvalidHuman(f"humans row {values['id']} ({values['name']!r:.40}) does not load: "
+                           f"{error}") from None
+
+
+_TEXT_COLUMNS = ("name", "ip", "gender", "location", "activity")
+
+
+def _column_problem(values):
+    """What a humans row holds that its columns' kinds do not allow (SQLite stores any value
+    in any column), or ""."""
+    for name in _TEXT_COLUMNS:
+        if not isinstance(values[name], str):
+            return f"column {name} holds {values[name]!r:.40}, not text"
+    seen = values["last_seen"]
+    if seen is not None and not (isinstance(seen, int | float) and math.isfinite(seen)):
+        return f"column last_seen holds {seen!r:.40}, not a time"
+    return ""
+
+
+def _schedule_entry(row):
+    """The ScheduleEntry of a schedules row (rowid, start_s, end_s, place, activity)."""
+    rowid, start, end, place, activity = row
+    for name, value, kind in (("start_s", start, int | float), ("end_s", end, int | float),
+                              ("place", place, str), ("activity", activity, str)):
+        if not isinstance(value, kind):
+            raise InvalidHuman(f"schedules row {rowid}: column {name} holds {value!r:.40}, "
+                               f"not {'text' if kind is str else 'a number'}")
+    return ScheduleEntry(start, end, place, activity)

@@ -32,8 +32,9 @@ MODES = ("static", "mapping")
 
 @dataclass(frozen=True)
 class MapServerParams:
-    """~parameters of the node (the map file is its argument or ~map_file)."""
+    """~parameters of the node (the map file is its argument or ~map_file; ~map_file wins)."""
 
+    map_file: str = ""
     frame_id: str = "map"
     mode: str = "static"             # one of MODES
     base_frame: str = "base_link"
@@ -42,8 +43,8 @@ class MapServerParams:
 
 
 class MapServerNode:
-    def __init__(self, map_file):
-        params = config_from_params(MapServerParams)
+    def __init__(self, params):
+        map_file = params.map_file
         self.frame_id = params.frame_id
         self.mode = params.mode
         if self.mode not in MODES:
@@ -130,12 +131,12 @@ class MapServerNode:
 
 def main(argv):
     rospy.init_node("map_server")
-    map_file = argv[0] if argv else rospy.get_param("~map_file", "")
-    if not map_file:
-        rospy.logfatal("map_server mock: give the map YAML as argument or ~map_file")
-        return 1
     try:
-        MapServerNode(map_file)
+        params = config_from_params(MapServerParams, map_file=argv[0] if argv else "")
+        if not params.map_file:
+            rospy.logfatal("map_server mock: give the map YAML as argument or ~map_file")
+            return 1
+        MapServerNode(params)
     except (MapError, ValueError) as error:
         rospy.logfatal("map_server mock: %s", error)
         return 1

@@ -4,13 +4,20 @@ Reads the mount from the private parameter dictionary named by ~section (default
 as in config/penguin.yaml).
 """
 import time
+from dataclasses import dataclass, field, make_dataclass
 
 import rospy
 import tf2_ros
+from supervision.ros_params import config_from_params
 
 from penguin_base.conversions import transform_msg
 
 MOUNT_KEYS = ("parent_frame", "child_frame", "x", "y", "z", "yaw")
+
+
+@dataclass(frozen=True)
+class MountTfParams:
+    section: str = "laser_mount"   # the private parameter dictionary that holds the mount
 
 
 def read_mount(values, section):
@@ -28,10 +35,12 @@ def read_mount(values, section):
 
 def main():
     rospy.init_node("mount_tf")
-    section = rospy.get_param("~section", "laser_mount")
     try:
-        parent, child, x, y, z, yaw = read_mount(rospy.get_param(f"~{section}", {}), section)
-    except ValueError as error:
+        section = config_from_params(MountTfParams).section
+        mount = config_from_params(make_dataclass(  # one dict field named after the section
+            "MountParams", [(section, dict, field(default_factory=dict))]))
+        parent, child, x, y, z, yaw = read_mount(getattr(mount, section), section)
+    except (TypeError, ValueError) as error:   # TypeError: a section that is no identifier
         rospy.logfatal("mount_tf: %s", error)
         return 2
     broadcaster = tf2_ros.StaticTransformBroadcaster()

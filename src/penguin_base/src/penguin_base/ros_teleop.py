@@ -1,10 +1,12 @@
 """ROS node `teleop`: the five-key teleoperation program (thesis 002 §3.3.2) on /cmd_vel."""
 import signal
 import time
+from dataclasses import dataclass, field
 
 import rospy
 from geometry_msgs.msg import Twist
 from std_msgs.msg import UInt8
+from supervision.ros_params import config_from_params
 
 from penguin_base.config import ConfigError, TeleopConfig
 from penguin_base.conversions import twist_msg
@@ -12,6 +14,11 @@ from penguin_base.teleop import TeleopState
 from penguin_base.teleop_terminal import run_teleop
 
 FLUSH_DELAY = 0.3  # [s] let the final zero command reach the subscribers before exiting
+
+
+@dataclass(frozen=True)
+class TeleopParams:
+    teleop: dict = field(default_factory=dict)   # TeleopConfig's fields (config/penguin.yaml)
 
 
 def _raise_interrupt(_signum, _frame):
@@ -22,8 +29,8 @@ def main():
     rospy.init_node("teleop", disable_signals=True)
     signal.signal(signal.SIGTERM, _raise_interrupt)
     try:
-        config = TeleopConfig.from_dict(rospy.get_param("~teleop", {}))
-    except ConfigError as error:
+        config = TeleopConfig.from_dict(config_from_params(TeleopParams).teleop)
+    except (ConfigError, ValueError) as error:
         rospy.logfatal("teleop: bad configuration: %s", error)
         return 2
     cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=1)

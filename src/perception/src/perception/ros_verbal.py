@@ -4,9 +4,11 @@ Thesis 000 §3.3 / Fig. 3-15: the speaker is found from the phone IP in the huma
 sentence is read for sentiment, physical terms, the requested robot function and its target, and
 the result becomes one instruction or a chain (§4.2.1) with Table 5-5 priorities. The chain is
 submitted in order with id 0 (task_planner.submission.submit_chain): the task buffer allocates
-each id, and a successor names the id allocated for its predecessor. A request the task planner
-does not take (refused, or the service not reachable) is said on /robot/say with the reason and
-logged.
+each id, and a successor names the id allocated for its predecessor. A request not taken is said
+on /robot/say with the reason and logged: one refused here (empty, too long, not English, no
+robot function, an unknown name, a bad phone address) and one the task planner does not take
+(refused, or the service not reachable). An unknown speaker's answer to the introduction
+dialogue is no request and gets no reply here.
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault while
 an utterance is handled fails that utterance (the robot says a refusal naming the reason on
@@ -33,7 +35,8 @@ from perception.conversions import utterance_time
 from perception.requests import RejectedUtterance, keyword_config_from_dict
 from perception.ros_people import HumanTableDirectory
 from perception.sentiment import SentimentAnalyzer
-from perception.verbal_instructions import InstructionBuilder, VerbalPipeline, refusal_sentence
+from perception.verbal_instructions import (InstructionBuilder, VerbalPipeline, refusal_sentence,
+                                            rejection_sentence)
 
 
 @dataclass(frozen=True)
@@ -165,6 +168,7 @@ class VerbalNode:
             with self._lock:
                 self._counts["refused"] += 1
             rospy.logwarn("verbal: voice message from %s refused: %s", sender, error)
+            self._say.publish(String(rejection_sentence(error)))
             return
         for note in result.notes:
             rospy.logwarn("verbal: %s", note)

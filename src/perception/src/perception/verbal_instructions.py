@@ -7,13 +7,14 @@ positive. People are looked up through a PeopleDirectory (the human database in 
 dict in tests).
 
 The instructions carry provisional ids, 1, 2, ... in chain order (task_planner.submission): the
-task buffer allocates the real ones when the node submits them. A request the task planner does
-not take is said back to the speaker (`refusal_sentence`).
+task buffer allocates the real ones when the node submits them. Every request not taken is said
+back to the speaker with the reason: one refused here (`rejection_sentence`), and one the task
+planner did not take (`refusal_sentence`).
 """
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
-from task_planner.instruction import HUMAN, Instruction
+from task_planner.instruction import HUMAN, NAME_MAX_CHARS, Instruction
 from task_planner.robot_functions import about_text
 
 from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, check_text,
@@ -21,6 +22,9 @@ from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, 
 from perception.sentiment import mood_text
 
 ANONYMOUS = "anonymous"
+# An unknown phone's request is served as "anonymous@<address>", which must fit an instruction's
+# source (NAME_MAX_CHARS): a longer address is refused, not a fault.
+PHONE_MAX_CHARS = NAME_MAX_CHARS - len(ANONYMOUS) - 1
 
 
 @dataclass(frozen=True)
@@ -91,6 +95,16 @@ def priority_level(physical_terms, sentiment):
     if sentiment not in PRIORITY_LEVELS:
         raise ValueError(f"unknown sentiment label {sentiment!r}")
     return sentiment
+
+
+def check_phone(ip):
+    """Refuse a phone address that cannot name a request's source: longer than PHONE_MAX_CHARS,
+    or holding spaces or control characters. Raises RejectedUtterance naming the problem."""
+    if len(ip) > PHONE_MAX_CHARS:
+        raise RejectedUtterance(f"the phone address has {len(ip)} characters, more than the "
+                                f"{PHONE_MAX_CHARS} a phone address may have")
+    if not ip.isprintable() or any(c.isspace() for c in ip):
+        raise RejectedUtterance(f"the phone address {ip!r} holds spaces or control characters")
 
 
 def interpret(text, keywords, analyser, directory):
@@ -198,8 +212,14 @@ class VerbalPipeline:
 
     def process(self, text, ip, start_time):
         """Returns (Interpretation, BuildResult); raises RejectedUtterance naming the problem."""
+        check_phone(ip)
         interpretation = interpret(text, self.keywords, self.analyser, self.directory)
         return interpretation, self.builder.build(interpretation, ip, start_time)
+
+
+def rejection_sentence(reason):
+    """What the robot says when it does not take a spoken request, `reason` saying why."""
+    return f"Sorry, I cannot take your request: {reason}"
 
 
 def refusal_sentence(submission):
@@ -211,4 +231,4 @@ def refusal_sentence(submission):
         taken = ", ".join(str(i.id) for i in submission.accepted)
         return (f"Sorry, I could only take part of your request (as request {taken}): "
                 f"{submission.refusal}")
-    return f"Sorry, I cannot take your request: {submission.refusal}"
+    return rejection_sentence(submission.refusal)

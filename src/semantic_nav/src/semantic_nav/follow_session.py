@@ -3,7 +3,9 @@
 ROS-free so the node (ros_follower.py) stays thin: the node feeds scans and the clock, sends
 the (v, ω) it gets back and reports the feedback and the outcome. A control step that raises
 ends the sentence too (`step_failed`, `FollowSession.fail`): aborted, with the reason in full and
-in one spoken sentence.
+in one spoken sentence. A sentence that ends by itself is announced as well: completed ("I have
+arrived."), or not finished in time (the reason); one stopped from outside (preempted, replaced)
+is not.
 """
 import math
 from dataclasses import dataclass
@@ -17,6 +19,7 @@ from semantic_nav.instruction_layer import UnfollowableInstruction, check_follow
 from semantic_nav.splitting import InstructionError
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
+ARRIVED = "I have arrived."   # said when a sentence is completed
 
 
 @dataclass
@@ -95,14 +98,17 @@ class FollowSession:
     def step(self, ranges, laser, now):
         """One control step -> (v, w); sets self.outcome when the sentence is done or too long."""
         if now - self.started > self.max_duration:
-            self.outcome = Outcome(ABORTED, self.index, f"not finished after "
-                                                        f"{self.max_duration:.0f} s")
+            self.outcome = Outcome(ABORTED, self.index,
+                                   f"not finished after {self.max_duration:.0f} s",
+                                   f"Sorry, I could not finish following your directions in "
+                                   f"{self.max_duration:.0f} seconds. I am staying here.")
             return 0.0, 0.0, self.feedback()
         command = self.follower.step(ranges, laser)
         self.index = int(command.index)
         if command.done:
             self.outcome = Outcome(SUCCEEDED, len(self.classes),
-                                   f"completed {len(self.classes)} simple instruction(s)")
+                                   f"completed {len(self.classes)} simple instruction(s)",
+                                   ARRIVED)
             return 0.0, 0.0, self.feedback(command)
         return float(command.v), float(command.w), self.feedback(command)
 

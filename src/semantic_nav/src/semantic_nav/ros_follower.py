@@ -5,7 +5,9 @@ Callbacks only cache under a lock (scan, odometry, new goal, preemption, voice s
 timer at the follower's control period does the work. The robot is stopped (zero /cmd_vel) on
 preemption, when no scan arrives for ~scan_timeout, when a sentence ends and on exit. A sentence
 the follower must not try (a corner beyond the third, not English, no known word) is refused
-before the robot moves, and the reason is said on /robot/say.
+before the robot moves, and the reason is said on /robot/say; so is the end of a sentence that
+ends by itself ("I have arrived.", or why it was not finished in ~max_duration), from
+/voice_message or the action alike (follow_session).
 
 Every timer, subscriber and action server callback runs under one
 supervision.ros_supervisor.Supervisor ("semantic_nav: semantic_nav: supervision"): a fault in

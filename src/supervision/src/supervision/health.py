@@ -6,6 +6,7 @@ thread for good and rospy restarts nothing, so every worker runs through `Health
 catches everything, logs each kind of fault once with its context, and keeps the node at ERROR
 while it is degraded: a worker's last run failed, a fault is recent, or a worker stopped beating.
 """
+import os
 import threading
 import time
 import traceback
@@ -43,6 +44,24 @@ def fault_text(exc):
     """'TypeName: message' of an exception, on one line."""
     text = str(exc).replace("\n", " ").strip()
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def fault_origin(exc):
+    """'file.py:line in function' where an exception was raised (its innermost frame); ''
+    for one never raised."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return ""
+    frame = frames[-1]
+    return f"{os.path.basename(frame.filename)}:{frame.lineno} in {frame.name}"
+
+
+def fatal_report(exc):
+    """(message, [(key, value)]) of the ERROR status a node says before it dies of `exc`."""
+    origin = fault_origin(exc)
+    message = f"not running: {fault_text(exc)}" + (f" (raised at {origin})" if origin else "")
+    return message, [("exception", type(exc).__name__), ("reason", str(exc)),
+                     ("raised at", origin)]
 
 
 class Health:

@@ -9,6 +9,10 @@ value is itself a dataclass is read from the sub-namespace of its name (~stt/mod
 is set, else it keeps its default. Values are coerced to the field's type (its annotation, else
 its default's type); a value that does not fit, or that the config's constructor, `check()` or
 `validate()` refuses, is a ValueError naming the resolved parameter or namespace.
+
+Each call logs the values it read, once, on one INFO line (`/sim2d: parameters speed=2.0, ...;
+defaults seed=0, ...`, the unset ones as defaults), so a launch argument that never reached the
+node (roslaunch ignores a misspelt `spede:=2`) shows as the value the node runs with.
 """
 import dataclasses
 import types
@@ -19,6 +23,7 @@ import rospy
 MISSING = dataclasses.MISSING
 SCALARS = (bool, int, float, str)
 CONTAINERS = (tuple, list, dict)
+SHOWN_CHARS = 120   # longest value the start-up line shows in full
 
 
 @dataclasses.dataclass(frozen=True)
@@ -28,10 +33,11 @@ class ParamSource:
     get: typing.Callable = rospy.get_param
     has: typing.Callable = rospy.has_param
     resolve: typing.Callable = rospy.resolve_name
+    log: typing.Callable = rospy.loginfo   # the start-up line of the values read
 
 
 def config_from_params(cls, namespace="~", *, only=None, hint="", get_param=None,
-                       has_param=None, resolve_name=None, **defaults):
+                       has_param=None, resolve_name=None, log=None, **defaults):
     """An instance of dataclass `cls` read from the parameters `namespace`/<field>.
 
     Args:
@@ -39,20 +45,39 @@ def config_from_params(cls, namespace="~", *, only=None, hint="", get_param=None
         hint: appended to the KeyError of a missing required parameter (where to set it).
         get_param, has_param, resolve_name: rospy's by default (a fake in tests; resolving
             is then the identity unless given).
+        log: takes the line of the values read; rospy.loginfo by default, nothing when
+            get_param and has_param are fakes.
         defaults: per-field defaults replacing the dataclass's (computed ones, e.g. under
             ROS_HOME); a parameter that is set still wins.
     """
     if get_param is None and has_param is None:
-        source = ParamSource(resolve=resolve_name or rospy.resolve_name)
+        source = ParamSource(resolve=resolve_name or rospy.resolve_name,
+                             log=log or rospy.loginfo)
     elif get_param is None or has_param is None:
         raise TypeError("config_from_params: give both get_param and has_param, or neither")
     else:
-        source = ParamSource(get_param, has_param, resolve_name or str)
+        source = ParamSource(get_param, has_param, resolve_name or str, log or (lambda line: None))
     prefix = namespace if namespace.endswith(("~", "/")) else namespace + "/"
-    return _read(cls, prefix, source, only, hint, defaults)
+    read = []
+    config = _read(cls, prefix, source, only, hint, defaults, read)
+    source.log(values_line(source.resolve(prefix).rstrip("/") or "/", read))
+    return config
 
 
-def _read(cls, prefix, source, only, hint, defaults):
+def values_line(where, read):
+    """`where: parameters a=1, b='x'; defaults c=2.0` of `read`: (name, value, set) each."""
+    def shown(entries):
+        return ", ".join(f"{name}={_shown(value)}" for name, value, _ in entries) or "none"
+    return (f"{where}: parameters {shown([e for e in read if e[2]])}; "
+            f"defaults {shown([e for e in read if not e[2]])}")
+
+
+def _shown(value):
+    text = repr(value)
+    return text if len(text) <= SHOWN_CHARS else text[:SHOWN_CHARS - 3] + "..."
+
+
+def _read(cls, prefix, source, only, hint, defaults, read, path=""):
     fields = [f for f in dataclasses.fields(cls) if f.init]
     unknown = set(defaults) - {f.name for f in fields}
     if unknown:
@@ -69,12 +94,15 @@ def _read(cls, prefix, source, only, hint, defaults):
         nested = _dataclass_type(hints.get(field.name), default)
         if nested is not None and source.has(name):
             base = {} if default is MISSING else _field_values(default)
-            values[field.name] = _read(nested, name + "/", source, None, hint, base)
+            values[field.name] = _read(nested, name + "/", source, None, hint, base, read,
+                                       f"{path}{field.name}/")
         elif nested is None and source.has(name):
             values[field.name] = _coerce(source.get(name), hints.get(field.name), default,
                                          source.resolve(name))
+            read.append((path + field.name, values[field.name], True))
         elif default is not MISSING:
             values[field.name] = default
+            read.append((path + field.name, default, False))
         else:
             raise KeyError(f"parameter {source.resolve(name)} is not set{hint}")
     try:

@@ -7,6 +7,10 @@
 
 The health status ("<name>: supervision") goes out on /diagnostics from a thread of its own on
 the wall clock, so it keeps reporting when a worker hangs or the ROS clock stops.
+
+A node's main runs under `run_node`, the last guard: whatever it raises (a parameter, file or
+journal that cannot be used, or a bug) is said on /diagnostics as an ERROR before the node exits
+1, so a node that respawns and keeps dying says why.
 """
 import contextlib
 import threading
@@ -16,13 +20,55 @@ import traceback
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
-from supervision.health import Health, HealthConfig
+from supervision.health import Health, HealthConfig, fatal_report
 from supervision.ros_params import config_from_params
 
 
 def health_config_from_ros():
     """~supervision/fault_hold_s, ~supervision/stale_periods, ~supervision/stale_min_s."""
     return config_from_params(HealthConfig, "~supervision")
+
+
+FATAL_WAIT_S = 3.0   # [s wall] a dying node waits this long for a /diagnostics subscriber
+FATAL_FLUSH_S = 0.5  # [s wall] and lets rospy's sending thread deliver its status this long
+
+
+def run_node(name, main, hardware_id="", expected=(ValueError,), log_name=""):
+    """main() of a node (after rospy.init_node) under a last guard; returns the exit status.
+
+    An exception main raises is logged ("<log_name>: not starting: ...", log_name defaulting
+    to `name`) and said on /diagnostics as an ERROR status `name` ("not running: TypeError: ...
+    (raised at file.py:47 in f)") before the node exits 1. `expected` ones (a parameter or file
+    the user must fix) are logged on one line, the others with their traceback."""
+    try:
+        return main()
+    except Exception as exc:  # noqa: BLE001 - the last guard: say why, then die
+        if isinstance(exc, expected):
+            rospy.logfatal("%s: not starting: %s", log_name or name, exc)
+        else:
+            rospy.logfatal("%s: not running:\n%s", log_name or name, traceback.format_exc())
+        say_fatal(name, exc, hardware_id)
+        return 1
+
+
+def say_fatal(name, exc, hardware_id=""):
+    """Publish the ERROR status of a node about to die of `exc` (supervision.health
+    .fatal_report) on /diagnostics, latched, after waiting up to FATAL_WAIT_S for a
+    subscriber (a monitor or the aggregator)."""
+    if rospy.is_shutdown():
+        return
+    message, values = fatal_report(exc)
+    status = DiagnosticStatus(level=DiagnosticStatus.ERROR, name=name, message=message,
+                              hardware_id=hardware_id or rospy.get_name(),
+                              values=[KeyValue(key=k, value=v) for k, v in values])
+    pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10, latch=True)
+    deadline = time.monotonic() + FATAL_WAIT_S
+    while pub.get_num_connections() == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    array = DiagnosticArray(status=[status])
+    array.header.stamp = rospy.Time.now()
+    pub.publish(array)
+    time.sleep(FATAL_FLUSH_S)   # publish only queues the message: the process must outlive it
 
 
 class Supervisor:

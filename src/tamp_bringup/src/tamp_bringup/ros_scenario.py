@@ -49,6 +49,7 @@ import yaml
 from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 from supervision.health import fault_text
+from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
 from tamp_msgs.srv import GetTaskBuffer
@@ -63,6 +64,20 @@ OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
 ACTIVE, HUMAN = 1, 0  # tamp_msgs/InstructionState ACTIVE, tamp_msgs/Instruction HUMAN
 WHO_WAIT_S = 3.0  # [s of simulated time] a question waits this long for the task buffer state
                   # that names the stranger asked, when several people could answer
+
+
+@dataclasses.dataclass(frozen=True)
+class ScenarioParams:
+    """~parameters of the node."""
+
+    scenario: str                     # the scenario file (required)
+    record: str                       # where the record JSON goes (required)
+    timeout: float = 0.0              # [s] > 0: replaces the file's timeout_s
+    trajectory_period: float = 0.5    # [s of simulated time] between trajectory points
+    command: str = "roslaunch tamp_bringup social_household.launch"   # shown in the report
+    robots: tuple = ("",)             # namespaces of the robots ("" = the one robot's topics)
+    setup_timeout: float = 300.0      # [s] wall-clock wait for the household to come up
+    start_place: str = "charging_place"
 
 
 def _changed(changes, now, place):
@@ -501,16 +516,13 @@ class ScenarioNode:
 def main():
     rospy.init_node("scenario")
     sup = Supervisor("tamp_bringup: scenario")
-    scenario = load_scenario(rospy.get_param("~scenario"))
-    timeout = float(rospy.get_param("~timeout", 0.0))  # > 0: replaces the file's timeout_s
-    if timeout > 0:
-        scenario = dataclasses.replace(scenario, timeout_s=timeout)
-    node = ScenarioNode(scenario, rospy.get_param("~record"),
-                        float(rospy.get_param("~trajectory_period", 0.5)),
-                        rospy.get_param("~command",
-                                        "roslaunch tamp_bringup social_household.launch"),
-                        rospy.get_param("~robots", [""]))
-    if not node.setup(float(rospy.get_param("~setup_timeout", 300.0)), sup):
+    params = config_from_params(ScenarioParams)
+    scenario = load_scenario(params.scenario)
+    if params.timeout > 0:
+        scenario = dataclasses.replace(scenario, timeout_s=params.timeout)
+    node = ScenarioNode(scenario, params.record, params.trajectory_period, params.command,
+                        params.robots)
+    if not node.setup(params.setup_timeout, sup):
         return 1
-    finished = node.run(rospy.get_param("~start_place", "charging_place"))
+    finished = node.run(params.start_place)
     return 0 if finished else 1

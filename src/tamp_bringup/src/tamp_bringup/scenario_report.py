@@ -25,6 +25,7 @@ from task_planner.fleet import RobotStart, run_fleet
 from task_planner.fleet_exact import fleet_exact_optimum
 from task_planner.fleet_registry import FLEET_ALLOCATORS, make_allocator
 from task_planner.instruction import HUMAN, Instruction, InvalidInstruction
+from task_planner.journal_rows import column_problem
 from task_planner.metrics import reward_curve
 from task_planner.planner_registry import SCENARIO_MODEL, entries, make_planner
 from task_planner.problem import Problem, order_to_schedule, schedule_reward
@@ -49,7 +50,7 @@ class JournalEntry:
 
 def read_journal(path):
     """Every instruction of an executor journal, oldest first, without changing the file.
-    Rows the executor quarantined (no valid instruction, never run) are left out."""
+    Rows the executor quarantines (that do not load: TaskBuffer) are left out."""
     uri = f"file:{Path(path).resolve()}?mode=ro"
     with sqlite3.connect(uri, uri=True) as db:
         rows = db.execute(f"SELECT {', '.join(_INSTRUCTION_COLUMNS)}, state, received_time, "
@@ -57,6 +58,8 @@ def read_journal(path):
                           "FROM instructions ORDER BY seq").fetchall()
     entries = []
     for row in rows:
+        if column_problem(row, STATE_NAMES):   # a NULL, text or BLOB of the wrong kind
+            continue
         try:
             instruction = Instruction(**dict(zip(_INSTRUCTION_COLUMNS, row[:14])))
         except InvalidInstruction:

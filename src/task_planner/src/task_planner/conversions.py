@@ -28,6 +28,14 @@ def people_from_msg(msg, names):
     return sightings, schedules
 
 
+def sightings_from_observed(msg, names):
+    """One analysed camera frame (/humans/observed) -> (its stamp [s], [(name, node)] of the
+    people perception identified at a place of the graph)."""
+    seen = [(h.name, names.index(h.location)) for h in msg.humans
+            if h.name and h.localised and h.location in names]
+    return msg.header.stamp.to_sec(), seen
+
+
 def instruction_from_msg(msg):
     """Raises InvalidInstruction naming the offending field."""
     return Instruction(type=int(msg.type), **{name: getattr(msg, name) for name in _FIELDS})

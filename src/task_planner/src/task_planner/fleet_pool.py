@@ -17,12 +17,17 @@ robot at a time (`enter`, `leave`), under the robot's lease. A restarted executo
 whatever it held before (`release_all`) and closes in the pool what its journal closed while the
 pool did not learn of it (`settle`: it stopped between the two writes). Times are passed in by
 the caller [s] (wall or ROS time, one clock for the fleet).
+
+A pool row whose instruction does not load (not JSON, a field of the wrong kind or unknown, an
+instruction Instruction refuses: written by hand or damaged) is skipped by `since` and kept in
+`quarantined` with the reason; the robots go on with the others.
 """
 import json
 from dataclasses import asdict, dataclass
 
-from task_planner.instruction import Instruction
+from task_planner.instruction import Instruction, InvalidInstruction
 from task_planner.journal_file import JournalFileError, open_journal
+from task_planner.journal_rows import fields_problem
 
 OPEN, CLAIMED, DONE, FAILED, CANCELLED = range(5)
 STATE_NAMES = ("open", "claimed", "done", "failed", "cancelled")
@@ -67,6 +72,8 @@ class FleetPool:
         except JournalFileError as error:
             raise FleetPoolError(str(error)) from error
         self._db.execute(f"PRAGMA busy_timeout={BUSY_TIMEOUT_MS}")
+        self.path = str(path)
+        self.quarantined = {}   # id -> reason of the pool rows `since` skipped
 
     def close(self):
         self._db.close()
@@ -76,9 +83,10 @@ class FleetPool:
     def next_id(self, above=0):
         """A fresh id for the fleet: more than every id handed out or shared, and than `above`."""
         with self._write():
-            row = self._db.execute("SELECT last FROM pool_ids").fetchone()
+            last = self._db.execute("SELECT COALESCE(MAX(last), 0) FROM pool_ids WHERE "
+                                    "typeof(last) = 'integer'").fetchone()[0]
             largest = self._db.execute("SELECT COALESCE(MAX(id), 0) FROM pool").fetchone()[0]
-            new = max(row[0] if row else 0, largest, int(above)) + 1
+            new = max(last, largest, int(above)) + 1
             self._db.execute("DELETE FROM pool_ids")
             self._db.execute("INSERT INTO pool_ids VALUES (?)", (new,))
             return new
@@ -111,10 +119,19 @@ class FleetPool:
         return None if row is None else row[0]
 
     def since(self, seq):
-        """(latest seq, [Instruction shared after `seq`]), in the order they were shared."""
-        rows = self._db.execute("SELECT seq, instruction FROM pool WHERE seq>? ORDER BY seq",
-                                (int(seq),)).fetchall()
-        return (rows[-1][0] if rows else int(seq)), [_decode(text) for _, text in rows]
+        """(latest seq, [Instruction shared after `seq`]), in the order they were shared; a row
+        that does not load is left out and kept in `quarantined`."""
+        rows = self._db.execute("SELECT seq, id, instruction FROM pool WHERE seq>? AND "
+                                "typeof(seq) = 'integer' ORDER BY seq", (int(seq),)).fetchall()
+        shared = []
+        for _, instruction_id, text in rows:
+            try:
+                shared.append(_decode(text))
+            except FleetPoolError as error:
+                self.quarantined[instruction_id] = (f"quarantined: fleet pool row "
+                                                    f"{instruction_id} is no valid instruction: "
+                                                    f"{error}")
+        return (rows[-1][0] if rows else int(seq)), shared
 
     # ---- claims ----
 
@@ -277,6 +294,8 @@ class FleetPool:
         state, robot, until = row
         if state == CLAIMED:
             return f"held by {robot!r} until {until:.3f} s"
+        if state not in range(len(STATE_NAMES)):
+            return f"in the unknown state {state!r}"
         return STATE_NAMES[state] + (f" by {robot!r}" if robot else "")
 
     def transaction(self):
@@ -326,7 +345,19 @@ def _encode(instruction):
 
 
 def _decode(text):
-    return Instruction(**json.loads(text))
+    """The Instruction of a pool row's JSON; FleetPoolError naming what is wrong with it."""
+    try:
+        values = json.loads(text)
+    except (TypeError, ValueError) as error:   # NULL, a BLOB that is no UTF-8, not JSON
+        raise FleetPoolError(f"column instruction holds {text!r:.40}, not an instruction in "
+                             f"JSON ({error})") from None
+    problem = fields_problem(values)
+    if problem:
+        raise FleetPoolError(problem)
+    try:
+        return Instruction(**values)
+    except InvalidInstruction as error:
+        raise FleetPoolError(str(error)) from None
 
 
 def _check_robot(robot):

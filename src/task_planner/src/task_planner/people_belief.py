@@ -8,8 +8,10 @@ and from the robot's own looks: a look that did not find a person believed at th
 the person out of it.
 """
 import math
+from collections import deque
 
 DAY_S = 86400.0   # [s]
+FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
 
 
 class PeopleAtPlaces:
@@ -21,6 +23,21 @@ class PeopleAtPlaces:
         # name -> earlier nodes, most recent first
         self.seen_s = {}                  # name -> when perception last saw them [s]
         self.predicted = {}               # name -> node their schedule puts them at now
+        self.frames = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames perception
+                                                 # analysed, oldest first
+
+    def analysed(self, stamp):
+        """Perception finished a camera frame taken at `stamp` [s] (whoever it saw was
+        reported with `seen`)."""
+        self.frames.append(stamp)
+
+    def perceiving(self):
+        """True once perception reported an analysed frame: how far it got can be waited for."""
+        return bool(self.frames)
+
+    def frames_since(self, stamp):
+        """How many analysed frames were taken at or after `stamp` [s]."""
+        return sum(1 for frame in self.frames if frame >= stamp)
 
     def knows(self, name):
         """True once the person has been seen anywhere (or reported out of sight)."""

@@ -4,7 +4,9 @@ Callbacks only cache under a lock (instructions, the human table, move_base resu
 them to the executor and carries out its commands: `Navigate` -> move_base goal at the node's pose,
 `Execute` -> timed by the executor itself, `Say` -> /robot/say. The submit service journals before
 it answers, so its acknowledgement is durable; a request with id 0 gets the next id of the journal
-(TaskBuffer.next_id), or of the fleet with `~fleet_pool`, returned in the answer. With `~fleet_pool`
+(TaskBuffer.next_id), or of the fleet with `~fleet_pool`, returned in the answer; a refusal answers
+with the reason (a broken Table 4-1 field, a function not in `~robot_functions`, a place not in
+the graph, more than `~max_open_instructions` open). With `~fleet_pool`
 the robot is one of a fleet sharing that file (task_planner.fleet_link). /task_planner/state carries
 the open instructions and the `~state_recent` most recently finished ones; /task_planner/get_buffer
 every instruction.
@@ -27,17 +29,18 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from std_msgs.msg import String, UInt32
-from tamp_msgs.msg import HumanArray, TaskBufferState
+from tamp_msgs.msg import HumanArray, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
-from supervision.ros_supervisor import Supervisor
+from supervision.ros_supervisor import Supervisor, run_node
 from visualization_msgs.msg import MarkerArray
 from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTaskBuffer,
                            GetTaskBufferResponse, SubmitInstruction, SubmitInstructionResponse)
 
 from task_planner.battery import BatteryConfig, BatteryModel
-from task_planner.conversions import buffer_to_msg, instruction_from_msg, people_from_msg
+from task_planner.conversions import (buffer_to_msg, instruction_from_msg, people_from_msg,
+                                      sightings_from_observed)
 from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_ms,
                                    nearest_node)
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
@@ -57,6 +60,8 @@ from task_planner.task_buffer import (JOURNAL_FAILED, PENDING, STATE_NAMES, Buff
 from tamp_resources import resource
 
 ROOT = resource()
+QUARANTINE_SHOWN = 20   # quarantined rows listed on /diagnostics (their count always is)
+OBSERVED_KEPT = 100     # analysed frames cached between two ticks (the oldest are dropped)
 
 
 @dataclass(frozen=True)
@@ -78,6 +83,9 @@ class NodeParams:
     look_headings: int = 6         # turns in place to look around a place: 6 steps of 51°, each
                                    # within the camera's 57° field of view
     look_dwell: float = 0.6        # stay on each heading this long (3 camera frames) [s]
+    look_frames: int = 3           # and until visual perception analysed this many frames
+                                   # taken there (/humans/observed); 0 = the dwell alone
+    look_frames_wait: float = 10.0  # but turn on after this long on one heading [s]
     look_again: float = 20.0       # a place looked all around this recently is not looked
                                    # around again for another person [s]; 0 = look every time
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
@@ -108,6 +116,9 @@ class NodeParams:
     corridors: tuple = ()          # places one robot of the fleet at a time drives through
     corridor_wait: float = 60.0    # wait this long for a corridor, then drive on [s]
     one_robot_per_place: bool = False  # leave a place's instructions to the robot there
+    max_open_instructions: int = 2000  # a new instruction beyond this many open ones is refused
+                                   # ("the task buffer is full"): each open one costs every
+                                   # decision and every state message; 0 = no cap
 
     @classmethod
     def from_ros(cls):
@@ -122,10 +133,11 @@ class NodeParams:
         """ValueError naming the parameter when a number cannot work (a tick period of 0 would
         spin, a goal silence of 0 would drop every goal)."""
         positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease",
-                    "corridor_wait")
+                    "corridor_wait", "look_frames_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
-                         "look_dwell", "look_again", "pass_wait", "patrol_interval",
-                         "marker_period", "plan_view_max", "state_recent", "max_preemptions")
+                         "look_dwell", "look_frames", "look_again", "pass_wait", "patrol_interval",
+                         "marker_period", "plan_view_max", "state_recent", "max_preemptions",
+                         "max_open_instructions")
         for name in positive + at_least_zero:
             value = getattr(self, name)
             low_ok = value > 0 if name in positive else value >= 0
@@ -140,17 +152,20 @@ class ExecutorNode:
         settings = load_settings(params.settings, REQUIRED + (BATTERY if params.battery else ()))
         self.graph = load_graph(params.graph, float(settings["robot_radius_m"]))
         Path(params.journal).parent.mkdir(parents=True, exist_ok=True)
-        buffer = TaskBuffer(params.journal, BufferConfig(node_count=self.graph.size,
-                                                         place_names=tuple(self.graph.names),
-                                                         recent_finished=params.state_recent))
-        self.people = PeopleAtPlaces()
         self.executor_functions = load_robot_functions(params.robot_functions)
+        buffer = TaskBuffer(params.journal, BufferConfig(
+            node_count=self.graph.size, place_names=tuple(self.graph.names),
+            recent_finished=params.state_recent,
+            functions=tuple((f.code, f.name) for f in self.executor_functions.values())))
+        self.people = PeopleAtPlaces()
         self.executor = Executor(
             buffer, self.graph, make_planner(params.planner, settings, use=EXECUTOR), self.people,
             self.executor_functions,
             ExecutorConfig(float(settings["speed_mps"]), params.max_goal_attempts,
                            verify_wait_s=params.verify_wait, look_headings=params.look_headings,
-                           look_dwell_s=params.look_dwell, look_again_s=params.look_again,
+                           look_dwell_s=params.look_dwell, look_frames=params.look_frames,
+                           look_frames_wait_s=params.look_frames_wait,
+                           look_again_s=params.look_again,
                            fresh_s=params.fresh, search_all_places=params.search_all_places,
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
@@ -158,15 +173,16 @@ class ExecutorNode:
                            patrol_interval_s=params.patrol_interval,
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
                            corridor_wait_s=params.corridor_wait,
-                           one_robot_per_place=params.one_robot_per_place),
+                           one_robot_per_place=params.one_robot_per_place,
+                           max_open=params.max_open_instructions),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None,
             fleet=self._fleet(params))
         self.lock = threading.Lock()  # guards the caches below and the executor
-        self.inbox, self.humans = [], None
+        self.inbox, self.humans, self.observed = [], None, deque(maxlen=OBSERVED_KEPT)
         self.functions_over = []   # ids from ~function_over: functions that ended early
         # move_base results: a lock-free queue, because actionlib calls done callbacks holding
-        # its goal mutex, which cancel_goal (called under self.lock) takes too
+        # its goal mutex, which _cancel_goal (called under self.lock) takes too
         self.results = queue.SimpleQueue()
         self._schedules, self._predicted_at = {}, -float("inf")  # schedules, last prediction
         self.refused, self.nav_goal, self.goal_seq = 0, None, 0
@@ -175,8 +191,7 @@ class ExecutorNode:
         self._preemptions = 0       # times another sender preempted the goal we follow
         self.events = deque(maxlen=20)  # (wall time, text): shown on diagnostics for event_hold
         self.sup = None
-        for instruction_id, reason in buffer.quarantined:
-            self._event(f"journal {params.journal}: instruction {instruction_id} {reason}")
+        self._quarantine_seen = 0   # quarantined rows already announced (_announce_quarantine)
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
         self.settings = settings
         self.view_planner = make_planner(params.planner, settings,  # plays the plan forward
@@ -217,7 +232,11 @@ class ExecutorNode:
                                           latch=True)
         self.tree_pub = rospy.Publisher("~tree", String, queue_size=1, latch=True)
         self.activity_pub = rospy.Publisher("~activity", String, queue_size=10, latch=True)
-        self.move_base = actionlib.SimpleActionClient("move_base", MoveBaseAction)
+        # the plain ActionClient: the executor follows one goal at a time itself (goal_seq), so
+        # a late transition of a goal it replaced is ignored quietly (SimpleActionClient logs
+        # each as an ERROR, "a goal handle that we're not tracking")
+        self.move_base = actionlib.ActionClient("move_base", MoveBaseAction)
+        self.goal_handle = None
         if not self.move_base.wait_for_server(rospy.Duration(timeout)):
             rospy.logerr("task_planner: move_base is not up after %.0f s", timeout)
             return False
@@ -237,6 +256,7 @@ class ExecutorNode:
         sup.subscriber("~instructions", InstructionMsg, self._on_instruction,
                        queue_size=1000)
         sup.subscriber("humans/known", HumanArray, self._on_humans, queue_size=1)
+        sup.subscriber("humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
         sup.subscriber("~function_over", UInt32, self._on_function_over, queue_size=10)
         sup.service("~submit", SubmitInstruction, self._submit)
         sup.service("~cancel", CancelInstruction, self._cancel)
@@ -261,12 +281,20 @@ class ExecutorNode:
         with self.lock:
             self.humans = msg
 
-    def _on_goal_done(self, goal_seq, state, result):
-        del result
-        self.results.put((goal_seq, state, self.move_base.get_goal_status_text()))
+    def _on_observed(self, msg):
+        with self.lock:
+            self.observed.append(msg)
+
+    def _on_goal_transition(self, goal_seq, handle):
+        """Goal `goal_seq` moved on (accepted, active, ended): heard from move_base; its end is
+        queued with the status and the server's text."""
+        self._goal_heard = time.monotonic()  # one float: no lock needed
+        if handle.get_comm_state() == actionlib.CommState.DONE:
+            self.results.put((goal_seq, handle.get_goal_status(),
+                              handle.get_goal_status_text()))
 
     def _on_goal_heard(self, *_):
-        self._goal_heard = time.monotonic()  # one float: no lock needed
+        self._goal_heard = time.monotonic()
 
     # ---- services: journal before answering ----
 
@@ -415,7 +443,7 @@ class ExecutorNode:
         silent = time.monotonic() - self._goal_heard
         if self.nav_goal is not None and following and silent > self.params.goal_silence:
             self.nav_goal = None       # results of this goal, should it ever end, are ignored
-            self.move_base.cancel_goal()
+            self._cancel_goal()
             reason = (f"move_base silent for {silent:.1f} s (wall clock) on the goal to "
                       f"{self.graph.names[self._last_goal[0]]} (server gone?)")
             self._event(reason)
@@ -436,9 +464,16 @@ class ExecutorNode:
         self.events.append((time.monotonic(), level, text))
 
     def _update_people(self, now):
-        """Belief from human_db's table (places perception wrote) when a new one came; the
-        schedules' predicted places once a second (they change by the minute)."""
+        """Belief from the frames visual perception analysed (who it saw where, and how far it
+        got: a look waits for it) and from human_db's table (places perception wrote) when a
+        new one came; the schedules' predicted places once a second (they change by the
+        minute)."""
         day_s = self.params.utc_offset + now
+        while self.observed:
+            stamp, seen = sightings_from_observed(self.observed.popleft(), self.graph.names)
+            for name, node in seen:
+                self.people.seen(name, node, stamp)
+            self.people.analysed(stamp)
         if self.humans is not None:
             sightings, self._schedules = people_from_msg(self.humans, self.graph.names)
             self.humans = None
@@ -454,7 +489,7 @@ class ExecutorNode:
                 self._send_goal(command.node, command.yaw)
             elif isinstance(command, StopMotion):
                 self.nav_goal = None
-                self.move_base.cancel_goal()   # this goal only: a new one may follow at once
+                self._cancel_goal()   # this goal only: a new one may follow at once
             elif isinstance(command, Wait):
                 rospy.logdebug("task_planner: waiting until %.1f s", command.until_s)
             elif isinstance(command, Say):
@@ -466,6 +501,16 @@ class ExecutorNode:
             elif isinstance(command, Execute):
                 rospy.loginfo("task_planner: %s for instruction %d (%.0f s)", command.function,
                               command.instruction_id, command.duration_s)
+
+    def _cancel_goal(self):
+        """Cancel our move_base goal unless it has ended. Cancelling an ended goal makes
+        would take it back to waiting for the cancel's answer."""
+        handle = self.goal_handle
+        if handle is None:
+            return
+        with handle.comm_state_machine.mutex:   # its result cannot end it between check and cancel
+            if handle.get_comm_state() != actionlib.CommState.DONE:
+                handle.cancel()
 
     def _send_goal(self, node, heading=None, again=False):
         x, y, yaw = self.graph.poses[node]
@@ -481,9 +526,9 @@ class ExecutorNode:
         self._last_goal, self._goal_heard = (node, heading), time.monotonic()
         if not again:
             self._preemptions = 0
-        self.move_base.send_goal(goal, done_cb=lambda state, result, n=self.goal_seq:
-                                 self._on_goal_done(n, state, result),
-                                 active_cb=self._on_goal_heard, feedback_cb=self._on_goal_heard)
+        self.goal_handle = self.move_base.send_goal(
+            goal, transition_cb=lambda handle, n=self.goal_seq: self._on_goal_transition(n, handle),
+            feedback_cb=self._on_goal_heard)
         rospy.loginfo("task_planner: move_base goal %s%s", self.graph.names[node],
                       "" if heading is None else f" (look, heading {heading:.2f} rad)")
 
@@ -525,8 +570,34 @@ class ExecutorNode:
     def _publish_state(self):
         self.state_pub.publish(buffer_to_msg(self.executor.buffer, rospy.Time.now()))
 
+    def _quarantined(self):
+        """[(file, row id, reason)] of the journal's and the fleet pool's rows that did not load
+        (TaskBuffer and FleetPool quarantine)."""
+        rows = [(f"journal {self.params.journal}", i, reason)
+                for i, reason in self.executor.buffer.quarantined]
+        fleet = self.executor.fleet
+        if fleet:
+            rows += [(f"fleet pool {fleet.pool.path}", i, reason)
+                     for i, reason in fleet.pool.quarantined.items()]
+        return rows
+
+    def _announce_quarantine(self, quarantined):
+        """Log each newly quarantined row; a WARN event per file names them for event_hold."""
+        new = quarantined[self._quarantine_seen:]
+        self._quarantine_seen = len(quarantined)
+        by_file = {}
+        for where, row, reason in new:
+            rospy.logwarn("task_planner: %s row %d: %s", where, row, reason)
+            by_file.setdefault(where, []).append(str(row))
+        for where, rows in by_file.items():
+            self._event(f"{where}: {len(rows)} row(s) that do not load quarantined (rows "
+                        f"{', '.join(rows[:10])}{', ...' if len(rows) > 10 else ''}; reasons in "
+                        "the values)")
+
     def _diagnose(self, _event):
         with self.lock:
+            quarantined = self._quarantined()
+            self._announce_quarantine(quarantined)
             counts = dict(zip(STATE_NAMES, self.executor.buffer.counts()))
             decision = latency_ms(self.executor.decision_s)
             step = latency_ms(self.step_s)
@@ -550,6 +621,9 @@ class ExecutorNode:
                            for stat, value in zip(("median", "p95", "max"), figures)]
             values.append(KeyValue("decisions_timed", str(len(self.executor.decision_s))))
             values.append(KeyValue("total_reward", f"{self.executor.buffer.total_reward():.3f}"))
+            values.append(KeyValue("quarantined_rows", str(len(quarantined))))
+            values += [KeyValue(f"{where} row {row}", reason)
+                       for where, row, reason in quarantined[:QUARANTINE_SHOWN]]
             fleet = self.executor.fleet
             if fleet:
                 values += [KeyValue("fleet_robot", fleet.robot),
@@ -568,12 +642,15 @@ class ExecutorNode:
 
 
 def main():
+    """The node; whatever stops it (a ValueError: a parameter, settings, journal or graph file
+    that cannot be used) is said on /diagnostics before it exits 1 (supervision.run_node)."""
     rospy.init_node("task_planner")
-    try:
-        node = ExecutorNode(NodeParams.from_ros())
-    except ValueError as error:   # a parameter, settings, journal or graph file that cannot be used
-        rospy.logfatal("task_planner: not starting: %s", error)
-        return 1
+    return run_node("task_planner: executor", _run, hardware_id="task_planner",
+                    log_name="task_planner")
+
+
+def _run():
+    node = ExecutorNode(NodeParams.from_ros())
     if not node.setup(timeout=60.0):
         return 1
     rospy.spin()

@@ -1,4 +1,7 @@
-"""Command-line tool: submit one instruction on /task_planner/submit, print its id and exit.
+"""Command-line tool: submit one instruction on task_planner/submit, print its id and exit.
+
+The service name is relative: /task_planner/submit, or /robot1/task_planner/submit with
+ROS_NAMESPACE=robot1, as a fleet's executors run in their robot's namespace (--help says so).
 
 Without --id (or with --id 0) the task buffer allocates the id; a chain's successor names the id
 printed for its predecessor with --previous-id. The start time defaults to the present ROS time

@@ -29,8 +29,10 @@ class SubmitClient:
         try:
             rospy.wait_for_service(service, self.timeout_s)
         except rospy.ROSException:
+            hint = (" (a fleet's executors answer in their robot's namespace: "
+                    "ROS_NAMESPACE=robot1)" if service == "/" + SERVICE else "")
             return False, 0, (f"the task planner is not reachable: {service} is not available "
-                              f"after {self.timeout_s:g} s")
+                              f"after {self.timeout_s:g} s{hint}")
         try:
             reply = self._proxy(instruction=msg)
         except (rospy.ServiceException, rospy.ROSException) as error:

@@ -23,6 +23,11 @@ from task_planner.robot_functions import RobotFunctionError, load_robot_function
 FUNCTIONS_FILE = resource("config", "robot_functions.yaml")
 KEYWORDS_FILE = resource("config", "keywords.yaml")
 GRAPH_FILE = resource("maps", "household.graph.yaml")
+NAMESPACE_HELP = ("The service is task_planner/submit in the tool's namespace. A fleet "
+                  "(fleet_sim.launch, household_fleet.launch, scripts/run_scenario --fleet) runs "
+                  "each robot's executor in its robot's namespace: send with "
+                  "ROS_NAMESPACE=robot1 (or robot2) before rosrun; the robots share what either "
+                  "receives.")
 
 
 @dataclass(frozen=True)
@@ -99,7 +104,8 @@ def destination_names(path=GRAPH_FILE):
 def build_parser(functions, statuses, destinations, description="", service="the service"):
     """The argument parser; `functions`, `statuses`, `destinations` are CodeNames; `service`
     is the submit service named in --wait's help."""
-    parser = argparse.ArgumentParser(prog="send_instruction", description=description)
+    parser = argparse.ArgumentParser(prog="send_instruction", description=description,
+                                     epilog=NAMESPACE_HELP)
     parser.add_argument("--id", type=int, default=0,
                         help="instruction id; 0 (default): the task buffer allocates it")
     parser.add_argument("--gamma", type=float, required=True, help="initial reward (> 0)")
@@ -121,9 +127,10 @@ def build_parser(functions, statuses, destinations, description="", service="the
     parser.add_argument("--status", type=statuses.code, default=0, metavar="STATE|CODE",
                         help=f"human state that caused it, by name or code (default 0: none); "
                              f"from {statuses.source}: {statuses.describe()}")
-    parser.add_argument("--function", type=functions.code, default=0, metavar="NAME|CODE",
-                        help=f"robot function, by name or code (default 0: none); from "
-                             f"{functions.source}: {functions.describe()}")
+    parser.add_argument("--function", type=functions.code, required=True, metavar="NAME|CODE",
+                        help=f"robot function, by name or code (the executor refuses a code "
+                             f"it does not know); from {functions.source}: "
+                             f"{functions.describe()}")
     parser.add_argument("--text", default="")
     parser.add_argument("--wait", type=float, default=5.0,
                         help="wall-clock seconds to wait for ROS time and for "

@@ -27,9 +27,15 @@ Snapshots for publishing: the buffer keeps, besides every record, the open ones,
 cost O(open + recent_finished), not O(every record ever journalled).
 
 At the door `submit` refuses (TaskBufferError naming the instruction) besides a reused id and a
-chain cycle: a destination outside the graph, a destination_name that names another node than
-`destination` (with `place_names`), and a start_time more than `future_tolerance_s` after `now`.
+chain cycle: a function that is no robot function (with `functions`), a destination outside the
+graph, a destination_name that names another node than `destination` (with `place_names`), and a
+start_time more than `future_tolerance_s` after `now`.
 The instruction's own fields are checked by Instruction (finite numbers, bounds).
+
+Quarantine: opening a journal leaves out every row that does not load, with the reason in
+`quarantined`: a column holding NULL, text for a number or a BLOB for text, an unknown state
+(journal_rows), an instruction Instruction refuses, or one the door would refuse for its function
+or destination. An open one is FAILED with the reason, so it is never run; its id stays used.
 """
 import sqlite3
 from collections import deque
@@ -37,6 +43,7 @@ from dataclasses import dataclass, fields
 
 from task_planner.instruction import Instruction, InvalidInstruction
 from task_planner.journal_file import JournalFileError, open_journal
+from task_planner.journal_rows import column_problem
 from task_planner.reward import decayed_reward
 
 JOURNAL_FAILED = "not journalled, so not accepted"  # a refusal for a failed write
@@ -71,6 +78,8 @@ class BufferConfig:
     predecessor_wait_s: float = 300.0  # a successor whose predecessor has not arrived this long
                                        # after it was received fails [s]
     recent_finished: int = 50  # finished records `snapshot` holds besides the open ones
+    functions: tuple = ()      # (code, name) of each robot function, for function checks;
+                               # () = do not check
 
 
 @dataclass(frozen=True)
@@ -123,13 +132,13 @@ class TaskBuffer:
 
     def _build_index(self):
         """The in-memory views of the journal (at start, and after a failed write)."""
-        self.quarantined = []  # (id, reason) of journal rows that are no valid instruction
+        self.quarantined = []  # (id, reason) of journal rows that do not load
         self._records = {row.instruction.id: row for row in self._load()}  # in seq order
         self._open = {i: r for i, r in self._records.items() if r.is_open}   # in seq order
         self._done = {i for i, r in self._records.items() if r.state == DONE}
         self._active = next((i for i, r in self._open.items() if r.state == ACTIVE), 0)
-        self._next_seq = (self._db.execute("SELECT MAX(seq) FROM instructions").fetchone()[0]
-                          or 0) + 1
+        self._next_seq = (self._db.execute("SELECT MAX(seq) FROM instructions WHERE "
+                                           "typeof(seq) = 'integer'").fetchone()[0] or 0) + 1
         self._counts = [0] * len(STATE_NAMES)
         for record in self._records.values():
             self._counts[record.state] += 1
@@ -154,7 +163,7 @@ class TaskBuffer:
         """Journal `instruction` (committed on return); returns its Record.
 
         Re-submitting an identical instruction returns the stored record unchanged. Raises
-        TaskBufferError for an id reused with other content, an unknown destination, a
+        TaskBufferError for an id reused with other content, an unknown function or destination, a
         destination_name of another node, a start_time in the future (beyond
         `future_tolerance_s` of `now` [s]), or a `previous_id` chain that would form a cycle.
         """
@@ -212,18 +221,9 @@ class TaskBuffer:
         return record
 
     def _check(self, instruction, now):
-        nodes = self.config.node_count
-        if nodes and not 0 <= instruction.destination < nodes:
-            raise TaskBufferError(f"instruction {instruction.id}: destination node "
-                                  f"{instruction.destination} is not in the graph "
-                                  f"(nodes 0..{nodes - 1})")
-        names, name = self.config.place_names, instruction.destination_name
-        if name and names and (not 0 <= instruction.destination < len(names)
-                               or names[instruction.destination] != name):
-            where = (f"node {names.index(name)}" if name in names else "no node of the graph")
-            raise TaskBufferError(f"instruction {instruction.id}: destination_name {name!r} "
-                                  f"names {where}, not destination node "
-                                  f"{instruction.destination}")
+        problem = self._refusal(instruction)
+        if problem:
+            raise TaskBufferError(problem)
         ahead = instruction.start_time - now
         if ahead > self.config.future_tolerance_s:
             raise TaskBufferError(f"instruction {instruction.id}: start_time "
@@ -240,6 +240,26 @@ class TaskBuffer:
         if current == instruction.id:
             raise TaskBufferError(f"instruction {instruction.id}: previous_id chain "
                                   f"{' -> '.join(map(str, chain))} returns to itself")
+
+    def _refusal(self, instruction):
+        """Why the instruction's function or destination is refused (at the door, and on
+        loading the journal), or ""."""
+        functions = dict(self.config.functions)
+        if functions and instruction.function not in functions:
+            known = ", ".join(f"{code} {name}" for code, name in self.config.functions)
+            return (f"instruction {instruction.id}: function {instruction.function} is no robot "
+                    f"function (known: {known})")
+        nodes = self.config.node_count
+        if nodes and not 0 <= instruction.destination < nodes:
+            return (f"instruction {instruction.id}: destination node {instruction.destination} "
+                    f"is not in the graph (nodes 0..{nodes - 1})")
+        names, name = self.config.place_names, instruction.destination_name
+        if name and names and (not 0 <= instruction.destination < len(names)
+                               or names[instruction.destination] != name):
+            where = (f"node {names.index(name)}" if name in names else "no node of the graph")
+            return (f"instruction {instruction.id}: destination_name {name!r} names {where}, "
+                    f"not destination node {instruction.destination}")
+        return ""
 
     # ---- fetch (task buffer -> planner) ----
 
@@ -472,22 +492,32 @@ class TaskBuffer:
 
     def _load(self):
         for row in self._db.execute("SELECT * FROM instructions ORDER BY seq").fetchall():
-            values = dict(zip(_INSTRUCTION_FIELDS, _instruction_values(row)))
-            try:
-                instruction = Instruction(**values)
-            except InvalidInstruction as error:
-                self._quarantine(row, error)
+            instruction, problem = self._loaded(row)
+            if problem:
+                self._quarantine(row, problem)
                 continue
             yield Record(instruction, *row[14:21])
 
-    def _quarantine(self, row, error):
-        """A journal row that is no valid instruction (written by an older version, or by hand)
+    def _loaded(self, row):
+        """(Instruction, "") of a journal row, or (None, why it does not load)."""
+        problem = column_problem(row, STATE_NAMES)
+        if problem:
+            return None, problem
+        try:
+            instruction = Instruction(**dict(zip(_INSTRUCTION_FIELDS, _instruction_values(row))))
+        except InvalidInstruction as error:
+            return None, str(error)
+        return instruction, self._refusal(instruction)
+
+    def _quarantine(self, row, problem):
+        """A journal row that does not load (written by an older version, by hand, or damaged)
         is failed with the reason and left out, so it is never run; its id stays used."""
-        reason = f"quarantined: journal row {row[0]} is no valid instruction: {error}"
+        reason = f"quarantined: journal row {row[0]} is no valid instruction: {problem}"
         self.quarantined.append((row[0], reason))
         if row[14] in (PENDING, ACTIVE):
+            received = row[15] if isinstance(row[15], int | float) else 0.0
             self._db.execute("UPDATE instructions SET state=?, completion_time=?, reason=? "
-                             "WHERE id=?", (FAILED, row[15], reason, row[0]))
+                             "WHERE id=?", (FAILED, received, reason, row[0]))
 
 
 def _instruction_values(row):

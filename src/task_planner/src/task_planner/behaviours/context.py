@@ -23,6 +23,9 @@ class ExecutorConfig:
     verify_wait_s: float = 0.0    # look for an absent target person this long on arrival [s]
     look_headings: int = 0        # turns in place to look around a place (0: stand, as above)
     look_dwell_s: float = 0.0     # stay on each heading this long, perception catching up [s]
+    look_frames: int = 0          # and until perception analysed this many frames taken there,
+                                  # so a loaded machine looks as long as an idle one (0: dwell)
+    look_frames_wait_s: float = 10.0  # but turn on after this long on a heading all the same [s]
     look_again_s: float = 0.0     # a place looked all around this recently is not looked around
                                   # again: whoever that look saw is here, anyone else is
                                   # searched for elsewhere at once [s] (0: look every time)
@@ -43,6 +46,8 @@ class ExecutorConfig:
     corridor_poll_s: float = 1.0  # look again whether the corridor is free this often [s]
     one_robot_per_place: bool = False  # in a fleet, leave the instructions at a place to the
                                   # robot that holds one there (small rooms fit one robot)
+    max_open: int = 0             # new instructions from outside beyond this many open ones
+                                  # are refused (behaviours.receiving; 0: no cap)
 
 
 @dataclass(frozen=True)
@@ -80,7 +85,8 @@ class Context:
     executing: tuple | None = None  # (instruction id, end time [s]) while EXECUTING
     verifying: tuple | None = None  # (instruction id, give-up time [s]) while VERIFYING
     looking: list | None = None    # [instruction id (0: patrol), headings left, since, end of
-                                   #  the last heading's dwell (None: turning)] while LOOKING
+                                   #  the last heading's dwell (None: turning), when that
+                                   #  heading was reached] while LOOKING
     search: dict = field(default_factory=dict)    # instruction id -> places still to search
     searched: dict = field(default_factory=dict)  # instruction id -> places already searched
     search_start: dict = field(default_factory=dict)  # instruction id -> its first miss [s]

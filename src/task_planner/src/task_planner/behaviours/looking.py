@@ -73,7 +73,7 @@ def start_look(ctx, instruction_id, now):
     count = max(1, ctx.config.look_headings)
     yaw = float(ctx.graph.poses[ctx.node][2])
     headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
-    ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None]
+    ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None, None]
     what = (f"for {ctx.buffer.get(instruction_id).instruction.target}" if instruction_id
             else "(patrol)")
     ctx.log.append((now, f"look around {ctx.graph.names[ctx.node]} {what}"))
@@ -84,9 +84,9 @@ def look_step(ctx, now):
     """A heading of the look was reached: dwell on it while perception catches up (the
     camera sees little while turning), then turn to the next one or end the look."""
     if ctx.config.look_dwell_s > 0 and ctx.looking[3] is None:
-        ctx.looking[3] = now + ctx.config.look_dwell_s
+        ctx.looking[3], ctx.looking[4] = now + ctx.config.look_dwell_s, now
         return [Wait(ctx.looking[3])]
-    ctx.looking[3] = None
+    ctx.looking[3] = ctx.looking[4] = None
     instruction_id, headings = ctx.looking[:2]
     if headings:
         ctx.looking[1] = headings[1:]
@@ -109,9 +109,24 @@ def end_look(ctx, now):
     return search_next(ctx, record.instruction, now) + ctx.decide(now)
 
 
+def dwell_over(ctx, now):
+    """The dwell on the heading is over: its time has passed and perception analysed
+    `look_frames` frames taken since the heading was reached (when perception reports its
+    frames), or the heading was held `look_frames_wait_s`. On a loaded machine perception
+    analyses fewer frames per second of simulated time; counting frames keeps the look as
+    thorough as on an idle one."""
+    end, reached = ctx.looking[3], ctx.looking[4]
+    if end is None or now < end:
+        return False
+    if ctx.config.look_frames <= 0 or not ctx.people.perceiving():
+        return True
+    return (ctx.people.frames_since(reached) >= ctx.config.look_frames
+            or now - reached >= ctx.config.look_frames_wait_s)
+
+
 def look_found(ctx, now):
     """While looking for an instruction's person: serve them once perception sees them."""
-    instruction_id, _, since, _ = ctx.looking
+    instruction_id, _, since = ctx.looking[:3]
     if not instruction_id:
         return []
     instruction = ctx.buffer.get(instruction_id).instruction
@@ -146,6 +161,6 @@ class LookingAround(Leaf):
         if ctx.mode != LOOKING:
             return Status.FAILURE
         ctx.out += look_found(ctx, ctx.now)
-        if ctx.mode == LOOKING and ctx.looking[3] is not None and ctx.now >= ctx.looking[3]:
+        if ctx.mode == LOOKING and dwell_over(ctx, ctx.now):
             ctx.out += look_step(ctx, ctx.now)
         return still_busy(ctx, LOOKING)

@@ -1,12 +1,16 @@
 """Taking in new instructions (ROS-free): journal them in one transaction (in a fleet: checked
 against and shared with the pool under its write lock), then react: a person's request
-interrupts the robot's own instruction (giving_way), and the robot decides again.
+interrupts the robot's own instruction (giving_way), and the robot decides again. New
+instructions from outside beyond `ExecutorConfig.max_open` open ones are refused with the reason
+(every open instruction costs each decision and each state message); the robot's own charge
+instruction and what other robots of its fleet took are not capped.
 """
 from py_trees.common import Status
 
 from task_planner.behaviours.context import RECEIVED, Leaf
 from task_planner.behaviours.giving_way import yield_own
 from task_planner.instruction import HUMAN
+from task_planner.task_buffer import ACTIVE, PENDING
 
 
 def new_id(ctx, previous_id=0):
@@ -15,21 +19,49 @@ def new_id(ctx, previous_id=0):
     return ctx.fleet.next_id(own - 1) if ctx.fleet else own
 
 
-def journal(ctx, instructions, now):
+def beyond_cap(ctx, instructions):
+    """{id: reason} for the new instructions beyond `max_open` open ones (0: no cap); one the
+    buffer already holds is no new one (a re-submission answers with its record)."""
+    cap = ctx.config.max_open
+    if not cap:
+        return {}
+    counts = ctx.buffer.counts()
+    open_after = counts[PENDING] + counts[ACTIVE]   # with the ones of `instructions` taken
+    refused = {}
+    for instruction in instructions:
+        if ctx.buffer.holds(instruction.id) or instruction.id in refused:
+            continue
+        if open_after < cap:
+            open_after += 1
+        else:
+            refused[instruction.id] = (f"instruction {instruction.id}: the task buffer is full: "
+                                       f"{open_after} open instruction{'s' * (open_after != 1)} "
+                                       f"(at most {cap})")
+    return refused
+
+
+def journal(ctx, instructions, now, capped=False):
     """Journal `instructions` (one transaction; in a fleet also shared with the pool, an id
-    the pool holds for another instruction refused before it is journalled): a (record, error)
-    per instruction."""
+    the pool holds for another instruction refused before it is journalled; `capped`: those
+    beyond the cap refused): a (record, error) per instruction."""
+    full = beyond_cap(ctx, instructions) if capped else {}
     if ctx.fleet is None:
-        return ctx.buffer.submit_many(instructions, now)
+        return journal_all_but(ctx, instructions, full, now)
     # under the pool's write lock from the id check to the share
     with ctx.fleet.transaction():
-        refused = ctx.fleet.conflicts(instructions)
-        journalled = iter(ctx.buffer.submit_many(
-            [i for i in instructions if i.id not in refused], now))
-        results = [(None, refused[i.id]) if i.id in refused else next(journalled)
-                   for i in instructions]
+        results = journal_all_but(ctx, instructions, {**ctx.fleet.conflicts(instructions),
+                                                      **full}, now)
         ctx.fleet.share([record.instruction for record, _ in results if record])
     return results
+
+
+def journal_all_but(ctx, instructions, refused, now):
+    """Journal the instructions whose id is not in `refused` ({id: reason}): a (record,
+    error) per instruction, in order."""
+    taken = [i for i in instructions if i.id not in refused]
+    journalled = iter(ctx.buffer.submit_many(taken, now) if taken else ())
+    return [(None, refused[i.id]) if i.id in refused else next(journalled)
+            for i in instructions]
 
 
 def react(ctx, results, now):
@@ -45,12 +77,12 @@ def react(ctx, results, now):
     return commands + ctx.redecide(now)
 
 
-def take_in(ctx, instructions, now, owed=()):
-    """Journal and react (claims as at a tick, each committed after the pool transaction);
-    returns (results, commands). When the journal write raises, the robot rejoins the fleet
-    at its next event, and `owed` (commands already ordered) go out with it."""
+def take_in(ctx, instructions, now, owed=(), capped=False):
+    """Journal (`capped`: see journal) and react (claims as at a tick, each committed after the
+    pool transaction); returns (results, commands). When the journal write raises, the robot
+    rejoins the fleet at its next event, and `owed` (commands already ordered) go out with it."""
     try:
-        results = journal(ctx, instructions, now)
+        results = journal(ctx, instructions, now, capped)
     except Exception:
         if ctx.fleet is not None:
             ctx.in_fleet = False   # rolled back: the next event rejoins from the journal
@@ -68,6 +100,6 @@ class TakingIn(Leaf):
     def step(self, ctx):
         if ctx.event != RECEIVED:
             return Status.FAILURE
-        ctx.results, commands = take_in(ctx, ctx.inbox, ctx.now, owed=ctx.synced)
+        ctx.results, commands = take_in(ctx, ctx.inbox, ctx.now, owed=ctx.synced, capped=True)
         ctx.out += commands
         return Status.SUCCESS
