@@ -2,7 +2,8 @@
 from dataclasses import dataclass, field
 import pytest
 
-from supervision.ros_params import config_from_params
+from supervision.config_file import ConfigError
+from supervision.ros_params import config_from_params, field_paths, refuse_unknown_params
 
 
 class FakeParams:
@@ -173,3 +174,19 @@ def test_a_long_value_is_shortened_in_the_log_line():
     assert lines[0].startswith("/node: parameters graph='xxx")
     assert lines[0].endswith("...; defaults none")
     assert len(lines[0]) < 200
+
+
+def test_a_parameter_no_field_takes_is_refused_with_the_nearest_known_one():
+    names = ["/move_base/period", "/move_base/limits/low", "/move_base/supervision/period",
+             "/move_base/camera/fx",
+             "/move_base/limits/hihg", "/amcl/whatever"]
+
+    def refuse(present):
+        refuse_unknown_params({"": Params, "limits": Limits}, "~", names=lambda: present,
+                              resolve_name=lambda name: "/move_base/")
+
+    refuse(names[:4])     # every name taken by a field; the Supervisor's own and others' skipped
+    with pytest.raises(ConfigError, match=r"^/move_base: unknown key 'limits/hihg' \(did you "
+                                          r"mean 'limits/high'\?\)$"):
+        refuse(names)
+    assert {"limits/high", "period", "camera/"} <= set(field_paths(Params))

@@ -20,7 +20,7 @@ from nav_msgs.msg import Odometry
 from nav_mocks.amcl_model import AmclConfig, AmclModel, latest_pair, map_to_odom
 from nav_mocks.conversions import pose_from_msg, pose_to_msg, transform_msg
 from nav_mocks.param_checks import positive_number
-from supervision.ros_params import config_from_params
+from supervision.ros_params import config_from_params, refuse_unknown_params
 from supervision.ros_supervisor import Supervisor
 
 HISTORY = 50          # samples kept per stream: 1 s of sim2d's 50 Hz odometry
@@ -47,6 +47,7 @@ class AmclNode:
         self.tolerance = rospy.Duration(params.transform_tolerance)
         rate = positive_number(rospy.resolve_name("~update_rate"), params.update_rate, "Hz")
         self.model = AmclModel(config_from_params(AmclConfig), seed=params.seed)
+        refuse_unknown_params({"": (AmclNodeParams, AmclConfig)})
         self.lock = threading.Lock()
         # recent (stamp, pose) samples of each stream, to pair them by time (latest_pair)
         self.truths = collections.deque(maxlen=HISTORY)

@@ -24,7 +24,7 @@ from nav_mocks.conversions import (map_metadata, map_to_msg, pose_from_msg,
 from nav_mocks.mapping import RevealedMap
 from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
-from supervision.ros_params import config_from_params
+from supervision.ros_params import config_from_params, refuse_unknown_params
 from supervision.ros_supervisor import Supervisor
 
 MODES = ("static", "mapping")
@@ -133,6 +133,7 @@ def main(argv):
     rospy.init_node("map_server")
     try:
         params = config_from_params(MapServerParams, map_file=argv[0] if argv else "")
+        refuse_unknown_params({"": MapServerParams})
         if not params.map_file:
             rospy.logfatal("map_server mock: give the map YAML as argument or ~map_file")
             return 1

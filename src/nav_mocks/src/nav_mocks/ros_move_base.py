@@ -35,7 +35,7 @@ from nav_mocks.move_base_core import (ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCC
 from nav_mocks.param_checks import positive_number
 from nav_mocks.pose2d import compose
 from supervision.health import fault_text
-from supervision.ros_params import config_from_params
+from supervision.ros_params import config_from_params, refuse_unknown_params
 from supervision.ros_supervisor import Supervisor
 
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
@@ -63,6 +63,8 @@ class MoveBaseNode:
         self.dwa_config.control_period = self.period
         self.config = config_from_params(MoveBaseConfig, "~")
         self.planner_config = config_from_params(PlannerConfig, "~planner")
+        refuse_unknown_params({"": (MoveBaseNodeParams, MoveBaseConfig), "costmap": CostmapConfig,
+                               "DWAPlannerROS": DwaConfig, "planner": PlannerConfig})
         self.lock = threading.Lock()
         self.map_msg = self.scan = self.odom = None
         self.new_goals, self.cancels = [], []

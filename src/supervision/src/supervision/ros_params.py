@@ -10,6 +10,11 @@ is set, else it keeps its default. Values are coerced to the field's type (its a
 its default's type); a value that does not fit, or that the config's constructor, `check()` or
 `validate()` refuses, is a ValueError naming the resolved parameter or namespace.
 
+A node whose parameters come from a file (config/nav_mocks.yaml, loaded with rosparam) calls
+`refuse_unknown_params({"": NodeParams, "costmap": CostmapConfig})` after reading them: a
+parameter under its namespace that no field takes is refused with the nearest known name, as the
+config files are (`supervision.config_file`).
+
 Each call logs the values it read, once, on one INFO line (`/sim2d: parameters speed=2.0, ...;
 defaults seed=0, ...`, the unset ones as defaults), so a launch argument that never reached the
 node (roslaunch ignores a misspelt `spede:=2`) shows as the value the node runs with.
@@ -19,6 +24,8 @@ import types
 import typing
 
 import rospy
+
+from supervision.config_file import ConfigError, unknown_key_message
 
 MISSING = dataclasses.MISSING
 SCALARS = (bool, int, float, str)
@@ -62,6 +69,50 @@ def config_from_params(cls, namespace="~", *, only=None, hint="", get_param=None
     config = _read(cls, prefix, source, only, hint, defaults, read)
     source.log(values_line(source.resolve(prefix).rstrip("/") or "/", read))
     return config
+
+
+def refuse_unknown_params(layout, namespace="~", *, names=None, resolve_name=None,
+                          ignore=("supervision",)):
+    """Raise ConfigError for the first parameter under `namespace` that no field takes:
+    "/move_base: unknown key 'costmap/robot_raduis' (did you mean 'costmap/robot_radius'?)".
+
+    layout: sub-namespace ("" for the namespace itself) -> the dataclass read there, or a tuple
+        of the dataclasses read there.
+    names, resolve_name: rospy.get_param_names and rospy.resolve_name by default (fakes in tests).
+    ignore: sub-namespaces other code reads (the Supervisor's own parameters).
+    """
+    resolve = resolve_name or rospy.resolve_name
+    root = resolve(namespace).rstrip("/") + "/"
+    known = sorted({(f"{sub}/" if sub else "") + name for sub, classes in layout.items()
+                    for cls in (classes if isinstance(classes, tuple) else (classes,))
+                    for name in field_paths(cls)})
+    for full in sorted(names() if names is not None else rospy.get_param_names()):
+        if not full.startswith(root):
+            continue
+        name = full[len(root):]
+        if name.split("/")[0] in ignore or name in known or any(
+                name.startswith(path) for path in known if path.endswith("/")):
+            continue
+        raise ConfigError(f"{root.rstrip('/')}: {unknown_key_message(name, known)}")
+
+
+def field_paths(cls, prefix=""):
+    """The parameter names the fields of dataclass `cls` take, nested dataclasses as
+    sub-namespaces ("stt/model_dir"); a mapping field takes any name below it ("camera/")."""
+    paths = []
+    hints = _type_hints(cls)
+    for field in dataclasses.fields(cls):
+        if not field.init:
+            continue
+        default = _field_default(field)
+        nested = _dataclass_type(hints.get(field.name), default)
+        if isinstance(default, dict) or hints.get(field.name) is dict:
+            paths.append(f"{prefix}{field.name}/")
+        elif nested is None:
+            paths.append(prefix + field.name)
+        else:
+            paths += field_paths(nested, f"{prefix}{field.name}/")
+    return paths
 
 
 def values_line(where, read):
