@@ -121,6 +121,17 @@ def test_a_corridor_holds_one_robot_until_it_leaves_or_its_lease_runs_out():
     assert pool.enter("a", ["alley"], 20.0) == "" and pool.enter("b", ["hall"], 20.0) == "c"
 
 
+def test_robots_report_where_they_will_be_free_and_drop_out_after_their_lease():
+    pool = FleetPool(":memory:", lease_s=10.0)
+    pool.report("a", node=3, free_at=12.0, now=0.0)
+    pool.report("b", node=1, free_at=5.0, now=4.0)
+    assert pool.robots(now=9.0) == {"a": (3, 12.0), "b": (1, 5.0)}
+    pool.report("a", node=4, free_at=20.0, now=9.0)     # a new report replaces the old one
+    assert pool.robots(now=15.0) == {"a": (4, 20.0)}    # b's report ran out at 14
+    with pytest.raises(FleetPoolError):
+        pool.report("", node=0, free_at=0.0, now=0.0)
+
+
 def test_a_foreign_file_is_refused(tmp_path):
     path = tmp_path / "other.db"
     execute_sql(path, "CREATE TABLE people (name TEXT)")
@@ -221,3 +232,23 @@ def test_a_failed_commit_rolls_back_and_never_leaves_the_write_lock_held():
             db.execute("INSERT INTO child VALUES (1)")
     assert not db.in_transaction
     assert db.execute("SELECT COUNT(*) FROM child").fetchone()[0] == 0
+
+
+def test_a_link_reports_on_change_and_within_its_lease_only():
+    from task_planner.fleet_link import FleetLink
+
+    class Counting(FleetPool):
+        reports = 0
+
+        def report(self, robot, node, free_at, now):
+            Counting.reports += 1
+            super().report(robot, node, free_at, now)
+
+    link = FleetLink(Counting(":memory:", lease_s=9.0), "a")   # renews every 3 s
+    link.report(2, 5.0, now=0.0)
+    link.report(2, 5.0, now=1.0)                  # unchanged, within the renew period
+    assert Counting.reports == 1
+    link.report(3, 5.0, now=1.5)                  # changed
+    link.report(3, 5.0, now=4.6)                  # unchanged, but due
+    assert Counting.reports == 3
+    assert link.fleet(now=5.0) == {"a": (3, 5.0)}

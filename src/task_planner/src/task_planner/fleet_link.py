@@ -45,6 +45,7 @@ class FleetLink:
         self._place = -1           # where the robot serves the one it holds
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
+        self._reported = None      # ((node, free_at), when) of the last report
 
     def rejoin(self, records, own, keep=0, now=0.0, place=-1):
         """Start from the journal's `records`, in one pool transaction: close in the pool what
@@ -164,6 +165,20 @@ class FleetLink:
             ids = [self.held] if self.held else []
             if not self.pool.renew(self.robot, now, ids, self.corridors):
                 self.held = 0   # lost: another robot may hold it now (closed_in_pool tells)
+
+    def report(self, node, free_at, now):
+        """Tell the fleet where this robot will be free next and from when [s]: when that
+        changed, and within its lease otherwise (renew_period_s)."""
+        state = (int(node), round(float(free_at), 3))
+        if self._reported is not None and self._reported[0] == state and \
+                now - self._reported[1] < self.renew_period_s:
+            return
+        self.pool.report(self.robot, state[0], state[1], now)
+        self._reported = (state, now)
+
+    def fleet(self, now):
+        """{robot: (node, free_at)} of the fleet's robots that reported within their lease."""
+        return self.pool.robots(now)
 
     def release(self):
         """Give back the instruction the robot holds (it serves none now)."""

@@ -13,7 +13,9 @@ again, so nothing it held is lost. `complete` and `fail` close an instruction on
 whose lease still holds it: a robot that lost its lease (stalled past it, the instruction served
 by another) is told so (`LeaseLost`) and must not serve it, so nothing is served twice. `cancel`
 closes an open instruction for every robot. Corridors (narrow places) are held the same way, one
-robot at a time (`enter`, `leave`), under the robot's lease. A restarted executor gives back
+robot at a time (`enter`, `leave`), under the robot's lease. Each robot `report`s where it will
+be free next and from when, under its lease too, so a fleet allocator running on every robot
+sees the same fleet (`robots`). A restarted executor gives back
 whatever it held before (`release_all`) and closes in the pool what its journal closed while the
 pool did not learn of it (`settle`: it stopped between the two writes). Times are passed in by
 the caller [s] (wall or ROS time, one clock for the fleet).
@@ -39,7 +41,9 @@ _TABLES = ("CREATE TABLE IF NOT EXISTS pool (id INTEGER PRIMARY KEY, state INTEG
            "place INTEGER NOT NULL)",
            "CREATE TABLE IF NOT EXISTS pool_ids (last INTEGER NOT NULL)",
            "CREATE TABLE IF NOT EXISTS corridors (name TEXT PRIMARY KEY, robot TEXT NOT NULL, "
-           "lease_until REAL NOT NULL)")
+           "lease_until REAL NOT NULL)",
+           "CREATE TABLE IF NOT EXISTS robots (robot TEXT PRIMARY KEY, node INTEGER NOT NULL, "
+           "free_at REAL NOT NULL, lease_until REAL NOT NULL)")
 
 
 class LeaseLost(RuntimeError):
@@ -264,6 +268,20 @@ class FleetPool:
                                             (robot,)).fetchall():
                 if name not in keep:
                     self._db.execute("DELETE FROM corridors WHERE name=?", (name,))
+
+    def report(self, robot, node, free_at, now):
+        """`robot` will be free at graph node `node` from `free_at` [s]; the report holds until
+        now + lease_s (a robot that stops reporting drops out of `robots`)."""
+        _check_robot(robot)
+        with self._write():
+            self._db.execute("INSERT OR REPLACE INTO robots VALUES (?, ?, ?, ?)",
+                             (robot, int(node), float(free_at), now + self.lease_s))
+
+    def robots(self, now):
+        """{robot: (node, free_at)} of the robots whose report still holds at `now`."""
+        return {row[0]: (row[1], row[2]) for row in self._db.execute(
+            "SELECT robot, node, free_at FROM robots WHERE lease_until>=? ORDER BY robot",
+            (now,))}
 
     def release(self, robot, instruction_id):
         """Give a held instruction back to the pool (the robot will not serve it)."""
