@@ -44,7 +44,7 @@ def test_a_new_instruction_can_turn_the_robot_back_mid_edge(line_graph, tmp_path
 
 def test_a_patrol_gives_way_at_once(posed_line_graph, tmp_path):
     ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=2)
-    ctx.mode, ctx.looking = "looking", [0, [], 0.0, None, None]   # looking around (patrol)
+    ctx.mode, ctx.looking = "looking", [0, [], 0.0, None, None, None]   # looking (patrol)
     journal(ctx, make_instruction(1, D, function=1))
     assert redecide(ctx, 1.0) == [StopMotion(), Navigate(C, 1)]
 

@@ -27,7 +27,7 @@ def test_an_absent_person_starts_a_look_around_of_evenly_spaced_turns(posed_line
     journal(ctx, make_instruction(1, B, function=3, target="Bob"))
     assert serve_here(ctx, 1, 1.0) == [Navigate(B, 1, yaw=math.pi / 2)]
     assert ctx.mode == LOOKING and ctx.looking == [1, [math.pi, 3 * math.pi / 2], 1.0, None,
-                                                   None]
+                                                   None, None]
     assert look_step(ctx, 2.0) == [Navigate(B, 1, yaw=math.pi)]
 
 
@@ -91,6 +91,36 @@ def test_without_frame_reports_the_dwell_alone_counts(posed_line_graph, tmp_path
     ctx.now, ctx.out = 1.6, []
     leaf.tick_once()
     assert ctx.out == [Navigate(B, 0, yaw=4 * math.pi / 3)]
+
+
+def test_someone_perception_cannot_tell_is_faced_once_and_watched(posed_line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.analysed(0.5)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
+                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0)
+    journal(ctx, make_instruction(1, B, duration=20, function=3, target="Bob"))
+    serve_here(ctx, 1, 1.0)                        # a look for Bob begins at 1.0
+    leaf = LookingAround(ctx)
+    people.someone_unidentified(B, 1.0, 1.0, 0.5)  # seen before the look: not this look's
+    ctx.now, ctx.out = 1.2, []
+    leaf.tick_once()
+    assert ctx.out == []
+    people.someone_unidentified(B, 1.0, 1.0, 1.1)  # due north of B, whose shirt named nobody
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi / 2)] and ctx.looking[5] == "facing"
+    assert look_step(ctx, 2.0) == [Wait(2.6)]     # faced at 2.0
+    for stamp in (2.1, 2.2, 2.3):
+        people.analysed(stamp)                     # frames enough, but they are watched ...
+    ctx.now, ctx.out = 6.9, []
+    leaf.tick_once()
+    assert ctx.out == []
+    ctx.now = 7.0                                  # ... 5 s, then the look turns on
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] == "faced"
+    people.someone_unidentified(B, 1.0, 1.0, 7.1)  # once per look
+    ctx.now, ctx.out = 7.2, []
+    leaf.tick_once()
+    assert ctx.out == []
 
 
 def test_the_look_leaf_serves_the_person_once_perception_sees_them(posed_line_graph, tmp_path):

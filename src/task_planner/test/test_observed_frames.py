@@ -15,7 +15,8 @@ def test_an_analysed_frame_gives_its_stamp_and_the_identified_people_at_places()
         ObservedHuman(name="Carol", localised=True, location=""),           # between places
     ])
     frame.header.stamp = genpy.Time.from_sec(12.5)
-    assert sightings_from_observed(frame, NAMES) == (12.5, [("Alice", 1)])
+    frame.humans[1].x, frame.humans[1].y = 1.5, 2.5
+    assert sightings_from_observed(frame, NAMES) == (12.5, [("Alice", 1)], [(1, 1.5, 2.5)])
     empty = ObservedHumanArray()
     empty.header.stamp = genpy.Time.from_sec(13.0)
-    assert sightings_from_observed(empty, NAMES) == (13.0, [])   # still a frame analysed
+    assert sightings_from_observed(empty, NAMES) == (13.0, [], [])   # still a frame analysed

@@ -25,6 +25,20 @@ class PeopleAtPlaces:
         self.predicted = {}               # name -> node their schedule puts them at now
         self.frames = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames perception
                                                  # analysed, oldest first
+        self.unidentified = {}            # node -> (stamp [s], x, y [m]) of the latest person
+                                          # perception saw there but could not tell who
+
+    def someone_unidentified(self, node, x, y, stamp):
+        """Perception saw a person at `node`, at map position (x, y), whose shirt named nobody
+        (seen from behind, half hidden): they may be the one looked for."""
+        if stamp >= self.unidentified.get(node, (-math.inf,))[0]:
+            self.unidentified[node] = (stamp, x, y)
+
+    def unidentified_at(self, node, since):
+        """(x, y) of the latest person seen at `node` at or after `since` [s] whom perception
+        could not tell, or None."""
+        stamp, x, y = self.unidentified.get(node, (-math.inf, 0.0, 0.0))
+        return (x, y) if stamp >= since else None
 
     def analysed(self, stamp):
         """Perception finished a camera frame taken at `stamp` [s] (whoever it saw was

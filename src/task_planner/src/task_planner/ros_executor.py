@@ -470,9 +470,12 @@ class ExecutorNode:
         minute)."""
         day_s = self.params.utc_offset + now
         while self.observed:
-            stamp, seen = sightings_from_observed(self.observed.popleft(), self.graph.names)
+            stamp, seen, unidentified = sightings_from_observed(self.observed.popleft(),
+                                                                self.graph.names)
             for name, node in seen:
                 self.people.seen(name, node, stamp)
+            for node, x, y in unidentified:
+                self.people.someone_unidentified(node, x, y, stamp)
             self.people.analysed(stamp)
         if self.humans is not None:
             sightings, self._schedules = people_from_msg(self.humans, self.graph.names)

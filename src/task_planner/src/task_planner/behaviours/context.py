@@ -25,7 +25,9 @@ class ExecutorConfig:
     look_dwell_s: float = 0.0     # stay on each heading this long, perception catching up [s]
     look_frames: int = 0          # and until perception analysed this many frames taken there,
                                   # so a loaded machine looks as long as an idle one (0: dwell)
-    look_frames_wait_s: float = 10.0  # but turn on after this long on a heading all the same [s]
+    look_frames_wait_s: float = 10.0  # but turn on after this long on a heading all the same;
+                                  # a person seen there whom perception cannot tell is faced
+                                  # and watched this long [s]
     look_again_s: float = 0.0     # a place looked all around this recently is not looked around
                                   # again: whoever that look saw is here, anyone else is
                                   # searched for elsewhere at once [s] (0: look every time)
@@ -86,7 +88,8 @@ class Context:
     verifying: tuple | None = None  # (instruction id, give-up time [s]) while VERIFYING
     looking: list | None = None    # [instruction id (0: patrol), headings left, since, end of
                                    #  the last heading's dwell (None: turning), when that
-                                   #  heading was reached] while LOOKING
+                                   #  heading was reached, facing someone perception could
+                                   #  not tell (None, FACING, FACED)] while LOOKING
     search: dict = field(default_factory=dict)    # instruction id -> places still to search
     searched: dict = field(default_factory=dict)  # instruction id -> places already searched
     search_start: dict = field(default_factory=dict)  # instruction id -> its first miss [s]

@@ -15,6 +15,8 @@ from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Navigate, S
     Verify, Wait
 from task_planner.robot_functions import RobotFunctionError, function_for
 
+FACING, FACED = "facing", "faced"   # a look's turn toward someone perception cannot tell
+
 
 def serve_here(ctx, instruction_id, now):
     """Verify the target person is here, then execute the robot function (or look, search or
@@ -73,7 +75,7 @@ def start_look(ctx, instruction_id, now):
     count = max(1, ctx.config.look_headings)
     yaw = float(ctx.graph.poses[ctx.node][2])
     headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
-    ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None, None]
+    ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None, None, None]
     what = (f"for {ctx.buffer.get(instruction_id).instruction.target}" if instruction_id
             else "(patrol)")
     ctx.log.append((now, f"look around {ctx.graph.names[ctx.node]} {what}"))
@@ -87,6 +89,8 @@ def look_step(ctx, now):
         ctx.looking[3], ctx.looking[4] = now + ctx.config.look_dwell_s, now
         return [Wait(ctx.looking[3])]
     ctx.looking[3] = ctx.looking[4] = None
+    if ctx.looking[5] == FACING:
+        ctx.looking[5] = FACED
     instruction_id, headings = ctx.looking[:2]
     if headings:
         ctx.looking[1] = headings[1:]
@@ -118,10 +122,30 @@ def dwell_over(ctx, now):
     end, reached = ctx.looking[3], ctx.looking[4]
     if end is None or now < end:
         return False
+    if ctx.looking[5] == FACING:
+        return now - reached >= ctx.config.look_frames_wait_s
     if ctx.config.look_frames <= 0 or not ctx.people.perceiving():
         return True
     return (ctx.people.frames_since(reached) >= ctx.config.look_frames
             or now - reached >= ctx.config.look_frames_wait_s)
+
+
+def face_someone(ctx, now):
+    """While looking for an instruction's person: turn to face a person perception saw at this
+    place but could not tell (from behind, half hidden by a chair), once per look, and watch
+    them for `look_frames_wait_s`: they may be the person looked for, and a turn in place
+    that sees them at the edge of the image never shows their shirt."""
+    instruction_id, _, since = ctx.looking[:3]
+    if not instruction_id or ctx.looking[5] is not None or ctx.config.look_frames <= 0:
+        return []
+    someone = ctx.people.unidentified_at(ctx.node, since)
+    if someone is None:
+        return []
+    x, y, _ = ctx.graph.poses[ctx.node]
+    yaw = math.atan2(someone[1] - y, someone[0] - x)
+    ctx.looking[3:] = [None, None, FACING]
+    ctx.log.append((now, f"face someone at {ctx.graph.names[ctx.node]} perception cannot tell"))
+    return [Navigate(ctx.node, instruction_id, yaw=yaw)]
 
 
 def look_found(ctx, now):
@@ -161,6 +185,8 @@ class LookingAround(Leaf):
         if ctx.mode != LOOKING:
             return Status.FAILURE
         ctx.out += look_found(ctx, ctx.now)
+        if ctx.mode == LOOKING:
+            ctx.out += face_someone(ctx, ctx.now)
         if ctx.mode == LOOKING and dwell_over(ctx, ctx.now):
             ctx.out += look_step(ctx, ctx.now)
         return still_busy(ctx, LOOKING)
