@@ -1,16 +1,19 @@
-"""The fleet's shared pool: claims are exclusive across processes, a dead robot's claims return
-after its lease, and nothing is served twice or lost."""
+"""The fleet's shared pool, on SQLite and on PostgreSQL alike (`pool_url`): claims are exclusive
+across processes, a dead robot's claims return after its lease, nothing is served twice or lost,
+and a PostgreSQL server that restarts only makes the calls in between fail."""
 import multiprocessing
 import os
+import re
 import signal
 import sqlite3
 import time
 
+import psycopg2
 import pytest
-from planner_factories import execute_sql
+from planner_factories import execute_in_pool
 
 from task_planner.fleet_pool import (CANCELLED, CLAIMED, DONE, FAILED, FleetPool, FleetPoolError,
-                                     LeaseLost, _Transaction)
+                                     LeaseLost, PoolUnavailable)
 from task_planner.instruction import Instruction
 
 FORK = multiprocessing.get_context("fork")
@@ -20,8 +23,8 @@ def _instructions(ids, **fields):
     return [Instruction(id=i, gamma=1.0, beta=0.99, destination=i % 5, **fields) for i in ids]
 
 
-def test_a_claim_is_exclusive_until_its_lease_runs_out():
-    pool = FleetPool(":memory:", lease_s=10.0)
+def test_a_claim_is_exclusive_until_its_lease_runs_out(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     pool.share(_instructions([1, 2]))
     assert pool.claim("a", 1, now=0.0)
     assert not pool.claim("b", 1, now=5.0)             # a holds it
@@ -39,8 +42,8 @@ def test_a_claim_is_exclusive_until_its_lease_runs_out():
     assert pool.renew("a", now=100.0, ids=[1]) == []
 
 
-def test_released_and_bad_requests():
-    pool = FleetPool(":memory:", lease_s=1.0)
+def test_released_and_bad_requests(pool_url):
+    pool = FleetPool(pool_url, lease_s=1.0)
     pool.share(_instructions([7]))
     assert pool.share(_instructions([7])) == {}        # already there: left as it is
     assert pool.claim("a", 7, 0.0)
@@ -54,8 +57,8 @@ def test_released_and_bad_requests():
         FleetPool(":memory:", lease_s=0)
 
 
-def test_shared_instructions_reach_every_robot_in_order_and_ids_are_the_fleets():
-    pool = FleetPool(":memory:")
+def test_shared_instructions_reach_every_robot_in_order_and_ids_are_the_fleets(pool_url):
+    pool = FleetPool(pool_url)
     first = _instructions([3, 1], text="bring water")
     assert pool.share(first) == {}
     seq, seen = pool.since(0)
@@ -73,8 +76,8 @@ def test_shared_instructions_reach_every_robot_in_order_and_ids_are_the_fleets()
     assert pool.since(seq)[1] == later                 # the first one stays
 
 
-def test_closing_failing_and_cancelling_are_seen_by_every_robot():
-    pool = FleetPool(":memory:", lease_s=10.0)
+def test_closing_failing_and_cancelling_are_seen_by_every_robot(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     pool.share(_instructions([1, 2, 3, 4]))
     assert pool.claim("a", 1, 0.0) and pool.claim("a", 2, 0.0) and pool.claim("b", 3, 0.0)
     assert pool.held_by_others("b", 1.0) == {1, 2}
@@ -96,8 +99,8 @@ def test_closing_failing_and_cancelling_are_seen_by_every_robot():
     assert len(pool.closed(list(range(1, 1200)))) == 3  # more ids than SQLite binds at once
 
 
-def test_a_transactions_writes_reach_the_other_robots_together(tmp_path):
-    mine, theirs = FleetPool(tmp_path / "pool.db"), FleetPool(tmp_path / "pool.db")
+def test_a_transactions_writes_reach_the_other_robots_together(pool_url):
+    mine, theirs = FleetPool(pool_url), FleetPool(pool_url)
     with mine.transaction():
         mine.share(_instructions([1]))
         assert mine.claim("a", 1, 0.0)
@@ -106,8 +109,8 @@ def test_a_transactions_writes_reach_the_other_robots_together(tmp_path):
     assert theirs.claimable(0.0) == [] and not theirs.claim("b", 1, 0.0)
 
 
-def test_a_corridor_holds_one_robot_until_it_leaves_or_its_lease_runs_out():
-    pool = FleetPool(":memory:", lease_s=10.0)
+def test_a_corridor_holds_one_robot_until_it_leaves_or_its_lease_runs_out(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     assert pool.enter("a", ["alley"], 0.0) == ""
     assert pool.enter("b", ["hall", "alley"], 1.0) == "a"   # all or none: not the hall either
     assert pool.enter("c", ["hall"], 1.0) == ""
@@ -121,8 +124,8 @@ def test_a_corridor_holds_one_robot_until_it_leaves_or_its_lease_runs_out():
     assert pool.enter("a", ["alley"], 20.0) == "" and pool.enter("b", ["hall"], 20.0) == "c"
 
 
-def test_robots_report_where_they_will_be_free_and_drop_out_after_their_lease():
-    pool = FleetPool(":memory:", lease_s=10.0)
+def test_robots_report_where_they_will_be_free_and_drop_out_after_their_lease(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     pool.report("a", node=3, free_at=12.0, now=0.0)
     pool.report("b", node=1, free_at=5.0, now=4.0)
     assert pool.robots(now=9.0) == {"a": (3, 12.0), "b": (1, 5.0)}
@@ -132,11 +135,26 @@ def test_robots_report_where_they_will_be_free_and_drop_out_after_their_lease():
         pool.report("", node=0, free_at=0.0, now=0.0)
 
 
-def test_a_foreign_file_is_refused(tmp_path):
-    path = tmp_path / "other.db"
-    execute_sql(path, "CREATE TABLE people (name TEXT)")
-    with pytest.raises(FleetPoolError, match="fleet pool .*other.db: not a fleet pool"):
-        FleetPool(path)
+def test_a_foreign_file_or_database_is_refused(pool_url):
+    execute_in_pool(pool_url, "CREATE TABLE people (name TEXT)")
+    with pytest.raises(FleetPoolError, match=f"fleet pool {re.escape(pool_url)}: not a fleet "
+                                             r"pool: holds tables \['people'\]"):
+        FleetPool(pool_url)
+
+
+def test_where_the_pool_is_names_its_kind_and_a_password_is_never_shown(tmp_path):
+    path = tmp_path / "pool.sqlite"
+    assert FleetPool(f"sqlite://{path}").path == str(path)
+    with pytest.raises(FleetPoolError, match="sqlite://pool.sqlite: an SQLite URL names an "
+                                             "absolute path"):
+        FleetPool("sqlite://pool.sqlite")
+    with pytest.raises(FleetPoolError, match="mysql://host/fleet: unknown kind of database"):
+        FleetPool("mysql://host/fleet")
+    with pytest.raises(PoolUnavailable) as refused:   # nobody listens on port 1
+        FleetPool("postgresql://robot:secret@127.0.0.1:1/fleet")
+    assert str(refused.value).startswith("fleet pool postgresql://robot:***@127.0.0.1:1/fleet: "
+                                         "unavailable (")
+    assert "secret" not in str(refused.value)
 
 
 def _claim_everything(path, robot, ids, queue):
@@ -144,8 +162,8 @@ def _claim_everything(path, robot, ids, queue):
     queue.put((robot, [i for i in ids if pool.claim(robot, i, now=1.0)]))
 
 
-def test_processes_racing_for_the_same_ids_never_share_one(tmp_path):
-    path = str(tmp_path / "pool.db")
+def test_processes_racing_for_the_same_ids_never_share_one(pool_url):
+    path = pool_url
     ids = list(range(1, 201))
     FleetPool(path).share(_instructions(ids))
     queue = FORK.Queue()
@@ -193,8 +211,8 @@ def _events(log_path):
     return [(what, int(i)) for what, i in (line.split() for line in text.splitlines())]
 
 
-def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
-    path = str(tmp_path / "pool.db")
+def test_a_killed_robots_instruction_is_served_by_the_other_once(pool_url, tmp_path):
+    path = pool_url
     ids = list(range(1, 31))
     pool = FleetPool(path, lease_s=0.5)
     pool.share(_instructions(ids))
@@ -221,17 +239,49 @@ def test_a_killed_robots_instruction_is_served_by_the_other_once(tmp_path):
     assert not any(e.state == CLAIMED for e in entries.values())
 
 
-def test_a_failed_commit_rolls_back_and_never_leaves_the_write_lock_held():
-    db = sqlite3.connect(":memory:", isolation_level=None)
-    db.execute("PRAGMA foreign_keys=ON")
-    db.execute("CREATE TABLE parent (id INTEGER PRIMARY KEY)")
-    db.execute("CREATE TABLE child (parent INTEGER REFERENCES parent(id) "
-               "DEFERRABLE INITIALLY DEFERRED)")
-    with pytest.raises(sqlite3.IntegrityError, match="FOREIGN KEY"):   # checked at COMMIT
-        with _Transaction(db):
-            db.execute("INSERT INTO child VALUES (1)")
-    assert not db.in_transaction
-    assert db.execute("SELECT COUNT(*) FROM child").fetchone()[0] == 0
+def test_a_failed_commit_rolls_back_and_never_leaves_the_write_lock_held(pool_url):
+    pool = FleetPool(pool_url)
+    run = pool._db.run   # a table of another program's, checked at COMMIT
+    if not pool_url.startswith("postgresql://"):
+        run("PRAGMA foreign_keys=ON")
+    run("CREATE TABLE parent (id INTEGER PRIMARY KEY)")
+    run("CREATE TABLE child (parent INTEGER REFERENCES parent(id) DEFERRABLE INITIALLY DEFERRED)")
+    with pytest.raises((sqlite3.IntegrityError, psycopg2.IntegrityError),
+                       match="(?i)foreign key"):
+        with pool.transaction():
+            pool.share(_instructions([1]))
+            run("INSERT INTO child VALUES (1)")
+    assert not pool._db.in_transaction
+    assert run("SELECT COUNT(*) FROM child").fetchone()[0] == 0
+    assert pool.since(0) == (0, [])                    # rolled back with it
+    assert pool.share(_instructions([2])) == {} and pool.claim("b", 2, 0.0)
+    execute_in_pool(pool_url, "UPDATE pool SET place=3 WHERE id=2")   # another's write goes on
+
+
+def test_a_restarting_server_fails_the_calls_in_between_and_loses_nothing(pg_cluster):
+    url = pg_cluster.create_database()
+    pool = FleetPool(url, lease_s=10.0)
+    pool.share(_instructions([1, 2]))
+    assert pool.claim("a", 1, 0.0)
+    lost = f"fleet pool {re.escape(url)}: unavailable \\(.*\\); the next call connects again"
+    with pytest.raises(PoolUnavailable, match=lost):
+        with pool.transaction():
+            pool.share(_instructions([3]))
+            pg_cluster.stop()                          # the server restarts mid-transaction
+            pg_cluster.start()
+            pool.claim("a", 3, 1.0)
+    assert pool.since(0)[1] == _instructions([1, 2])   # 3 was rolled back; connected again
+    assert pool.claimable(1.0) == [2] and pool.held_by_others("b", 1.0) == {1}
+    pg_cluster.stop()
+    try:
+        with pytest.raises(PoolUnavailable, match=lost):
+            pool.claim("b", 2, 2.0)                    # the connection it had
+        with pytest.raises(PoolUnavailable, match=f"fleet pool {re.escape(url)}: unavailable "
+                                                  "\\(.*\\); connecting again"):
+            pool.claim("b", 2, 2.0)                    # a new one, refused while it is down
+    finally:
+        pg_cluster.start()
+    assert pool.claim("b", 2, 3.0) and pool.held_by_others("a", 3.0) == {2}
 
 
 def test_a_link_reports_on_change_and_within_its_lease_only():

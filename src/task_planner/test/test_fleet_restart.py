@@ -1,6 +1,7 @@
 """A robot of a fleet that restarts, loses its journal or fails a pool write rejoins from its
 journal (FleetLink.rejoin): nothing it journalled is lost to the fleet, nothing it held is kept
-alive, nothing closed is served again."""
+alive, nothing closed is served again. The tests of the link and the pool alone run on SQLite
+and PostgreSQL (`pool_url`)."""
 import sqlite3
 
 import pytest
@@ -40,18 +41,18 @@ def test_a_restarted_robot_still_charges_its_own_body(line_graph, tmp_path):
     assert FUNCTIONS[8].name == "charge" and again.fleet.pool.entries() == []
 
 
-def test_a_restarted_robot_gives_back_its_claims_and_corridors_at_once(tmp_path):
-    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+def test_a_restarted_robot_gives_back_its_claims_and_corridors_at_once(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     before = FleetLink(pool, "a")
     before.share([make_instruction(1, A), make_instruction(2, B)])
     assert before.claim(1, 0.0) and before.enter({"hall"}, 0.0) == ""
-    after = FleetLink(FleetPool(tmp_path / "pool.sqlite", lease_s=10.0), "a")
+    after = FleetLink(FleetPool(pool_url, lease_s=10.0), "a")
     assert after.rejoin([], own=lambda instruction: False) == {}
     assert pool.claimable(1.0) == [1, 2] and pool.enter("b", ["hall"], 1.0) == ""
 
 
-def test_renewing_keeps_alive_only_what_the_link_holds(tmp_path):
-    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+def test_renewing_keeps_alive_only_what_the_link_holds(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     link = FleetLink(pool, "a")
     link.share([make_instruction(1, A), make_instruction(2, B)])
     assert pool.claim("a", 2, 0.0) and pool.enter("a", ["hall"], 0.0) == ""  # an earlier run's
@@ -61,8 +62,8 @@ def test_renewing_keeps_alive_only_what_the_link_holds(tmp_path):
     assert pool.enter("b", ["hall"], 12.0) == "" and pool.enter("b", ["alley"], 12.0) == "a"
 
 
-def test_choosing_its_own_instruction_gives_back_the_one_it_held(tmp_path):
-    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+def test_choosing_its_own_instruction_gives_back_the_one_it_held(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     mine, other = FleetLink(pool, "a"), FleetLink(pool, "b")
     mine.share([make_instruction(8, B)])
     mine.keep_local(7)
@@ -71,8 +72,8 @@ def test_choosing_its_own_instruction_gives_back_the_one_it_held(tmp_path):
     assert not mine.holds(8, 2.0) and mine.held == 0
 
 
-def test_leaving_gives_up_a_corridor_the_link_does_not_remember(tmp_path):
-    pool = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
+def test_leaving_gives_up_a_corridor_the_link_does_not_remember(pool_url):
+    pool = FleetPool(pool_url, lease_s=10.0)
     assert pool.enter("a", ["hall"], 0.0) == ""          # held by the robot's earlier run
     FleetLink(pool, "a").leave()
     assert pool.enter("b", ["hall"], 1.0) == ""
@@ -239,7 +240,7 @@ def test_rejoining_is_one_transaction_for_the_other_robots(line_graph, tmp_path)
     """A robot killed after it finished 1 but before the pool heard of it: while it rejoins,
     the other robot cannot claim 1 in between giving back and settling."""
     pool_b = FleetPool(tmp_path / "pool.sqlite", lease_s=10.0)
-    pool_b._db.execute("PRAGMA busy_timeout=50")          # b gives up quickly
+    pool_b._db.run("PRAGMA busy_timeout=50")              # b gives up quickly
     done = make_instruction(1, B, function=1)
     pool_b.share([done])
     assert pool_b.claim("a", 1, 0.0)
@@ -263,6 +264,34 @@ def test_rejoining_is_one_transaction_for_the_other_robots(line_graph, tmp_path)
     assert link.rejoin(records, own=lambda instruction: False, now=4.0) == {}
     assert tries == ["database is locked"]
     assert [(e.state, e.robot) for e in pool_b.entries()] == [(DONE, "a")]
+
+
+def test_no_robot_claims_what_a_rejoining_robot_gives_back_and_claims_again(pool_url):
+    """Between giving back its earlier run's claims and claiming again what it serves, the
+    rejoin's transaction holds the instruction: SQLite locks the pool, PostgreSQL the row (a
+    claim skips a locked row)."""
+    pool_b = FleetPool(pool_url, lease_s=10.0)
+    on_sqlite = not pool_url.startswith("postgresql://")
+    if on_sqlite:
+        pool_b._db.run("PRAGMA busy_timeout=50")          # b gives up quickly
+    serving = make_instruction(1, B, function=1)
+    pool_b.share([serving])
+    assert pool_b.claim("a", 1, 0.0)
+    link = FleetLink(FleetPool(pool_url, lease_s=10.0), "a")
+    claim, tries = link.pool.claim, []
+
+    def claim_after_b_tried(*args):
+        try:                                              # 1 is given back (open) by now
+            tries.append(pool_b.claim("b", 1, 4.0))
+        except sqlite3.OperationalError as error:
+            tries.append(str(error))
+        return claim(*args)
+
+    link.pool.claim = claim_after_b_tried
+    assert link.rejoin([], own=lambda instruction: False, keep=1, now=4.0) == {}
+    assert tries == (["database is locked"] if on_sqlite else [False])
+    assert link.held == 1 and [(e.state, e.robot, e.lease_until) for e in pool_b.entries()] == [
+        (CLAIMED, "a", 14.0)]
 
 
 def test_a_restarted_robot_holds_the_corridor_it_stands_in(star_graph, tmp_path):

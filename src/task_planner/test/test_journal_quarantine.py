@@ -1,9 +1,11 @@
-"""A damaged task buffer journal or fleet pool: every row that does not load is quarantined with
-its reason, the others load, and the buffer or pool keeps working (no TypeError or IndexError)."""
+"""A damaged task buffer journal or fleet pool (SQLite or PostgreSQL): every row that does not
+load is quarantined with its reason, the others load, and the buffer or pool keeps working (no
+TypeError or IndexError)."""
+import json
 import sqlite3
 
 import pytest
-from planner_factories import make_instruction
+from planner_factories import POOL_BACKENDS, execute_in_pool, make_instruction
 
 from task_planner.fleet_pool import FleetPool, LeaseLost
 from task_planner.task_buffer import DONE, FAILED, PENDING, BufferConfig, TaskBuffer
@@ -82,28 +84,33 @@ def test_a_text_seq_does_not_stop_the_next_seq(tmp_path):
     buffer.close()
 
 
-POOL_DAMAGE = {   # id -> (the pool row's instruction column, the reason's end)
-    2: ("'not json'", "column instruction holds 'not json', not an instruction in JSON "
-                      "(Expecting value: line 1 column 1 (char 0))"),
-    3: ("json_set(instruction, '$.gamma', NULL)", "field gamma is NULL, not a number"),
-    4: ("json_set(instruction, '$.gamma', 'high')",
-        "field gamma holds text 'high', not a number"),
-    5: ("json_set(instruction, '$.colour', 'red')", "unknown field(s) colour"),
-    6: ("json_set(instruction, '$.beta', 2.0)",
-        "instruction 6: beta must lie in [0.01, 1) (Eq. 4-2); got beta = 2.0"),
-    7: ("X'00ff10'", "column instruction holds b'\\x00\\xff\\x10', not an instruction in JSON "
-                     "('utf-8' codec can't decode byte 0xff in position 1: invalid start byte)"),
-    8: ("'[1, 2]'", "holds list [1, 2], not an instruction's fields"),
+def _with(**fields):
+    """The damage: a pool row's instruction (JSON) with `fields` set."""
+    return lambda text: json.dumps({**json.loads(text), **fields})
+
+
+POOL_DAMAGE = {   # id -> (the damage to the row's instruction text, the reason's end)
+    2: (lambda _: "not json", "column instruction holds 'not json', not an instruction in JSON "
+                              "(Expecting value: line 1 column 1 (char 0))"),
+    3: (_with(gamma=None), "field gamma is NULL, not a number"),
+    4: (_with(gamma="high"), "field gamma holds text 'high', not a number"),
+    5: (_with(colour="red"), "unknown field(s) colour"),
+    6: (_with(beta=2.0), "instruction 6: beta must lie in [0.01, 1) (Eq. 4-2); got beta = 2.0"),
+    7: (lambda _: b"\x00\xff\x10",   # a BLOB: SQLite only (PostgreSQL's column holds text)
+        "column instruction holds b'\\x00\\xff\\x10', not an instruction in JSON ('utf-8' codec "
+        "can't decode byte 0xff in position 1: invalid start byte)"),
+    8: (lambda _: "[1, 2]", "holds list [1, 2], not an instruction's fields"),
 }
 
 
-@pytest.mark.parametrize("row", sorted(POOL_DAMAGE))
-def test_a_fleet_pool_row_that_does_not_load_is_skipped_with_its_reason(tmp_path, row):
-    path = tmp_path / "pool.sqlite"
-    pool = FleetPool(path)
+@pytest.mark.parametrize("pool_url, row", [
+    (backend, row) for backend in POOL_BACKENDS for row in sorted(POOL_DAMAGE)
+    if backend == "sqlite" or row != 7], indirect=["pool_url"])
+def test_a_fleet_pool_row_that_does_not_load_is_skipped_with_its_reason(pool_url, row):
+    pool = FleetPool(pool_url)
     pool.share([make_instruction(i, 2) for i in range(1, 10)])
-    with sqlite3.connect(path) as db:
-        db.execute(f"UPDATE pool SET instruction = {POOL_DAMAGE[row][0]} WHERE id = ?", (row,))
+    execute_in_pool(pool_url, "UPDATE pool SET instruction = ? WHERE id = ?",
+                    (POOL_DAMAGE[row][0](pool._shared(row)), row))
     seq, shared = pool.since(0)
     assert seq == 9 and [i.id for i in shared] == [i for i in range(1, 10) if i != row]
     assert pool.quarantined == {row: f"quarantined: fleet pool row {row} is no valid "
@@ -112,15 +119,15 @@ def test_a_fleet_pool_row_that_does_not_load_is_skipped_with_its_reason(tmp_path
     pool.close()
 
 
-def test_a_damaged_fleet_pool_row_state_or_id_counter_does_not_stop_the_pool(tmp_path):
-    path = tmp_path / "pool.sqlite"
-    pool = FleetPool(path)
+def test_a_damaged_fleet_pool_row_state_or_id_counter_does_not_stop_the_pool(pool_url):
+    pool = FleetPool(pool_url)
     pool.share([make_instruction(i, 2) for i in (1, 2)])
     assert pool.next_id() == 3
-    with sqlite3.connect(path) as db:
-        db.execute("UPDATE pool SET state = 9 WHERE id = 1")
-        db.execute("UPDATE pool_ids SET last = 'x'")
-    assert pool.next_id() == 3
+    execute_in_pool(pool_url, "UPDATE pool SET state = 9 WHERE id = 1")
+    on_sqlite = not pool_url.startswith("postgresql://")   # PostgreSQL's columns keep their type
+    if on_sqlite:   # a counter that is no number is left out: ids go on from the largest shared
+        execute_in_pool(pool_url, "UPDATE pool_ids SET last = 'x'")
+    assert pool.next_id() == (3 if on_sqlite else 4)
     with pytest.raises(LeaseLost, match="instruction 1 .*: in the unknown state 9"):
         pool.complete("a", 1, 0.0)
     pool.close()

@@ -1,24 +1,29 @@
-"""The instructions a fleet shares, claimed under leases in one SQLite file (WAL), ROS-free.
+"""The instructions a fleet shares, claimed under leases, ROS-free.
 
-Several executors (processes on one host: SQLite's WAL needs shared memory, so the file must not
-sit on a network file system) serve one pool of instructions. An executor that receives an
-instruction `share`s it; the others take it in with `since`. Ids a sender leaves to the fleet
-come from `next_id`, one counter for the fleet, so two robots never give two instructions one id.
+Several executors serve one pool of instructions, kept in an SQLite file (WAL: processes on one
+host) or in a PostgreSQL database (robots on several hosts), chosen by where the pool is: a path or
+`sqlite:///abs/path`, or `postgresql://[user@]host[:port]/database` (fleet_pool_db). An executor
+that receives an instruction `share`s it; the others take it in with `since`. Ids a sender leaves
+to the fleet come from `next_id`, one counter for the fleet, so two robots never give two
+instructions one id.
 
-A robot claims an instruction before it drives there: the claim is one `BEGIN IMMEDIATE`
-transaction that succeeds only while nobody holds the instruction, so no two robots ever hold it
-at once. A claim is a lease of `lease_s` seconds, renewed by its robot while it works (`renew`);
-a robot that dies stops renewing, and once its lease has run out the instruction is claimable
-again, so nothing it held is lost. `complete` and `fail` close an instruction only for the robot
-whose lease still holds it: a robot that lost its lease (stalled past it, the instruction served
-by another) is told so (`LeaseLost`) and must not serve it, so nothing is served twice. `cancel`
-closes an open instruction for every robot. Corridors (narrow places) are held the same way, one
-robot at a time (`enter`, `leave`), under the robot's lease. Each robot `report`s where it will
-be free next and from when, under its lease too, so a fleet allocator running on every robot
-sees the same fleet (`robots`). A restarted executor gives back
+A robot claims an instruction before it drives there: the claim is one transaction that locks the
+instruction's row (SQLite: the whole file) and succeeds only while nobody holds the instruction, so
+no two robots ever hold it at once. A claim is a lease of `lease_s` seconds, renewed by its robot
+while it works (`renew`); a robot that dies stops renewing, and once its lease has run out the
+instruction is claimable again, so nothing it held is lost. `complete` and `fail` close an
+instruction only for the robot whose lease still holds it: a robot that lost its lease (stalled
+past it, the instruction served by another) is told so (`LeaseLost`) and must not serve it, so
+nothing is served twice. `cancel` closes an open instruction for every robot. Corridors (narrow
+places) are held the same way, one robot at a time (`enter`, `leave`), under the robot's lease.
+Each robot `report`s where it will be free next and from when, under its lease too, so a fleet
+allocator running on every robot sees the same fleet (`robots`). A restarted executor gives back
 whatever it held before (`release_all`) and closes in the pool what its journal closed while the
-pool did not learn of it (`settle`: it stopped between the two writes). Times are passed in by
-the caller [s] (wall or ROS time, one clock for the fleet).
+pool did not learn of it (`settle`: it stopped between the two writes). Times, leases included, are
+passed in by the caller [s] (wall or ROS time, one clock for the fleet), on PostgreSQL too: the
+fleet runs on ROS time, simulated (/clock) in simulation, which the database server's clock does
+not follow. A PostgreSQL server that cannot be reached raises PoolUnavailable (a FleetPoolError)
+naming it; the next call connects again.
 
 A pool row whose instruction does not load (not JSON, a field of the wrong kind or unknown, an
 instruction Instruction refuses: written by hand or damaged) is skipped by `since` and kept in
@@ -27,14 +32,14 @@ instruction Instruction refuses: written by hand or damaged) is skipped by `sinc
 import json
 from dataclasses import asdict, dataclass
 
+from task_planner.fleet_pool_db import (FleetPoolError, PoolUnavailable,  # noqa: F401 (theirs too)
+                                        open_pool_db)
 from task_planner.instruction import Instruction, InvalidInstruction
-from task_planner.journal_file import JournalFileError, open_journal
 from task_planner.journal_rows import fields_problem
 
 OPEN, CLAIMED, DONE, FAILED, CANCELLED = range(5)
 STATE_NAMES = ("open", "claimed", "done", "failed", "cancelled")
 CLOSED_STATES = (DONE, FAILED, CANCELLED)
-BUSY_TIMEOUT_MS = 10000   # how long a write waits for another process's transaction
 _TABLES = ("CREATE TABLE IF NOT EXISTS pool (id INTEGER PRIMARY KEY, state INTEGER NOT NULL, "
            "robot TEXT NOT NULL, lease_until REAL NOT NULL, completion_time REAL NOT NULL, "
            "claims INTEGER NOT NULL, seq INTEGER NOT NULL, instruction TEXT NOT NULL, "
@@ -50,10 +55,6 @@ class LeaseLost(RuntimeError):
     """The robot no longer holds the instruction: its lease ran out (or it never held it)."""
 
 
-class FleetPoolError(ValueError):
-    """The pool's file or a request to it is unusable; the message names it."""
-
-
 @dataclass(frozen=True)
 class PoolEntry:
     id: int
@@ -65,34 +66,35 @@ class PoolEntry:
 
 
 class FleetPool:
-    """One fleet's shared instructions and their claims; `path` may be ':memory:'."""
+    """One fleet's shared instructions and their claims at `where`: an SQLite file's path (or
+    ':memory:', or sqlite:///abs/path) or a PostgreSQL URL (`synchronous`: SQLite's PRAGMA)."""
 
-    def __init__(self, path, lease_s=10.0, synchronous="FULL"):
+    def __init__(self, where, lease_s=10.0, synchronous="FULL"):
         if not lease_s > 0:
             raise FleetPoolError(f"lease_s must be > 0, got {lease_s}")
         self.lease_s = float(lease_s)
-        try:
-            self._db = open_journal(str(path), synchronous, _TABLES, "fleet pool")
-        except JournalFileError as error:
-            raise FleetPoolError(str(error)) from error
-        self._db.execute(f"PRAGMA busy_timeout={BUSY_TIMEOUT_MS}")
-        self.path = str(path)
+        self._db = open_pool_db(where, _TABLES, synchronous)
+        self.path = self._db.name   # names the pool in messages (a URL without its password)
         self.quarantined = {}   # id -> reason of the pool rows `since` skipped
 
     def close(self):
         self._db.close()
+
+    def _run(self, sql, args=()):
+        return self._db.run(sql, args)
 
     # ---- instructions ----
 
     def next_id(self, above=0):
         """A fresh id for the fleet: more than every id handed out or shared, and than `above`."""
         with self._write():
-            last = self._db.execute("SELECT COALESCE(MAX(last), 0) FROM pool_ids WHERE "
-                                    "typeof(last) = 'integer'").fetchone()[0]
-            largest = self._db.execute("SELECT COALESCE(MAX(id), 0) FROM pool").fetchone()[0]
+            self._db.serialize()
+            last = self._run(f"SELECT COALESCE(MAX(last), 0) FROM pool_ids WHERE "
+                             f"{self._db.is_integer('last')}").fetchone()[0]
+            largest = self._run("SELECT COALESCE(MAX(id), 0) FROM pool").fetchone()[0]
             new = max(last, largest, int(above)) + 1
-            self._db.execute("DELETE FROM pool_ids")
-            self._db.execute("INSERT INTO pool_ids VALUES (?)", (new,))
+            self._run("DELETE FROM pool_ids")
+            self._run("INSERT INTO pool_ids VALUES (?)", (new,))
             return new
 
     def share(self, instructions):
@@ -100,7 +102,8 @@ class FleetPool:
         the pool holds another instruction under that id. One already there is left as it is."""
         refused = {}
         with self._write():
-            seq = self._db.execute("SELECT COALESCE(MAX(seq), 0) FROM pool").fetchone()[0]
+            self._db.serialize()   # sequence numbers in commit order: `since` misses none
+            seq = self._run("SELECT COALESCE(MAX(seq), 0) FROM pool").fetchone()[0]
             for instruction in instructions:
                 text, shared = _encode(instruction), self._shared(instruction.id)
                 if shared is not None:
@@ -108,8 +111,8 @@ class FleetPool:
                         refused[instruction.id] = _conflict(instruction.id)
                     continue
                 seq += 1
-                self._db.execute("INSERT INTO pool VALUES (?, ?, '', 0, 0, 0, ?, ?, -1)",
-                                 (instruction.id, OPEN, seq, text))
+                self._run("INSERT INTO pool VALUES (?, ?, '', 0, 0, 0, ?, ?, -1)",
+                          (instruction.id, OPEN, seq, text))
         return refused
 
     def conflicting(self, instructions):
@@ -118,15 +121,15 @@ class FleetPool:
                 if self._shared(i.id) not in (None, _encode(i))}
 
     def _shared(self, instruction_id):
-        row = self._db.execute("SELECT instruction FROM pool WHERE id=?",
-                               (int(instruction_id),)).fetchone()
+        row = self._run("SELECT instruction FROM pool WHERE id=?",
+                        (int(instruction_id),)).fetchone()
         return None if row is None else row[0]
 
     def since(self, seq):
         """(latest seq, [Instruction shared after `seq`]), in the order they were shared; a row
         that does not load is left out and kept in `quarantined`."""
-        rows = self._db.execute("SELECT seq, id, instruction FROM pool WHERE seq>? AND "
-                                "typeof(seq) = 'integer' ORDER BY seq", (int(seq),)).fetchall()
+        rows = self._run(f"SELECT seq, id, instruction FROM pool WHERE seq>? AND "
+                         f"{self._db.is_integer('seq')} ORDER BY seq", (int(seq),)).fetchall()
         shared = []
         for _, instruction_id, text in rows:
             try:
@@ -141,20 +144,20 @@ class FleetPool:
 
     def claimable(self, now):
         """Ids nobody holds at `now` (open, or claimed under a lease that has run out)."""
-        rows = self._db.execute("SELECT id FROM pool WHERE state=? OR (state=? AND lease_until<?) "
-                                "ORDER BY id", (OPEN, CLAIMED, now))
+        rows = self._run("SELECT id FROM pool WHERE state=? OR (state=? AND lease_until<?) "
+                         "ORDER BY id", (OPEN, CLAIMED, now))
         return [row[0] for row in rows]
 
     def held_by_others(self, robot, now):
         """Ids another robot holds at `now` (claimed under a lease that still runs)."""
-        rows = self._db.execute("SELECT id FROM pool WHERE state=? AND robot<>? AND "
-                                "lease_until>=?", (CLAIMED, robot, now))
+        rows = self._run("SELECT id FROM pool WHERE state=? AND robot<>? AND lease_until>=?",
+                         (CLAIMED, robot, now))
         return {row[0] for row in rows}
 
     def places_held_by_others(self, robot, now):
         """Places (graph nodes) where another robot serves, or drives to serve, what it holds."""
-        rows = self._db.execute("SELECT DISTINCT place FROM pool WHERE state=? AND robot<>? AND "
-                                "lease_until>=? AND place>=0", (CLAIMED, robot, now))
+        rows = self._run("SELECT DISTINCT place FROM pool WHERE state=? AND robot<>? AND "
+                         "lease_until>=? AND place>=0", (CLAIMED, robot, now))
         return {row[0] for row in rows}
 
     def closed(self, ids):
@@ -163,7 +166,7 @@ class FleetPool:
         ids = [int(i) for i in ids]
         for start in range(0, len(ids), 500):   # SQLite's limit on bound variables
             part = ids[start:start + 500]
-            rows = self._db.execute(
+            rows = self._run(
                 f"SELECT id, state, robot, lease_until, completion_time, claims FROM pool WHERE "
                 f"state IN (?, ?, ?) AND id IN ({','.join('?' * len(part))})",
                 CLOSED_STATES + tuple(part))
@@ -173,11 +176,16 @@ class FleetPool:
     def claim(self, robot, instruction_id, now, place=-1):
         """True when `robot` now holds the instruction (until now + lease_s), to serve it at
         `place` (a graph node; -1: not said); False when another robot holds it, it is closed or
-        not in the pool. Claiming what the robot holds renews it."""
+        not in the pool (or another robot's transaction writes it just now). Claiming what the
+        robot holds renews it."""
         _check_robot(robot)
         with self._write():
-            changed = self._db.execute(
-                "UPDATE pool SET claims=claims+(robot<>? OR state<>? OR lease_until<?), state=?, "
+            if self._run(f"SELECT id FROM pool WHERE id=?{self._db.row_lock}",
+                         (int(instruction_id),)).fetchone() is None:
+                return False
+            changed = self._run(
+                "UPDATE pool SET claims=claims+CAST((robot<>? OR state<>? OR lease_until<?) AS "
+                "INTEGER), state=?, "
                 "robot=?, lease_until=?, place=? WHERE id=? AND (state=? OR (state=? AND "
                 "(lease_until<? OR robot=?)))",
                 (robot, CLAIMED, now, CLAIMED, robot, now + self.lease_s, int(place),
@@ -193,14 +201,14 @@ class FleetPool:
         with self._write():
             held = []
             for instruction_id in ids:
-                changed = self._db.execute(
+                changed = self._run(
                     "UPDATE pool SET lease_until=? WHERE id=? AND robot=? AND state=? AND "
                     "lease_until>=?", (now + self.lease_s, instruction_id, robot, CLAIMED, now))
                 if changed.rowcount == 1:
                     held.append(instruction_id)
-            self._db.executemany("UPDATE corridors SET lease_until=? WHERE name=? AND robot=? "
-                                 "AND lease_until>=?",
-                                 [(now + self.lease_s, name, robot, now) for name in corridors])
+            for name in corridors:
+                self._run("UPDATE corridors SET lease_until=? WHERE name=? AND robot=? AND "
+                          "lease_until>=?", (now + self.lease_s, name, robot, now))
             return held
 
     def release_all(self, robot):
@@ -208,9 +216,9 @@ class FleetPool:
         from its journal, not from claims it made before)."""
         _check_robot(robot)
         with self._write():
-            self._db.execute("UPDATE pool SET state=?, robot='', lease_until=0 WHERE robot=? AND "
-                             "state=?", (OPEN, robot, CLAIMED))
-            self._db.execute("DELETE FROM corridors WHERE robot=?", (robot,))
+            self._run("UPDATE pool SET state=?, robot='', lease_until=0 WHERE robot=? AND "
+                      "state=?", (OPEN, robot, CLAIMED))
+            self._run("DELETE FROM corridors WHERE robot=?", (robot,))
 
     def settle(self, robot, instruction_id, now, state):
         """Close an instruction `robot`'s journal closed (`state`: DONE, FAILED or CANCELLED) that
@@ -221,7 +229,7 @@ class FleetPool:
             raise FleetPoolError(f"instruction {instruction_id}: cannot settle it as state "
                                  f"{state}")
         with self._write():
-            changed = self._db.execute(
+            changed = self._run(
                 "UPDATE pool SET state=?, robot=?, completion_time=? WHERE id=? AND (state=? OR "
                 "(state=? AND robot=?))",
                 (state, robot, now, int(instruction_id), OPEN, CLAIMED, robot))
@@ -241,7 +249,7 @@ class FleetPool:
         holds it; False when it is closed already or not in the pool."""
         _check_robot(robot)
         with self._write():
-            changed = self._db.execute(
+            changed = self._run(
                 "UPDATE pool SET state=?, robot=?, completion_time=? WHERE id=? AND state IN "
                 "(?, ?)", (CANCELLED, robot, now, int(instruction_id), OPEN, CLAIMED))
             return changed.rowcount == 1
@@ -251,53 +259,58 @@ class FleetPool:
         robot that holds one of them (its lease still running)."""
         _check_robot(robot)
         with self._write():
+            self._db.serialize()   # two robots never both find a corridor free
             for name in names:
-                row = self._db.execute("SELECT robot FROM corridors WHERE name=? AND robot<>? "
-                                       "AND lease_until>=?", (name, robot, now)).fetchone()
+                row = self._run("SELECT robot FROM corridors WHERE name=? AND robot<>? AND "
+                                "lease_until>=?", (name, robot, now)).fetchone()
                 if row is not None:
                     return row[0]
-            self._db.executemany("INSERT OR REPLACE INTO corridors VALUES (?, ?, ?)",
-                                 [(name, robot, now + self.lease_s) for name in names])
+            for name in names:
+                self._run("INSERT INTO corridors VALUES (?, ?, ?) ON CONFLICT (name) DO UPDATE "
+                          "SET robot=excluded.robot, lease_until=excluded.lease_until",
+                          (name, robot, now + self.lease_s))
         return ""
 
     def leave(self, robot, keep=()):
         """Give up every corridor `robot` holds but those in `keep`."""
         _check_robot(robot)
         with self._write():
-            for (name,) in self._db.execute("SELECT name FROM corridors WHERE robot=?",
-                                            (robot,)).fetchall():
+            for (name,) in self._run("SELECT name FROM corridors WHERE robot=?",
+                                     (robot,)).fetchall():
                 if name not in keep:
-                    self._db.execute("DELETE FROM corridors WHERE name=?", (name,))
+                    self._run("DELETE FROM corridors WHERE name=?", (name,))
 
     def report(self, robot, node, free_at, now):
         """`robot` will be free at graph node `node` from `free_at` [s]; the report holds until
         now + lease_s (a robot that stops reporting drops out of `robots`)."""
         _check_robot(robot)
         with self._write():
-            self._db.execute("INSERT OR REPLACE INTO robots VALUES (?, ?, ?, ?)",
-                             (robot, int(node), float(free_at), now + self.lease_s))
+            self._run("INSERT INTO robots VALUES (?, ?, ?, ?) ON CONFLICT (robot) DO UPDATE SET "
+                      "node=excluded.node, free_at=excluded.free_at, "
+                      "lease_until=excluded.lease_until",
+                      (robot, int(node), float(free_at), now + self.lease_s))
 
     def robots(self, now):
         """{robot: (node, free_at)} of the robots whose report still holds at `now`."""
-        return {row[0]: (row[1], row[2]) for row in self._db.execute(
+        return {row[0]: (row[1], row[2]) for row in self._run(
             "SELECT robot, node, free_at FROM robots WHERE lease_until>=? ORDER BY robot",
             (now,))}
 
     def release(self, robot, instruction_id):
         """Give a held instruction back to the pool (the robot will not serve it)."""
         with self._write():
-            self._db.execute("UPDATE pool SET state=?, robot='', lease_until=0 WHERE id=? AND "
-                             "robot=? AND state=?", (OPEN, int(instruction_id), robot, CLAIMED))
+            self._run("UPDATE pool SET state=?, robot='', lease_until=0 WHERE id=? AND robot=? "
+                      "AND state=?", (OPEN, int(instruction_id), robot, CLAIMED))
 
     def entries(self):
         """Every PoolEntry, by id."""
-        return [PoolEntry(*row) for row in self._db.execute(
+        return [PoolEntry(*row) for row in self._run(
             "SELECT id, state, robot, lease_until, completion_time, claims FROM pool ORDER BY id")]
 
     def _close_held(self, robot, instruction_id, now, state):
         _check_robot(robot)
         with self._write():
-            changed = self._db.execute(
+            changed = self._run(
                 "UPDATE pool SET state=?, completion_time=? WHERE id=? AND robot=? AND state=? "
                 "AND lease_until>=?", (state, now, int(instruction_id), robot, CLAIMED, now))
             if changed.rowcount != 1:
@@ -305,8 +318,8 @@ class FleetPool:
                                 f"at {now:.3f} s: {self._describe(instruction_id)}")
 
     def _describe(self, instruction_id):
-        row = self._db.execute("SELECT state, robot, lease_until FROM pool WHERE id=?",
-                               (int(instruction_id),)).fetchone()
+        row = self._run("SELECT state, robot, lease_until FROM pool WHERE id=?",
+                        (int(instruction_id),)).fetchone()
         if row is None:
             return "not in the pool"
         state, robot, until = row
@@ -326,9 +339,9 @@ class FleetPool:
 
 
 class _Transaction:
-    """BEGIN IMMEDIATE ... COMMIT (ROLLBACK on error): the write lock is taken at the start, so
-    a read-then-update cannot interleave with another process's. Inside an open transaction it
-    joins that one."""
+    """BEGIN ... COMMIT (ROLLBACK on error; SQLite: BEGIN IMMEDIATE, the write lock taken at the
+    start, so a read-then-update cannot interleave with another process's). Inside an open
+    transaction it joins that one."""
 
     def __init__(self, db):
         self.db, self.outer = db, False
@@ -336,20 +349,19 @@ class _Transaction:
     def __enter__(self):
         self.outer = not self.db.in_transaction
         if self.outer:
-            self.db.execute("BEGIN IMMEDIATE")
+            self.db.begin()
 
     def __exit__(self, kind, error, trace):
         if not self.outer:
             return False
         if kind is None:
             try:
-                self.db.execute("COMMIT")
+                self.db.commit()
             except Exception:   # e.g. disk full: never leave the write lock held
-                if self.db.in_transaction:
-                    self.db.execute("ROLLBACK")
+                self.db.rollback()
                 raise
-        elif self.db.in_transaction:
-            self.db.execute("ROLLBACK")
+        else:
+            self.db.rollback()
         return False
 
 

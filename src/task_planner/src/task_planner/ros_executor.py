@@ -7,7 +7,9 @@ it answers, so its acknowledgement is durable; a request with id 0 gets the next
 (TaskBuffer.next_id), or of the fleet with `~fleet_pool`, returned in the answer; a refusal answers
 with the reason (a broken Table 4-1 field, a function not in `~robot_functions`, a place not in
 the graph, more than `~max_open_instructions` open). With `~fleet_pool`
-the robot is one of a fleet sharing that file (task_planner.fleet_link). /task_planner/state carries
+the robot is one of a fleet sharing that pool (task_planner.fleet_link); a pool that cannot be
+reached (PoolUnavailable) is an ERROR on /diagnostics, refuses what would need it, and the robot
+rejoins once it is back. /task_planner/state carries
 the open instructions and the `~state_recent` most recently finished ones; /task_planner/get_buffer
 every instruction.
 """
@@ -45,7 +47,7 @@ from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_m
                                    nearest_node)
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
 from task_planner.fleet_link import FleetLink
-from task_planner.fleet_pool import FleetPool
+from task_planner.fleet_pool import FleetPool, PoolUnavailable
 from task_planner.graph import load_graph
 from task_planner.people_belief import PeopleAtPlaces
 from task_planner.instruction import InvalidInstruction
@@ -108,7 +110,9 @@ class NodeParams:
     max_preemptions: int = 3       # a goal preempted by another sender (rviz "2D Nav Goal") is
                                    # sent again this often, then handled as aborted
     event_hold: float = 10.0       # diagnostics keep a navigation or journal event this long [s]
-    fleet_pool: str = ""           # SQLite file the executors of a fleet share (one host);
+    fleet_pool: str = ""           # the pool the executors of a fleet share: an SQLite file
+                                   # (or sqlite:///abs/path; one host) or
+                                   # postgresql://[user@]host[:port]/database (several hosts);
                                    # "" = a robot on its own
     robot_name: str = ""           # this robot's name in the fleet; "" = the node's namespace
     fleet_lease: float = 10.0      # a claim lapses this long after its robot last renewed it
@@ -319,6 +323,9 @@ class ExecutorNode:
                     results, commands = [(None, f"instruction {instruction.id}: "
                                                 f"{JOURNAL_FAILED}: writing "
                                                 f"{self.params.journal} failed: {exc}")], []
+                elif isinstance(exc, PoolUnavailable):   # checked with the fleet first
+                    self._event(str(exc), DiagnosticStatus.ERROR)
+                    results, commands = [(None, f"instruction {instruction.id}: {exc}")], []
                 else:
                     raise   # not journalled: the caller gets the error
             self._carry_out(commands)
@@ -359,16 +366,20 @@ class ExecutorNode:
     def _step_fault(self, exc):
         """A step of the executor raised (the caller holds the lock): fail the instruction being
         served with the reason, so neither this run nor a restart runs it again, and stop. A
-        journal write that failed (a full disk) is an ERROR on diagnostics; when even the
-        failure cannot be journalled, the robot still stops."""
+        journal write that failed (a full disk) or a fleet pool that cannot be reached is an
+        ERROR on diagnostics; when even the failure cannot be written, the robot still stops."""
         now = rospy.get_time()
         instruction_id = self.executor.serving()
-        level = DiagnosticStatus.ERROR if isinstance(exc, sqlite3.Error) else DiagnosticStatus.WARN
+        level = (DiagnosticStatus.ERROR if isinstance(exc, (sqlite3.Error, PoolUnavailable))
+                 else DiagnosticStatus.WARN)
         try:
             commands = self.executor.fault(now, fault_text(exc))
             failed = f"; instruction {instruction_id} failed" if instruction_id else ""
         except sqlite3.Error as error:
             commands, failed = [StopMotion()], f"; writing {self.params.journal} failed: {error}"
+            level = DiagnosticStatus.ERROR
+        except PoolUnavailable as error:   # journalled; the pool learns of it at the rejoin
+            commands, failed = [StopMotion()], f"; {error}"
             level = DiagnosticStatus.ERROR
         self._event(f"fault in the executor step: {fault_text(exc)}{failed}", level)
         self._carry_out(commands)
