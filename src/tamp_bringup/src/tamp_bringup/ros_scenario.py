@@ -111,6 +111,7 @@ class ScenarioNode:
         self.wearing = dict(scenario.shirts or {})   # person -> the shirt the world has on them
         self.where = {p: place for p, (place, _) in scenario.initial.items()}   # their place
         self.speaking = None               # who is answering the robot's questions now
+        self.meeting = None                # the introduce instruction they answer (its id)
         self.heard = 0                     # sentences of self.said the visitors have heard
         self.sent = {}                     # request index -> when it was sent [s]
         self.held = []                     # (index, request) of visitors not registered yet
@@ -286,7 +287,10 @@ class ScenarioNode:
                 self.speaking = None
             here = {name: self.wearing[name] for name in list(visitors) + list(self.unmet)
                     if self.where.get(name) in places}
-            seen = self._seen_stranger(state)
+            meeting, seen = self._seen_stranger(state)
+            if meeting is not None and meeting != self.meeting:
+                self.speaking, self.meeting = None, meeting   # another stranger: whoever
+                #                                               answered the last one is done
             if (self.speaking not in here and len(here) > 1 and seen is None
                     and rospy.get_time() - said_at < WHO_WAIT_S):
                 with self.lock:   # who is asked shows once the state has the meeting ACTIVE
@@ -314,12 +318,12 @@ class ScenarioNode:
 
     @staticmethod
     def _seen_stranger(state):
-        """The shirt the robot saw on the stranger it is meeting (its active introduce
-        instruction), or None."""
+        """(id, the shirt the robot saw on the stranger) of the introduce instruction it is
+        serving, or (None, None)."""
         for record in state.instructions if state is not None else ():
             if record.state == ACTIVE and record.instruction.text.startswith(INTRODUCE_TEXT):
-                return seen_shirt(record.instruction.text)
-        return None
+                return record.instruction.id, seen_shirt(record.instruction.text)
+        return None, None
 
     def _notice_recalls(self):
         """Residents whose shirt human_db registered since they were to be (re)met: met."""
