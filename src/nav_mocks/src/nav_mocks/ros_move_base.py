@@ -38,6 +38,8 @@ from supervision.health import fault_text
 from supervision.ros_params import config_from_params, refuse_unknown_params
 from supervision.ros_supervisor import Supervisor
 
+# goal states actionlib lets a server cancel (else it logs an ERROR)
+CANCELLABLE = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.RECALLING, GoalStatus.PREEMPTING)
 TF_ERRORS = (tf2_ros.LookupException, tf2_ros.ConnectivityException,
              tf2_ros.ExtrapolationException)
 
@@ -224,7 +226,8 @@ class MoveBaseNode:
                 self.core.cancel("cancelled")
                 self._stop()
                 self.handle = None
-            handle.set_canceled(MoveBaseResult(), "cancelled")
+            if handle.get_goal_status().status in CANCELLABLE:   # not one that ended while
+                handle.set_canceled(MoveBaseResult(), "cancelled")   # the cancel was on its way
             self.taken_cancels.pop(0)
 
     def _cycle_failed(self, error):
