@@ -142,14 +142,14 @@ def test_penguin_urdf_matches_the_base_and_the_simulator():
     assert max(ys) - min(ys) == pytest.approx(base["wheel_separation"])
 
 
-def test_fleet_runs_each_robots_navigation_on_its_machine_and_the_executors_on_the_server():
+def test_fleet_runs_each_robots_navigation_and_executor_on_its_machine():
     robot, fleet = load_launch("fleet_robot.launch"), load_launch("fleet_sim.launch")
     machines = {m.get("name"): m for m in list(robot.iter("machine")) + list(fleet.iter("machine"))}
-    assert set(machines) == {"$(arg robot)", "fleet_server"}
+    assert set(machines) == {"$(arg robot)"}
     assert all(m.get("env-loader") == "$(arg env_loader)" for m in machines.values())
     nodes = {n.get("name"): n.get("machine") for n in robot.iter("node")}
     assert nodes == {"amcl": "$(arg robot)", "move_base": "$(arg robot)",
-                     "task_planner": "fleet_server"}
+                     "task_planner": "$(arg robot)"}
     robots = [i for i in fleet.iter("include") if i.get("file").endswith("fleet_robot.launch")]
     assert [{a.get("name"): a.get("value") for a in i.iter("arg")}["address"] for i in robots] == [
         "$(arg robot1_address)", "$(arg robot2_address)"]

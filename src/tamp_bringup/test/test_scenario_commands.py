@@ -159,3 +159,17 @@ def test_a_user_mistake_is_one_line_and_exit_status_2(tmp_path, text, message):
     debug = subprocess.run([sys.executable, str(SCRIPTS / "run_scenario"), str(path), "--debug"],
                            capture_output=True, text=True, timeout=120)
     assert debug.returncode == 1 and "Traceback (most recent call last)" in debug.stderr
+
+
+def test_a_fleet_run_passes_its_postgresql_pool_and_records_it_without_the_password(tmp_path):
+    args = run_scenario_main.parse_args(["--fleet", "--pool", "postgresql://u:pw@127.0.0.1/f",
+                                         "--out-dir", str(tmp_path)])
+    scenario = load_scenario(resource("config", "scenarios", "household_short.yaml"))
+    command = run_scenario_main.launch_command(args, scenario, "s.yaml", tmp_path, 11311)
+    assert "pool:=postgresql://u:pw@127.0.0.1/f" in command
+    assert any(part.startswith("command:=") and part.endswith("--fleet --pool "
+                                                              "postgresql://u:***@127.0.0.1/f")
+               for part in command)
+    for argv in (["--pool", "postgresql://h/f"], ["--fleet", "--pool", "/tmp/pool.sqlite"]):
+        with pytest.raises(SystemExit):
+            run_scenario_main.parse_args(argv)

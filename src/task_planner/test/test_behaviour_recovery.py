@@ -45,8 +45,20 @@ def test_a_fault_fails_what_the_robot_served_and_stops(line_graph, tmp_path):
 
 def test_a_fault_that_only_stops_leaves_the_instruction_to_another_robot(line_graph, tmp_path):
     ctx = make_context(line_graph, tmp_path)
+    ctx.in_fleet = True
     record, = journal(ctx, make_instruction(1, A, duration=10, function=1))
     execute(ctx, record.instruction, ctx.functions[1], 0.0)
     assert fault(ctx, 2.0, "another robot's now", fail_it=False) == [StopMotion()]
     assert ctx.buffer.get(1).state == PENDING and ctx.log[-1] == (2.0,
                                                                  "stop: another robot's now")
+    assert ctx.in_fleet is True      # not asked to rejoin: it stays in the fleet
+
+
+def test_a_lost_pool_stops_leaves_the_instruction_open_and_rejoins_next(line_graph, tmp_path):
+    ctx = make_context(line_graph, tmp_path)
+    ctx.in_fleet = True
+    record, = journal(ctx, make_instruction(1, A, duration=10, function=1))
+    execute(ctx, record.instruction, ctx.functions[1], 0.0)
+    assert fault(ctx, 2.0, "PoolUnavailable: ...", fail_it=False, rejoin=True) == [StopMotion()]
+    assert ctx.buffer.get(1).state == PENDING and ctx.mode == IDLE
+    assert ctx.in_fleet is False     # the next event rejoins the fleet first

@@ -1,7 +1,7 @@
 """Run a household scenario headless, record it and write its report.
 
     scripts/run_scenario [SCENARIO.yaml] [--speed N] [--out-dir DIR] [--run-dir DIR] [--rviz]
-                         [--no-self-instructions] [--no-patrol] [--fleet]
+                         [--no-self-instructions] [--no-patrol] [--fleet [--pool URL]]
 
 Defaults: config/scenarios/household_day.yaml, speed 5, the run folder
 build/scenario/<UTC time>/ of the workspace. Starts its own roscore port and ROS_HOME (the run
@@ -13,11 +13,14 @@ and no shirt in human_db (the robot meets each resident and asks who they are, ย
 prints a progress line with an ETA every 10 s until the scenario ends, then writes REPORT.md and
 the PNGs as scripts/scenario_report does. With --fleet the same people and requests are served
 by two robots (`household_fleet.launch` on config/worlds/household_fleet.yaml), and the report
-reads both robots' journals. Run it with the workspace environment (source scripts/env.sh).
+reads both robots' journals; their pool is an SQLite file in the run folder, or the PostgreSQL
+database --pool names (postgresql://[user@]host[:port]/db, an empty database). Run it with the
+workspace environment (source scripts/env.sh).
 """
 import argparse
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -36,6 +39,7 @@ from tamp_bringup.scenario import load_scenario
 
 PROGRESS_S = 10.0        # [s] wall-clock period of the progress lines
 BAG_NAME = "run.bag"
+PASSWORD = re.compile(r"://([^:@/]*):[^@/]*@")   # a URL's password, left out of the record
 
 
 def parse_args(argv=None):
@@ -57,7 +61,14 @@ def parse_args(argv=None):
     parser.add_argument("--fleet", action="store_true",
                         help="two robots serve the scenario (household_fleet.launch on "
                              "config/worlds/household_fleet.yaml) instead of the scenario's one")
+    parser.add_argument("--pool", default=None,
+                        help="with --fleet: the fleet pool, postgresql://[user@]host[:port]/db "
+                             "(an empty database; default an SQLite file in the run folder)")
     args = parser.parse_args(argv)
+    if args.pool is not None and not args.fleet:
+        parser.error("--pool needs --fleet")
+    if args.pool is not None and not args.pool.startswith("postgresql://"):
+        parser.error(f"--pool must be a postgresql:// URL; got {args.pool!r}")
     if not args.speed > 0:
         parser.error(f"--speed must be positive; got {args.speed}")
     if args.out_dir is None:
@@ -83,8 +94,9 @@ def scenario_path(args):
 
 def launch_command(args, scenario, path, run_dir, port):
     """The roslaunch command line of the run."""
+    pool = PASSWORD.sub(r"://\1:***@", args.pool) if args.pool else ""
     command = f"scripts/run_scenario {args.scenario} --speed {args.speed:g}" + (
-        " --fleet" if args.fleet else "")
+        " --fleet" if args.fleet else "") + (f" --pool {pool}" if pool else "")
     launch, world = (("household_fleet.launch", resource("config", "worlds",
                                                           "household_fleet.yaml"))
                      if args.fleet else ("social_household.launch", scenario.world))
@@ -96,7 +108,8 @@ def launch_command(args, scenario, path, run_dir, port):
             f"self_instructions:={str(not args.no_self_instructions).lower()}",
             f"patrol:={str(not args.no_patrol).lower()}",
             f"utc_offset:={scenario.day_start_s:g}",
-            "shirts:=none"]   # nobody met: the robot asks each resident who they are (ยง3.2.3)
+            "shirts:=none"] + (   # nobody met: the robot asks each resident who they are
+        [f"pool:={args.pool}"] if args.pool else [])
 
 
 def report_arguments(run_dir, out_dir, bag=None, fleet=False):

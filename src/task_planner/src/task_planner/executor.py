@@ -95,10 +95,11 @@ class Executor:
         commands = tick(self.tree, self.state, CANCELLED, now, cancelled=record)
         return self.state.buffer.get(instruction_id), commands
 
-    def fault(self, now, reason, fail=True):
+    def fault(self, now, reason, fail=True, rejoin=False):
         """A step of the executor raised: fail the instruction being served with `reason` (with
-        `fail` off, leave it open: another robot holds it), stop, and go idle."""
-        return fault(self.state, now, reason, fail_it=fail)
+        `fail` off, leave it open: another robot holds it, or the pool is out of reach), stop,
+        and go idle; with `rejoin`, rejoin the fleet at the next event."""
+        return fault(self.state, now, reason, fail_it=fail, rejoin=rejoin)
 
     def function_over(self, instruction_id, now):
         """The robot function of `instruction_id` ended before its time was up (an introduce

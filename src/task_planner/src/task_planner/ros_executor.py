@@ -365,16 +365,21 @@ class ExecutorNode:
 
     def _step_fault(self, exc):
         """A step of the executor raised (the caller holds the lock): fail the instruction being
-        served with the reason, so neither this run nor a restart runs it again, and stop. A
+        served with the reason, so neither this run nor a restart runs it again, and stop; a
+        fleet pool out of reach fails nothing: the robot stops, the instruction waits open and
+        the robot rejoins the fleet once the pool answers again. A
         journal write that failed (a full disk) or a fleet pool that cannot be reached is an
         ERROR on diagnostics; when even the failure cannot be written, the robot still stops."""
         now = rospy.get_time()
         instruction_id = self.executor.serving()
         level = (DiagnosticStatus.ERROR if isinstance(exc, (sqlite3.Error, PoolUnavailable))
                  else DiagnosticStatus.WARN)
+        lost_pool = isinstance(exc, PoolUnavailable)   # not the instruction's fault: it waits
         try:
-            commands = self.executor.fault(now, fault_text(exc))
-            failed = f"; instruction {instruction_id} failed" if instruction_id else ""
+            commands = self.executor.fault(now, fault_text(exc), fail=not lost_pool,
+                                           rejoin=lost_pool)
+            failed = (f"; instruction {instruction_id} {'waits' if lost_pool else 'failed'}"
+                      if instruction_id else "")
         except sqlite3.Error as error:
             commands, failed = [StopMotion()], f"; writing {self.params.journal} failed: {error}"
             level = DiagnosticStatus.ERROR

@@ -36,10 +36,12 @@ def recover(ctx, now, reason):
     return ctx.decide(now)
 
 
-def fault(ctx, now, reason, fail_it=True):
+def fault(ctx, now, reason, fail_it=True, rejoin=False):
     """A step of the executor raised: fail the instruction being served with `reason`, stop,
-    and go idle. With `fail_it` off (another robot of the fleet holds it now) it is left open,
-    not failed. Returns the commands; the next tick decides afresh."""
+    and go idle. With `fail_it` off (another robot of the fleet holds it now, or the fleet pool
+    cannot be reached) it is left open, not failed; with `rejoin` the robot rejoins the fleet at
+    the next event (the pool was lost: its claims may have lapsed meanwhile). Returns the
+    commands; the next tick decides afresh."""
     instruction_id = ctx.serving()
     ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = IDLE, None, 0, 0
     ctx.executing = ctx.verifying = ctx.looking = ctx.retry_at = None
@@ -47,6 +49,8 @@ def fault(ctx, now, reason, fail_it=True):
     ctx.patrol_goal = ctx.target = None
     ctx.problem_key = ctx.problem = None
     commands = [StopMotion()]
+    if rejoin:
+        ctx.in_fleet = False
     if not fail_it:
         if instruction_id and ctx.buffer.get(instruction_id).state == ACTIVE:
             ctx.buffer.requeue(instruction_id)   # its function was cut short here
