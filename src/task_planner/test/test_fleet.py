@@ -79,6 +79,17 @@ def test_exact_optimum_equals_enumeration(star_graph, seed):
     assert fleet_reward(problem, orders, starts) == pytest.approx(reward, rel=1e-12)
 
 
+@pytest.mark.parametrize("seed", [3, 4])
+def test_chain_free_optimum_splits_the_set_exactly(star_graph, seed):
+    """Without chains the optimum is the best split over the robots (staggered launches)."""
+    rng = np.random.default_rng(seed)
+    problem = random_problem(star_graph, rng, 5, chains=False, spread_s=60.0)
+    starts = [RobotStart(0), RobotStart(int(rng.integers(1, 4)), free_at=3.0), RobotStart(0)]
+    orders, reward = fleet_exact_optimum(problem, starts)
+    assert reward == pytest.approx(enumerated_optimum(problem, starts), rel=1e-12)
+    assert fleet_reward(problem, orders, starts) == pytest.approx(reward, rel=1e-12)
+
+
 def test_twin_robots_lose_nothing_to_symmetry_breaking(line_graph):
     problem = random_problem(line_graph, np.random.default_rng(5), 5)
     twins = [RobotStart(1), RobotStart(1)]

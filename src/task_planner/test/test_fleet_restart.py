@@ -95,9 +95,9 @@ def test_an_instruction_journalled_before_a_failed_share_reaches_the_fleet(
         a.receive([near_b], 0.0)
     assert a.buffer.holds(1) and a.fleet.pool.entries() == []   # journalled, not shared
     run_executor_fleet([a, b], [], NavigationModel(line_graph, 0.5), until_s=60.0)
-    # a rejoins at its first tick, shares 1 and, deciding first, serves it: once
+    # a rejoins at its first tick and shares 1; the auction gives it to b, on D: served once
     got = served([a, b])
-    assert list(got) == [1] and len(got[1]) == 1 and b.buffer.get(1).reason == "done by a"
+    assert list(got) == [1] and len(got[1]) == 1 and a.buffer.get(1).reason == "done by b"
 
 
 def test_a_restarted_robot_shares_what_it_journalled_but_never_shared(line_graph, tmp_path):

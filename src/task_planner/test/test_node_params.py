@@ -19,3 +19,9 @@ def test_a_number_that_cannot_work_is_named(name, value, bound):
     with pytest.raises(ValueError, match=rf"parameter ~{name} must be a finite number {bound}; "
                                          rf"got {value}"):
         params.check()
+
+
+def test_an_unknown_fleet_allocator_is_named_with_the_choices():
+    with pytest.raises(ValueError, match=r"parameter ~fleet_allocator: unknown fleet allocator "
+                                         r"'auktion' \(choose one of seed, rollout, auction\)"):
+        NodeParams(fleet_allocator="auktion").check()

@@ -2,11 +2,13 @@
 instruction sets over the household graph (Table 5-5 priorities, durations 1-10 s, 0.5 m/s).
 
   scripts/bench_fleet [--sets 20] [--count 10] [--counts 10,20,50,100,200] [--robots 2,3,5]
-                      [--scaling-sets 3] [--arrival-sets 20] [--seed 0]
+                      [--scaling-sets 3] [--arrival-sets 20] [--seed 0] [--markdown FILE]
 
-- `exact`: `--sets` static sets of `--count` instructions (all launched at 0), two robots on the
-  charging place: each allocator's reward over the exact fleet optimum (`fleet_exact`), mean and
-  worst, and the optimum's solve time;
+- `exact`: on seeds `--seed` and `--seed` + 1, `--sets` sets of `--count` instructions launched
+  together (all at 0) and `--sets` launched staggered (Poisson, mean gap 20 s), two robots on the
+  charging place: each allocator's reward over the exact fleet optimum (`fleet_exact`, which knows
+  every launch in advance), mean and worst, and the optimum's solve time; `--markdown` writes
+  these ratios as a table;
 - `scaling`: every count of `--counts` with every robot count of `--robots`: mean reward and the
   decision time per call (p50, p99) of each allocator;
 - `arrivals`: 20 instructions launched as a Poisson stream (mean gap 20 s, as
@@ -33,6 +35,8 @@ ROBOT_RADIUS_M = 0.25     # config/task_planner.yaml robot_radius_m
 ARRIVAL_COUNT = 20
 ARRIVAL_GAP_S = 20.0      # mean time between Poisson launches [s]
 EXACT_MAX = 12            # fleet_exact_optimum's default limit on instructions
+TOGETHER, STAGGERED = "together", "staggered"
+LAUNCHES = (TOGETHER, STAGGERED)
 
 
 def household():
@@ -71,24 +75,50 @@ class Progress:
                  f"ETA {elapsed / self.done * (self.total - self.done):.0f} s")
 
 
-def exact_part(graph, priorities, config, sets, count, rng, out=print):
-    """Ratios to the exact optimum with two robots; returns {name: [ratio per set]}."""
-    out(f"exact: {sets} static sets of {count} instructions, 2 robots on node {START_NODE}")
-    ratios, solve_s = {name: [] for name in FLEET_ALLOCATORS}, []
-    progress = Progress("exact", sets, out)
-    for k in range(sets):
-        problem = problem_set(graph, priorities, config, rng, count)
-        started = time.perf_counter()
-        _, best = fleet_exact_optimum(problem, [RobotStart(START_NODE)] * 2)
-        solve_s.append(time.perf_counter() - started)
-        for name, (reward, _) in run_allocators(problem, 2).items():
-            ratios[name].append(reward / best)
-        progress.step(f"optimum {best:.3f} in {solve_s[-1]:.2f} s")
-    for name, values in ratios.items():
-        out(f"  {name:8s} reward / exact optimum: mean {np.mean(values):.3f}, worst "
-            f"{np.min(values):.3f}")
+def poisson_launches(rng, count):
+    """Launch times of `count` instructions: the first at 0, then exponential gaps."""
+    gaps = rng.exponential(ARRIVAL_GAP_S, count)
+    return np.concatenate([[0.0], np.cumsum(gaps[1:])])
+
+
+def exact_part(graph, priorities, config, sets, count, seeds, out=print):
+    """Ratios to the exact optimum with two robots, per seed of `seeds` and launch mode;
+    returns {(seed, mode): {name: [ratio per set]}}."""
+    out(f"exact: {sets} sets of {count} instructions per seed and launch mode (together: all "
+        f"at 0; staggered: Poisson, mean gap {ARRIVAL_GAP_S:.0f} s), 2 robots on node "
+        f"{START_NODE}")
+    table, solve_s = {}, []
+    progress = Progress("exact", sets * len(seeds) * len(LAUNCHES), out)
+    for seed in seeds:
+        rng = np.random.default_rng(seed)
+        for mode in LAUNCHES:
+            ratios = table[seed, mode] = {name: [] for name in FLEET_ALLOCATORS}
+            for _ in range(sets):
+                launches = poisson_launches(rng, count) if mode == STAGGERED else None
+                problem = problem_set(graph, priorities, config, rng, count, launches)
+                started = time.perf_counter()
+                _, best = fleet_exact_optimum(problem, [RobotStart(START_NODE)] * 2)
+                solve_s.append(time.perf_counter() - started)
+                for name, (reward, _) in run_allocators(problem, 2).items():
+                    ratios[name].append(reward / best)
+                progress.step(f"seed {seed}, {mode}: optimum {best:.3f} in {solve_s[-1]:.2f} s")
+    for line in ratio_table(table):
+        out("  " + line)
     out(f"  exact optimum solve time: p50 {np.median(solve_s):.2f} s, max {max(solve_s):.2f} s")
-    return ratios
+    return table
+
+
+def ratio_table(table):
+    """Markdown rows: per allocator, mean and worst ratio of every (seed, launch mode)."""
+    keys = list(table)
+    lines = ["| allocator | " + " | ".join(f"seed {seed}, {mode}: mean / worst"
+                                            for seed, mode in keys) + " |",
+             "|---|" + "---|" * len(keys)]
+    for name in FLEET_ALLOCATORS:
+        lines.append(f"| `{name}` | " + " | ".join(
+            f"{np.mean(table[key][name]):.3f} / {np.min(table[key][name]):.3f}"
+            for key in keys) + " |")
+    return lines
 
 
 def scaling_part(graph, priorities, config, counts, robots, sets, rng, out=print):
@@ -123,9 +153,8 @@ def arrivals_part(graph, priorities, config, sets, rng, out=print):
     rewards = {(k, n): [] for k in (1, 2, 3) for n in FLEET_ALLOCATORS}
     progress = Progress("arrivals", sets, out)
     for _ in range(sets):
-        gaps = rng.exponential(ARRIVAL_GAP_S, ARRIVAL_COUNT)
-        launches = np.concatenate([[0.0], np.cumsum(gaps[1:])])
-        problem = problem_set(graph, priorities, config, rng, ARRIVAL_COUNT, launches)
+        problem = problem_set(graph, priorities, config, rng, ARRIVAL_COUNT,
+                              poisson_launches(rng, ARRIVAL_COUNT))
         for k in (1, 2, 3):
             for name, (reward, _) in run_allocators(problem, k).items():
                 rewards[k, name].append(reward)
@@ -162,7 +191,11 @@ def parser():
                    help="sets per count and robot count (default: %(default)s)")
     p.add_argument("--arrival-sets", type=positive, default=20,
                    help="Poisson arrival sets (default: %(default)s)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default: %(default)s)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="random seed; the exact part also runs the next one (default: "
+                        "%(default)s)")
+    p.add_argument("--markdown", metavar="FILE",
+                   help="write the exact part's ratios to FILE as a Markdown table")
     return p
 
 
@@ -172,8 +205,27 @@ def main(argv=None, out=print):
         parser().error(f"--count: the exact optimum takes sets of up to {EXACT_MAX} "
                        f"instructions; got {args.count}")
     graph, priorities, config = household()
+    table = exact_part(graph, priorities, config, args.sets, args.count,
+                       (args.seed, args.seed + 1), out)
+    if args.markdown:
+        write_markdown(args.markdown, table, args, out)
     rng = np.random.default_rng(args.seed)
-    exact_part(graph, priorities, config, args.sets, args.count, rng, out)
     scaling_part(graph, priorities, config, args.counts, args.robots, args.scaling_sets, rng, out)
     arrivals_part(graph, priorities, config, args.arrival_sets, rng, out)
     return 0
+
+
+def write_markdown(path, table, args, out=print):
+    """The exact part's ratios as a Markdown page at `path`."""
+    text = "\n".join([
+        "# Fleet allocators against the exact k-robot optimum",
+        "",
+        f"`scripts/bench_fleet --sets {args.sets} --count {args.count} --seed {args.seed}` "
+        f"(household graph, two robots on the charging place; each allocator's reward over "
+        f"the exact optimum of `fleet_exact`, which knows every launch in advance; "
+        f"{args.sets} sets of {args.count} instructions per seed, launched together at 0 or "
+        f"staggered as a Poisson stream with a mean gap of {ARRIVAL_GAP_S:.0f} s):",
+        "", *ratio_table(table), ""])
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    out(f"wrote {path}")

@@ -20,6 +20,7 @@ from task_planner.behaviours.accounting import activity
 from task_planner.behaviours.charging import BATTERY_KEY, save_battery
 from task_planner.behaviours.context import (ABORTED, ARRIVED, CANCELLED, RECEIVED, TICK,
                                              Charging, Context, ExecutorConfig)
+from task_planner.behaviours.fleet_allocation import fleet_allocator
 from task_planner.behaviours.receiving import new_id
 from task_planner.behaviours.recovery import fault
 from task_planner.behaviours.tree import build_tree, drawing, tick
@@ -61,6 +62,7 @@ class Executor:
                              decision_s=deque(maxlen=config.latency_window),
                              decision_cpu_s=deque(maxlen=config.latency_window))
         self.tree = build_tree(self.state)
+        fleet_allocator(self.state)      # an unknown config.fleet_allocator is refused here
         if charging is not None:         # a restarted executor resumes the journalled level
             battery = charging.battery
             battery.level_wh = min(battery.config.capacity_wh,

@@ -8,8 +8,9 @@ earns most); above it, a bid is the reward rate of appending it (its reward over
 plan's end to its completion, the rollout planner's rule), which keeps a decision O(n^2 k).
 Rounds go on until every instruction that can be planned is allocated. A successor is auctioned
 once its predecessor is done, claimed or allocated, and starts after that predecessor's (planned)
-completion. The free robot then serves the first instruction of its plan; the other plans are
-provisional, the auction is re-run at every decision, so new instructions count at once.
+completion. The free robot then heads for the first instruction of its plan one edge at a time
+(as an executor drives, node by node); the other plans are provisional, and the auction is re-run
+at every node and completion, so a new instruction can turn a robot on its way.
 """
 from dataclasses import dataclass
 
@@ -40,15 +41,16 @@ class SequentialAuction:
         self.problem = problem
 
     def decide(self, view, available):
-        """The first instruction of this robot's plan; wait while it needs a predecessor that
-        is claimed (done later) or while only other robots' plans can start. Plans whose chains
-        wait on each other across robots (the bids see only planned times) are broken by serving
-        the first startable instruction of its own plan, else the one that earns it most."""
+        """Towards the first instruction of this robot's plan; wait while it needs a
+        predecessor that is claimed (done later) or while only other robots' plans can start.
+        Plans whose chains wait on each other across robots (the bids see only planned times)
+        are broken by serving the first startable instruction of its own plan, else the one that
+        earns it most."""
         plans = self.allocate(view)
         mine = plans[view.robot]
         startable = set(available.tolist())
         if mine and mine[0] in startable:
-            return "target", mine[0]
+            return self._towards(view, mine[0])
         before = int(self.problem.predecessor[mine[0]]) if mine else -1
         if before in view.done:
             return "wait", None             # its predecessor is being served: done later
@@ -56,7 +58,14 @@ class SequentialAuction:
                if r != view.robot):
             return "wait", None             # the others start what they planned
         own = [i for i in mine if i in startable]
-        return "target", own[0] if own else self._best_alone(view, available)
+        return self._towards(view, own[0] if own else self._best_alone(view, available))
+
+    def _towards(self, view, index):
+        """Serve instruction `index` here, or drive one edge towards it (decide again there)."""
+        node, place = view.nodes[view.robot], int(self.problem.node[index])
+        if node == place:
+            return "serve", index
+        return "move", int(self.problem.graph.next_hop[node, place])
 
     def allocate(self, view):
         """Every robot's plan (instruction indices in order) after the auction."""

@@ -12,6 +12,11 @@ complete assignment known, seeded by the auction. Robots with the same start are
 so robot r takes instructions only once robot r - 1 with the same start has one. The result is
 optimal over every assignment and order that respects the chains, with full knowledge of the
 launches (a clairvoyant bound for online allocators).
+
+Without chains the robots do not wait on each other, so the optimum splits the set: each robot's
+best reward for every subset (a single-robot label-setting DP over (subset, last instruction),
+labels (time, reward) Pareto-pruned), combined over the robots subset by subset. Staggered
+launches defeat the joint labels' dominance (a robot early for a launch waits), not these.
 """
 import time
 
@@ -36,6 +41,8 @@ def fleet_exact_optimum(problem, starts, max_instructions=12, time_limit_s=None)
     if p.count > max_instructions:
         raise PlannerTooLarge(f"fleet exact optimum: {p.count} instructions exceed the limit "
                               f"of {max_instructions}")
+    if not (p.predecessor >= 0).any():
+        return _split_optimum(p, starts)
     seed = run_fleet(p, starts, SequentialAuction()).orders
     best_orders, best_reward = [list(o) for o in seed], fleet_reward(p, seed, starts)
     deadline = None if time_limit_s is None else time.perf_counter() + time_limit_s
@@ -58,6 +65,11 @@ def fleet_exact_optimum(problem, starts, max_instructions=12, time_limit_s=None)
                     continue
                 _extend(p, served, nodes, label, twin, heads, following)
         layer = following
+    return _best_complete(layer, best_orders, best_reward)
+
+
+def _best_complete(layer, best_orders, best_reward):
+    """(orders, reward) of the best complete label, if it beats the best known."""
     for labels in layer.values():
         for clocks, reward, orders, _ in labels:
             if reward > best_reward + _TOLERANCE:
@@ -122,3 +134,59 @@ def _bound(p, served, nodes, label):
     finish = np.maximum(np.maximum(arrive, p.launch[remaining]), after) + p.duration[remaining]
     return float(decayed_reward(p.gamma[remaining], p.beta[remaining],
                                 finish - p.launch[remaining]).sum())
+
+
+def _split_optimum(p, starts):
+    """(orders, reward) of the best split of a chain-free set over the robots."""
+    full = (1 << p.count) - 1
+    combined = None                              # subset -> (reward, the robots' orders so far)
+    for start in starts:
+        alone = _alone(p, start)                 # subset -> (reward, order) of this robot
+        if combined is None:
+            combined = {mask: (reward, (order,)) for mask, (reward, order) in alone.items()}
+            continue
+        merged = {}
+        for mask in range(full + 1):
+            top = None
+            part = mask                           # every subset `part` of `mask` for this robot
+            while True:
+                rest = combined[mask ^ part]
+                reward = rest[0] + alone[part][0]
+                if top is None or reward > top[0] + _TOLERANCE:
+                    top = (reward, rest[1] + (alone[part][1],))
+                if not part:
+                    break
+                part = (part - 1) & mask
+            merged[mask] = top
+        combined = merged
+    reward, orders = combined[full]
+    return [list(order) for order in orders], reward
+
+
+def _alone(p, start):
+    """{subset mask: (best reward, order)} of one robot serving exactly that subset."""
+    count = p.count
+    labels = {(0, -1): [(float(start.free_at), 0.0, ())]}
+    best = {0: (0.0, ())}
+    for mask in range(1 << count):
+        for last in [-1, *range(count)]:
+            for clock, reward, order in labels.pop((mask, last), ()):
+                node = start.node if last < 0 else int(p.node[last])
+                if reward > best.get(mask, (-1.0,))[0]:
+                    best[mask] = (reward, order)
+                for i in range(count):
+                    if mask >> i & 1:
+                        continue
+                    finish = service_end(p, node, clock, i)
+                    gain = p.gamma[i] * p.beta[i] ** (finish - p.launch[i])   # hot loop
+                    _insert_alone(labels.setdefault((mask | 1 << i, i), []),
+                                  (finish, reward + gain, order + (i,)))
+    return best
+
+
+def _insert_alone(labels, label):
+    """Keep one (subset, last) key's labels free of those later and earning no more."""
+    if any(o[0] <= label[0] and o[1] >= label[1] for o in labels):
+        return
+    labels[:] = [o for o in labels if not (label[0] <= o[0] and label[1] >= o[1])]
+    labels.append(label)

@@ -5,10 +5,11 @@ its own journal (task_buffer); the pool (fleet_pool) is what the robots agree on
 - what a robot receives it shares, and it takes in what the others received (`news`), so every
   journal holds every instruction of the fleet; ids left to the fleet come from the pool's one
   counter (`next_id`);
-- the robot's planner chooses among the instructions no other robot holds (`taken`), and the
-  robot claims its choice before it drives for it (`claim`): the seed's greedy extension
-  (fleet_registry `seed`), Algorithm 4-2 on what nobody has claimed. A robot holds one claim at
-  a time: claiming another gives the previous one back;
+- the robot chooses among the instructions no other robot holds (`taken`) with the fleet's
+  auction over the robots' reports of where and when they will be free (`report`, `fleet`;
+  behaviours.fleet_allocation), or with its own planner alone (fleet_registry `seed`,
+  `rollout`), and claims its choice before it drives for it (`claim`). A robot holds one claim
+  at a time: claiming another gives the previous one back;
 - while it works it renews its lease (`renew`, every `renew_period_s`); a robot that dies stops
   renewing, and its instruction returns to the others once the lease has run out;
 - before it drives into a corridor it holds it (`enter`), and it gives it up once it stands

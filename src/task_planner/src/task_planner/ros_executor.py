@@ -48,6 +48,7 @@ from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_m
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
 from task_planner.fleet_link import FleetLink
 from task_planner.fleet_pool import FleetPool, PoolUnavailable
+from task_planner.fleet_registry import FLEET_ALLOCATORS
 from task_planner.graph import load_graph
 from task_planner.people_belief import PeopleAtPlaces
 from task_planner.instruction import InvalidInstruction
@@ -115,6 +116,9 @@ class NodeParams:
                                    # postgresql://[user@]host[:port]/database (several hosts);
                                    # "" = a robot on its own
     robot_name: str = ""           # this robot's name in the fleet; "" = the node's namespace
+    fleet_allocator: str = "auction"  # a fleet_registry allocator: `auction` decides over the
+                                   # whole fleet; `seed`, `rollout`: each robot runs ~planner on
+                                   # the instructions no other robot holds
     fleet_lease: float = 10.0      # a claim lapses this long after its robot last renewed it
                                    # [s of ROS time]; another robot may then serve it
     corridors: tuple = ()          # places one robot of the fleet at a time drives through
@@ -142,6 +146,10 @@ class NodeParams:
                          "look_dwell", "look_frames", "look_again", "pass_wait", "patrol_interval",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions")
+        if self.fleet_allocator not in FLEET_ALLOCATORS:
+            raise ValueError(f"parameter ~fleet_allocator: unknown fleet allocator "
+                             f"'{self.fleet_allocator}' (choose one of "
+                             f"{', '.join(FLEET_ALLOCATORS)})")
         for name in positive + at_least_zero:
             value = getattr(self, name)
             low_ok = value > 0 if name in positive else value >= 0
@@ -178,7 +186,8 @@ class ExecutorNode:
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
                            corridor_wait_s=params.corridor_wait,
                            one_robot_per_place=params.one_robot_per_place,
-                           max_open=params.max_open_instructions),
+                           max_open=params.max_open_instructions,
+                           fleet_allocator=params.fleet_allocator),
             start_node=self.graph.index(params.start_node) if params.start_node else 0,
             charging=self._charging(params, settings) if params.battery else None,
             fleet=self._fleet(params))

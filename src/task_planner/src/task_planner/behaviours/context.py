@@ -50,6 +50,13 @@ class ExecutorConfig:
                                   # robot that holds one there (small rooms fit one robot)
     max_open: int = 0             # new instructions from outside beyond this many open ones
                                   # are refused (behaviours.receiving; 0: no cap)
+    fleet_allocator: str = "auction"  # in a fleet, a fleet_registry allocator: `auction` decides
+                                  # over the whole fleet (behaviours.fleet_allocation); a
+                                  # per-robot one (`seed`, `rollout`): the robot's own planner
+                                  # on the instructions no other robot holds
+    claim_wait_s: float = 5.0     # an instruction the auction gives another robot that has
+                                  # not claimed it this long after it said it would be free is
+                                  # this robot's to take [s]
 
 
 @dataclass(frozen=True)
@@ -80,6 +87,8 @@ class Context:
     node_planner: bool = True      # the planner decides node by node (else: targets)
     charging: Charging | None = None  # None: a robot without a battery model
     fleet: Any = None              # fleet_link.FleetLink, or None for a robot on its own
+    allocator: Any = None          # the fleet's auction (fleet_allocation builds it at first
+                                   # use; False: the allocator is per-robot)
     mode: str = IDLE
     goal: int | None = None        # node being driven to while MOVING
     goal_for: int = 0              # instruction id the current move is for
@@ -101,6 +110,9 @@ class Context:
     corridor_wait: float | None = None  # since when the robot waits for a corridor [s]
     deferred: set = field(default_factory=set)  # own instructions waiting for people's
     lost_claims: set = field(default_factory=set)  # ids another robot held at the claim
+    unclaimed: dict = field(default_factory=dict)  # id -> when the robot the auction gives it
+                                   # to first said it would be free (fleet_allocation.overdue)
+    reported: tuple | None = None  # (mode, node, free from [s]) last reported to the fleet
     patrol_goal: int | None = None  # place an idle patrol is driving to
     problem_key: tuple | None = None  # the instructions the cached problem was made from
     problem: Any = None            # problem.Problem of the open instructions

@@ -3,7 +3,8 @@ them into a planning problem (reward, decay factor, destination, chains), ask th
 planner, then serve here or drive to the next neighbouring node. New instructions re-decide at
 once; while driving the decision is taken from the node just left and may turn the robot back
 mid-edge (§4 "dynamic"). With nothing to decide an idle robot may patrol. In a fleet the robot
-decides among the instructions no other robot holds and claims its choice before it drives.
+decides among the instructions no other robot holds (with the fleet's auction,
+behaviours.fleet_allocation, or its own planner) and claims its choice before it drives.
 """
 import time
 
@@ -12,6 +13,7 @@ from py_trees.common import Status
 
 from task_planner.behaviours.context import Leaf
 from task_planner.behaviours.driving import drive
+from task_planner.behaviours.fleet_allocation import auction_choice, fleet_allocator, report_free
 from task_planner.behaviours.looking import serve_here
 from task_planner.behaviours.patrolling import patrol
 from task_planner.behaviours.searching import served_where
@@ -25,7 +27,14 @@ INTRODUCE = "introduce"   # the robot function that meets a stranger (config/rob
 
 
 def decide(ctx, now):
-    """Fetch, decode, decide at the robot's node; returns the commands of the decision."""
+    """Fetch, decode, decide at the robot's node; returns the commands of the decision (and
+    tells the fleet where and when the robot will be free then)."""
+    commands = decide_here(ctx, now)
+    report_free(ctx, now)
+    return commands
+
+
+def decide_here(ctx, now):
     commands = []
     ctx.lost_claims.clear()
     while True:
@@ -53,8 +62,15 @@ def decide(ctx, now):
 
 def redecide(ctx, now):
     """Decide again on news: a patrol gives way at once; an idle robot decides; a driving
-    robot may turn back mid-edge. A robot function, the look for its person and a wait to
-    pass go on."""
+    robot may turn back mid-edge, or, when the fleet's auction gives what it drives for to
+    another robot, give it back and drive on to the next node (deciding there). A robot
+    function, the look for its person and a wait to pass go on."""
+    commands = redecide_here(ctx, now)
+    report_free(ctx, now)
+    return commands
+
+
+def redecide_here(ctx, now):
     if ctx.mode == LOOKING and ctx.looking[0] == 0:
         ctx.mode, ctx.looking = IDLE, None
         return [StopMotion()] + decide(ctx, now)
@@ -65,6 +81,11 @@ def redecide(ctx, now):
     ctx.lost_claims.clear()
     decision = timed_decision(ctx, now)
     if decision is None:
+        if ctx.goal_for and fleet_allocator(ctx) is not None and \
+                ctx.goal_for not in ctx.fleet.local:
+            ctx.log.append((now, f"gave {ctx.goal_for} back to the fleet"))
+            ctx.fleet.release()
+            ctx.goal_for = 0
         return []
     problem, index, step = decision
     if ctx.fleet and not ctx.fleet.claim(int(problem.ids[index]), now,
@@ -91,8 +112,13 @@ def timed_decision(ctx, now):
     started, started_cpu = time.perf_counter(), time.thread_time()
     problem, available = fetch_and_decode(ctx, now)
     decision = None
-    if len(available):
-        index, step = ask_planner(ctx, problem, ctx.node, now, available)
+    own = [k for k in available if int(problem.ids[k]) in ctx.fleet.local] if ctx.fleet else []
+    if fleet_allocator(ctx) is not None and not own:
+        choice = auction_choice(ctx, problem, available, now) if len(available) else None
+        decision = None if choice is None else (problem, *choice)
+    elif len(available):   # with the auction, the robot's own (charging) come first
+        chosen = np.array(own, dtype=int) if fleet_allocator(ctx) is not None else available
+        index, step = ask_planner(ctx, problem, ctx.node, now, chosen)
         decision = problem, index, step
     ctx.decision_s.append(time.perf_counter() - started)
     ctx.decision_cpu_s.append(time.thread_time() - started_cpu)

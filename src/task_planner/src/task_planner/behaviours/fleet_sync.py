@@ -1,12 +1,14 @@
 """A robot of a fleet (ROS-free): at every event it first sends the commands an earlier event
 owes and rejoins the fleet when due (its first event, after a fault or a failed pool write); at
-every tick it takes in what the other robots received, closes what the pool holds closed, and
-renews its lease. A robot on its own (no fleet) skips all of this.
+every tick it takes in what the other robots received, closes what the pool holds closed,
+renews its lease and reports where and when it will be free next (for the fleet's auction). A
+robot on its own (no fleet) skips all of this.
 """
 from py_trees.common import Status
 
 from task_planner.behaviours.context import ABORTED, ARRIVED, Leaf
 from task_planner.behaviours.dropping import drop
+from task_planner.behaviours.fleet_allocation import report_free
 from task_planner.behaviours.receiving import react
 from task_planner.behaviours.recovery import fault
 from task_planner.behaviours.searching import where
@@ -59,7 +61,7 @@ def rejoin_fleet(ctx, now):
 
 def fleet_news(ctx, now):
     """Take in what the other robots received, close what the pool holds closed, then
-    decide on the news; renew the lease."""
+    decide on the news; renew the lease and report where the robot will be free."""
     if ctx.fleet is None:
         return []
     commands = []
@@ -73,6 +75,7 @@ def fleet_news(ctx, now):
     if results:
         commands += react(ctx, results, now)
     ctx.fleet.renew(now)
+    report_free(ctx, now, fresh=False)
     return commands
 
 

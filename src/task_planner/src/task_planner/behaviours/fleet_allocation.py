@@ -1,0 +1,108 @@
+"""The fleet allocator in the running fleet (ROS-free): a robot of a fleet whose
+`fleet_allocator` is the auction (fleet_auction.SequentialAuction) decides with it, not with its
+own planner alone.
+
+Every robot reports where it will be free next and from when (`report_free`, after each decision and
+at a tick that finds its mode changed): idle where it stands, now; executing, at its place when its
+function ends; driving for an instruction, at that instruction's place once served; driving on its
+own (a patrol, a given-back claim), at the node it drives to. At a decision (arrival, completion,
+news) the robot builds the fleet's view from these reports (every live robot, itself included, in
+name order: ties go to the first name), auctions the instructions no other robot holds over all of
+them (those another robot holds are left out: its report says when it is free of them), and serves
+the first instruction of its own plan that it may start, or waits when its plan is empty. The
+others' plans are provisional: each robot re-runs the auction at its own decisions (a robot given an
+instruction that it has not claimed claim_wait_s after it said it would be free is passed over). A
+robot driving for an instruction the auction now gives to another robot gives it back
+(deciding.redecide); one already executing keeps it (its mode is not re-decided).
+"""
+import numpy as np
+
+from task_planner.behaviours.searching import where
+from task_planner.executor_commands import EXECUTING, MOVING, VERIFYING
+from task_planner.fleet import FleetView, RobotStart
+from task_planner.fleet_auction import SequentialAuction
+from task_planner.fleet_registry import make_allocator
+
+
+def fleet_allocator(ctx):
+    """The auction this robot decides with, or None (a robot on its own, or a per-robot
+    allocator: its own planner on the instructions nobody holds)."""
+    if ctx.fleet is None:
+        return None
+    if ctx.allocator is None:
+        allocator = make_allocator(ctx.config.fleet_allocator)
+        ctx.allocator = allocator if isinstance(allocator, SequentialAuction) else False
+    return ctx.allocator or None
+
+
+def free_point(ctx, now):
+    """(node, time [s]) where and when this robot will be free next."""
+    if ctx.mode == EXECUTING:
+        return ctx.node, max(now, ctx.executing[1])
+    if ctx.mode == VERIFYING:
+        return ctx.node, max(now, ctx.verifying[1])
+    if ctx.mode == MOVING:
+        record = ctx.buffer.get(ctx.goal_for) if ctx.goal_for else None
+        if record is None or not record.is_open:
+            return ctx.goal, now + travel_s(ctx, ctx.node, ctx.goal)
+        place = where(ctx, record.instruction)
+        return place, now + travel_s(ctx, ctx.node, place) + record.instruction.duration
+    return ctx.node, now
+
+
+def travel_s(ctx, start, end):
+    return float(ctx.graph.shortest[start, end]) / ctx.config.speed_mps
+
+
+def report_free(ctx, now, fresh=True):
+    """Tell the fleet where and when this robot will be free next (an auction's robots): anew
+    when `fresh` (after a decision) or when its mode changed, else the last report again
+    (FleetLink.report writes it only to renew it within the lease). A robot free already at
+    the node it reported free at has nothing new to tell."""
+    if fleet_allocator(ctx) is None:
+        return
+    last = ctx.reported
+    if fresh or last is None or last[0] != ctx.mode:
+        node, free_at = free_point(ctx, now)
+        if last is not None and last[1] == node and max(last[2], free_at) <= now:
+            free_at = last[2]
+        ctx.reported = (ctx.mode, node, free_at)
+    ctx.fleet.report(ctx.reported[1], ctx.reported[2], now)
+
+
+def overdue(ctx, problem, view, plans, now):
+    """The instructions the auction gives another robot that has not claimed them
+    claim_wait_s after the time it first said it would be free (it cannot serve them: its
+    journal lacks them, or it is stuck): this robot may take them after its own plan."""
+    given = {int(problem.ids[plan[0]]): (r, view.clocks[r]) for r, plan in enumerate(plans)
+             if r != view.robot and plan}
+    ctx.unclaimed = {i: ctx.unclaimed.get(i, free_at) for i, (_, free_at) in given.items()}
+    return [plans[r][0] for i, (r, _) in given.items()
+            if now - ctx.unclaimed[i] >= ctx.config.claim_wait_s]
+
+
+def auction_choice(ctx, problem, available, now):
+    """(index, next node) of the first instruction of this robot's plan after the fleet's
+    auction that it may start now (in `available`; next node None: serve here), or None: the
+    auction gives it nothing it may start.
+
+    The robot decides at its node, free now; the instructions of `problem` another robot holds
+    (or took at a claim this decision) and the robot's own (kept local) are left out."""
+    allocator = fleet_allocator(ctx)
+    fleet = ctx.fleet.fleet(now)
+    fleet[ctx.fleet.robot] = (ctx.node, now)   # as it decides (it reports the outcome after)
+    names = sorted(fleet)
+    skipped = ctx.fleet.taken(now) | ctx.lost_claims | ctx.fleet.local   # local: its own body
+    open_items = np.array([k for k, i in enumerate(problem.ids) if int(i) not in skipped],
+                          dtype=int)
+    view = FleetView(names.index(ctx.fleet.robot), [int(fleet[n][0]) for n in names],
+                     [max(float(fleet[n][1]), now) for n in names], open_items, {})
+    allocator.reset(problem, [RobotStart(node) for node in view.nodes])
+    plans = allocator.allocate(view)
+    startable = set(int(k) for k in available)
+    index = next((k for k in plans[view.robot] + overdue(ctx, problem, view, plans, now)
+                  if k in startable), None)
+    if index is None:
+        return None
+    place = int(problem.node[index])
+    return index, None if place == ctx.node else int(problem.graph.next_hop[ctx.node, place])

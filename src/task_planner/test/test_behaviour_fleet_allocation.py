@@ -1,0 +1,108 @@
+"""task_planner.behaviours.fleet_allocation: two robots deciding with the fleet's auction; claims
+move cleanly, nothing is held twice, and a robot executing keeps its instruction."""
+import pytest
+from behaviour_factories import A, B, D, make_context
+from planner_factories import make_instruction
+
+from task_planner.behaviours.deciding import decide, redecide
+from task_planner.behaviours.fleet_allocation import fleet_allocator, free_point
+from task_planner.behaviours.fleet_sync import fleet_news, fleet_sync
+from task_planner.behaviours.receiving import take_in
+from task_planner.behaviours.serving import finish
+from task_planner.executor_commands import EXECUTING, IDLE, MOVING
+from task_planner.executor_sim import NavigationModel, run_executor_fleet
+from task_planner.fleet_link import FleetLink
+from task_planner.fleet_pool import CLAIMED, OPEN, FleetPool
+from test_executor_fleet import fleet, served
+
+
+def robots(graph, tmp_path, **config):
+    """Robots a (at A) and b (at D), each with its journal, on one pool; both rejoined."""
+    made = []
+    for name, node in (("a", A), ("b", D)):
+        (tmp_path / name).mkdir()
+        ctx = make_context(graph, tmp_path / name, node=node, **config)
+        ctx.fleet = FleetLink(FleetPool(tmp_path / "pool.sqlite"), name)
+        assert fleet_sync(ctx, 0.0) == [] and ctx.in_fleet
+        made.append(ctx)
+    return made
+
+
+def holders(ctx):
+    """{instruction id: (pool state, holder)} of the pool."""
+    return {e.id: (e.state, e.robot) for e in ctx.fleet.pool.entries()}
+
+
+def test_the_auction_leaves_an_instruction_to_the_robot_that_serves_it_sooner(
+        line_graph, tmp_path):
+    a, b = robots(line_graph, tmp_path)
+    fleet_news(b, 0.0)                                   # b reports: free on D now
+    take_in(a, [make_instruction(1, D, duration=4, function=1)], 0.0)
+    assert a.mode == IDLE and holders(a) == {1: (OPEN, "")}    # a leaves it to b
+    fleet_news(b, 0.1)                                   # b takes it in and claims it
+    assert b.mode == EXECUTING and holders(a) == {1: (CLAIMED, "b")}
+
+
+def test_a_robot_reports_where_and_when_it_is_free_only_when_that_changes(line_graph, tmp_path):
+    a, _ = robots(line_graph, tmp_path)
+    decide(a, 1.0)
+    decide(a, 2.0)                                       # idle on A since 1 s: nothing new
+    assert a.fleet.fleet(2.0)["a"] == (A, 1.0)
+    take_in(a, [make_instruction(1, A, duration=30, function=1)], 3.0)
+    assert a.mode == EXECUTING and a.fleet.fleet(3.0)["a"] == (A, 33.0)
+    fleet_news(a, 4.0)                                   # a tick: the same report holds
+    assert a.fleet.fleet(4.0)["a"] == (A, 33.0)
+
+
+def test_what_another_robot_does_not_claim_in_time_is_taken_after_claim_wait(
+        line_graph, tmp_path):
+    a, b = robots(line_graph, tmp_path, claim_wait_s=5.0)
+    fleet_news(b, 0.0)                                   # b: free on D now, then silent
+    take_in(a, [make_instruction(1, D, duration=4, function=1)], 0.0)
+    assert decide(a, 4.9) == [] and a.mode == IDLE       # b may still claim it
+    decide(a, 5.0)
+    assert a.mode == MOVING and a.goal_for == 1 and holders(a)[1] == (CLAIMED, "a")
+
+
+def test_a_driving_robot_gives_its_claim_back_to_a_robot_now_free_nearer(line_graph, tmp_path):
+    a, b = robots(line_graph, tmp_path)
+    take_in(b, [make_instruction(9, D, duration=20, function=2)], 0.0)   # b busy until 20 s
+    take_in(a, [make_instruction(1, D, gamma=5.0, duration=2, function=1)], 0.0)
+    assert a.mode == MOVING and a.goal_for == 1 and holders(a)[1] == (CLAIMED, "a")
+    assert free_point(a, 0.0) == (D, pytest.approx(12.0 + 2.0))   # 6 m at 0.5 m/s, then 2 s
+    b.executing = (9, 1.0)                               # b's function is over early
+    fleet_news(b, 1.0)
+    finish(b, 1.0)                                       # and b decides
+    assert b.mode == IDLE and holders(b)[1] == (CLAIMED, "a")   # a holds it: b leaves it
+    assert redecide(a, 1.5) == []                        # as on news: b serves it sooner
+    assert a.fleet.held == 0 and a.goal_for == 0 and a.mode == MOVING   # drives on to B
+    assert (1.5, "gave 1 back to the fleet") in a.log and holders(a)[1] == (OPEN, "")
+    decide(b, 1.6)
+    assert b.mode == EXECUTING and b.executing[0] == 1 and holders(a)[1] == (CLAIMED, "b")
+
+
+def test_a_robot_executing_keeps_its_instruction(line_graph, tmp_path):
+    a, b = robots(line_graph, tmp_path)
+    take_in(a, [make_instruction(1, A, duration=30, function=1)], 0.0)
+    assert a.mode == EXECUTING
+    fleet_news(b, 1.0)                                   # b knows it, free on D
+    assert redecide(a, 2.0) == [] and a.mode == EXECUTING and a.fleet.held == 1
+    assert decide(b, 2.0) == [] and b.mode == IDLE and holders(a)[1] == (CLAIMED, "a")
+
+
+def test_two_robots_on_the_auction_serve_every_instruction_once(line_graph, tmp_path):
+    a, b = fleet(line_graph, tmp_path, starts=(A, D))
+    arrivals = [(t, 0 if k % 2 else 1, make_instruction(k + 1, (A, B, D, B, A, D)[k],
+                                                         gamma=3.0, duration=3, function=1))
+                for k, t in enumerate((0.0, 0.0, 1.0, 5.0, 6.0, 12.0))]
+    run_executor_fleet([a, b], arrivals, NavigationModel(line_graph, 0.5), until_s=200.0)
+    got = served([a, b])
+    assert sorted(got) == [1, 2, 3, 4, 5, 6] and all(len(v) == 1 for v in got.values())
+    assert {robot for v in got.values() for robot, _ in v} == {"a", "b"}
+
+
+def test_a_per_robot_allocator_keeps_the_robots_own_planner(line_graph, tmp_path):
+    a, _ = robots(line_graph, tmp_path, fleet_allocator="seed")
+    assert fleet_allocator(a) is None
+    with pytest.raises(ValueError, match="unknown fleet allocator 'nope'"):
+        fleet(line_graph, tmp_path, starts=(A,), fleet_allocator="nope")
