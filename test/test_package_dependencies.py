@@ -3,9 +3,10 @@
 The runtime packages run on the robot; the simulator and the navigation mocks stand in for the
 hardware and the navigation stack; bringup and learning put the system together and train it.
 A runtime package never imports or declares the simulation, bringup or learning packages, every
-import of a workspace package is declared in package.xml, the package graph has no cycle, and no
-package finds its files by path arithmetic (`parents[`, `../../../`): it asks rospkg or
-`$(find ...)`.
+import of a workspace package is declared in package.xml, the package graph has no cycle, no
+package finds its files by path arithmetic (`parents[`, `.parent.parent`, `../../../`): it asks
+rospkg, tamp_resources.resource() or `$(find ...)`, and no library module builds a path from a
+workspace root (outputs default under tamp_resources.workspace()).
 """
 import ast
 import functools
@@ -112,20 +113,164 @@ def test_the_package_graph_has_no_cycle():
         visit(name)
 
 
-PATH_ARITHMETIC = re.compile(r"parents\[|\.\./\.\./\.\.|\"\.\.\", \"\.\.\", \"\.\.\"")
+PATH_ARITHMETIC = re.compile(
+    r"parents\[|\.parent\.parent|\.\./\.\./\.\.|\"\.\.\", \"\.\.\", \"\.\.\"")
+# folders of the workspace (and of tamp_resources): a library reaches them only through
+# tamp_resources.resource() (config, maps, models, urdf) or tamp_resources.workspace() (outputs)
+WORKSPACE_FOLDERS = {"config", "maps", "models", "urdf", "build", "docs", "scripts", "src",
+                     "launch", "devel"}
+FOLDER_GIVERS = {"resource", "workspace"}
+ROOT_NAME = re.compile(r"(^|_)(root|ws|workspace|repo)($|_)", re.IGNORECASE)
+# modules whose subject is a workspace tree handed to them to inspect (not their own files)
+INSPECT_A_WORKSPACE = {"tamp_bringup/src/tamp_bringup/doc_commands.py"}
 
 
-def test_no_package_finds_its_files_by_path_arithmetic():
+def path_arithmetic(src):
+    """Lines of the files under `src` that find files by path arithmetic -> ["file:line: text"]."""
     offenders = []
-    for path in sorted(SRC.rglob("*")):
+    for path in sorted(src.rglob("*")):
         if not path.is_file() or path.suffix not in {".py", ".launch", ".test", ".yaml", ""}:
             continue
         if "__pycache__" in path.parts or path.suffix == "" and b"\0" in path.read_bytes()[:512]:
             continue
         for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
             if PATH_ARITHMETIC.search(line):
-                offenders.append(f"{path.relative_to(SRC)}:{number}: {line.strip()}")
+                offenders.append(f"{path.relative_to(src)}:{number}: {line.strip()}")
+    return offenders
+
+
+def _folder(node):
+    """The workspace folder a string constant starts with ("build/x" -> "build"), else None."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        first = node.value.split("/")[0]
+        return first if first in WORKSPACE_FOLDERS else None
+    return None
+
+
+def _root_named(node):
+    """Whether `node` is a path named as a root (`root`, `self.root`, `Path(root)`, ...)."""
+    while isinstance(node, ast.Call) and getattr(node.func, "id", None) in {"Path", "str"} \
+            and node.args:
+        node = node.args[0]
+    name = node.attr if isinstance(node, ast.Attribute) else getattr(node, "id", "")
+    return bool(ROOT_NAME.search(name))
+
+
+def _gives_folders(node, givers):
+    """Whether `node` is resource(...) / workspace() or a name bound to one at module level."""
+    if isinstance(node, ast.Call):
+        name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(
+            node.func, "id", None)
+        return name in FOLDER_GIVERS
+    return isinstance(node, ast.Name) and node.id in givers
+
+
+def _joins(node):
+    """(base, first joined part) of `base / part`, `base.joinpath(part, ...)`,
+    `Path(base, part, ...)` and `os.path.join(base, part, ...)`, else None."""
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Div):
+        return node.left, node.right
+    if isinstance(node, ast.Call) and node.args:
+        name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(
+            node.func, "id", None)
+        if name == "joinpath" and isinstance(node.func, ast.Attribute):
+            return node.func.value, node.args[0]
+        if name in {"Path", "join"} and len(node.args) > 1:
+            return node.args[0], node.args[1]
+    return None
+
+
+def roots_handed_down(src):
+    """Lines of the library modules under `src` (<pkg>/src/) that join a workspace folder onto a
+    root (a path named root, workspace, ws or repo) that is not resource() / workspace(): a
+    workspace root handed down or worked out."""
+    offenders = []
+    for path in sorted(src.glob("*/src/**/*.py")):
+        if str(path.relative_to(src)) in INSPECT_A_WORKSPACE:
+            continue
+        tree = ast.parse(path.read_text(), str(path))
+        givers = {target.id for node in tree.body if isinstance(node, ast.Assign)
+                  and _gives_folders(node.value, set()) for target in node.targets
+                  if isinstance(target, ast.Name)}
+        for node in ast.walk(tree):
+            joined = _joins(node)
+            if joined and _folder(joined[1]) and _root_named(joined[0]) \
+                    and not _gives_folders(joined[0], givers):
+                offenders.append(f"{path.relative_to(src)}:{node.lineno}: "
+                                 f"{ast.unparse(node)}")
+    return sorted(offenders)
+
+
+def _mentions_file(node, rooted):
+    return any(isinstance(n, ast.Name) and (n.id == "__file__" or n.id in rooted)
+               for n in ast.walk(node))
+
+
+def roots_passed_to_libraries(path, packages):
+    """Calls in a script that hand a workspace package a path worked out from the script's own
+    location (`Path(__file__)...`) -> ["file:line: call"]."""
+    tree = ast.parse(path.read_text(), str(path))
+    imported, rooted = set(), set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and \
+                node.module.split(".")[0] in packages:
+            imported |= {alias.asname or alias.name for alias in node.names}
+        elif isinstance(node, ast.Import):
+            imported |= {(alias.asname or alias.name).split(".")[0] for alias in node.names
+                         if alias.name.split(".")[0] in packages}
+        elif isinstance(node, ast.Assign) and _mentions_file(node.value, set()):
+            rooted |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+    offenders = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        callee = node.func
+        while isinstance(callee, ast.Attribute):
+            callee = callee.value
+        arguments = [*node.args, *(k.value for k in node.keywords)]
+        if isinstance(callee, ast.Name) and callee.id in imported and any(
+                _mentions_file(a, rooted) for a in arguments):
+            offenders.append(f"{path.name}:{node.lineno}: {ast.unparse(node)}")
+    return offenders
+
+
+def test_no_package_finds_its_files_by_path_arithmetic():
+    assert not path_arithmetic(SRC), "\n".join(path_arithmetic(SRC))
+
+
+def test_no_library_module_builds_a_path_from_a_workspace_root():
+    offenders = roots_handed_down(SRC)
+    scripts = [*python_files(SRC.parent, ("scripts",))] + [
+        path for name in PACKAGES for path in python_files(SRC / name, ("scripts", "nodes"))]
+    for path in scripts:
+        offenders += roots_passed_to_libraries(path, PACKAGES.keys())
     assert not offenders, "\n".join(offenders)
+
+
+def test_the_path_guards_catch_a_root_in_a_library_module(tmp_path):
+    """The guards above report a `.parent.parent` chain, a root joined onto a workspace folder
+    and a script that hands its own location to a library; resource() / workspace() pass."""
+    library = tmp_path / "src" / "pkg" / "src" / "pkg"
+    library.mkdir(parents=True)
+    (library / "paths.py").write_text(
+        "from pathlib import Path\n"
+        "from tamp_resources import resource, workspace\n"
+        "ROOT = resource()\n"
+        "HERE = Path(__file__).resolve().parent.parent\n"
+        "def main(root):\n"
+        "    return root / 'config' / 'x.yaml', Path(root, 'build'), root.joinpath('docs/a')\n"
+        "def fine():\n"
+        "    return ROOT / 'maps', resource('config'), workspace() / 'build' / 'x'\n")
+    script = tmp_path / "tool"
+    script.write_text("#!/usr/bin/env python3\nfrom pathlib import Path\n"
+                      "from pkg.paths import main\nmain(Path(__file__).resolve().parent)\n")
+    assert path_arithmetic(tmp_path / "src") == [
+        "pkg/src/pkg/paths.py:4: HERE = Path(__file__).resolve().parent.parent"]
+    assert roots_handed_down(tmp_path / "src") == [
+        f"pkg/src/pkg/paths.py:6: {call}" for call in (
+            "Path(root, 'build')", "root / 'config'", "root.joinpath('docs/a')")]
+    assert roots_passed_to_libraries(script, {"pkg"}) == [
+        "tool:4: main(Path(__file__).resolve().parent)"]
 
 
 def module_name(path):

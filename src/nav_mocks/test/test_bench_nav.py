@@ -64,7 +64,6 @@ def march_household(folder):
     robots = yaml.safe_load(household.read_text())["robots"]
     for laser in (laser for robot in robots for laser in robot["lasers"]):
         laser["raycast"] = "march"
-    (folder / "lasers").symlink_to(resource("config", "lasers"))   # <world dir>/../lasers
     (folder / "camera_calibration.yaml").symlink_to(resource("config",
                                                              "camera_calibration.yaml"))
     (folder / "worlds").mkdir()

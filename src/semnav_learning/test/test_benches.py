@@ -54,24 +54,24 @@ def test_layers_bench_scan_and_timing_helpers():
     assert len(times) == len(calls) == 7 and np.all(times >= 0.0)
     assert re.fullmatch(r"p50 \d+ µs, p99 \d+ µs", bench_layers.spread_us(times))
     with pytest.raises(SystemExit):
-        bench_layers.main(ROOT, argv=["--steps", "3"])        # it has no options
+        bench_layers.main(argv=["--steps", "3"])        # it has no options
 
 
 def test_control_bench_scans_repeat_the_corridor():
-    templates = laser_templates(ROOT)
+    templates = laser_templates()
     scans, laser = bench_control.scans(templates["urg04lx"], RING, 8, "march", places=5)
     assert len(scans) == 8 and laser.beams == 683
     assert scans[5] is scans[0] and scans[7] is scans[2] and scans[4] is not scans[0]
 
 
 def test_control_bench_worst_case_faces_a_wall_just_ahead():
-    wall = bench_control.blocked_scan(laser_templates(ROOT), RING, "urg04lx")
+    wall = bench_control.blocked_scan(laser_templates(), RING, "urg04lx")
     front = wall[len(wall) // 2 - 2:len(wall) // 2 + 3]
     assert np.median(front) == pytest.approx(bench_control.WALL_GAP, abs=0.05)
 
 
 def test_control_bench_untrained_prints_both_lasers(capsys):
-    assert bench_control.main(ROOT, argv=["--untrained", "--steps", "4"]) == 0
+    assert bench_control.main(argv=["--untrained", "--steps", "4"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "model: untrained network (same shape)"
     laser_lines = [line for line in lines if not line.startswith(" ")][1:3]
@@ -84,4 +84,4 @@ def test_control_bench_untrained_prints_both_lasers(capsys):
 def test_control_bench_without_a_model_names_untrained(tmp_path):
     with pytest.raises(SystemExit, match=r"bench_semnav_control: .*none.keras not found.*, or "
                                          r"pass --untrained"):
-        bench_control.main(ROOT, argv=["--model", str(tmp_path / "none.keras")])
+        bench_control.main(argv=["--model", str(tmp_path / "none.keras")])

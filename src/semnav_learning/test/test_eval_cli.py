@@ -8,7 +8,7 @@ import yaml
 from semnav_learning.eval_cli import argument_parser, first_of_each_class, main, spoken_specs
 from semnav_learning.evaluation import EpisodeSpec, load_plan
 from semnav_l_floor import write_l_floor
-from tamp_resources import resource
+from tamp_resources import resource, workspace
 
 ROOT = resource()      # holds config/ and maps/ as the workspace does
 
@@ -24,7 +24,7 @@ def expert_run(tmp_path_factory):
             "--episodes-per-class", "1", "--candidates", "40", "--laser", "urg04lx",
             "--docs", str(folder / "docs"), "--name", "tiny",
             "--json", str(folder / "tiny.json"), "--plan", str(folder / "plan.json")]
-    assert main(ROOT, argv=argv) == 0
+    assert main(argv=argv) == 0
     return folder, argv
 
 
@@ -49,7 +49,7 @@ def test_a_run_writes_its_plan_table_pictures_and_episodes(expert_run, capsys):
 def test_a_written_plan_is_reused_and_first_keeps_n_per_class(expert_run, tmp_path):
     folder, _ = expert_run
     docs = tmp_path / "docs"
-    main(ROOT, argv=["--plan", str(folder / "plan.json"), "--policy", "expert", "--workers",
+    main(argv=["--plan", str(folder / "plan.json"), "--policy", "expert", "--workers",
                      "1", "--first", "1", "--classes", "1", "--laser", "urg04lx", "--docs",
                      str(docs), "--name", "again", "--json", str(tmp_path / "again.json")])
     again = json.loads((tmp_path / "again.json").read_text())
@@ -72,7 +72,7 @@ def test_first_of_each_class_keeps_plan_order_within_a_class():
 def test_chain_without_a_sentence_is_refused(tmp_path):
     write_l_floor(tmp_path)
     with pytest.raises(SystemExit, match="--chain needs --sentence"):
-        main(ROOT, argv=["--map", str(tmp_path / "l_floor.yaml"), "--chain", "1", "3",
+        main(argv=["--map", str(tmp_path / "l_floor.yaml"), "--chain", "1", "3",
                          "--docs", str(tmp_path)])
 
 
@@ -80,9 +80,9 @@ def test_a_bad_plan_and_a_bad_follower_config_name_their_file(tmp_path):
     plan = tmp_path / "plan.json"
     plan.write_text('{"not": "a plan"}')
     with pytest.raises(SystemExit, match=r"eval_semnav: --plan .*plan.json: not an evaluation"):
-        main(ROOT, argv=["--plan", str(plan), "--docs", str(tmp_path)])
+        main(argv=["--plan", str(plan), "--docs", str(tmp_path)])
     with pytest.raises(SystemExit, match="eval_semnav: .*missing.yaml"):
-        main(ROOT, argv=["--follower-config", str(tmp_path / "missing.yaml")])
+        main(argv=["--follower-config", str(tmp_path / "missing.yaml")])
     assert not list(tmp_path.glob("*.md"))
 
 
@@ -90,7 +90,7 @@ def test_spoken_directions_are_transcribed_with_the_node_s_stt_settings(tmp_path
     """--stt-config defaults to the file semantic_nav.launch gives the STT node; a bad one
     ends the run naming it before any speech is made."""
     from perception.stt import SttConfig, load_stt_config
-    default = argument_parser(ROOT).parse_args([]).stt_config
+    default = argument_parser().parse_args([]).stt_config
     assert default == ROOT / "config" / "semnav_stt.yaml"
     assert load_stt_config(default) == SttConfig(beam_size=5, vocabulary="semnav_phrases.yaml",
                                                  vocabulary_margin=2.0)
@@ -103,7 +103,7 @@ def test_spoken_directions_are_transcribed_with_the_node_s_stt_settings(tmp_path
 
 
 def test_unknown_laser_and_class_are_usage_errors(capsys):
-    parser = argument_parser(ROOT)
+    parser = argument_parser()
     for argv in (["--laser", "lms100"], ["--classes", "11"]):
         with pytest.raises(SystemExit) as stop:
             parser.parse_args(argv)
@@ -111,7 +111,7 @@ def test_unknown_laser_and_class_are_usage_errors(capsys):
     assert "invalid choice: 'lms100'" in capsys.readouterr().err
     defaults = parser.parse_args([])
     assert [p.name for p in defaults.map] == ["office_ring.yaml", "office_comb.yaml"]
-    assert defaults.docs == ROOT / "docs" / "semantic_nav" / "eval"
+    assert defaults.docs == workspace() / "docs" / "semantic_nav" / "eval"
 
 
 def test_a_plan_is_drawn_from_the_phrases_given(tmp_path):
@@ -127,11 +127,11 @@ def test_a_plan_is_drawn_from_the_phrases_given(tmp_path):
             "--episodes-per-class", "1", "--classes", "1", "--laser", "urg04lx",
             "--docs", str(tmp_path),
             "--plan", str(tmp_path / "plan.json"), "--phrases", str(phrases)]
-    assert main(ROOT, argv=argv) == 0
+    assert main(argv=argv) == 0
     [spec] = load_plan(tmp_path / "plan.json")
     assert "roll on" in spec.sentence
     del sets["class4"]
     phrases.write_text(yaml.safe_dump(sets))
     (tmp_path / "plan.json").unlink()
     with pytest.raises(SystemExit, match=r"--phrases .*phrases.yaml: .*missing .*class4"):
-        main(ROOT, argv=argv)
+        main(argv=argv)

@@ -10,11 +10,18 @@ from semnav_l_floor import write_l_floor
 
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory):
-    """A workspace root whose maps/ holds the L floor."""
+    """A workspace whose maps/ holds the L floor."""
     root = tmp_path_factory.mktemp("ws")
     (root / "maps").mkdir()
     write_l_floor(root / "maps")
     return root
+
+
+@pytest.fixture
+def l_floor(workspace, monkeypatch):
+    """The L floor's map YAML, the tools run in `workspace` (TAMP_WS)."""
+    monkeypatch.setenv("TAMP_WS", str(workspace))
+    return str(workspace / "maps" / "l_floor.yaml")
 
 
 def cells(line):
@@ -23,8 +30,8 @@ def cells(line):
     return name, rest
 
 
-def test_census_of_the_l_floor_has_no_counted_corners(workspace, capsys):
-    assert census_cli.main(workspace, argv=["l_floor", "--candidates", "30"]) == 0
+def test_census_of_the_l_floor_has_no_counted_corners(l_floor, capsys):
+    assert census_cli.main(argv=[l_floor, "--candidates", "30"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].split() == ["floor", *map(str, range(1, 11))]
     name, row = cells(lines[2])
@@ -37,9 +44,8 @@ def test_census_of_the_l_floor_has_no_counted_corners(workspace, capsys):
                                               False, False]
 
 
-def test_census_total_adds_the_floors(workspace, capsys):
-    floor = str(workspace / "maps" / "l_floor.yaml")       # a YAML path works as a name
-    census_cli.main(workspace, argv=["l_floor", floor, "--candidates", "20", "--seed", "3"])
+def test_census_total_adds_the_floors(l_floor, capsys):
+    census_cli.main(argv=[l_floor, l_floor, "--candidates", "20", "--seed", "3"])
     rows = [cells(line)[1] for line in capsys.readouterr().out.splitlines()[2:]]
     assert len(rows) == 3
     for first, second, total in zip(*rows):
@@ -47,11 +53,12 @@ def test_census_total_adds_the_floors(workspace, capsys):
         assert [a + b for a, b in zip(parts[0], parts[1])] == parts[2]
 
 
-def test_oracle_pictures_of_an_annotated_start(workspace, tmp_path, capsys):
+def test_oracle_pictures_of_an_annotated_start(workspace, l_floor, tmp_path, capsys):
     starts = tmp_path / "starts.yaml"
-    starts.write_text("l_floor:\n  - {start: [1.0, 1.0, 0.0]}\n  - {start: [9.0, 6.0, -90.0]}\n")
+    starts.write_text(f"{l_floor}:\n  - {{start: [1.0, 1.0, 0.0]}}\n"
+                      "  - {start: [9.0, 6.0, -90.0]}\n")
     out = workspace / "docs" / "oracle"
-    assert oracle_plot_cli.main(workspace, argv=["--starts", str(starts), "--out", str(out)]) == 0
+    assert oracle_plot_cli.main(argv=["--starts", str(starts), "--out", str(out)]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert [line.split(":")[0] for line in lines] == [
         "docs/oracle/l_floor_1.png", "docs/oracle/l_floor_2.png",
@@ -63,8 +70,8 @@ def test_oracle_pictures_of_an_annotated_start(workspace, tmp_path, capsys):
         assert (out / f"{name}.png").stat().st_size > 1000
 
 
-def test_oracle_pictures_outside_the_workspace_print_their_path(workspace, tmp_path, capsys):
+def test_oracle_pictures_outside_the_workspace_print_their_path(l_floor, tmp_path, capsys):
     starts = tmp_path / "starts.yaml"
-    starts.write_text("l_floor:\n  - {start: [1.0, 1.0, 0.0]}\n")
-    oracle_plot_cli.main(workspace, argv=["--starts", str(starts), "--out", str(tmp_path)])
+    starts.write_text(f"{l_floor}:\n  - {{start: [1.0, 1.0, 0.0]}}\n")
+    oracle_plot_cli.main(argv=["--starts", str(starts), "--out", str(tmp_path)])
     assert capsys.readouterr().out.startswith(f"{tmp_path / 'l_floor_1.png'}: ")

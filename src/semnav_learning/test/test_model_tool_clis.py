@@ -60,29 +60,29 @@ def test_held_out_accuracy_counts_per_class(capsys):
 
 def test_classify_main_on_lines_and_its_errors(tiny, tmp_path, capsys):
     argv = ["--model", str(tiny["model"]), "--words", str(tiny["words"])]
-    status = classify_cli.main(ROOT, argv=argv, lines=["turn left\n", "zzyzx\n"])
+    status = classify_cli.main(argv=argv, lines=["turn left\n", "zzyzx\n"])
     printed = capsys.readouterr().out.splitlines()
     assert status == 1 and printed[1].startswith("unknown: ")
     assert all(int(c.split(":")[0]) in range(1, 11) for c in printed[0].split())
     (tmp_path / "bad.yaml").write_text("[unclosed")
     with pytest.raises(SystemExit, match="classify_instruction: --phrases .*bad.yaml"):
-        classify_cli.main(ROOT, argv=[*argv, "--held-out", "5", "--phrases",
+        classify_cli.main(argv=[*argv, "--held-out", "5", "--phrases",
                                       str(tmp_path / "bad.yaml")])
     with pytest.raises(SystemExit, match="make train"):
-        classify_cli.main(ROOT, argv=["--model", str(tmp_path / "none.keras")], lines=[])
+        classify_cli.main(argv=["--model", str(tmp_path / "none.keras")], lines=[])
 
 
 def test_blind_set_through_main_prints_the_score_and_names_a_bad_file(tiny, tmp_path, capsys):
     argv = ["--model", str(tiny["model"]), "--words", str(tiny["words"])]
     blind = tmp_path / "blind.yaml"
     blind.write_text("entries: [{text: turn left, classes: [3]}, {text: zzyzx, classes: [1]}]")
-    assert classify_cli.main(ROOT, argv=[*argv, "--blind", str(blind)]) == 0
+    assert classify_cli.main(argv=[*argv, "--blind", str(blind)]) == 0
     printed = capsys.readouterr().out.splitlines()
     assert printed[0].startswith("blind set: ") and "/2 = " in printed[0]
     assert any("'zzyzx': meant 1, read refused" in line for line in printed)
     blind.write_text("entries: [{text: go}]")
     with pytest.raises(SystemExit, match="--blind: .*blind.yaml: entries.0..classes"):
-        classify_cli.main(ROOT, argv=[*argv, "--blind", str(blind)])
+        classify_cli.main(argv=[*argv, "--blind", str(blind)])
 
 
 def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
@@ -91,9 +91,8 @@ def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
     blind.write_text("entries: [" + ", ".join(f"{{text: turn left {k}, classes: [1]}}"
                                               for k in range(400)) + "]")
     script = tmp_path / "classify_instruction"
-    script.write_text("import sys\nfrom pathlib import Path\n"
-                      "from semnav_learning.classify_cli import main\n"
-                      f"sys.exit(main(Path({str(ROOT)!r}), argv=sys.argv[1:]))\n")
+    script.write_text("import sys\nfrom semnav_learning.classify_cli import main\n"
+                      "sys.exit(main(argv=sys.argv[1:]))\n")
     command = (f"set -o pipefail; {sys.executable} {script} --model {tiny['model']} --words "
                f"{tiny['words']} --blind {blind} | head -1")
     done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=120)
@@ -103,7 +102,7 @@ def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
 
 
 def test_fit_report_has_a_row_per_turning_class(tiny, capsys):
-    assert fit_report_cli.main(ROOT, argv=[
+    assert fit_report_cli.main(argv=[
         "--model", str(tiny["model"]), "--dataset", str(tiny["data"]), "--words",
         str(tiny["words"]), "--cache", str(tiny["folder"] / "cache"), "--classes", "1", "2",
         "--threshold", "0.3"]) == 0
@@ -121,7 +120,7 @@ def test_fit_report_has_a_row_per_turning_class(tiny, capsys):
 def test_fit_report_without_records_names_the_split(tiny):
     with pytest.raises(SystemExit, match="no records in the 'test' split of .*data: run "
                                          "scripts/build_semnav_dataset"):
-        fit_report_cli.main(ROOT, argv=["--model", str(tiny["model"]), "--dataset",
+        fit_report_cli.main(argv=["--model", str(tiny["model"]), "--dataset",
                                         str(tiny["data"]), "--split", "test"])
 
 

@@ -1,6 +1,6 @@
 """The training recipe (semnav_learning.recipe) on a tiny recipe of the L floor: its units run in
 order through the library, a rerun skips the done ones, nothing is written outside the work
-directory without --install and --install copies the models with their cards, progress lines
+directory without --install and --install copies the models and writes their cards, progress lines
 carry elapsed times and ETAs, and a malformed recipe is refused naming its key."""
 import json
 import re
@@ -140,14 +140,28 @@ def test_a_rerun_skips_the_done_units(first_run):
 def test_only_runs_the_named_units_and_install_copies_with_cards(first_run, capsys):
     folder, path, _, _, _ = first_run
     (folder / "work" / "done" / "l_plan.json").unlink()      # as if never run
-    assert main(ROOT, argv=["--recipe", str(path), "--only", "l_plan", "--install"]) == 0
+    assert main(argv=["--recipe", str(path), "--only", "l_plan", "--install"]) == 0
     printed = capsys.readouterr().out
     assert "[1/1] datasets/l_plan (plan): started" in printed
     installed = folder / "installed" / "tiny.keras"
     assert installed.read_bytes() == (folder / "work" / "models" / "tiny_zw.keras").read_bytes()
-    card = json.loads(installed.with_suffix(".json").read_text())
-    assert card["recipe"] == str(path) and card["recipe_unit"] == "tiny_zw"
-    assert card["retrain_classifier"] == 2
+    record = json.loads(installed.with_suffix(".json").read_text())
+    assert record["recipe"] == str(path) and record["recipe_unit"] == "tiny_zw"
+    assert record["retrain_classifier"] == 2
+    # the card: the recipe's command, the data of every unit the model depends on (tiny_zw <-
+    # tiny_tuned <- l_records, tiny_bc; tiny_dagger is not among them), its evaluation
+    card = installed.with_suffix(".md").read_text()
+    assert card.startswith("# tiny.keras\n")
+    assert f"- made by: `scripts/train_recipe --recipe {path} --install`, unit `tiny_zw`" in card
+    assert re.search(r"^- date: \d{4}-\d\d-\d\d$", card, re.M)
+    records = json.loads((folder / "work" / "done" / "l_records.json").read_text())["records"]
+    assert (f"- `l_records`: dataset `{folder / 'work' / 'datasets' / 'l_records'}` "
+            f"({records} records)") in card
+    assert "tiny_dagger" not in card
+    assert "- LSTM_w and Z_w: the phrase sets of `config/semnav_phrases.yaml`" in card
+    successes = json.loads((folder / "work" / "done" / "tiny_eval.json").read_text())["successes"]
+    assert (f"| tiny_eval | {successes}/1 ({100.0 * successes:.1f} %) | "
+            f"`scripts/train_recipe --recipe {path} --only tiny_eval` |") in card
 
 
 def test_only_refuses_a_unit_whose_inputs_have_not_run(tmp_path):
@@ -216,7 +230,7 @@ def test_the_command_line_exits_naming_the_key(tmp_path):
     recipe = yaml.safe_load(tiny_recipe(tmp_path).read_text())
     recipe["stages"][0]["units"][1]["plan"]["floor"] = ["x"]
     with pytest.raises(SystemExit, match=r"train_recipe: .*plan\.floor: unknown key"):
-        main(ROOT, argv=["--recipe", str(write(tmp_path, recipe))])
+        main(argv=["--recipe", str(write(tmp_path, recipe))])
 
 
 def test_the_workspace_recipe_loads():

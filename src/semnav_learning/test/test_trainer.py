@@ -186,9 +186,9 @@ def test_bad_settings_are_refused_with_their_reason(inputs, tmp_path):
 
 
 def test_every_command_line_option_is_a_trainer_field():
-    args = argument_parser(ROOT).parse_args(["--epochs", "7", "--mirror", "0.5", "--stop-head",
-                                             "--dataset", "a", "b", "--seed", "4"])
-    config = trainer_config(args, ROOT, "train_semnav --epochs 7")
+    args = argument_parser().parse_args(["--epochs", "7", "--mirror", "0.5", "--stop-head",
+                                         "--dataset", "a", "b", "--seed", "4"])
+    config = trainer_config(args, "train_semnav --epochs 7")
     assert (config.epochs, config.mirror, config.stop_head, config.seed) == (7, 0.5, True, 4)
     assert config.dataset == [Path("a"), Path("b")]
     assert config.laser_config == ROOT / "config" / "semnav_laser.yaml"
@@ -197,7 +197,7 @@ def test_every_command_line_option_is_a_trainer_field():
 
 def test_the_command_line_exits_with_the_reason():
     with pytest.raises(SystemExit, match="--select best_closed_loop needs --closed-loop-plan"):
-        main(ROOT, argv=["--select", "best_closed_loop"])
+        main(argv=["--select", "best_closed_loop"])
 
 
 def test_stage_progress_reports_every_tenth_with_its_eta():

@@ -212,7 +212,7 @@ def test_place_robot_starts_an_episode_at_rest(world):
 def test_household_people_agree_with_the_human_database():
     """config/worlds/household.yaml dresses the people of config/household.yaml in the shirts
     of config/household_shirts.yaml (the human database has none until the robot meets them)."""
-    repo = LASER_DIR.parent.parent
+    repo = REPO
     humans = yaml.safe_load((repo / "config" / "household.yaml").read_text())["humans"]
     shirts = yaml.safe_load((repo / "config" / "household_shirts.yaml").read_text())["shirts"]
     assert sorted(shirts) == sorted(h["name"] for h in humans)

@@ -8,11 +8,12 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+import rospkg
 from tamp_resources import resource
 
 from tamp_bringup import bag_record
 
-LAUNCH = Path(__file__).resolve().parent.parent / "launch" / "replay.launch"
+LAUNCH = Path(rospkg.RosPack().get_path("tamp_bringup"), "launch", "replay.launch")
 
 
 @pytest.mark.parametrize("topics", [bag_record.SCENARIO_TOPICS, bag_record.DIRECTIONS_TOPICS])

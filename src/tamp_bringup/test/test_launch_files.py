@@ -13,10 +13,11 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+import rospkg
 import yaml
 from tamp_resources import resource
 
-LAUNCH_DIR = Path(__file__).resolve().parent.parent / "launch"
+LAUNCH_DIR = Path(rospkg.RosPack().get_path("tamp_bringup"), "launch")
 LAUNCH_FILES = sorted(LAUNCH_DIR.glob("*.launch"))
 URDF_DIR = resource("urdf")
 RVIZ_DIR = resource("config", "rviz")

@@ -25,7 +25,7 @@ import numpy as np
 import rospkg
 from floorplan.semantic_graph import load_graph
 from supervision.latency import summarise
-from tamp_resources import resource
+from tamp_resources import resource, workspace
 
 from perception.request_corpus import case_passes, function_matches, load_corpus, outcome_of
 from perception.requests import load_keyword_config
@@ -51,7 +51,6 @@ def _voice_argument(spec):
 
 
 def parse_args(argv=None):
-    workspace = Path(os.environ.get("TAMP_WS", Path.cwd()))
     parser = argparse.ArgumentParser(prog="bench_verbal", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--voices", nargs="+", default=["en:175", "en-us:150"],
@@ -59,7 +58,7 @@ def parse_args(argv=None):
                         help="espeak-ng voice:words-per-minute pairs to speak the corpus with")
     parser.add_argument("--limit", type=int, default=0, help="speak only the first N sentences")
     parser.add_argument("--beam-size", type=int, default=SttConfig.beam_size)
-    parser.add_argument("--doc", type=Path, default=workspace / "docs/perception/verbal.md",
+    parser.add_argument("--doc", type=Path, default=workspace() / "docs/perception/verbal.md",
                         help="Markdown report to write")
     args = parser.parse_args(argv)
     if args.limit < 0:

@@ -4,7 +4,6 @@ its worst case) and one step of the Keras model for comparison: scripts/bench_se
 import argparse
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -14,8 +13,9 @@ from semantic_nav.follower import DirectionFollower, ModelMissingError, model_fi
 from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.episodes import sim_laser_model
 from semnav_learning.eval_cli import laser_templates
+from tamp_resources import resource
 
-FLOOR = ("maps", "office_ring.yaml")       # under the workspace root
+FLOOR = ("maps", "office_ring.yaml")       # of tamp_resources
 SENTENCE = "go straight to the end, then turn left"
 CORRIDOR = (6.0, 24.0, 5.0)                # x from, x to, y of office_ring's south corridor [m]
 WALL_GAP = 0.36                            # [m] ahead in the guard's worst case (reach 0.35 m)
@@ -138,7 +138,7 @@ def keras_step_ms(model, calls=KERAS_CALLS):
     return call_ms(lambda: model.predict_on_batch(inputs), calls)
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     """Parse, measure, print -> exit status 0 (no model file: exits naming --untrained)."""
     args = argument_parser(description).parse_args(argv)
     try:
@@ -148,7 +148,7 @@ def main(root, description=None, argv=None):
     policy = follower(model)
     name = "untrained network (same shape)" if args.untrained else args.model or "default"
     print(f"model: {name}")
-    templates, floor = laser_templates(root), Path(root).joinpath(*FLOOR)
+    templates, floor = laser_templates(), resource(*FLOOR)
     for laser_name in ("utm30lx", "urg04lx"):
         bench_laser(policy, laser_name, templates, floor, args.steps)
     keras = keras_step_ms(model, min(KERAS_CALLS, args.steps))

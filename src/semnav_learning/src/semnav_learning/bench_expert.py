@@ -15,6 +15,7 @@ from semantic_nav.instruction_classes import CLASS_IDS
 from semnav_learning.expert import ExpertConfig, rehearse
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
 from semnav_learning.route_oracle import RouteOracle
+from tamp_resources import resource
 
 
 @dataclass
@@ -89,10 +90,10 @@ def report_lines(name, bench):
     return lines
 
 
-def main(root, description=None, argv=None):
-    """Parse, rehearse on every office floor of <root>/maps, print -> exit status 0."""
+def main(description=None, argv=None):
+    """Parse, rehearse on every office floor of tamp_resources' maps/, print -> exit status 0."""
     args = argument_parser(description).parse_args(argv)
-    for path in office_floors(Path(root) / "maps"):
+    for path in office_floors(resource("maps")):
         for line in report_lines(path.stem, bench_floor(path, args.starts, args.seed)):
             print(line)
     return 0

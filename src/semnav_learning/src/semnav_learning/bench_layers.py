@@ -2,7 +2,6 @@
 scan, GloVe cache loading, instruction conversion per sentence, phrase-set enumeration per split."""
 import argparse
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -11,6 +10,7 @@ from semantic_nav.instruction_layer import convert_instruction
 from semantic_nav.laser_layer import load_laser_config, preprocess_scan
 from semantic_nav.word_vectors import load_word_vectors
 from semnav_learning.phrase_sets import SPLITS, enumerate_sentences, load_phrase_sets
+from tamp_resources import resource
 
 SENTENCE = "Go straight to the end of this aisle, and then turn left at the second corner."
 
@@ -43,10 +43,10 @@ def sentence_counts(sets, split):
     return {label: sum(1 for _ in enumerate_sentences(sets, label, split)) for label in CLASS_IDS}
 
 
-def main(root, description=None, argv=None):
-    """Measure and print each layer's cost (config under <root>/config) -> exit status 0."""
+def main(description=None, argv=None):
+    """Measure and print each layer's cost (config of tamp_resources) -> exit status 0."""
     argparse.ArgumentParser(description=description).parse_args(argv)
-    config_dir = Path(root) / "config"
+    config_dir = resource("config")
     models, canonical, config = load_laser_config(config_dir / "semnav_laser.yaml")
     rng = np.random.default_rng(0)
     for name, model in models.items():

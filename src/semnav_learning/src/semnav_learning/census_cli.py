@@ -2,7 +2,6 @@
 instruction class applies from (evaluation.class_census) and, for the corner turns, how many of
 them turn where the same side's turn at the end does."""
 import argparse
-from pathlib import Path
 
 import numpy as np
 
@@ -12,6 +11,7 @@ from semnav_learning.demonstrations import floor_map_path
 from semnav_learning.evaluation import class_census
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
 from semnav_learning.route_oracle import RouteOracle
+from tamp_resources import resource
 
 
 def argument_parser(description=None):
@@ -44,16 +44,16 @@ def floor_census(path, candidates, rng):
     return class_census(oracle, sample_corridor_starts(oracle, structure, candidates, rng))
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     """Parse, print one row per floor (and the total of several) -> exit status 0; floor
-    names are <root>/maps/<name>.yaml."""
+    names are maps/<name>.yaml of tamp_resources."""
     args = argument_parser(description).parse_args(argv)
     rng = np.random.default_rng(args.seed)      # one generator over the floors in turn
     for line in header():
         print(line)
     totals = {label: np.zeros(2, int) for label in CLASS_IDS}
     for name in args.floors:
-        path = floor_map_path(name, Path(root) / "maps")
+        path = floor_map_path(name, resource("maps"))
         census = floor_census(path, args.candidates, rng)
         for label, counts in census.items():
             totals[label] += counts

@@ -8,9 +8,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from tamp_resources import resource
 
-def argument_parser(root, description=None):
-    """The options of classify_instruction; the phrase sets default under `root`."""
+
+def argument_parser(description=None):
+    """The options of classify_instruction; the phrase sets default to tamp_resources'."""
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--model", type=Path, help="default: models/semantic_nav/default.keras")
@@ -21,7 +23,7 @@ def argument_parser(root, description=None):
                         help="the phrasings of --held-out: the held-out test (default) or the "
                              "validation phrasings that choose between classifiers")
     parser.add_argument("--phrases", type=Path,
-                        default=Path(root) / "config" / "semnav_phrases.yaml",
+                        default=resource("config", "semnav_phrases.yaml"),
                         help="phrase sets of --held-out (default: config/semnav_phrases.yaml)")
     parser.add_argument("--blind", type=Path, metavar="FILE",
                         help="instead of stdin: how many directions of a blind set (e.g. "
@@ -90,11 +92,11 @@ def classify_lines(follower, lines):
     return status
 
 
-def main(root, description=None, argv=None, lines=None):
+def main(description=None, argv=None, lines=None):
     """Parse, load the model, classify `lines` (default stdin) or score --held-out -> exit
     status. A reader that stops early (`| head -1`) ends the run quietly."""
     try:
-        return run(argument_parser(root, description).parse_args(argv), lines)
+        return run(argument_parser(description).parse_args(argv), lines)
     except BrokenPipeError:
         # the reader has gone: nothing more can be printed, and Python's flush at exit must not
         # write to the closed pipe either

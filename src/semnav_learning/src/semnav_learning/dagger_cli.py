@@ -1,7 +1,9 @@
 """Command line of scripts/dagger_semnav: rounds of closed-loop collection (dagger.collect_round)
-on the training floors, each followed by retraining with scripts/train_semnav in a subprocess."""
+on the training floors, each followed by retraining with train_semnav (train_cli) in a
+subprocess."""
 import argparse
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -13,13 +15,16 @@ import numpy as np
 from tqdm import tqdm
 
 from semantic_nav.instruction_classes import CLASS_IDS
+from tamp_resources import resource, workspace
 
 TRAIN_FLOORS = ["office_crossroads", "office_loop", "office_grid"]
+# as scripts/train_semnav sets them: one numpy BLAS thread, Keras on torch (unless set already)
+TRAIN_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "KERAS_BACKEND": "torch"}
 
 
-def argument_parser(root, description=None):
-    """The options of dagger_semnav; world, dataset and work directory default under `root`."""
-    root = Path(root)
+def argument_parser(description=None):
+    """The options of dagger_semnav; the world defaults to tamp_resources', the dataset and work
+    directory to the workspace's build/."""
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--init", type=Path, required=True, help="behaviour-cloning model")
@@ -37,8 +42,8 @@ def argument_parser(root, description=None):
                         help="training floors: names under maps/ or map YAML paths (e.g. the "
                              "generated floors of build_semnav_dataset)")
     parser.add_argument("--world", type=Path,
-                        default=root / "config" / "worlds" / "office_penguin.yaml")
-    parser.add_argument("--dataset", type=Path, default=root / "build" / "semnav_dataset")
+                        default=resource("config", "worlds", "office_penguin.yaml"))
+    parser.add_argument("--dataset", type=Path, default=workspace() / "build" / "semnav_dataset")
     parser.add_argument("--stop-loss-weight", type=float,
                         help="passed to train_semnav (models with the stop head)")
     parser.add_argument("--collect-only", action="store_true",
@@ -49,7 +54,7 @@ def argument_parser(root, description=None):
     parser.add_argument("--train-args", default="",
                         help='more train_semnav options, e.g. "--batch-size 32 --threads 2"')
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--work-dir", type=Path, default=root / "build" / "semnav_dagger")
+    parser.add_argument("--work-dir", type=Path, default=workspace() / "build" / "semnav_dagger")
     parser.add_argument("--out", type=Path, help="copy the final model here")
     return parser
 
@@ -83,10 +88,11 @@ def collect(args, model, round_index, sets, maps_dir):
     return path, figures
 
 
-def train_command(args, model, records, round_index, out, train_script):
-    """The train_semnav command of one round: continue from `model` on the dataset and every
-    aggregated record file, seeded --seed + round, the model saved to `out`."""
-    command = [sys.executable, str(train_script), "--init", str(model),
+def train_command(args, model, records, round_index, out):
+    """The train_semnav command of one round (train_cli run as a module): continue from `model`
+    on the dataset and every aggregated record file, seeded --seed + round, the model saved to
+    `out`."""
+    command = [sys.executable, "-m", "semnav_learning.train_cli", "--init", str(model),
                "--dagger-records", *map(str, records), "--epochs", str(args.epochs),
                "--seed", str(args.seed + round_index), "--dataset", str(args.dataset),
                "--work-dir", str(args.work_dir / f"train{round_index}"),
@@ -105,25 +111,23 @@ def write_model_card(model, out, work_dir):
     out.with_suffix(".json").write_text(json.dumps(card, indent=1))
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     """Parse, run the rounds -> exit status 0 (a failed training round exits with a message)."""
-    root = Path(root)
-    args = argument_parser(root, description).parse_args(argv)
+    args = argument_parser(description).parse_args(argv)
     from semnav_learning.phrase_sets import load_phrase_sets
-    sets = load_phrase_sets(root / "config" / "semnav_phrases.yaml")
+    sets = load_phrase_sets(resource("config", "semnav_phrases.yaml"))
     args.work_dir.mkdir(parents=True, exist_ok=True)
     model, records, summary, began = args.init, list(args.earlier_records), [], \
         time.perf_counter()
     for round_index in range(1, args.rounds + 1):
-        path, figures = collect(args, model, round_index, sets, root / "maps")
+        path, figures = collect(args, model, round_index, sets, resource("maps"))
         records.append(path)
         if args.collect_only:
             return 0
         out = args.work_dir / f"round{round_index}.keras"
-        command = train_command(args, model, records, round_index, out,
-                                root / "scripts" / "train_semnav")
+        command = train_command(args, model, records, round_index, out)
         try:
-            subprocess.run(command, check=True)
+            subprocess.run(command, check=True, env=TRAIN_ENVIRONMENT | os.environ)
         except subprocess.CalledProcessError as error:
             sys.exit(f"dagger_semnav: round {round_index}: train_semnav exited with status "
                      f"{error.returncode}")

@@ -8,6 +8,7 @@ from semnav_learning.dataset_build import (DEFAULT_SPLIT, DatasetConfig, build_d
                                            parse_split, summary_lines)
 from semnav_learning.episodes import TURN_AT_END
 from semnav_learning.floor_generator import FloorGeneratorConfig
+from tamp_resources import resource, workspace
 
 
 def split_option(text):
@@ -49,13 +50,14 @@ def _add_generator_options(parser):
                              "far wall of a T)")
 
 
-def argument_parser(root, description=None):
-    """The options of build_semnav_dataset; the world and output default under `root`."""
-    root = Path(root)
+def argument_parser(description=None):
+    """The options of build_semnav_dataset; the world defaults to tamp_resources', the output
+    to the workspace's build/."""
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--world", type=Path, default=root / "config" / "worlds" /
-                        "office_penguin.yaml", help="robot and laser template (sim2d world)")
+    parser.add_argument("--world", type=Path,
+                        default=resource("config", "worlds", "office_penguin.yaml"),
+                        help="robot and laser template (sim2d world)")
     parser.add_argument("--split", type=split_option, default=DEFAULT_SPLIT,
                         help='floors per split, e.g. "train=office_crossroads,office_loop,'
                              'office_grid validation=office_longhall test=office_ring,office_comb"')
@@ -83,15 +85,15 @@ def argument_parser(root, description=None):
                         help="keep the floors an earlier or interrupted build of --out "
                              "finished (several --seed runs add their generated floors)")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--out", type=Path, default=root / "build" / "semnav_dataset")
+    parser.add_argument("--out", type=Path, default=workspace() / "build" / "semnav_dataset")
     return parser
 
 
-def main(root, description=None, argv=None, progress=True):
+def main(description=None, argv=None, progress=True):
     """Parse, build, print the summary -> exit status 0; the named floors are
-    <root>/maps/<floor>.yaml."""
-    args = argument_parser(root, description).parse_args(sys.argv[1:] if argv is None else argv)
-    config = DatasetConfig(**vars(args), maps_dir=Path(root) / "maps")
+    maps/<floor>.yaml of tamp_resources."""
+    args = argument_parser(description).parse_args(sys.argv[1:] if argv is None else argv)
+    config = DatasetConfig(**vars(args), maps_dir=resource("maps"))
     summary = build_dataset(config, progress)
     for line in summary_lines(summary, config.out):
         print(line)

@@ -22,27 +22,28 @@ from semnav_learning.evaluation import (EvaluationConfig, PolicySpec, breakdown,
 from semnav_learning.phrase_sets import PhraseSetError, load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
 from semnav_learning.spoken import DEFAULT_VOICES, speak_specs, spoken_report
+from tamp_resources import resource, workspace
 
 COMMAND = "scripts/eval_semnav"
 TEST_FLOORS = ("office_ring", "office_comb")   # never used in training
 
 
-def laser_templates(root):
-    """{laser name: sim2d world template of the Penguin with that laser} of workspace `root`."""
-    worlds = Path(root) / "config" / "worlds"
+def laser_templates():
+    """{laser name: sim2d world template of the Penguin with that laser} of tamp_resources."""
+    worlds = resource("config", "worlds")
     return {"utm30lx": worlds / "office_penguin.yaml",
             "urg04lx": worlds / "office_penguin_urg.yaml"}
 
 
-def argument_parser(root, description=None):
-    """The options of eval_semnav; default floors, worlds and docs under the workspace `root`."""
-    root = Path(root)
+def argument_parser(description=None):
+    """The options of eval_semnav; floors, worlds and configs default to tamp_resources', the
+    docs outputs to the workspace's docs/."""
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--map", nargs="+", type=Path,
-                        default=[root / "maps" / f"{floor}.yaml" for floor in TEST_FLOORS],
+                        default=[resource("maps", f"{floor}.yaml") for floor in TEST_FLOORS],
                         help="map_server YAML floor(s) (default: the test floors)")
-    parser.add_argument("--laser", choices=sorted(laser_templates(root)), default="utm30lx")
+    parser.add_argument("--laser", choices=sorted(laser_templates()), default="utm30lx")
     parser.add_argument("--episodes-per-class", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--candidates", type=int, default=EvaluationConfig().candidates,
@@ -59,7 +60,7 @@ def argument_parser(root, description=None):
     parser.add_argument("--classes", type=int, nargs="+", choices=CLASS_IDS,
                         default=list(CLASS_IDS))
     parser.add_argument("--name", default=None, help="name of the docs outputs (table, plot)")
-    parser.add_argument("--docs", type=Path, default=root / "docs" / "semantic_nav" / "eval")
+    parser.add_argument("--docs", type=Path, default=workspace() / "docs" / "semantic_nav" / "eval")
     parser.add_argument("--first", type=int, help="run only the first N episodes of each class "
                         "of the plan")
     parser.add_argument("--skip", type=int, default=0, metavar="K",
@@ -76,7 +77,7 @@ def argument_parser(root, description=None):
                              "with Whisper tiny.en and follow the transcript as the node "
                              "reads /voice_message; lists the misheard words")
     parser.add_argument("--stt-config", type=Path,
-                        default=Path(root) / "config" / "semnav_stt.yaml",
+                        default=resource("config", "semnav_stt.yaml"),
                         help="Whisper's settings for --spoken (perception.stt.SttConfig as YAML; "
                              "default config/semnav_stt.yaml, as semantic_nav.launch starts the "
                              "STT node)")
@@ -84,7 +85,7 @@ def argument_parser(root, description=None):
                         "result): reused when it exists (same episodes for every model and "
                         "laser), else written")
     parser.add_argument("--phrases", type=Path,
-                        default=Path(root) / "config" / "semnav_phrases.yaml",
+                        default=resource("config", "semnav_phrases.yaml"),
                         help="phrase sets a new plan's sentences are drawn from (default: "
                              "config/semnav_phrases.yaml)")
     return parser
@@ -231,11 +232,11 @@ def write_outputs(args, name, title, result, outcomes, reference, oracles, argv)
         args.json.write_text(json.dumps(result, indent=1))
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     """Parse, evaluate, report on stdout and write the outputs -> exit status 0 (bad input
     exits with its message)."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = argument_parser(root, description).parse_args(argv)
+    args = argument_parser(description).parse_args(argv)
     config = follower_config(args.follower_config)   # a bad file fails before any floor loads
     specs, floors, oracles = episode_specs(args, args.phrases)
     if args.first or args.skip:
@@ -245,7 +246,7 @@ def main(root, description=None, argv=None):
         specs, heard = spoken_specs(specs, args.spoken or list(DEFAULT_VOICES), args.stt_config)
     name = args.name or f"{args.policy}_{args.laser}"
     floor_names = ", ".join(Path(f).stem for f in floors)
-    template = laser_templates(root)[args.laser]
+    template = laser_templates()[args.laser]
     policy_spec = PolicySpec(kind=args.policy, model_path=args.model, config=config)
     outcomes, seconds = run(specs, policy_spec, template, args.workers, name)
     # the model's file as the follower finds it: --model, else $SEMNAV_MODEL, else the default

@@ -7,12 +7,13 @@ from pathlib import Path
 import numpy as np
 
 from semantic_nav.instruction_classes import CLASS_IDS
+from tamp_resources import resource, workspace
 
 VERDICTS = ("on time", "early", "late", "never")
 
 
-def argument_parser(root, description=None):
-    """The options of semnav_fit_report; the scan cache defaults under `root`."""
+def argument_parser(description=None):
+    """The options of semnav_fit_report; the scan cache defaults under the workspace's build/."""
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--model", type=Path, help="default: the follower's default model")
@@ -26,7 +27,7 @@ def argument_parser(root, description=None):
     parser.add_argument("--tolerance", type=int, default=10,
                         help="onset difference still on time [control steps]")
     parser.add_argument("--seed", type=int, default=0, help="sentences drawn per record")
-    parser.add_argument("--cache", type=Path, default=Path(root) / "build" / "semnav_cache")
+    parser.add_argument("--cache", type=Path, default=workspace() / "build" / "semnav_cache")
     parser.add_argument("--words", help="GloVe text file or cache directory (default cache)")
     return parser
 
@@ -56,10 +57,10 @@ def fit_table(fit):
     return lines
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     """Parse, run the model over the records, print the table -> exit status 0."""
-    config_dir = Path(root) / "config"
-    args = argument_parser(root, description).parse_args(argv)
+    config_dir = resource("config")
+    args = argument_parser(description).parse_args(argv)
     from semantic_nav.follower import model_file
     from semantic_nav.network import has_count_input, load_network
     from semantic_nav.word_vectors import load_word_vectors

@@ -5,24 +5,28 @@ import math
 from pathlib import Path
 
 import numpy as np
+import rospkg
 import yaml
 
 from floorplan.occupancy_map import load_map
 from semantic_nav.instruction_classes import CLASS_IDS, NAMES, NUM_CLASSES
+from semnav_learning.demonstrations import floor_map_path
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
 from semnav_learning.oracle_plot import plot_floor_structure, plot_oracle_goals
 from semnav_learning.route_oracle import RouteOracle
+from tamp_resources import resource, workspace
 
 STRUCTURE_STARTS = 20     # sampled starts drawn on each structure picture
 
 
-def argument_parser(root, description=None):
-    """The options of plot_semnav_oracle; the starts file and output default under `root`."""
-    root = Path(root)
+def argument_parser(description=None):
+    """The options of plot_semnav_oracle; the starts default to this package's fixture, the
+    output to the workspace's docs/."""
     parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--starts", type=Path, default=root / "src" / "semnav_learning" /
-                        "fixtures" / "oracle_expected_goals.yaml")
-    parser.add_argument("--out", type=Path, default=root / "docs" / "semantic_nav" / "oracle")
+    parser.add_argument("--starts", type=Path, default=Path(
+        rospkg.RosPack().get_path("semnav_learning"), "fixtures", "oracle_expected_goals.yaml"))
+    parser.add_argument("--out", type=Path, default=workspace() / "docs" / "semantic_nav" /
+                        "oracle")
     return parser
 
 
@@ -57,12 +61,15 @@ def plot_structure(floor, grid, oracle, out):
     return path, structure
 
 
-def main(root, description=None, argv=None):
-    """Parse, plot every floor of --starts (maps <root>/maps/<floor>.yaml) -> exit status 0."""
-    args = argument_parser(root, description).parse_args(argv)
+def main(description=None, argv=None):
+    """Parse, plot every floor of --starts (a map YAML path, or a name: maps/<name>.yaml of
+    tamp_resources) -> exit status 0."""
+    root = workspace()
+    args = argument_parser(description).parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    for floor, entries in yaml.safe_load(args.starts.read_text()).items():
-        grid = load_map(Path(root) / "maps" / f"{floor}.yaml")
+    for key, entries in yaml.safe_load(args.starts.read_text()).items():
+        path = floor_map_path(key, resource("maps"))
+        floor, grid = path.stem, load_map(path)
         oracle = RouteOracle(grid)
         for number, entry in enumerate(entries, 1):
             path, found = plot_start_goals(floor, grid, oracle, number, entry, args.out)

@@ -8,11 +8,12 @@ recipe's work directory; a unit whose done/<unit>.json exists is skipped (resume
 to `report` as lines: one per unit and per floor, epoch or episode block, each with the elapsed
 time, the unit's ETA and the recipe's ETA (the estimates of the units still to run, scaled by
 the measured/estimated ratio of the units run so far). `install()` copies the models named by
-the recipe's `install` to the install directory with their cards; nothing else is written
-outside the work directory.
+the recipe's `install` to the install directory with their training records and writes their
+cards (model_card.py); nothing else is written outside the work directory.
 """
 import argparse
 import dataclasses
+import datetime
 import json
 import multiprocessing
 import os
@@ -25,11 +26,13 @@ from pathlib import Path
 
 
 from semnav_learning.dataset_build import DatasetConfig
+from semnav_learning.model_card import recipe_card, source_commit
 from semnav_learning.recipe_format import RecipeError
 from semnav_learning.recipe_units import UnitRunner
 from semnav_learning.trainer import TrainerConfig, format_duration
 from semnav_learning.training import TrainingConfig
 from supervision import config_file
+from tamp_resources import resource, workspace
 
 KINDS = ("build", "plan", "train", "dagger", "classifier", "evaluate")
 MODEL_KINDS = ("train", "classifier")
@@ -351,10 +354,14 @@ class RecipeRun:
         path.write_text("\n".join(lines) + "\n")
         self.report(f"evaluations so far -> {path}")
 
-    def install(self):
-        """Copy the `install` models (+ their cards, with the recipe and unit named) to the
-        install directory -> [installed paths]; RecipeError if one has not been trained."""
+    def install(self, date=None):
+        """Copy the `install` models (+ their training records, with the recipe and unit named)
+        to the install directory and write each one's card (`<model>.md`, model_card.py: data,
+        command, commit, `date` (default today), evaluations) -> [installed paths]; RecipeError
+        if one has not been trained."""
         done, installed = self.done(), []
+        date = date or datetime.date.today().isoformat()
+        commit = source_commit(self.recipe.root)
         missing = [unit for unit in self.recipe.install.values() if unit not in done]
         if missing:
             raise RecipeError(f"--install: unit {missing[0]} has not run yet")
@@ -363,20 +370,23 @@ class RecipeRun:
             source = Path(done[unit]["model"])
             target = self.recipe.install_dir / f"{model}.keras"
             shutil.copyfile(source, target)
-            card = json.loads(source.with_suffix(".json").read_text())
-            card = {"recipe": str(self.recipe.path), "recipe_unit": unit, **card}
-            target.with_suffix(".json").write_text(json.dumps(card, indent=1, default=str))
+            record = json.loads(source.with_suffix(".json").read_text())
+            record = {"recipe": str(self.recipe.path), "recipe_unit": unit, **record}
+            target.with_suffix(".json").write_text(json.dumps(record, indent=1, default=str))
+            target.with_suffix(".md").write_text(recipe_card(
+                self.recipe, unit, done, target.name, commit, date,
+                lambda u: unit_inputs(u, self.recipe)))
             self.report(f"installed {unit} -> {target}")
             installed.append(target)
         return installed
 
 
-def argument_parser(root, description=None):
+def argument_parser(description=None):
     """The options of scripts/train_recipe."""
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--recipe", type=Path,
-                        default=Path(root) / "config" / "semnav_recipe.yaml")
+                        default=resource("config", "semnav_recipe.yaml"))
     parser.add_argument("--install", action="store_true",
                         help="after the run, copy the recipe's `install` models (and their "
                              "cards) over the committed ones in models/semantic_nav/")
@@ -407,14 +417,15 @@ def list_units(run, report):
     report(f"estimate of what is left: {format_duration(left)}")
 
 
-def main(root, description=None, argv=None, report=None):
+def main(description=None, argv=None, report=None):
     """Parse, run (and with --install, install) -> exit status (0; 130 interrupted, the unit
-    running then not marked done; a bad recipe exits with its message)."""
-    args = argument_parser(root, description).parse_args(argv)
+    running then not marked done; a bad recipe exits with its message). The recipe's relative
+    paths are under the workspace (tamp_resources.workspace())."""
+    args = argument_parser(description).parse_args(argv)
     report = report or (lambda line: print(line, flush=True))
     signal.signal(signal.SIGTERM, _interrupt)        # `kill` stops as Ctrl-C does
     try:
-        run = RecipeRun(load_recipe(args.recipe, root), report=report)
+        run = RecipeRun(load_recipe(args.recipe, workspace()), report=report)
         if args.list:
             list_units(run, report)
             return 0

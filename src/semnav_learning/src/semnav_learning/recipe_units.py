@@ -12,6 +12,7 @@ import numpy as np
 from semnav_learning.recipe_format import PROGRESS_LINE, RESUME_LINE, RecipeError
 from semnav_learning.trainer import Trainer, TrainerConfig, TrainingError
 from semnav_learning.training import TrainingConfig
+from tamp_resources import resource
 
 TEST_FLOORS = ["office_ring", "office_comb"]      # eval_cli's default floors: never trained on
 
@@ -71,9 +72,8 @@ class UnitRunner:
                 str(args.get("seed", 0)), "--plan", str(path)]
         if "classes" in args:
             argv += ["--classes", *map(str, args["classes"])]
-        parsed = eval_cli.argument_parser(self.recipe.root).parse_args(argv)
-        specs, _, _ = eval_cli.episode_specs(parsed, self.recipe.root / "config" /
-                                             "semnav_phrases.yaml")
+        parsed = eval_cli.argument_parser().parse_args(argv)
+        specs, _, _ = eval_cli.episode_specs(parsed, resource("config", "semnav_phrases.yaml"))
         progress(1, 1, "plans")
         return {"plan": str(path), "episodes": len(specs)}
 
@@ -92,7 +92,7 @@ class UnitRunner:
                 args[key] = [path(name) for name in args[key]]
         if "init" in args:
             args["init"] = self.model_path(args["init"])
-        config = self.recipe.root / "config"
+        config = resource("config")
         return TrainerConfig(**{**args, **fields}, work_dir=self.work / "train" / unit.name,
                              out=self.work / "models" / f"{unit.name}.keras",
                              laser_config=config / "semnav_laser.yaml",
@@ -144,7 +144,7 @@ class UnitRunner:
         torch.set_num_threads(1)
         policy = DirectionFollower.from_files(str(self.model_path(args["model"])),
                                               word_vectors=self.recipe.words)
-        sets = load_phrase_sets(self.recipe.root / "config" / "semnav_phrases.yaml")
+        sets = load_phrase_sets(resource("config", "semnav_phrases.yaml"))
         classes = args.get("classes", list(CLASS_IDS))
         rng = np.random.default_rng(args.get("seed", 0) * 1000 + 1)  # dagger_semnav round 1
         total, count = len(classes) * args.get("per_class", 4), [0]
@@ -183,7 +183,7 @@ class UnitRunner:
             argv += ["--classes", *map(str, args["classes"])]
         if "follower_config" in args:      # a workspace path, e.g. the seed's follower
             argv += ["--follower-config", str(self.recipe.root / args["follower_config"])]
-        eval_cli.main(self.recipe.root, argv=argv)
+        eval_cli.main(argv=argv)
         _, episodes, successes, rate = json.loads(result.read_text())["policy"]["total"]
         progress(1, 1, "evaluations")
         self.report(f"  {unit.name} ({args['model']}): {successes}/{episodes} goals "

@@ -6,15 +6,16 @@ from pathlib import Path
 
 from semnav_learning.trainer import (INTERRUPTED_EXIT, SELECTIONS, Trainer, TrainerConfig,
                                      TrainingError)
+from tamp_resources import resource, workspace
 
 
-def argument_parser(root, description=None):
-    """The options of train_semnav; paths default under the workspace `root`."""
-    root = Path(root)
+def argument_parser(description=None):
+    """The options of train_semnav; outputs and inputs default under the workspace's build/."""
+    build = workspace() / "build"
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--dataset", type=Path, nargs="+",
-                        default=[root / "build" / "semnav_dataset"],
+                        default=[build / "semnav_dataset"],
                         help="dataset directories (scripts/build_semnav_dataset); their splits "
                              "are joined and their record rates must agree")
     parser.add_argument("--train-split", default="train")
@@ -67,7 +68,7 @@ def argument_parser(root, description=None):
     parser.add_argument("--fused-units", type=int, help="default: NetworkConfig.fused_units")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads")
-    parser.add_argument("--work-dir", type=Path, default=root / "build" / "semnav_train" / "run")
+    parser.add_argument("--work-dir", type=Path, default=build / "semnav_train" / "run")
     parser.add_argument("--resume", action="store_true",
                         help="go on from WORK_DIR/checkpoint (written after every epoch) when it "
                              "is there: an interrupted run ends as the uninterrupted one would")
@@ -77,7 +78,7 @@ def argument_parser(root, description=None):
     parser.add_argument("--select", choices=SELECTIONS,
                         default="best_validation", help="model copied to --out at the end")
     parser.add_argument("--out", type=Path, help="copy the selected model here (.keras)")
-    parser.add_argument("--cache", type=Path, default=root / "build" / "semnav_cache",
+    parser.add_argument("--cache", type=Path, default=build / "semnav_cache",
                         help="preprocessed-scan cache")
     parser.add_argument("--words", help="GloVe text file or cache directory (default cache)")
     parser.add_argument("--door-width", type=float, default=0.0, metavar="M",
@@ -87,9 +88,9 @@ def argument_parser(root, description=None):
     return parser
 
 
-def trainer_config(args, root, command=""):
-    """Parsed options -> TrainerConfig, with the workspace's laser, phrase and world files."""
-    config = Path(root) / "config"
+def trainer_config(args, command=""):
+    """Parsed options -> TrainerConfig, with tamp_resources' laser, phrase and world files."""
+    config = resource("config")
     return TrainerConfig(**vars(args), laser_config=config / "semnav_laser.yaml",
                          phrases=config / "semnav_phrases.yaml",
                          world_template=config / "worlds" / "office_penguin.yaml",
@@ -100,11 +101,11 @@ def _interrupt(signum, frame):
     raise KeyboardInterrupt
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     """Parse, train, report on stdout -> exit status (0, 130 interrupted; bad settings exit
     with their message)."""
-    args = argument_parser(root, description).parse_args(argv)
-    config = trainer_config(args, root, " ".join(sys.argv if argv is None else argv))
+    args = argument_parser(description).parse_args(argv)
+    config = trainer_config(args, " ".join(sys.argv if argv is None else argv))
     signal.signal(signal.SIGTERM, _interrupt)        # `kill` saves the model as Ctrl-C does
     signal.signal(signal.SIGINT, _interrupt)         # also when started in the background
     try:
@@ -112,3 +113,8 @@ def main(root, description=None, argv=None):
     except TrainingError as error:
         sys.exit(str(error))
     return INTERRUPTED_EXIT if summary.get("interrupted") else 0
+
+
+if __name__ == "__main__":      # dagger_cli runs each round's training as this module
+    from supervision import cli
+    sys.exit(cli.run(lambda argv: main()))

@@ -84,12 +84,12 @@ def crowd_world_data(template, robots, people, seconds, seed=0):
 
 
 def world_from_data(template, data):
-    """A World of crowd_world_data `data`, with the template's laser models (<world
-    dir>/../lasers, as World.from_file's default)."""
+    """A World of crowd_world_data `data`, with the laser models of tamp_resources (as
+    World.from_file's default)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "crowd.yaml"
         path.write_text(yaml.safe_dump(data))
-        return World.from_file(str(path), str(Path(template).resolve().parent.parent / "lasers"))
+        return World.from_file(str(path))
 
 
 def crowd_world(template, robots, people, seconds, seed=0):

@@ -51,7 +51,7 @@ class NodeConfig:
     """~parameters of the node (all times in sim seconds)."""
 
     world: str = ""                 # world YAML (required)
-    laser_dir: str = ""             # laser models; "" = <world dir>/../lasers
+    laser_dir: str = ""             # laser models; "" = tamp_resources' config/lasers
     raycast: str = ""               # "" = as the world says; "march" or "table" for all lasers
     lazy_tables: bool = True        # a range table not yet cached fills its rows as the lasers
                                     # need them (starts at once); false: tabulate the whole map

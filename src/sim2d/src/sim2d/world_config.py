@@ -16,6 +16,7 @@ from sim2d.passage_check import PassageCheck, PassageConfig, blockage_message, r
 from sim2d.people import POSTURES, Person, ScheduleEntry
 from floorplan.semantic_graph import load_graph
 from supervision import config_file
+from tamp_resources import resource
 
 
 class WorldError(config_file.ConfigError):
@@ -148,7 +149,7 @@ def _number(value, where):
 class _Parser:
     def __init__(self, path, laser_dir):
         self.path = Path(path)
-        self.laser_dir = Path(laser_dir) if laser_dir else self.path.parent.parent / "lasers"
+        self.laser_dir = Path(laser_dir) if laser_dir else resource("config", "lasers")
         self.graph = None
 
     def fail(self, message):
@@ -435,5 +436,6 @@ class _Parser:
 
 
 def load_world_config(path, laser_dir=None):
-    """Parse a world YAML; laser models come from laser_dir (default: <world dir>/../lasers)."""
+    """Parse a world YAML; laser models come from laser_dir (default: tamp_resources'
+    config/lasers)."""
     return _Parser(path, laser_dir).parse()

@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import rospkg
 
 from tamp_bringup.bag_record import own_roscore
 
@@ -45,12 +46,12 @@ def start_once(node, env, timeout):
         process.wait(10)
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--timeout", type=float, default=60.0, help="per start [s]")
     args = parser.parse_args(argv)
-    node = Path(root) / "src" / "semantic_nav" / "nodes" / "semantic_nav"
+    node = Path(rospkg.RosPack().get_path("semantic_nav"), "nodes", "semantic_nav")
     with own_roscore() as env:
         runs = [start_once(node, env, args.timeout) for _ in range(args.runs)]
     starts, memory = np.array([r[0] for r in runs]), np.array([r[1] for r in runs])

@@ -18,7 +18,10 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import rospkg
+
 from tamp_bringup.bag_record import own_roscore, stop
+from tamp_resources import resource
 
 CASES = {
     # name: (world file under tamp_resources' config/worlds, launch file or None = node alone)
@@ -113,10 +116,10 @@ class Listener:
         return out
 
 
-def start_case(root, world, launch, env, log):
-    resources = Path(root) / "src" / "tamp_resources" / "config" / "worlds"
+def start_case(world, launch, env, log):
+    resources = resource("config", "worlds")
     if launch is None:
-        node = Path(root) / "src" / "sim2d" / "nodes" / "sim2d"
+        node = Path(rospkg.RosPack().get_path("sim2d"), "nodes", "sim2d")
         command = [sys.executable, str(node), "__name:=sim2d", f"_world:={resources / world}",
                    "_speed:=0"]
     else:
@@ -125,9 +128,9 @@ def start_case(root, world, launch, env, log):
     return subprocess.Popen(command, env=env, stdout=log, stderr=subprocess.STDOUT)
 
 
-def run_case(root, name, listener, env, args, log):
+def run_case(name, listener, env, args, log):
     world, launch = CASES[name]
-    process = start_case(root, world, launch, env, log)
+    process = start_case(world, launch, env, log)
     try:
         cpu_before = None
         if launch is None:
@@ -143,8 +146,8 @@ def run_case(root, name, listener, env, args, log):
                                f"{log.name})")
     finally:
         stop(process)
-    resources = Path(root) / "src" / "tamp_resources" / "config" / "worlds"
-    result["in_process"] = in_process_factor(resources / world, args.in_process_seconds)
+    result["in_process"] = in_process_factor(resource("config", "worlds", world),
+                                             args.in_process_seconds)
     return result
 
 
@@ -155,7 +158,7 @@ def line(name, r):
             f"/odom {r['odom_hz']:6.1f} Hz = {r['odom_per_sim_s']:5.2f}/sim s{cpu}")
 
 
-def main(root, description=None, argv=None):
+def main(description=None, argv=None):
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
     parser.add_argument("--seconds", type=float, default=20.0, help="measuring window [s]")
@@ -168,6 +171,6 @@ def main(root, description=None, argv=None):
         listener = Listener()
         with open(Path(env["ROS_HOME"]) / "nodes.log", "w") as log:
             for name in args.cases:
-                result = run_case(root, name, listener, env, args, log)
+                result = run_case(name, listener, env, args, log)
                 print(line(name, result), flush=True)
     return 0

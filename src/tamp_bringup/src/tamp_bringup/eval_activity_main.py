@@ -14,14 +14,13 @@ such a remark into the accuracy table.
 A frame whose person the detector missed counts as "missed" (a wrong answer).
 """
 import argparse
-import os
 from collections import Counter, defaultdict
 from pathlib import Path
 
 import numpy as np
 from perception.activity import ActivityConfig, load_affordances
 from perception.visual_pipeline import analyse_frame
-from tamp_resources import resource
+from tamp_resources import resource, workspace
 
 from tamp_bringup.sim_activity_set import SCENES, labelled_frames
 
@@ -106,7 +105,6 @@ def probability(text):
 
 
 def parse_args(argv=None):
-    workspace = Path(os.environ.get("TAMP_WS", Path.cwd()))
     parser = argparse.ArgumentParser(prog="eval_activity", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--miss", type=probability, default=0.05,
@@ -116,7 +114,7 @@ def parse_args(argv=None):
                         help="tune: the set the table was adjusted on; held-out: measured once")
     parser.add_argument("--seed", type=int, default=None, help="first seed (default: the split's)")
     parser.add_argument("--repeats", type=int, default=2, help="seeds, each a full pass")
-    parser.add_argument("--out", default=str(workspace / "docs" / "perception"))
+    parser.add_argument("--out", default=str(workspace() / "docs" / "perception"))
     parser.add_argument("--note", default="", help="a remark written under the table's title")
     args = parser.parse_args(argv)
     if args.repeats < 1:

@@ -19,7 +19,6 @@ workspace environment (source scripts/env.sh).
 """
 import argparse
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -28,7 +27,7 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
-from tamp_resources import resource
+from tamp_resources import resource, workspace
 
 from tamp_bringup import scenario_report_main
 from tamp_bringup.bag_record import (SCENARIO_TOPICS, RecordError, free_port, run_environment,
@@ -80,10 +79,9 @@ def parse_args(argv=None):
 
 
 def default_out_dir(kind, now=None):
-    """build/<kind>/<UTC time>/ of the workspace (TAMP_WS, else the current directory)."""
+    """build/<kind>/<UTC time>/ of the workspace (tamp_resources.workspace())."""
     now = now or datetime.now(UTC)
-    workspace = Path(os.environ.get("TAMP_WS", Path.cwd()))
-    return workspace / "build" / kind / now.strftime("%Y%m%d-%H%M%S")
+    return workspace() / "build" / kind / now.strftime("%Y%m%d-%H%M%S")
 
 
 def scenario_path(args):

@@ -1,11 +1,10 @@
 """Write the report of a scenario run (REPORT.md, rewards.png, trajectory.png) from its record
 (the scenario node's JSON) and the executor's journal; prints the counts and reward figures."""
 import argparse
-import os
 from pathlib import Path
 
 import yaml
-from tamp_resources import resource
+from tamp_resources import resource, workspace
 from task_planner.graph import load_graph
 
 from tamp_bringup.bag_record import replay_command
@@ -13,12 +12,11 @@ from tamp_bringup.scenario_report import write_report
 
 
 def parse_args(argv=None):
-    workspace = Path(os.environ.get("TAMP_WS", Path.cwd()))
     parser = argparse.ArgumentParser(prog="scenario_report", description=__doc__)
     parser.add_argument("record", type=Path, help="scenario record JSON")
     parser.add_argument("journal", type=Path, nargs="+",
                         help="executor task buffer journal (SQLite); a fleet's: every robot's")
-    parser.add_argument("--out-dir", type=Path, default=workspace / "docs" / "demo")
+    parser.add_argument("--out-dir", type=Path, default=workspace() / "docs" / "demo")
     parser.add_argument("--humans", type=Path, default=None,
                         help="the run's human database (SQLite): its history rows by source")
     parser.add_argument("--bag", type=Path, default=None,

@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 import yaml
+from tamp_resources import resource, workspace
 
 from task_planner import benchmark as bench
 from task_planner import benchmark_report as report
@@ -18,12 +19,12 @@ from task_planner.rollout_planner import RolloutConfig
 
 
 def parse_args(argv=None):
-    root = Path(os.environ.get("TAMP_WS", Path.cwd()))
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--graph", default=root / "maps/household.graph.yaml", type=Path)
-    parser.add_argument("--priorities", default=root / "config/priorities.yaml", type=Path)
-    parser.add_argument("--planner-config", default=root / "config/task_planner.yaml", type=Path)
-    parser.add_argument("--out-dir", default=root / "docs/planner", type=Path)
+    parser.add_argument("--graph", default=resource("maps", "household.graph.yaml"), type=Path)
+    parser.add_argument("--priorities", default=resource("config", "priorities.yaml"), type=Path)
+    parser.add_argument("--planner-config", default=resource("config", "task_planner.yaml"),
+                        type=Path)
+    parser.add_argument("--out-dir", default=workspace() / "docs" / "planner", type=Path)
     parser.add_argument("--json", type=Path, help="write all trials in the re-scoring schema")
     defaults = bench.BenchConfig()
     for name in ("static_trials", "opt_trials", "scaling_trials", "exact_trials",

@@ -1,11 +1,11 @@
 """Command line of scripts/fit_planner_settings: the static benchmark over the settings §5.3 leaves
 open (robot speed, service durations), scored against the thesis's Tables 5-7 and 5-9."""
 import argparse
-import os
 import time
 from pathlib import Path
 
 import yaml
+from tamp_resources import resource, workspace
 
 from task_planner import settings_fit as fit
 from task_planner import thesis_comparison as thesis
@@ -19,15 +19,16 @@ GRAPHS = ("household", "office_ring", "office_loop", "office_crossroads", "offic
 
 
 def parse_args(argv=None):
-    root = Path(os.environ.get("TAMP_WS", Path.cwd()))
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--graphs", nargs="+", type=Path,
-                        default=[root / f"maps/{name}.graph.yaml" for name in GRAPHS],
+                        default=[resource("maps", f"{name}.graph.yaml") for name in GRAPHS],
                         help="topological graphs to run on (default: the household and the "
                              "office floors with a graph)")
-    parser.add_argument("--priorities", default=root / "config/priorities.yaml", type=Path)
-    parser.add_argument("--planner-config", default=root / "config/task_planner.yaml", type=Path)
-    parser.add_argument("--out", default=root / "docs/planner/SETTINGS_FIT.md", type=Path,
+    parser.add_argument("--priorities", default=resource("config", "priorities.yaml"), type=Path)
+    parser.add_argument("--planner-config", default=resource("config", "task_planner.yaml"),
+                        type=Path)
+    parser.add_argument("--out", default=workspace() / "docs" / "planner" / "SETTINGS_FIT.md",
+                        type=Path,
                         help="Markdown report (default: %(default)s)")
     parser.add_argument("--trials", type=int, default=100,
                         help="static sets per setting (default: %(default)s)")
