@@ -148,7 +148,8 @@ def run_launch(command, env, run_dir, scenario, speed, started):
         wait_for_master(env, launch)
         wait_for_sim_time(env, launch)
         bag = start_recorder(run_dir / BAG_NAME, SCENARIO_TOPICS, env, run_dir / "rosbag.log")
-        wait_for_recording(env, bag, "/scan")
+        wait_for_recording(env, bag, "/tf")   # every run has it (a fleet's scans are
+        #                                        /robot1/scan, /robot2/scan)
         save_robot_description(run_dir / BAG_NAME, env)
         return watch(launch, env, scenario, speed, log_path, started)
     except RecordError as error:
