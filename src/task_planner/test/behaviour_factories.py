@@ -1,7 +1,10 @@
 """A behaviours' Context on a small graph, for the tests of task_planner.behaviours."""
 from task_planner.baselines import FirstComeFirstServe
 from task_planner.behaviours.context import Context, ExecutorConfig
+from task_planner.behaviours.fleet_sync import fleet_sync
 from task_planner.behaviours.tree import build_tree
+from task_planner.fleet_link import FleetLink
+from task_planner.fleet_pool import FleetPool
 from task_planner.people_belief import PeopleAtPlaces
 from task_planner.planner_api import NODE, kind_of
 from task_planner.robot_functions import load_robot_functions
@@ -26,3 +29,15 @@ def make_context(graph, tmp_path, node=A, people=None, planner=None, **config):
 def journal(ctx, *instructions, now=0.0):
     """Journal `instructions` (no reaction); their records."""
     return [record for record, _ in ctx.buffer.submit_many(list(instructions), now)]
+
+
+def robots(graph, tmp_path, **config):
+    """Robots a (at A) and b (at D), each with its journal, on one pool; both rejoined."""
+    made = []
+    for name, node in (("a", A), ("b", D)):
+        (tmp_path / name).mkdir()
+        ctx = make_context(graph, tmp_path / name, node=node, **config)
+        ctx.fleet = FleetLink(FleetPool(tmp_path / "pool.sqlite"), name)
+        assert fleet_sync(ctx, 0.0) == [] and ctx.in_fleet
+        made.append(ctx)
+    return made

@@ -1,31 +1,18 @@
 """task_planner.behaviours.fleet_allocation: two robots deciding with the fleet's auction; claims
 move cleanly, nothing is held twice, and a robot executing keeps its instruction."""
 import pytest
-from behaviour_factories import A, B, D, make_context
+from behaviour_factories import A, B, D, robots
 from planner_factories import make_instruction
 
 from task_planner.behaviours.deciding import decide, redecide
 from task_planner.behaviours.fleet_allocation import fleet_allocator, free_point
-from task_planner.behaviours.fleet_sync import fleet_news, fleet_sync
+from task_planner.behaviours.fleet_sync import fleet_news
 from task_planner.behaviours.receiving import take_in
 from task_planner.behaviours.serving import finish
 from task_planner.executor_commands import EXECUTING, IDLE, MOVING
 from task_planner.executor_sim import NavigationModel, run_executor_fleet
-from task_planner.fleet_link import FleetLink
-from task_planner.fleet_pool import CLAIMED, OPEN, FleetPool
+from task_planner.fleet_pool import CLAIMED, OPEN
 from test_executor_fleet import fleet, served
-
-
-def robots(graph, tmp_path, **config):
-    """Robots a (at A) and b (at D), each with its journal, on one pool; both rejoined."""
-    made = []
-    for name, node in (("a", A), ("b", D)):
-        (tmp_path / name).mkdir()
-        ctx = make_context(graph, tmp_path / name, node=node, **config)
-        ctx.fleet = FleetLink(FleetPool(tmp_path / "pool.sqlite"), name)
-        assert fleet_sync(ctx, 0.0) == [] and ctx.in_fleet
-        made.append(ctx)
-    return made
 
 
 def holders(ctx):

@@ -1,27 +1,13 @@
 """task_planner.behaviours.fleet_sync: news from the other robots, closures, and the rejoin."""
-from behaviour_factories import A, B, D, make_context
+from behaviour_factories import A, B, D, make_context, robots
 from planner_factories import make_instruction
 from py_trees.common import Status
 
 from task_planner.behaviours.context import ARRIVED, TICK
-from task_planner.behaviours.fleet_sync import FleetSync, fleet_news, fleet_sync
+from task_planner.behaviours.fleet_sync import FleetSync, fleet_news
 from task_planner.behaviours.receiving import take_in
 from task_planner.executor_commands import MOVING, StopMotion
-from task_planner.fleet_link import FleetLink
-from task_planner.fleet_pool import FleetPool
 from task_planner.task_buffer import DONE, PENDING
-
-
-def robots(graph, tmp_path, **config):
-    """Robots a (at A) and b (at D), each with its journal, on one pool; both rejoined."""
-    made = []
-    for name, node in (("a", A), ("b", D)):
-        (tmp_path / name).mkdir()
-        ctx = make_context(graph, tmp_path / name, node=node, **config)
-        ctx.fleet = FleetLink(FleetPool(tmp_path / "pool.sqlite"), name)
-        assert fleet_sync(ctx, 0.0) == [] and ctx.in_fleet
-        made.append(ctx)
-    return made
 
 
 def test_news_from_another_robot_is_journalled_and_decided_on(line_graph, tmp_path):
