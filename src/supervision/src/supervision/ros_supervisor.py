@@ -123,9 +123,19 @@ class Supervisor:
         return rospy.Service(name, srv_type, guarded)
 
     def wrap(self, worker, callback, on_error=None):
-        """callback(arg) under the guard, for any rospy callback with one argument."""
+        """callback(arg) under the guard, for any rospy callback with one argument. A
+        rospy.ROSException while the node shuts down (a publisher closed under the callback) is
+        the end of the node, not a fault: it is not reported."""
+        def quiet_at_shutdown(arg):
+            try:
+                return callback(arg)
+            except rospy.ROSException:
+                if rospy.is_shutdown():
+                    return None
+                raise
+
         def guarded(arg):
-            return self.health.run(worker, "", callback, arg, on_error=on_error)
+            return self.health.run(worker, "", quiet_at_shutdown, arg, on_error=on_error)
         return guarded
 
     def worker(self, name, period_s=None):
