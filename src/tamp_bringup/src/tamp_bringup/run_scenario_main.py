@@ -19,7 +19,6 @@ workspace environment (source scripts/env.sh).
 """
 import argparse
 import json
-import re
 import shutil
 import subprocess
 import sys
@@ -27,6 +26,7 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
+from task_planner.fleet_pool_db import without_password
 from tamp_resources import resource, workspace
 
 from tamp_bringup import scenario_report_main
@@ -38,7 +38,6 @@ from tamp_bringup.scenario import load_scenario
 
 PROGRESS_S = 10.0        # [s] wall-clock period of the progress lines
 BAG_NAME = "run.bag"
-PASSWORD = re.compile(r"://([^:@/]*):[^@/]*@")   # a URL's password, left out of the record
 
 
 def parse_args(argv=None):
@@ -92,7 +91,7 @@ def scenario_path(args):
 
 def launch_command(args, scenario, path, run_dir, port):
     """The roslaunch command line of the run."""
-    pool = PASSWORD.sub(r"://\1:***@", args.pool) if args.pool else ""
+    pool = without_password(args.pool) if args.pool else ""
     command = f"scripts/run_scenario {args.scenario} --speed {args.speed:g}" + (
         " --fleet" if args.fleet else "") + (f" --pool {pool}" if pool else "")
     launch, world = (("household_fleet.launch", resource("config", "worlds",

@@ -29,7 +29,13 @@ _PG_OPTIONS = (f"-c lock_timeout={BUSY_TIMEOUT_MS} "
 _PG_CONNECT = dict(connect_timeout=2, keepalives=1, keepalives_idle=5, keepalives_interval=2,
                    keepalives_count=3, tcp_user_timeout=BUSY_TIMEOUT_MS, options=_PG_OPTIONS,
                    application_name="fleet_pool")
+_PASSWORD = re.compile(r"://([^:@/]*):[^@/]*@")
 _SCHEMA_LOCK = 0x666C656574   # advisory lock: robots starting together make the tables once
+
+
+def without_password(url):
+    """The URL to show: its password, if any, replaced by ***."""
+    return _PASSWORD.sub(r"://\1:***@", url)
 
 
 class FleetPoolError(ValueError):
@@ -108,7 +114,7 @@ class PostgreSQLPool:
     def __init__(self, url, tables):
         import psycopg2   # only where PostgreSQL is used
         self._psycopg2, self.url = psycopg2, url
-        self.name = re.sub(r"://([^:@/]*):[^@/]*@", r"://\1:***@", url)
+        self.name = without_password(url)
         self._tables = tuple(statement.replace(" REAL", " DOUBLE PRECISION")
                              .replace(" INTEGER", " BIGINT") for statement in tables)
         self._expected = {table: tuple(column[0] for column in columns)

@@ -28,6 +28,15 @@ class PeopleAtPlaces:
         self.unidentified = {}            # node -> (stamp [s], x, y [m]) of the latest person
                                           # perception saw there but could not tell who
 
+    def take_frame(self, stamp, seen, unidentified):
+        """One camera frame perception analysed, taken at `stamp` [s]: the people it identified
+        ([(name, node)]) and those it saw at a place but could not tell ([(node, x, y)])."""
+        for name, node in seen:
+            self.seen(name, node, stamp)
+        for node, x, y in unidentified:
+            self.someone_unidentified(node, x, y, stamp)
+        self.analysed(stamp)
+
     def someone_unidentified(self, node, x, y, stamp):
         """Perception saw a person at `node`, at map position (x, y), whose shirt named nobody
         (seen from behind, half hidden): they may be the one looked for."""

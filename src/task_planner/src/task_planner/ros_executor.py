@@ -495,13 +495,8 @@ class ExecutorNode:
         minute)."""
         day_s = self.params.utc_offset + now
         while self.observed:
-            stamp, seen, unidentified = sightings_from_observed(self.observed.popleft(),
-                                                                self.graph.names)
-            for name, node in seen:
-                self.people.seen(name, node, stamp)
-            for node, x, y in unidentified:
-                self.people.someone_unidentified(node, x, y, stamp)
-            self.people.analysed(stamp)
+            self.people.take_frame(*sightings_from_observed(self.observed.popleft(),
+                                                            self.graph.names))
         if self.humans is not None:
             sightings, self._schedules = people_from_msg(self.humans, self.graph.names)
             self.humans = None
@@ -531,8 +526,8 @@ class ExecutorNode:
                               command.instruction_id, command.duration_s)
 
     def _cancel_goal(self):
-        """Cancel our move_base goal unless it has ended. Cancelling an ended goal makes
-        would take it back to waiting for the cancel's answer."""
+        """Cancel our move_base goal unless it has ended: cancelling an ended goal would take
+        its handle back to waiting for the cancel's answer."""
         handle = self.goal_handle
         if handle is None:
             return

@@ -110,6 +110,7 @@ class Context:
     corridor_wait: float | None = None  # since when the robot waits for a corridor [s]
     deferred: set = field(default_factory=set)  # own instructions waiting for people's
     lost_claims: set = field(default_factory=set)  # ids another robot held at the claim
+    taken: set = field(default_factory=set)  # ids other robots held at this decision's fetch
     unclaimed: dict = field(default_factory=dict)  # id -> when the robot the auction gives it
                                    # to first said it would be free (fleet_allocation.overdue)
     reported: tuple | None = None  # (mode, node, free from [s]) last reported to the fleet

@@ -146,7 +146,7 @@ def fetch_and_decode(ctx, now):
     done = ctx.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
     skipped, busy_places = ctx.deferred | waiting_for_a_meeting(ctx, pending), ()
     if ctx.fleet:
-        taken = ctx.fleet.taken(now)
+        taken = ctx.taken = ctx.fleet.taken(now)
         skipped = skipped | ctx.lost_claims | taken
         if ctx.config.one_robot_per_place:
             busy_places = ctx.fleet.busy_places(now)

@@ -92,7 +92,7 @@ def auction_choice(ctx, problem, available, now):
     fleet = ctx.fleet.fleet(now)
     fleet[ctx.fleet.robot] = (ctx.node, now)   # as it decides (it reports the outcome after)
     names = sorted(fleet)
-    skipped = ctx.fleet.taken(now) | ctx.lost_claims | ctx.fleet.local   # local: its own body
+    skipped = ctx.taken | ctx.lost_claims | ctx.fleet.local   # taken: read by fetch_and_decode
     open_items = np.array([k for k, i in enumerate(problem.ids) if int(i) not in skipped],
                           dtype=int)
     view = FleetView(names.index(ctx.fleet.robot), [int(fleet[n][0]) for n in names],
