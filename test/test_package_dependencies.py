@@ -273,22 +273,40 @@ def test_the_path_guards_catch_a_root_in_a_library_module(tmp_path):
         "tool:4: main(Path(__file__).resolve().parent)"]
 
 
-def module_name(path):
-    """The dotted module name of a library file src/<pkg>/src/<module path>.py."""
-    package_root = path.parents[len(path.relative_to(SRC).parts) - 3]
-    return ".".join(path.relative_to(package_root).with_suffix("").parts).removesuffix(
-        ".__init__")
+def module_name(path, src=SRC):
+    """The dotted module name of a library file src/<pkg>/src/<module path>.py; a node or script
+    (src/<pkg>/nodes/<name>) is named by its path, as nothing imports it."""
+    parts = path.relative_to(src).parts
+    if parts[1] != "src":
+        return "/".join(parts)
+    return ".".join(Path(*parts[2:]).with_suffix("").parts).removesuffix(".__init__")
 
 
-def module_imports(path, modules):
-    """The workspace library modules a file imports (at any depth: lazy imports count)."""
+def module_imports(path, modules, name=None):
+    """The workspace library modules a file imports (at any depth: lazy imports count; relative
+    imports resolved against `name`, the importer's module)."""
     found = set()
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
         if isinstance(node, ast.Import):
             found |= {alias.name for alias in node.names}
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            found |= {node.module} | {f"{node.module}.{alias.name}" for alias in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            module = node.module or ""
+            if node.level and name:
+                package = name.split(".")[:-node.level + (path.name == "__init__.py") or None]
+                module = ".".join([*package, *([module] if module else [])])
+            if module:
+                found |= {module} | {f"{module}.{alias.name}" for alias in node.names}
     return found & modules
+
+
+def import_graph(src=SRC):
+    """{module: the workspace modules it imports} over the library modules under
+    src/<pkg>/src/ and the nodes under src/<pkg>/nodes/."""
+    paths = {module_name(path, src): path for path in sorted(src.glob("*/src/*/**/*.py"))}
+    paths |= {module_name(path, src): path for name in sorted(p.name for p in src.iterdir())
+              for path in python_files(src / name, ("nodes",))}
+    modules = set(paths)
+    return {name: module_imports(path, modules, name) - {name} for name, path in paths.items()}
 
 
 def import_cycles(graph):
@@ -320,14 +338,28 @@ def import_cycles(graph):
     return cycles
 
 
-def test_import_cycles_are_found():
+def test_import_cycles_are_found(tmp_path):
+    """A loop of three modules (one through a relative, lazy import) is reported; a module that
+    only imports into the loop, and a node, are not part of it."""
     graph = {"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}, "a.w": {"a.x"}, "b.v": set()}
     assert import_cycles(graph) == [["a.x", "a.y", "a.z"]]
     assert import_cycles({"a.x": {"a.y"}, "a.y": set()}) == []
+    library = tmp_path / "pkg" / "src" / "pkg"
+    (library / "tools").mkdir(parents=True)
+    (tmp_path / "pkg" / "nodes").mkdir()
+    for name, text in {"__init__.py": "", "tools/__init__.py": "",
+                       "x.py": "from pkg import y\n",
+                       "y.py": "import pkg.tools.z\n",
+                       "tools/z.py": "def late():\n    from ..x import late\n",
+                       "w.py": "from pkg.x import late\n"}.items():
+        (library / name).write_text(text)
+    (tmp_path / "pkg" / "nodes" / "run").write_text("#!/usr/bin/env python3\nimport pkg.w\n")
+    graph = import_graph(tmp_path)
+    assert graph["pkg/nodes/run"] == {"pkg.w"}
+    assert import_cycles(graph) == [["pkg.tools.z", "pkg.x", "pkg.y"]]
 
 
 def test_no_two_library_modules_import_each_other():
-    paths = {module_name(path): path for path in sorted(SRC.glob("*/src/*/**/*.py"))}
-    modules = set(paths)
-    graph = {name: module_imports(path, modules) - {name} for name, path in paths.items()}
-    assert import_cycles(graph) == []
+    cycles = import_cycles(import_graph())
+    assert not cycles, "modules that import each other: " + "; ".join(
+        " <-> ".join(cycle) for cycle in cycles)

@@ -1,4 +1,5 @@
 from catkin_pkg.python_setup import generate_distutils_setup
 from setuptools import setup
 
-setup(**generate_distutils_setup(packages=["human_db"], package_dir={"": "src"}))
+setup(**generate_distutils_setup(packages=["human_db", "human_db.tools"],
+                                 package_dir={"": "src"}))

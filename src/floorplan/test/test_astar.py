@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from floorplan.astar import astar, clear_path_cache, inflate_obstacles
-from floorplan.bench_astar_reference import reference_astar
+from floorplan.tools.astar_reference import reference_astar
 
 R2 = math.sqrt(2.0)
 

@@ -4,7 +4,7 @@ import re
 import numpy as np
 import pytest
 
-from floorplan import bench_astar_main as bench
+from floorplan.tools import bench_astar as bench
 
 
 def test_household_benchmark_prints_both_planners_and_equal_lengths(capsys):

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from human_db import bench_human_db_main as bench
+from human_db.tools import bench_human_db as bench
 from human_db.colour import ColourIndex
 
 

@@ -4,7 +4,7 @@ import pytest
 import yaml
 from tamp_resources import resource
 
-from nav_mocks import bench_nav_main as bench
+from nav_mocks.tools import bench_nav as bench
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -11,7 +11,7 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import UInt8
 
 from penguin_base.record_format import RecordSequence, Sample, read_records
-from penguin_base.ros_records_cli import main as records_main
+from penguin_base.tools.ros_records import main as records_main
 
 
 def as_float32(value):

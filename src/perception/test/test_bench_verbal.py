@@ -3,7 +3,7 @@ import hashlib
 
 import pytest
 
-from perception import bench_verbal_main as bench
+from perception.tools import bench_verbal as bench
 from perception.request_corpus import CorpusCase
 from perception.speech_synthesis import Voice, voice_of
 from perception.stt import Transcript

@@ -1,10 +1,10 @@
-"""compare_semnav's command line (compare_cli): the McNemar table of two results of one plan, and
+"""compare_semnav's command line (compare_semnav): the McNemar table of two results of one plan, and
 the errors for files that are not results or not of the same plan."""
 import json
 
 import pytest
 
-from semnav_learning.compare_cli import main
+from semnav_learning.tools.compare_semnav import main
 
 
 def write_result(path, successes, labels=(1, 1, 2, 2)):

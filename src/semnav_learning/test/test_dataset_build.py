@@ -1,6 +1,7 @@
-"""build_semnav_dataset as a library (dataset_build, dataset_cli): a tiny build of the L floor with
-the URG-04LX Penguin writes records, entries and summary that agree; --resume keeps finished
-floors; a floor without corridors is an error entry, not a crash; bad --split values exit."""
+"""build_semnav_dataset as a library (dataset_build, tools.build_semnav_dataset): a tiny build of
+the L floor with the URG-04LX Penguin writes records, entries and summary that agree; --resume
+keeps finished floors; a floor without corridors is an error entry, not a crash; bad --split
+values exit."""
 import json
 
 import numpy as np
@@ -11,7 +12,7 @@ from floorplan.occupancy_map import OccupancyMap, save_map
 from penguin_base.record_format import read_records
 from semnav_learning.dataset_build import (DatasetConfig, build_dataset, floor_jobs,
                                            parse_split, summary_lines)
-from semnav_learning.dataset_cli import argument_parser, main
+from semnav_learning.tools.build_semnav_dataset import argument_parser, main
 from semnav_l_floor import write_l_floor
 from tamp_resources import resource
 
@@ -100,8 +101,8 @@ def test_main_prints_the_summary(tiny_build, tmp_path, capsys):
     entry = folder / "ds" / "train" / "l_floor.json"
     (out / "train" / "l_floor.json").write_text(entry.read_text())
     # every floor of the split already finished: --resume only reads entries back
-    assert main(folder, argv=["--world", str(URG_WORLD), "--split", "train=l_floor", "--resume",
-                              "--workers", "1", "--out", str(out)], progress=False) == 0
+    assert main(argv=["--world", str(URG_WORLD), "--split", "train=l_floor", "--resume",
+                      "--workers", "1", "--out", str(out)], progress=False) == 0
     printed = capsys.readouterr().out.splitlines()
     samples = json.loads(entry.read_text())["entry"]["samples"]
     assert printed[0].startswith(f"train (l_floor): 2 records, {samples} samples")

@@ -1,10 +1,10 @@
-"""The floor tools' command lines (census_cli, oracle_plot_cli) on the L floor: the census rows
-and their total, and the oracle and structure pictures with what they print."""
+"""The floor tools' command lines (semnav_floor_census, plot_semnav_oracle) on the L floor: the
+census rows and their total, and the oracle and structure pictures with what they print."""
 import re
 
 import pytest
 
-from semnav_learning import census_cli, oracle_plot_cli
+from semnav_learning.tools import semnav_floor_census, plot_semnav_oracle
 from semnav_l_floor import write_l_floor
 
 
@@ -31,7 +31,7 @@ def cells(line):
 
 
 def test_census_of_the_l_floor_has_no_counted_corners(l_floor, capsys):
-    assert census_cli.main(argv=[l_floor, "--candidates", "30"]) == 0
+    assert semnav_floor_census.main(argv=[l_floor, "--candidates", "30"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].split() == ["floor", *map(str, range(1, 11))]
     name, row = cells(lines[2])
@@ -45,7 +45,7 @@ def test_census_of_the_l_floor_has_no_counted_corners(l_floor, capsys):
 
 
 def test_census_total_adds_the_floors(l_floor, capsys):
-    census_cli.main(argv=[l_floor, l_floor, "--candidates", "20", "--seed", "3"])
+    semnav_floor_census.main(argv=[l_floor, l_floor, "--candidates", "20", "--seed", "3"])
     rows = [cells(line)[1] for line in capsys.readouterr().out.splitlines()[2:]]
     assert len(rows) == 3
     for first, second, total in zip(*rows):
@@ -58,7 +58,7 @@ def test_oracle_pictures_of_an_annotated_start(workspace, l_floor, tmp_path, cap
     starts.write_text(f"{l_floor}:\n  - {{start: [1.0, 1.0, 0.0]}}\n"
                       "  - {start: [9.0, 6.0, -90.0]}\n")
     out = workspace / "docs" / "oracle"
-    assert oracle_plot_cli.main(argv=["--starts", str(starts), "--out", str(out)]) == 0
+    assert plot_semnav_oracle.main(argv=["--starts", str(starts), "--out", str(out)]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert [line.split(":")[0] for line in lines] == [
         "docs/oracle/l_floor_1.png", "docs/oracle/l_floor_2.png",
@@ -73,5 +73,5 @@ def test_oracle_pictures_of_an_annotated_start(workspace, l_floor, tmp_path, cap
 def test_oracle_pictures_outside_the_workspace_print_their_path(l_floor, tmp_path, capsys):
     starts = tmp_path / "starts.yaml"
     starts.write_text(f"{l_floor}:\n  - {{start: [1.0, 1.0, 0.0]}}\n")
-    oracle_plot_cli.main(argv=["--starts", str(starts), "--out", str(tmp_path)])
+    plot_semnav_oracle.main(argv=["--starts", str(starts), "--out", str(tmp_path)])
     assert capsys.readouterr().out.startswith(f"{tmp_path / 'l_floor_1.png'}: ")

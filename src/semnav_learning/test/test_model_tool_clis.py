@@ -1,5 +1,6 @@
-"""The command lines that read a model (classify_cli, fit_report_cli, mix_cli) with a tiny network
-and synthetic words and records: what they print and write, and their errors for bad input."""
+"""The command lines that read a model (classify_instruction, semnav_fit_report,
+mix_semnav_models) with a tiny network and synthetic words and records: what they print and
+write, and their errors for bad input."""
 import json
 import subprocess
 import sys
@@ -7,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from semnav_learning import classify_cli, fit_report_cli, mix_cli
+from semnav_learning.tools import classify_instruction, semnav_fit_report, mix_semnav_models
 from semnav_train_data import write_dataset, write_words
 from tamp_resources import resource
 
@@ -43,15 +44,15 @@ class AlwaysOne:
 
 
 def test_classify_prints_classes_per_line_and_fails_on_unknown_words(capsys):
-    assert classify_cli.classify_lines(AlwaysOne(), ["go on\n", "  \n", "turn left\n"]) == 0
-    assert classify_cli.classify_lines(AlwaysOne(), ["go\n", "wallace and gromit\n"]) == 1
+    assert classify_instruction.classify_lines(AlwaysOne(), ["go on\n", "  \n", "turn left\n"]) == 0
+    assert classify_instruction.classify_lines(AlwaysOne(), ["go\n", "wallace and gromit\n"]) == 1
     assert capsys.readouterr().out.splitlines() == [
         "1", "1", "1", "unknown: 'gromit' is not a known word"]
 
 
 def test_held_out_accuracy_counts_per_class(capsys):
-    sets = classify_cli.read_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
-    accuracy = classify_cli.phrasing_accuracy(AlwaysOne(), sets, "held_out", 20, 0)
+    sets = classify_instruction.read_phrase_sets(ROOT / "config" / "semnav_phrases.yaml")
+    accuracy = classify_instruction.phrasing_accuracy(AlwaysOne(), sets, "held_out", 20, 0)
     printed = capsys.readouterr().out.splitlines()
     assert accuracy == pytest.approx(0.1)     # classes in turn: class 1 is 2 of 20
     assert printed[0] == "held_out phrasings: 2/20 = 10.00% classified correctly"
@@ -60,29 +61,29 @@ def test_held_out_accuracy_counts_per_class(capsys):
 
 def test_classify_main_on_lines_and_its_errors(tiny, tmp_path, capsys):
     argv = ["--model", str(tiny["model"]), "--words", str(tiny["words"])]
-    status = classify_cli.main(argv=argv, lines=["turn left\n", "zzyzx\n"])
+    status = classify_instruction.main(argv=argv, lines=["turn left\n", "zzyzx\n"])
     printed = capsys.readouterr().out.splitlines()
     assert status == 1 and printed[1].startswith("unknown: ")
     assert all(int(c.split(":")[0]) in range(1, 11) for c in printed[0].split())
     (tmp_path / "bad.yaml").write_text("[unclosed")
     with pytest.raises(SystemExit, match="classify_instruction: --phrases .*bad.yaml"):
-        classify_cli.main(argv=[*argv, "--held-out", "5", "--phrases",
+        classify_instruction.main(argv=[*argv, "--held-out", "5", "--phrases",
                                       str(tmp_path / "bad.yaml")])
     with pytest.raises(SystemExit, match="make train"):
-        classify_cli.main(argv=["--model", str(tmp_path / "none.keras")], lines=[])
+        classify_instruction.main(argv=["--model", str(tmp_path / "none.keras")], lines=[])
 
 
 def test_blind_set_through_main_prints_the_score_and_names_a_bad_file(tiny, tmp_path, capsys):
     argv = ["--model", str(tiny["model"]), "--words", str(tiny["words"])]
     blind = tmp_path / "blind.yaml"
     blind.write_text("entries: [{text: turn left, classes: [3]}, {text: zzyzx, classes: [1]}]")
-    assert classify_cli.main(argv=[*argv, "--blind", str(blind)]) == 0
+    assert classify_instruction.main(argv=[*argv, "--blind", str(blind)]) == 0
     printed = capsys.readouterr().out.splitlines()
     assert printed[0].startswith("blind set: ") and "/2 = " in printed[0]
     assert any("'zzyzx': meant 1, read refused" in line for line in printed)
     blind.write_text("entries: [{text: go}]")
     with pytest.raises(SystemExit, match="--blind: .*blind.yaml: entries.0..classes"):
-        classify_cli.main(argv=[*argv, "--blind", str(blind)])
+        classify_instruction.main(argv=[*argv, "--blind", str(blind)])
 
 
 def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
@@ -91,7 +92,7 @@ def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
     blind.write_text("entries: [" + ", ".join(f"{{text: turn left {k}, classes: [1]}}"
                                               for k in range(400)) + "]")
     script = tmp_path / "classify_instruction"
-    script.write_text("import sys\nfrom semnav_learning.classify_cli import main\n"
+    script.write_text("import sys\nfrom semnav_learning.tools.classify_instruction import main\n"
                       "sys.exit(main(argv=sys.argv[1:]))\n")
     command = (f"set -o pipefail; {sys.executable} {script} --model {tiny['model']} --words "
                f"{tiny['words']} --blind {blind} | head -1")
@@ -102,7 +103,7 @@ def test_a_reader_that_stops_early_ends_the_run_quietly(tiny, tmp_path):
 
 
 def test_fit_report_has_a_row_per_turning_class(tiny, capsys):
-    assert fit_report_cli.main(argv=[
+    assert semnav_fit_report.main(argv=[
         "--model", str(tiny["model"]), "--dataset", str(tiny["data"]), "--words",
         str(tiny["words"]), "--cache", str(tiny["folder"] / "cache"), "--classes", "1", "2",
         "--threshold", "0.3"]) == 0
@@ -120,15 +121,15 @@ def test_fit_report_has_a_row_per_turning_class(tiny, capsys):
 def test_fit_report_without_records_names_the_split(tiny):
     with pytest.raises(SystemExit, match="no records in the 'test' split of .*data: run "
                                          "scripts/build_semnav_dataset"):
-        fit_report_cli.main(argv=["--model", str(tiny["model"]), "--dataset",
+        semnav_fit_report.main(argv=["--model", str(tiny["model"]), "--dataset",
                                         str(tiny["data"]), "--split", "test"])
 
 
 def test_mix_interpolates_every_layer_and_writes_a_card(tiny, tmp_path, capsys):
     from semantic_nav.network import load_network
     out = tmp_path / "mixed" / "m.keras"
-    assert mix_cli.main(["--base", str(tiny["model"]), "--tuned", str(tiny["other"]),
-                         "--alpha", "0.25", "--out", str(out)]) == 0
+    assert mix_semnav_models.main(["--base", str(tiny["model"]), "--tuned", str(tiny["other"]),
+                                   "--alpha", "0.25", "--out", str(out)]) == 0
     base, tuned, mixed = (load_network(p) for p in (tiny["model"], tiny["other"], out))
     for layer in mixed.layers:
         for m, a, b in zip(layer.get_weights(), base.get_layer(layer.name).get_weights(),
@@ -136,7 +137,7 @@ def test_mix_interpolates_every_layer_and_writes_a_card(tiny, tmp_path, capsys):
             np.testing.assert_allclose(m, 0.75 * a + 0.25 * b, rtol=1e-5, atol=1e-6)
     card = json.loads(out.with_suffix(".json").read_text())
     assert card["alpha"] == 0.25 and card["base"]["path"] == str(tiny["model"])
-    assert card["tuned"]["sha256"] == mix_cli.sha256_of(tiny["other"])
+    assert card["tuned"]["sha256"] == mix_semnav_models.sha256_of(tiny["other"])
     assert card["command"].startswith("mix_semnav_models --base ")
     assert capsys.readouterr().out.strip() == (
         f"mix_semnav_models: {out} = 0.75 x {tiny['model']} + 0.25 x {tiny['other']}")
@@ -145,11 +146,11 @@ def test_mix_interpolates_every_layer_and_writes_a_card(tiny, tmp_path, capsys):
 def test_mix_refuses_missing_files_other_shapes_and_a_bad_alpha(tiny, tmp_path):
     out = str(tmp_path / "m.keras")
     with pytest.raises(SystemExit, match="no model file .*none.keras"):
-        mix_cli.main(["--base", str(tmp_path / "none.keras"), "--tuned", str(tiny["model"]),
-                      "--out", out])
+        mix_semnav_models.main(["--base", str(tmp_path / "none.keras"), "--tuned",
+                                str(tiny["model"]), "--out", out])
     with pytest.raises(SystemExit, match="alpha must lie in"):
-        mix_cli.main(["--base", str(tiny["model"]), "--tuned", str(tiny["other"]),
-                      "--alpha", "1.5", "--out", out])
+        mix_semnav_models.main(["--base", str(tiny["model"]), "--tuned", str(tiny["other"]),
+                                "--alpha", "1.5", "--out", out])
     wide = tmp_path / "wide.keras"
     import keras
 
@@ -157,7 +158,7 @@ def test_mix_refuses_missing_files_other_shapes_and_a_bad_alpha(tiny, tmp_path):
     keras.utils.set_random_seed(2)
     build_network(NetworkConfig(word_units=4, scan_units=16, fused_units=8)).save(wide)
     with pytest.raises(SystemExit, match=r"a.keras and .*wide.keras: layer '\w+': weight shapes"):
-        mix_cli.main(["--base", str(tiny["model"]), "--tuned", str(wide), "--out", out])
+        mix_semnav_models.main(["--base", str(tiny["model"]), "--tuned", str(wide), "--out", out])
     assert not (tmp_path / "m.keras").exists()
 
 
@@ -170,6 +171,6 @@ class CountingFive(AlwaysOne):
 
 
 def test_classify_prints_how_a_counted_class_counts(capsys):
-    assert classify_cli.classify_lines(CountingFive(), ["go on then take the second right\n",
-                                                        "go on then right at corner two\n"]) == 0
+    lines = ["go on then take the second right\n", "go on then right at corner two\n"]
+    assert classify_instruction.classify_lines(CountingFive(), lines) == 0
     assert capsys.readouterr().out.splitlines() == ["1 5:side", "1 5:corners"]

@@ -9,7 +9,8 @@ import pytest
 import yaml
 
 from semnav_learning.recipe import (RecipeError, RecipeRun, Schedule, Unit, UnitProgress,
-                                    load_recipe, main)
+                                    load_recipe)
+from semnav_learning.tools.train_recipe import main
 from semnav_learning.recipe_format import RESUME_LINE
 from semnav_l_floor import write_l_floor
 from semnav_train_data import write_words
@@ -248,7 +249,7 @@ def test_the_workspace_recipe_loads():
 def test_sigterm_stops_the_run_but_only_ends_a_pool_worker():
     import multiprocessing
     import signal
-    from semnav_learning.recipe import _interrupt
+    from semnav_learning.tools.train_recipe import _interrupt
     with pytest.raises(KeyboardInterrupt):
         _interrupt(signal.SIGTERM, None)
     worker = multiprocessing.get_context("fork").Process(target=_interrupt,

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from semnav_learning.train_cli import argument_parser, main, trainer_config
+from semnav_learning.tools.train_semnav import argument_parser, main, trainer_config
 from semnav_learning.trainer import (StageProgress, Trainer, TrainerConfig, TrainingError,
                                      format_duration, selected_entry)
 from semnav_learning.training import TrainingConfig

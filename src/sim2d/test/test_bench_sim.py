@@ -4,7 +4,7 @@ import json
 import numpy as np
 import pytest
 
-from sim2d import bench_sim_main as bench
+from sim2d.tools import bench_sim as bench
 
 ANGLES = np.linspace(-2.0, 2.0, 181)
 
@@ -61,7 +61,7 @@ def test_a_tiny_run_writes_every_figure(tmp_path, capsys, lazy_tables):
 
 def test_crowds_stand_apart_in_free_space_and_walk_in_sight(lazy_tables):
     from tamp_resources import resource
-    from sim2d.bench_crowd import FREE_CLEARANCE, crowd_world
+    from sim2d.tools.bench_crowd import FREE_CLEARANCE, crowd_world
     from sim2d.raycast import segments_clear
     world = crowd_world(resource("config", "worlds") / "office_penguin.yaml", 3, 5, 60.0)
     assert [r.name for r in world.robots] == ["penguin1", "penguin2", "penguin3"]
@@ -80,7 +80,7 @@ def test_windowed_and_every_beam_crowds_drive_the_same_run(capsys, lazy_tables):
     """The overlays see the same ranges, cast together or one by one, so the steered robots
     take the same paths; the --crowd table prints one row per robots x people."""
     from tamp_resources import resource
-    from sim2d.bench_crowd import CROWD_RUNS, crowd_world, run_crowd
+    from sim2d.tools.bench_crowd import CROWD_RUNS, crowd_world, run_crowd
     template = resource("config", "worlds") / "office_penguin.yaml"
     runs = []
     for _, windowed, batch in CROWD_RUNS:

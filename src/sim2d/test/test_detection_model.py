@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from sim2d_fixtures import REPO
 
-from sim2d.camera import Camera, CameraConfig, DetectionConfig, hidden_by_boxes
+from sim2d.camera import Camera, CameraConfig, hidden_by_boxes
 from sim2d.detection_model import (
-    CalibratedModel, CalibrationError, combined, load_calibration, logistic_miss,
+    CalibratedModel, CalibrationError, DetectionConfig, combined, load_calibration, logistic_miss,
     make_detection_model, occlusion_misses)
 from sim2d.skeleton import person_keypoints
 

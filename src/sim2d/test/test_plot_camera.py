@@ -4,7 +4,7 @@ import re
 import pytest
 from tamp_resources import resource
 
-from sim2d import plot_camera_main as plot_camera
+from sim2d.tools import plot_camera as plot_camera
 from sim2d.world import World
 
 HOUSEHOLD = resource("config", "worlds", "household.yaml")

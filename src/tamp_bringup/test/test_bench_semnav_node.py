@@ -2,7 +2,7 @@
 import os
 
 from tamp_bringup.bag_record import free_port
-from tamp_bringup.bench_semnav_node_main import rss_mib
+from tamp_bringup.tools.bench_semnav_node import rss_mib
 
 
 def test_node_bench_helpers_measure_this_process():

@@ -4,7 +4,7 @@ import time
 
 import pytest
 
-from tamp_bringup.bench_sim_node_main import Counter, cpu_seconds, in_process_factor, line
+from tamp_bringup.tools.bench_sim_node import Counter, cpu_seconds, in_process_factor, line
 
 
 def test_counter_keeps_only_the_window():

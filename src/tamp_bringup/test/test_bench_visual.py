@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from supervision.latency import summarise
-from tamp_bringup import bench_visual_main as bench
+from tamp_bringup.tools import bench_visual as bench
 
 
 def test_crowded_frame_fills_up_to_the_object_count():

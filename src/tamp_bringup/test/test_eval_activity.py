@@ -3,7 +3,7 @@ from collections import Counter, defaultdict
 
 import pytest
 
-from tamp_bringup import eval_activity_main as evaluation
+from tamp_bringup.tools import eval_activity as evaluation
 from tamp_bringup.sim_activity_set import SCENES
 
 LABELS = [s.label for s in SCENES]

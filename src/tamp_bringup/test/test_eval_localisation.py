@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from sim2d.camera import CameraConfig
 
-from tamp_bringup import eval_localisation_main as evaluation
+from tamp_bringup.tools import eval_localisation as evaluation
 
 
 def test_square_path_walks_the_outline_at_the_step():

@@ -4,7 +4,7 @@ import random
 import numpy as np
 import pytest
 
-from task_planner import bench_executor_main as bench
+from task_planner.tools import bench_executor as bench
 from task_planner.reward import Priority
 
 

@@ -3,7 +3,7 @@ import re
 
 import pytest
 
-from task_planner import bench_fleet_main as bench
+from task_planner.tools import bench_fleet as bench
 
 
 def test_a_small_run_prints_every_part_and_allocator(tmp_path):

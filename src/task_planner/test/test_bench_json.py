@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from task_planner import benchmark as bench
+from task_planner.tools import benchmark as bench
 from task_planner.graph import load_graph
 from task_planner.planner_registry import BENCH_DYNAMIC, BENCH_STATIC, entries, label
 from task_planner.reward import load_priorities

@@ -3,7 +3,7 @@ import argparse
 
 import pytest
 
-from task_planner.buffer_benchmark import journal_flood, percentiles, report_lines
+from task_planner.tools.bench_task_buffer import journal_flood, percentiles, report_lines
 
 
 def test_percentiles_of_known_times():

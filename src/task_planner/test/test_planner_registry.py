@@ -4,7 +4,7 @@ import pytest
 import yaml
 from planner_factories import make_instruction
 
-from task_planner import benchmark, benchmark_report
+from task_planner.tools import benchmark, benchmark_report
 from task_planner.baselines import RandomOrder
 from task_planner.executor import Executor
 from task_planner.planner_api import NODE, STEP, TARGET, kind_of

@@ -2,7 +2,7 @@
 import genpy
 import pytest
 
-from task_planner.buffer_benchmark import long_running_buffer, serialised_size
+from task_planner.tools.bench_task_buffer import long_running_buffer, serialised_size
 from task_planner.conversions import buffer_to_msg
 from task_planner.task_buffer import ACTIVE, PENDING
 

@@ -1,9 +1,9 @@
 """Tables 5-7 / 5-9 of the thesis, and the settings sweep that scores runs against them."""
 import pytest
 
-from task_planner import settings_fit as fit
-from task_planner import thesis_comparison as thesis
-from task_planner.benchmark import BenchConfig
+from task_planner.tools import settings_fit as fit
+from task_planner.tools import thesis_comparison as thesis
+from task_planner.tools.benchmark import BenchConfig
 from task_planner.graph import load_graph
 from task_planner.reward import load_priorities
 from tamp_resources import resource

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
@@ -42,6 +43,11 @@ OPPOSITE = tuple(MOVES.index((-dr, -dc)) for dr, dc in MOVES)
 STEP = tuple(SQRT2 if dr and dc else 1.0 for dr, dc in MOVES)
 TIE_TOLERANCE = 1e-9   # relative: costs this close are equal (sums in another order)
 
+Cell = tuple[int, int]   # (row, col)
+# per move: (node offset, slot of the step's weight in the neighbour's row, dr, dc, step)
+Move = tuple[int, int, int, int, float]
+CacheKey = tuple[tuple[int, ...], float, float, int, int | None]
+
 
 @dataclass(frozen=True)
 class GridPath:
@@ -51,7 +57,8 @@ class GridPath:
     length_m: float  # sum of step lengths (1 or sqrt(2) cells) times the resolution [m]
 
 
-def inflate_obstacles(obstacles, resolution, robot_radius):
+def inflate_obstacles(obstacles: ArrayLike, resolution: float,
+                      robot_radius: float) -> NDArray[np.bool_]:
     """Obstacles grown by `robot_radius` [m]: blocked if an obstacle centre lies closer."""
     obstacles = np.asarray(obstacles, dtype=bool)
     if robot_radius <= 0 or not obstacles.any():
@@ -61,14 +68,15 @@ def inflate_obstacles(obstacles, resolution, robot_radius):
     return distance_cells * resolution < robot_radius
 
 
-def check_cell(name, cell, shape):
+def check_cell(name: str, cell: Cell, shape: tuple[int, ...]) -> None:
     """ValueError when `cell` (row, col) lies outside a grid of `shape`."""
     row, col = cell
     if not (0 <= row < shape[0] and 0 <= col < shape[1]):
         raise ValueError(f"A*: {name} cell {cell} lies outside the {shape[0]}x{shape[1]} grid")
 
 
-def astar(obstacles, start, goal, resolution=1.0, robot_radius=0.0, cell_penalty=None):
+def astar(obstacles: ArrayLike, start: Cell, goal: Cell, resolution: float = 1.0,
+          robot_radius: float = 0.0, cell_penalty: ArrayLike | None = None) -> GridPath | None:
     """Shortest 8-connected path from `start` to `goal` (row, col) through free cells.
 
     Args:
@@ -103,17 +111,16 @@ class GridGraph:
     reverse: csr_matrix   # edge v -> u weighs the step u -> v: step length + penalty of v
     symmetric: bool       # no penalty: every step costs the same both ways
     obstacles: np.ndarray  # the grid it was built from, before inflation
-    penalty: np.ndarray    # and its cell penalty (or None)
-    fields: OrderedDict = field(default_factory=OrderedDict)
+    penalty: np.ndarray | None   # and its cell penalty (or None)
+    fields: OrderedDict[int, np.ndarray] = field(default_factory=OrderedDict)
 
-    def holds(self, obstacles, penalty):
+    def holds(self, obstacles: NDArray[np.bool_], penalty: NDArray[np.float64] | None) -> bool:
         """True when the graph was built from exactly these arrays."""
-        if (penalty is None) != (self.penalty is None):
-            return False
-        return np.array_equal(obstacles, self.obstacles) and (
-            penalty is None or np.array_equal(penalty, self.penalty))
+        if penalty is None or self.penalty is None:
+            return penalty is self.penalty and np.array_equal(obstacles, self.obstacles)
+        return np.array_equal(obstacles, self.obstacles) and np.array_equal(penalty, self.penalty)
 
-    def cost_to(self, root):
+    def cost_to(self, root: int) -> NDArray[np.float64]:
         """Cost [cells of length] from every node to `root` (inf where it cannot be reached)."""
         if root in self.fields:
             self.fields.move_to_end(root)
@@ -123,7 +130,7 @@ class GridGraph:
             self.fields.popitem(last=False)
         return self.fields[root]
 
-    def path(self, start, goal):
+    def path(self, start: int, goal: int) -> list[int] | None:
         """Flat node indices of a shortest path start -> goal, or None if there is none. When
         steps cost the same both ways a field rooted at the start serves too, and a new field is
         rooted at the start (callers measuring many pairs repeat the start: i < j loops)."""
@@ -132,7 +139,7 @@ class GridGraph:
             return None if backwards is None else backwards[::-1]
         return self.descend(self.cost_to(goal), start, goal)
 
-    def descend(self, cost, node, root):
+    def descend(self, cost: NDArray[np.float64], node: int, root: int) -> list[int] | None:
         """Nodes from `node` down the cost-to-`root` field to `root` (navfn's descent on its
         potential, on the grid): each step goes to a neighbour through which the cost is
         optimal, keeping the previous direction when it is one of them, else the direction
@@ -140,40 +147,43 @@ class GridGraph:
         if not math.isfinite(cost[node]):
             return None
         width = self.blocked.shape[1] + 2
-        weights, cost = memoryview(self.reverse.data), memoryview(cost)   # Python floats, fast
-        # per move: (node offset, slot of the step's weight in the neighbour's row, dr, dc, step)
-        moves = [(dr * width + dc, OPPOSITE[k] + N_MOVES * (dr * width + dc), dr, dc, STEP[k])
-                 for k, (dr, dc) in enumerate(MOVES)]
+        weights, costs = memoryview(self.reverse.data), cost.data   # Python floats, fast
+        moves: list[Move] = [
+            (dr * width + dc, OPPOSITE[k] + N_MOVES * (dr * width + dc), dr, dc, STEP[k])
+            for k, (dr, dc) in enumerate(MOVES)]
         root_row, root_col = divmod(root, width)
         nodes, move = [node], None
         while node != root:
-            limit = cost[node] + TIE_TOLERANCE * max(1.0, cost[node])
+            limit = costs[node] + TIE_TOLERANCE * max(1.0, costs[node])
             if move is not None:                      # keep going straight when optimal
                 offset, slot = move[0], move[1]
-                if weights[N_MOVES * node + slot] + cost[node + offset] <= limit:
+                if weights[N_MOVES * node + slot] + costs[node + offset] <= limit:
                     node += offset
                     nodes.append(node)
                     continue
             row, col = divmod(node, width)
-            best = None
+            best: tuple[float, Move] | None = None
             for candidate in moves:
                 offset, slot, dr, dc, step = candidate
-                if weights[N_MOVES * node + slot] + cost[node + offset] > limit:
+                if weights[N_MOVES * node + slot] + costs[node + offset] > limit:
                     continue                  # not optimal, not allowed, or unreachable
                 score = ((root_row - row) * dr + (root_col - col) * dc) / step
                 if best is None or score > best[0]:
                     best = (score, candidate)
+            if best is None:   # a finite cost is reached through some optimal neighbour
+                raise RuntimeError(f"A*: no optimal step from node {node} towards {root}")
             move = best[1]
             node += move[0]
             nodes.append(node)
         return nodes
 
 
-def grid_graph(obstacles, resolution=1.0, robot_radius=0.0, cell_penalty=None):
+def grid_graph(obstacles: ArrayLike, resolution: float = 1.0, robot_radius: float = 0.0,
+               cell_penalty: ArrayLike | None = None) -> GridGraph:
     """The cached GridGraph of a grid, built on first use (obstacles inflated by
     `robot_radius`); ValueError for a cell penalty of another shape or below 0."""
     obstacles = np.asarray(obstacles, dtype=bool)
-    penalty = None
+    penalty: NDArray[np.float64] | None = None
     if cell_penalty is not None:
         penalty = np.asarray(cell_penalty, dtype=float)
         if penalty.shape != obstacles.shape or (penalty < 0).any():
@@ -193,7 +203,8 @@ def grid_graph(obstacles, resolution=1.0, robot_radius=0.0, cell_penalty=None):
     return graph
 
 
-def reverse_step_graph(blocked, penalty=None):
+def reverse_step_graph(blocked: NDArray[np.bool_],
+                       penalty: NDArray[np.float64] | None = None) -> csr_matrix:
     """Sparse graph of the allowed steps on the grid padded by one blocked cell, reversed: node
     (r + 1) * (W + 2) + c + 1 is cell (r, c), and for each step u -> v between free cells
     (diagonals only when both corner cells are free) the edge v -> u weighs the step length (1
@@ -205,7 +216,7 @@ def reverse_step_graph(blocked, penalty=None):
     padded_width = width + 2
     nodes = free.size
 
-    def shifted(dr, dc):
+    def shifted(dr: int, dc: int) -> NDArray[np.bool_]:
         return free[1 + dr:height + 1 + dr, 1 + dc:width + 1 + dc]
 
     weights = np.full((height + 2, padded_width, len(MOVES)), np.inf)
@@ -224,26 +235,28 @@ def reverse_step_graph(blocked, penalty=None):
     return csr_matrix((weights.ravel(), indices.ravel(), indptr), shape=(nodes, nodes))
 
 
-def clear_path_cache():
+def clear_path_cache() -> None:
     """Forget every cached graph and cost field."""
     with _LOCK:
         _GRAPHS.clear()
 
 
-_GRAPHS = OrderedDict()   # cache key -> GridGraph, least recently used first
+# cache key -> GridGraph, least recently used first
+_GRAPHS: OrderedDict[CacheKey, GridGraph] = OrderedDict()
 _LOCK = threading.Lock()
 
 
-def _cache_key(obstacles, resolution, robot_radius, penalty):
+def _cache_key(obstacles: NDArray[np.bool_], resolution: float, robot_radius: float,
+               penalty: NDArray[np.float64] | None) -> CacheKey:
     """A cheap content key (CRC-32 of the arrays); GridGraph.holds confirms a hit exactly."""
     key = (obstacles.shape, float(resolution), float(robot_radius),
-           zlib.crc32(np.ascontiguousarray(obstacles).view(np.uint8)))
+           zlib.crc32(np.ascontiguousarray(obstacles).view(np.uint8).data))
     if penalty is None:
         return key + (None,)
-    return key + (zlib.crc32(np.ascontiguousarray(penalty).view(np.uint8)),)
+    return key + (zlib.crc32(np.ascontiguousarray(penalty).view(np.uint8).data),)
 
 
-def _grid_path(cells, resolution):
+def _grid_path(cells: list[Cell], resolution: float) -> GridPath:
     length = sum(SQRT2 if (a[0] != b[0] and a[1] != b[1]) else 1.0
                  for a, b in zip(cells, cells[1:]))
     return GridPath(cells=cells, length_m=length * resolution)

@@ -1,13 +1,17 @@
 """Render a building blueprint (walls, doors, furniture as rectangles) into an occupancy grid."""
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
+from numpy.typing import NDArray
 
 from floorplan.occupancy_map import FREE, OCCUPIED, MapError, OccupancyMap
 
 
-def rect_cells(rect, resolution, shape):
+def rect_cells(rect: Sequence[float], resolution: float,
+               shape: tuple[int, ...]) -> tuple[slice, slice]:
     """(row slice, col slice) of the cells of a grid of `shape` whose centres lie in
     rect = [x0, y0, x1, y1] (metres, origin (0, 0), corners in any order), clipped to the grid."""
     x0, x1 = sorted((rect[0], rect[2]))
@@ -19,12 +23,13 @@ def rect_cells(rect, resolution, shape):
             slice(min(max(c0, 0), cols), min(max(c1, 0), cols)))
 
 
-def _fill(cells, rect, value, resolution):
+def _fill(cells: NDArray[np.int8], rect: Sequence[float], value: int,
+          resolution: float) -> None:
     """Set every cell whose centre lies in rect = [x0, y0, x1, y1] (metres) to value."""
     cells[rect_cells(rect, resolution, cells.shape)] = value
 
 
-def render_blueprint(blueprint):
+def render_blueprint(blueprint: Mapping[str, Any]) -> OccupancyMap:
     """Blueprint dict (see maps/blueprints/*.yaml) -> OccupancyMap with origin (0, 0, 0)."""
     width, depth = blueprint["size"]
     resolution = float(blueprint["resolution"])
@@ -42,7 +47,7 @@ def render_blueprint(blueprint):
     return OccupancyMap(cells=cells, resolution=resolution, origin=(0.0, 0.0, 0.0))
 
 
-def load_blueprint(path):
+def load_blueprint(path: str | Path) -> dict[str, Any]:
     blueprint = yaml.safe_load(Path(path).read_text())
     missing = [k for k in ("name", "size", "resolution", "wall_thickness") if k not in blueprint]
     if missing:

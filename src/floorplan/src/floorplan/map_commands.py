@@ -1,6 +1,7 @@
 """Command lines of scripts/make_maps (blueprints -> map_server maps) and scripts/plot_map
 (a map and its semantic graph -> PNG)."""
 import argparse
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from tamp_resources import resource
@@ -11,13 +12,13 @@ from floorplan.plotting import plot_map
 from floorplan.semantic_graph import load_graph
 
 
-def _existing_files(parser, paths, what):
+def _existing_files(parser: argparse.ArgumentParser, paths: Iterable[Path], what: str) -> None:
     missing = [str(p) for p in paths if not Path(p).is_file()]
     if missing:
         parser.error(f"no such {what}: {', '.join(missing)}")
 
 
-def make_maps_main(argv=None):
+def make_maps_main(argv: Sequence[str] | None = None) -> int:
     """Render every maps/blueprints/*.yaml into maps/<name>.yaml + .pgm (map_server format)."""
     maps = resource("maps")
     parser = argparse.ArgumentParser(prog="make_maps", description=make_maps_main.__doc__)
@@ -38,7 +39,7 @@ def make_maps_main(argv=None):
     return 0
 
 
-def plot_map_main(argv=None):
+def plot_map_main(argv: Sequence[str] | None = None) -> int:
     """Render a map_server map with its semantic graph (<map>.graph.yaml, when present) to PNG."""
     parser = argparse.ArgumentParser(prog="plot_map", description=plot_map_main.__doc__)
     parser.add_argument("maps", nargs="+", type=Path, help="map YAML files (maps/<name>.yaml)")

@@ -1,10 +1,13 @@
 """Occupancy grids in ROS `map_server` format: load (YAML + image) and save (YAML + PGM)."""
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import cv2
 import numpy as np
 import yaml
+from numpy.typing import ArrayLike, NDArray
 
 FREE, OCCUPIED, UNKNOWN = 0, 100, -1   # nav_msgs/OccupancyGrid cell values
 PGM_FREE, PGM_OCCUPIED, PGM_UNKNOWN = 254, 0, 205  # map_saver's trinary pixel values
@@ -25,34 +28,37 @@ class OccupancyMap:
     origin: tuple = (0.0, 0.0, 0.0)  # pose of cell (0, 0)'s corner in the map frame [m, m, rad]
 
     @property
-    def height(self):
+    def height(self) -> int:
         return self.cells.shape[0]
 
     @property
-    def width(self):
+    def width(self) -> int:
         return self.cells.shape[1]
 
-    def world_to_cell(self, x, y):
+    def world_to_cell(self, x: ArrayLike,
+                      y: ArrayLike) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
         """Map-frame metres -> (row, col) integer indices (unrotated origins only)."""
         col = np.floor((np.asarray(x) - self.origin[0]) / self.resolution).astype(int)
         row = np.floor((np.asarray(y) - self.origin[1]) / self.resolution).astype(int)
         return row, col
 
-    def cell_to_world(self, row, col):
+    def cell_to_world(self, row: ArrayLike,
+                      col: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(row, col) -> map-frame metres of the cell centre."""
         x = self.origin[0] + (np.asarray(col) + 0.5) * self.resolution
         y = self.origin[1] + (np.asarray(row) + 0.5) * self.resolution
         return x, y
 
-    def inside(self, row, col):
-        return (row >= 0) & (row < self.height) & (col >= 0) & (col < self.width)
+    def inside(self, row: ArrayLike, col: ArrayLike) -> NDArray[np.bool_]:
+        rows, cols = np.asarray(row), np.asarray(col)
+        return (rows >= 0) & (rows < self.height) & (cols >= 0) & (cols < self.width)
 
-    def occupied_mask(self):
+    def occupied_mask(self) -> NDArray[np.bool_]:
         """True where a cell is an obstacle; unknown cells count as obstacles."""
         return (self.cells >= OCCUPIED // 2) | (self.cells == UNKNOWN)
 
 
-def _metadata(yaml_path):
+def _metadata(yaml_path: Path) -> dict[str, Any]:
     try:
         meta = yaml.safe_load(Path(yaml_path).read_text())
     except (OSError, yaml.YAMLError) as error:
@@ -69,7 +75,7 @@ def _metadata(yaml_path):
     return meta
 
 
-def _read_image(image_path):
+def _read_image(image_path: Path) -> NDArray[np.float64]:
     image = cv2.imread(str(image_path), cv2.IMREAD_UNCHANGED) if image_path.is_file() else None
     if image is None:
         raise MapError(f"{image_path}: map image missing or unreadable")
@@ -78,7 +84,7 @@ def _read_image(image_path):
     return np.flipud(image.astype(np.float64))  # image row 0 is the top; grid row 0 is the origin
 
 
-def cells_from_pixels(pixels, meta):
+def cells_from_pixels(pixels: NDArray[np.float64], meta: Mapping[str, Any]) -> NDArray[np.int8]:
     """map_server's image_loader: pixel values -> occupancy values for modes trinary/scale/raw."""
     mode = meta.get("mode", "trinary")
     if mode == "raw":
@@ -98,7 +104,7 @@ def cells_from_pixels(pixels, meta):
     return cells
 
 
-def load_map(yaml_path):
+def load_map(yaml_path: str | Path) -> OccupancyMap:
     """Load a map_server YAML + image into an OccupancyMap; MapError names what is wrong."""
     yaml_path = Path(yaml_path)
     meta = _metadata(yaml_path)
@@ -113,7 +119,7 @@ def load_map(yaml_path):
     return OccupancyMap(cells=cells, resolution=float(meta["resolution"]), origin=origin)
 
 
-def save_map(grid, yaml_path):
+def save_map(grid: OccupancyMap, yaml_path: str | Path) -> None:
     """Write `grid` as map_saver does: trinary PGM beside a YAML with the standard keys."""
     yaml_path = Path(yaml_path)
     image_path = yaml_path.with_suffix(".pgm")

@@ -23,18 +23,18 @@ class SemanticGraph:
     places: list
     edges: list = field(default_factory=list)   # [(name, name)]
 
-    def place(self, name):
+    def place(self, name: str) -> Place:
         for place in self.places:
             if place.name == name:
                 return place
         raise KeyError(f"no place named {name!r} (places: {[p.name for p in self.places]})")
 
-    def place_ids(self):
+    def place_ids(self) -> dict[str, int]:
         """{place name: node id}."""
         return {place.name: place.id for place in self.places}
 
 
-def load_graph(path):
+def load_graph(path: str | Path) -> SemanticGraph:
     """Read a `<map>.graph.yaml`; GraphError names the file and what is wrong."""
     path = Path(path)
     try:

@@ -16,7 +16,7 @@ class InvalidColour(InvalidHuman):
 class UnknownHuman(HumanDbError, LookupError):
     """No household member has the requested name or phone IP."""
 
-    def __str__(self):  # LookupError would quote the message like a dict key
+    def __str__(self) -> str:  # LookupError would quote the message like a dict key
         return str(self.args[0]) if self.args else ""
 
 

@@ -2,6 +2,7 @@
 timed schedule entries; both validated on construction.
 """
 import ipaddress
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from human_db.colour import shirt_colours
@@ -22,7 +23,7 @@ class ScheduleEntry:
     place: str = ""       # expected semantic location ("" = any)
     activity: str = ""    # expected activity ("" = any)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not 0 <= self.start < DAY:
             raise InvalidHuman(f"schedule entry {self}: start must lie in [0, 86400) s")
         if not 0 <= self.end <= DAY:
@@ -32,19 +33,19 @@ class ScheduleEntry:
         if not (self.place.strip() or self.activity.strip()):
             raise InvalidHuman(f"schedule entry {self}: needs a place or an activity")
 
-    def covers(self, time_of_day):
+    def covers(self, time_of_day: float) -> bool:
         """True when `time_of_day` [s since midnight] falls in [start, end)."""
         if self.start < self.end:
             return self.start <= time_of_day < self.end
         return time_of_day >= self.start or time_of_day < self.end
 
-    def intervals(self):
+    def intervals(self) -> tuple[tuple[float, float], ...]:
         """[start, end) pieces within one day [s]: one, or two when the entry wraps midnight."""
         if self.start < self.end:
             return ((self.start, self.end),)
         return ((self.start, DAY), (0.0, self.end))
 
-    def overlaps(self, other):
+    def overlaps(self, other: "ScheduleEntry") -> bool:
         return any(a0 < b1 and b0 < a1
                    for a0, a1 in self.intervals() for b0, b1 in other.intervals())
 
@@ -64,7 +65,7 @@ class Human:
     schedules: tuple = field(default_factory=tuple)   # ScheduleEntry, sorted by start
     last_seen: float | None = None   # [s] time of the last observation; None = never
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         _check_name(self.name)
         where = f"human {self.name!r}"
         if self.gender not in GENDERS:
@@ -80,14 +81,14 @@ class Human:
         object.__setattr__(self, "schedules", check_schedules(self.schedules, where))
 
 
-def _check_name(name):
+def _check_name(name: object) -> None:
     if not isinstance(name, str) or not name.strip() or name != name.strip() or \
             len(name) > MAX_NAME_LENGTH:
         raise InvalidHuman(f"name must be a non-empty string of at most {MAX_NAME_LENGTH} "
                            f"characters without surrounding spaces, got {name!r}")
 
 
-def check_ip(ip, where="phone IP"):
+def check_ip(ip: str, where: str = "phone IP") -> str:
     """Return the canonical form of an IPv4/IPv6 address ("" stays ""); raise InvalidHuman."""
     if ip == "":
         return ""
@@ -97,7 +98,8 @@ def check_ip(ip, where="phone IP"):
         raise InvalidHuman(f"{where}: {ip!r} is not an IP address") from None
 
 
-def check_schedules(entries, where="schedules"):
+def check_schedules(entries: Iterable[ScheduleEntry],
+                    where: str = "schedules") -> tuple[ScheduleEntry, ...]:
     """Return the entries as a tuple sorted by start; raise InvalidHuman when two overlap."""
     entries = tuple(entries)
     for entry in entries:
@@ -111,7 +113,7 @@ def check_schedules(entries, where="schedules"):
     return entries
 
 
-def check_observation_time(stamp, now, tolerance_s, name):
+def check_observation_time(stamp: float, now: float, tolerance_s: float, name: str) -> float:
     """Return `stamp` [s]; raise InvalidHuman when it lies more than `tolerance_s` after `now`.
 
     The store keeps the newest observation as a person's current state, so one stamped far ahead

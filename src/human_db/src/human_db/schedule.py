@@ -1,30 +1,32 @@
 """Schedule checks (thesis 000 §4.2.1: "remind his/her schedule if the current action is not
 identical to the preset schedule"): does what perception observes differ from the schedule?
 """
+from collections.abc import Iterable
 from dataclasses import dataclass
 
-from human_db.model import DAY
+from human_db.model import DAY, Human, ScheduleEntry
 
 
 @dataclass(frozen=True)
 class ScheduleCheck:
     """The outcome of comparing an observation with the schedule entry in force."""
 
-    entry: object             # the ScheduleEntry in force, or None when none covers the time
+    entry: ScheduleEntry | None   # the entry in force, or None when none covers the time
     location_differs: bool    # the entry names a place and the observed location is another one
     activity_differs: bool    # the entry names an activity and the observed one is another one
 
     @property
-    def deviates(self):
+    def deviates(self) -> bool:
         return self.location_differs or self.activity_differs
 
 
-def time_of_day(stamp, utc_offset=0.0):
+def time_of_day(stamp: float, utc_offset: float = 0.0) -> float:
     """Seconds since local midnight of a time stamp [s since the epoch]; utc_offset [s]."""
     return (stamp + utc_offset) % DAY
 
 
-def entry_in_force(schedules, seconds_since_midnight):
+def entry_in_force(schedules: Iterable[ScheduleEntry],
+                   seconds_since_midnight: float) -> ScheduleEntry | None:
     """The schedule entry covering the given time of day, or None."""
     for entry in schedules:
         if entry.covers(seconds_since_midnight):
@@ -32,14 +34,15 @@ def entry_in_force(schedules, seconds_since_midnight):
     return None
 
 
-def same_label(a, b):
+def same_label(a: str, b: str) -> bool:
     """Labels compare case-blind, with '_' and '-' read as spaces ("watch_TV" == "watch tv")."""
-    def norm(label):
+    def norm(label: str) -> str:
         return " ".join(label.replace("_", " ").replace("-", " ").lower().split())
     return norm(a) == norm(b)
 
 
-def check_schedule(human, seconds_since_midnight, location=None, activity=None):
+def check_schedule(human: Human, seconds_since_midnight: float, location: str | None = None,
+                   activity: str | None = None) -> ScheduleCheck:
     """Compare an observation (default: the person's stored location and activity) with the
     schedule entry in force; an unknown ("") observation never counts as a deviation."""
     location = human.location if location is None else location

@@ -11,10 +11,13 @@ import os
 import sqlite3
 import threading
 import time as wallclock
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 
 from human_db.errors import (DatabaseUnusable, DuplicateHuman, InvalidHuman, StoreBusy,
                              UnknownHuman)
@@ -29,6 +32,8 @@ SQLITE_BUSY, SQLITE_LOCKED = 5, 6
 SYNCHRONOUS_LEVELS = ("OFF", "NORMAL", "FULL", "EXTRA")
 _HUMAN_COLUMNS = ("id", "name", "ip", "gender", "age") + COLOUR_COLUMNS + (
     "location", "activity", "last_seen", "shirt_known")
+T = TypeVar("T")
+Schema = dict[str, tuple[tuple[str, str, int, int], ...]]   # table -> (column, type, notnull, pk)
 
 
 @dataclass(frozen=True)
@@ -39,7 +44,7 @@ class StoreConfig:
     open_retry: float = 10.0      # [s] at start, a database locked by another process is
                                   # retried this long (0 = one attempt)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.synchronous not in SYNCHRONOUS_LEVELS:
             raise ValueError(f"synchronous must be one of {SYNCHRONOUS_LEVELS}, "
                              f"got {self.synchronous!r}")
@@ -63,7 +68,8 @@ class HistoryEntry:
 class HumanStore:
     """Every household member, their schedules and history, in one SQLite file."""
 
-    def __init__(self, path, config=StoreConfig(), on_retry=None):
+    def __init__(self, path: str | os.PathLike[str], config: StoreConfig = StoreConfig(),
+                 on_retry: Callable[[str], None] | None = None) -> None:
         """Open (or create) the database at `path`. A file that is not a usable human database
         raises DatabaseUnusable naming it; one locked by another process is retried for
         config.open_retry seconds, calling on_retry(message) before each retry, then raises
@@ -74,13 +80,15 @@ class HumanStore:
         self.busy_retries = 0          # how often an operation found the database locked
         self._revision = 0             # bumped by every committed write of this process
         self._lock = threading.Lock()  # guards the pool and the counters
-        self._pool = []                # idle connections; a working thread takes its own
-        self._connections = []         # every connection, to close them all
-        self._quarantined = {}         # humans row id -> why it does not load (last `humans`)
+        # idle connections; a working thread takes its own
+        self._pool: list[sqlite3.Connection] = []
+        self._connections: list[sqlite3.Connection] = []   # every connection, to close them all
+        # humans row id -> why it does not load (last `humans`)
+        self._quarantined: dict[int, str] = {}
         check_database_file(self.path)
         self._open()
 
-    def _open(self):
+    def _open(self) -> None:
         """Check and migrate the schema; retry a locked file for config.open_retry seconds."""
         budget = self.config.open_retry
         deadline = wallclock.monotonic() + budget
@@ -107,7 +115,7 @@ class HumanStore:
                 waited = wallclock.monotonic() - started
                 wallclock.sleep(max(0.0, min(OPEN_RETRY_PAUSE - waited, left)))
 
-    def _open_once(self):
+    def _open_once(self) -> None:
         """One attempt at opening: a busy error is raised as sqlite3.OperationalError, any
         other SQLite error as DatabaseUnusable naming the file."""
         os.makedirs(os.path.dirname(self.path), exist_ok=True)
@@ -126,7 +134,7 @@ class HumanStore:
             connection.close()
 
     # -- connections and transactions -------------------------------------------------------
-    def _connect(self):
+    def _connect(self) -> sqlite3.Connection:
         os.makedirs(os.path.dirname(self.path), exist_ok=True)
         connection = sqlite3.connect(self.path, timeout=self.config.busy_timeout,
                                      isolation_level=None, check_same_thread=False)
@@ -138,7 +146,7 @@ class HumanStore:
         return connection
 
     @contextmanager
-    def _connection(self):
+    def _connection(self) -> Iterator[sqlite3.Connection]:
         with self._lock:
             connection = self._pool.pop() if self._pool else None
         if connection is None:
@@ -151,7 +159,7 @@ class HumanStore:
             with self._lock:
                 self._pool.append(connection)
 
-    def _retrying(self, attempt):
+    def _retrying(self, attempt: Callable[[], T]) -> T:
         deadline = wallclock.monotonic() + self.config.retry_timeout
         pause = 0.001  # [s] first back-off; doubles up to 0.1 s
         while True:
@@ -168,8 +176,8 @@ class HumanStore:
                 wallclock.sleep(pause)
                 pause = min(2 * pause, 0.1)
 
-    def _transaction(self, work, write):
-        def attempt():
+    def _transaction(self, work: Callable[[sqlite3.Connection], T], write: bool) -> T:
+        def attempt() -> T:
             with self._connection() as connection:
                 connection.execute("BEGIN IMMEDIATE" if write else "BEGIN")
                 result = work(connection)
@@ -182,18 +190,18 @@ class HumanStore:
         return result
 
     @property
-    def quarantined(self):
+    def quarantined(self) -> dict[int, str]:
         """{humans row id: reason} of the rows the last `humans` left out: they do not load."""
         with self._lock:
             return dict(self._quarantined)
 
     @property
-    def revision(self):
+    def revision(self) -> int:
         """A number that changes whenever this process commits a write."""
         with self._lock:
             return self._revision
 
-    def close(self):
+    def close(self) -> None:
         with self._lock:
             for connection in self._connections:
                 connection.close()
@@ -201,20 +209,22 @@ class HumanStore:
             self._pool.clear()
 
     # -- writes -------------------------------------------------------------------------------
-    def register(self, human, replace=False, now=None):
+    def register(self, human: Human, replace: bool = False, now: float | None = None) -> None:
         """Initialization (§3.2.3): add a person; a repeated name or phone IP is refused unless
         `replace`, which keeps the person's history. A given location/activity enters the history
         at `now` [s] (default: wall-clock time) with source "register"."""
         self.register_all([human], replace, now)
 
-    def initialize(self, name, query_colours, gender, age, ip="", now=None):
+    def initialize(self, name: str, query_colours: tuple, gender: str, age: int, ip: str = "",
+                   now: float | None = None) -> Human:
         """§3.2.3 Initialization phase: register a newly met person (name, gender and age asked
         by the robot) with the shirt colours at joints 1, 2, 5 of the query observation."""
         human = Human(name=name, gender=gender, age=age, ip=ip, shirt_colour=query_colours)
         self.register(human, now=now)
         return human
 
-    def register_all(self, humans, replace=False, now=None):
+    def register_all(self, humans: Sequence[Human], replace: bool = False,
+                     now: float | None = None) -> None:
         """Register several people in one transaction: all of them, or none on any error."""
         now = _check_time(wallclock.time() if now is None else now)
         names = [human.name.lower() for human in humans]
@@ -222,13 +232,14 @@ class HumanStore:
         if repeated:
             raise DuplicateHuman(f"names given more than once: {repeated}")
 
-        def work(connection):
+        def work(connection: sqlite3.Connection) -> None:
             for human in humans:
                 _register(connection, human, replace, now)
         self._transaction(work, write=True)
 
-    def update(self, name, now=None, location="", activity="", source="", shirt_colour=None,
-               schedules=None):
+    def update(self, name: str, now: float | None = None, location: str = "",
+               activity: str = "", source: str = "", shirt_colour: Any = None,
+               schedules: Iterable[ScheduleEntry] | None = None) -> Human:
         """Record an observation and/or replace colours or schedules, in one transaction.
 
         A non-empty `location` or `activity` (the other one is kept) enters the history at `now`
@@ -244,7 +255,7 @@ class HumanStore:
         entries = None if schedules is None else \
             check_schedules(schedules, f"update of {name!r}: schedules")
 
-        def work(connection):
+        def work(connection: sqlite3.Connection) -> Human:
             human_id, current_location, current_activity, last_seen = _row_or_raise(
                 connection, "SELECT id, location, activity, last_seen FROM humans WHERE name = ?",
                 name)
@@ -270,28 +281,29 @@ class HumanStore:
         return self._transaction(work, write=True)
 
     # -- reads --------------------------------------------------------------------------------
-    def get(self, name):
+    def get(self, name: str) -> Human:
         """The person named `name` (case-insensitive); raises UnknownHuman."""
         return self._transaction(lambda c: _load_human(c, "name = ?", name), write=False)
 
-    def get_by_ip(self, ip):
+    def get_by_ip(self, ip: str) -> Human:
         """The person whose phone has IP `ip`; raises UnknownHuman (or InvalidHuman: not an IP)."""
         ip = check_ip(ip, "phone IP")
         if not ip:
             raise InvalidHuman("phone IP: empty")
         return self._transaction(lambda c: _load_human(c, "ip = ?", ip), write=False)
 
-    def humans(self):
+    def humans(self) -> list[Human]:
         """Every household member whose row loads, ordered by name; the others are left out
         and kept in `quarantined` with the reason."""
-        def work(connection):
+        def work(connection: sqlite3.Connection) -> tuple[list[Human], dict[int, str]]:
             rows = connection.execute(f"SELECT {', '.join(_HUMAN_COLUMNS)} FROM humans "
                                       "ORDER BY name").fetchall()
-            schedules = {}
+            schedules: dict[int, list[tuple[Any, ...]]] = {}
             for row in connection.execute("SELECT human_id, rowid, start_s, end_s, place, "
                                           "activity FROM schedules"):
                 schedules.setdefault(row[0], []).append(row[1:])
-            humans, quarantined = [], {}
+            humans: list[Human] = []
+            quarantined: dict[int, str] = {}
             for row in rows:
                 try:
                     humans.append(_human_from_row(row, schedules.get(row[0], ())))
@@ -303,20 +315,21 @@ class HumanStore:
             self._quarantined = quarantined
         return humans
 
-    def count(self):
+    def count(self) -> int:
         return self._transaction(
             lambda c: c.execute("SELECT COUNT(*) FROM humans").fetchone()[0], write=False)
 
-    def shirt_colour_table(self):
+    def shirt_colour_table(self) -> tuple[list[str], npt.NDArray[np.int64]]:
         """(names, (M, 3, 3) int array) of every person the robot has met (a shirt registered)
         whose row loads, ordered by name: the input of identification."""
         met = [human for human in self.humans() if human.shirt_colour is not None]
         colours = np.array([h.shirt_colour for h in met], dtype=np.int64).reshape(len(met), 3, 3)
         return [human.name for human in met], colours
 
-    def history(self, name, since=-math.inf, until=math.inf):
+    def history(self, name: str, since: float = -math.inf,
+                until: float = math.inf) -> list[HistoryEntry]:
         """The person's history with since <= time <= until [s], oldest first."""
-        def work(connection):
+        def work(connection: sqlite3.Connection) -> list[HistoryEntry]:
             human_id = _row_or_raise(connection, "SELECT id FROM humans WHERE name = ?", name)[0]
             rows = connection.execute(
                 "SELECT time, location, activity, source FROM history WHERE human_id = ? "
@@ -324,10 +337,11 @@ class HumanStore:
             return [HistoryEntry(*row) for row in rows]
         return self._transaction(work, write=False)
 
-    def shirts(self, name):
+    def shirts(self, name: str) -> list[tuple[float, tuple[tuple[int, ...], ...], str]]:
         """Every shirt `name` has been registered in, oldest first: [(time [s], ((r, g, b) x 3),
         source)] (source "register", "migrated", or the updater's, e.g. "recall")."""
-        def work(connection):
+        def work(connection: sqlite3.Connection
+                 ) -> list[tuple[float, tuple[tuple[int, ...], ...], str]]:
             human_id = _row_or_raise(connection, "SELECT id FROM humans WHERE name = ?", name)[0]
             rows = connection.execute(
                 f"SELECT time, {', '.join(COLOUR_COLUMNS)}, source FROM shirts "
@@ -335,9 +349,9 @@ class HumanStore:
             return [(r[0], (tuple(r[1:4]), tuple(r[4:7]), tuple(r[7:10])), r[10]) for r in rows]
         return self._transaction(work, write=False)
 
-    def where_was(self, name, when):
+    def where_was(self, name: str, when: float) -> HistoryEntry | None:
         """The last history entry at or before `when` [s] ("where was Bob at 10:00"), or None."""
-        def work(connection):
+        def work(connection: sqlite3.Connection) -> HistoryEntry | None:
             human_id = _row_or_raise(connection, "SELECT id FROM humans WHERE name = ?", name)[0]
             row = connection.execute(
                 "SELECT time, location, activity, source FROM history WHERE human_id = ? "
@@ -346,7 +360,7 @@ class HumanStore:
         return self._transaction(work, write=False)
 
 
-def is_busy(error):
+def is_busy(error: sqlite3.Error) -> bool:
     """True when an sqlite3 error means "database is locked/busy" (worth retrying)."""
     code = getattr(error, "sqlite_errorcode", None)
     if code is not None:
@@ -354,7 +368,7 @@ def is_busy(error):
     return "locked" in str(error) or "busy" in str(error)
 
 
-def check_database_file(path):
+def check_database_file(path: str) -> None:
     """Refuse (DatabaseUnusable, naming the file) anything but a missing, empty or SQLite file,
     and an SQLite file shorter than its header says (truncated)."""
     if not os.path.exists(path):
@@ -378,7 +392,7 @@ def check_database_file(path):
                                "untouched")
 
 
-def truncation_note(path, header):
+def truncation_note(path: str, header: bytes) -> str:
     """"truncated SQLite database (...)" when the file is shorter than the page count its header
     states, else "". The header's count is trusted only when valid (its version-valid-for
     number equals the change counter) and no write-ahead log holds pages not yet written
@@ -397,13 +411,13 @@ def truncation_note(path, header):
             f"{page_size} bytes = {expected} bytes)")
 
 
-def unreadable_message(path, error):
+def unreadable_message(path: str, error: sqlite3.Error) -> str:
     """The DatabaseUnusable message for an SQLite error other than "locked"."""
     return (f"{path}: unreadable database ({error}): the file is corrupted or truncated; "
             "refusing to start, the file is left untouched")
 
 
-def reference_schema(version):
+def reference_schema(version: int) -> Schema:
     """{table: ((column, type, notnull, pk), ...)} of the human_db schema at `version`, built by
     running MIGRATIONS[:version] on an in-memory database."""
     connection = sqlite3.connect(":memory:")
@@ -416,7 +430,7 @@ def reference_schema(version):
         connection.close()
 
 
-def table_columns(connection):
+def table_columns(connection: sqlite3.Connection) -> Schema:
     """{table: ((column, type, notnull, pk), ...)} of every table but SQLite's own."""
     names = [row[0] for row in connection.execute(
         "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
@@ -426,7 +440,7 @@ def table_columns(connection):
             for name in names}
 
 
-def open_schema(connection, path):
+def open_schema(connection: sqlite3.Connection, path: str) -> None:
     """Check integrity and the schema, switch to WAL, migrate to SCHEMA_VERSION.
 
     Raises DatabaseUnusable naming the file when it is corrupted, newer than this code or not
@@ -466,7 +480,7 @@ def open_schema(connection, path):
     migrate(connection, version)
 
 
-def migrate(connection, version):
+def migrate(connection: sqlite3.Connection, version: int) -> None:
     """Apply MIGRATIONS[version:] one transaction each, bumping PRAGMA user_version."""
     for target in range(version + 1, SCHEMA_VERSION + 1):
         connection.execute("BEGIN IMMEDIATE")
@@ -483,13 +497,13 @@ def migrate(connection, version):
             raise
 
 
-def _check_time(now):
+def _check_time(now: object) -> float:
     if not isinstance(now, int | float) or not math.isfinite(now) or now < 0:
         raise InvalidHuman(f"time must be a finite number of seconds >= 0, got {now!r}")
     return float(now)
 
 
-def _register(connection, human, replace, now):
+def _register(connection: sqlite3.Connection, human: Human, replace: bool, now: float) -> None:
     row = connection.execute("SELECT id, name FROM humans WHERE name = ?",
                              (human.name,)).fetchone()
     if row is not None and not replace:
@@ -498,9 +512,12 @@ def _register(connection, human, replace, now):
     _refuse_shared_ip(connection, human.ip, human.name)
     values = _human_values(human)
     if row is None:
-        human_id = connection.execute(
+        inserted = connection.execute(
             f"INSERT INTO humans ({', '.join(_HUMAN_COLUMNS[1:])}) VALUES "
             f"({', '.join('?' * len(values))})", values).lastrowid
+        if inserted is None:   # sqlite3 sets it after every successful INSERT
+            raise DatabaseUnusable(f"registering {human.name!r}: SQLite returned no row id")
+        human_id = inserted
     else:
         human_id = row[0]
         assignments = ", ".join(f"{c} = ?" for c in _HUMAN_COLUMNS[1:])
@@ -514,7 +531,8 @@ def _register(connection, human, replace, now):
                            (human_id, now, human.location, human.activity))
 
 
-def _record_shirt(connection, human_id, now, colours, source):
+def _record_shirt(connection: sqlite3.Connection, human_id: int, now: float,
+                  colours: Iterable[Iterable[float]], source: str) -> None:
     """Add a shirt to the person's shirt history (schema v3)."""
     values = tuple(int(c) for joint in colours for c in joint)
     connection.execute(f"INSERT INTO shirts (human_id, time, {', '.join(COLOUR_COLUMNS)}, source) "
@@ -522,7 +540,7 @@ def _record_shirt(connection, human_id, now, colours, source):
                        (human_id, now) + values + (source,))
 
 
-def _refuse_shared_ip(connection, ip, name):
+def _refuse_shared_ip(connection: sqlite3.Connection, ip: str, name: str) -> None:
     if not ip:
         return
     other = connection.execute("SELECT name FROM humans WHERE ip = ? AND name != ?",
@@ -531,29 +549,31 @@ def _refuse_shared_ip(connection, ip, name):
         raise DuplicateHuman(f"phone IP {ip} already belongs to {other[0]!r}")
 
 
-def _human_values(human):
-    known = human.shirt_colour is not None
-    colours = tuple(channel for joint in human.shirt_colour for channel in joint) if known \
+def _human_values(human: Human) -> tuple[Any, ...]:
+    shirt = human.shirt_colour
+    known = shirt is not None
+    colours = tuple(channel for joint in shirt for channel in joint) if shirt is not None \
         else (0,) * len(COLOUR_COLUMNS)
     return (human.name, human.ip, human.gender, human.age) + colours + (
         human.location, human.activity, human.last_seen, int(known))
 
 
-def _replace_schedules(connection, human_id, entries):
+def _replace_schedules(connection: sqlite3.Connection, human_id: int,
+                       entries: Iterable[ScheduleEntry]) -> None:
     connection.execute("DELETE FROM schedules WHERE human_id = ?", (human_id,))
     connection.executemany(
         "INSERT INTO schedules (human_id, start_s, end_s, place, activity) VALUES (?, ?, ?, ?, ?)",
         [(human_id, e.start, e.end, e.place, e.activity) for e in entries])
 
 
-def _row_or_raise(connection, query, name):
+def _row_or_raise(connection: sqlite3.Connection, query: str, name: str) -> tuple[Any, ...]:
     row = connection.execute(query, (name,)).fetchone()
     if row is None:
         raise UnknownHuman(f"no household member named {name!r}")
     return row
 
 
-def _load_human(connection, where, key):
+def _load_human(connection: sqlite3.Connection, where: str, key: str) -> Human:
     row = connection.execute(f"SELECT {', '.join(_HUMAN_COLUMNS)} FROM humans WHERE {where}",
                              (key,)).fetchone()
     if row is None:
@@ -564,7 +584,7 @@ def _load_human(connection, where, key):
     return _human_from_row(row, schedules)
 
 
-def _human_from_row(row, schedules):
+def _human_from_row(row: Sequence[Any], schedules: Iterable[Sequence[Any]]) -> Human:
     """The Human of a humans row and its schedules rows (rowid, start_s, end_s, place,
     activity); InvalidHuman naming the row and why when it does not load."""
     values = dict(zip(_HUMAN_COLUMNS, row))
@@ -587,7 +607,7 @@ def _human_from_row(row, schedules):
 _TEXT_COLUMNS = ("name", "ip", "gender", "location", "activity")
 
 
-def _column_problem(values):
+def _column_problem(values: Mapping[str, Any]) -> str:
     """What a humans row holds that its columns' kinds do not allow (SQLite stores any value
     in any column), or ""."""
     for name in _TEXT_COLUMNS:
@@ -599,7 +619,7 @@ def _column_problem(values):
     return ""
 
 
-def _schedule_entry(row):
+def _schedule_entry(row: Sequence[Any]) -> ScheduleEntry:
     """The ScheduleEntry of a schedules row (rowid, start_s, end_s, place, activity)."""
     rowid, start, end, place, activity = row
     for name, value, kind in (("start_s", start, int | float), ("end_s", end, int | float),

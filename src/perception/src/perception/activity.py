@@ -17,14 +17,17 @@ Table 5-4) even when no 'person' box lies in the gaze cone, e.g. when the person
 or turns away from it (the body's heading is read from the shoulders' depths).
 """
 import math
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import yaml
+from numpy.typing import ArrayLike, NDArray
 
 from perception.keypoints import (
-    ANKLES, EARS, EYES, FOREARMS, HANDS, HIPS, KNEES, L_SHOULDER, NECK, NOSE, R_SHOULDER, mean_of,
-    present)
+    ANKLES, EARS, EYES, FOREARMS, HANDS, HIPS, KNEES, L_SHOULDER, NECK, NOSE, R_SHOULDER, Skeleton,
+    mean_of, present)
 
 POSTURES = ("sitting", "standing", "lying")
 UNKNOWN_POSTURE = "unknown"
@@ -69,7 +72,7 @@ class AffordanceTable:
     support: dict = field(default_factory=dict)   # posture -> label -> {activity: P_s(a|o,pose)}
     no_affordance: frozenset = frozenset()        # labels known to say nothing of the activity
 
-    def known(self, label):
+    def known(self, label: str) -> bool:
         """True for a class the table has an entry for (or knows to carry no affordance)."""
         return (label in self.hands or label in self.eyes or label in self.no_affordance
                 or any(label in row for row in self.support.values()))
@@ -86,7 +89,7 @@ class SeenObject:
     width: float = 0.0   # [px] box size; 0 = a point at the centre
     height: float = 0.0
 
-    def box_points(self):
+    def box_points(self) -> NDArray[np.float64]:
         """A BOX_GRID x BOX_GRID grid over the box, (n, 2) [px]; the centre for a point."""
         if self.width <= 0 and self.height <= 0:
             return np.array([[self.cx, self.cy]])
@@ -94,7 +97,7 @@ class SeenObject:
         v = np.linspace(self.cy - self.height / 2, self.cy + self.height / 2, BOX_GRID)
         return np.stack(np.meshgrid(u, v), axis=-1).reshape(-1, 2)
 
-    def distance_to(self, point):
+    def distance_to(self, point: Sequence[float] | NDArray[np.float64]) -> float:
         """[px] from `point` to the nearest point of the box (0 inside)."""
         dx = max(abs(point[0] - self.cx) - self.width / 2, 0.0)
         dy = max(abs(point[1] - self.cy) - self.height / 2, 0.0)
@@ -121,7 +124,8 @@ class ActivityResult:
     resting_on: list = field(default_factory=list)   # labels in O_s (furniture under the hips)
 
 
-def _check_probabilities(where, table, activities):
+def _check_probabilities(where: str, table: Mapping[str, Mapping[str, float]],
+                         activities: Collection[str]) -> None:
     for label, row in table.items():
         for activity, p in row.items():
             if activity not in activities:
@@ -131,7 +135,7 @@ def _check_probabilities(where, table, activities):
                                  "not in [0, 1]")
 
 
-def load_affordances(path):
+def load_affordances(path: str | Path) -> AffordanceTable:
     """Read config/affordances.yaml into an AffordanceTable, validating every entry."""
     with open(path) as f:
         doc = yaml.safe_load(f)
@@ -155,7 +159,7 @@ def load_affordances(path):
     return AffordanceTable(activities, hands, eyes, looking, support, no_affordance)
 
 
-def _min_angle(skeleton, targets):
+def _min_angle(skeleton: Skeleton, targets: ArrayLike) -> float:
     """Smallest angle [rad] between ear->eye and ear->target over the detected ears and eyes and
     the target points (one point, shape (2,), or several, shape (n, 2))."""
     best = math.inf
@@ -174,14 +178,14 @@ def _min_angle(skeleton, targets):
     return best
 
 
-def forearm_length(skeleton):
+def forearm_length(skeleton: Skeleton) -> float:
     """Longest detected forearm (elbow -> wrist) [px], 0 if none (Algorithm 3-2 line 13)."""
     lengths = [float(np.linalg.norm(skeleton[e] - skeleton[w]))
                for e, w in FOREARMS if len(present(skeleton, (e, w))) == 2]
     return max(lengths, default=0.0)
 
 
-def faces_camera(skeleton):
+def faces_camera(skeleton: Skeleton) -> bool:
     """Fig. 3-12 (a): both ears and both eyes visible with the nose between the ears."""
     if len(present(skeleton, EARS)) < 2 or len(present(skeleton, EYES)) < 2:
         return False
@@ -191,7 +195,9 @@ def faces_camera(skeleton):
     return lo < skeleton[NOSE, 0] < hi
 
 
-def hand_object_eyesight_sets(skeleton, objects, config):
+def hand_object_eyesight_sets(
+        skeleton: Skeleton, objects: Iterable[SeenObject],
+        config: ActivityConfig) -> tuple[list[SeenObject], list[SeenObject], bool]:
     """Algorithm 3-2: objects near the hands O_h, in the eyesight O_e, and E_h,e.
 
     Args:
@@ -205,7 +211,8 @@ def hand_object_eyesight_sets(skeleton, objects, config):
     looking = watching and any(
         abs(_min_angle(skeleton, skeleton[h])) < config.eyesight_angle for h in hands)
     reach = config.range_factor * forearm_length(skeleton)
-    near, seen = [], []
+    near: list[SeenObject] = []
+    seen: list[SeenObject] = []
     for obj in objects:
         shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
         d_hand = min((shape.distance_to(skeleton[h]) for h in hands), default=math.inf)
@@ -216,7 +223,7 @@ def hand_object_eyesight_sets(skeleton, objects, config):
     return near, seen, looking
 
 
-def torso_top(skeleton):
+def torso_top(skeleton: Skeleton) -> NDArray[np.float64] | None:
     """Top of the torso [px]: the neck, else the mid-shoulders, else the head joints; or None."""
     for joints in ((NECK,), SHOULDERS, HEAD):
         point = mean_of(skeleton, joints)
@@ -225,7 +232,8 @@ def torso_top(skeleton):
     return None
 
 
-def support_objects(skeleton, objects, posture, table, config):
+def support_objects(skeleton: Skeleton, objects: Iterable[SeenObject], posture: str,
+                    table: AffordanceTable, config: ActivityConfig) -> list[SeenObject]:
     """O_s: furniture a sitting or lying person rests on -- boxes of the posture's support table
     that hold the hip midpoint, within support_margin x torso length."""
     rows = table.support.get(posture, {})
@@ -237,7 +245,7 @@ def support_objects(skeleton, objects, posture, table, config):
             if obj.label in rows and obj.width > 0 and obj.distance_to(hip) <= margin]
 
 
-def metres_per_pixel(skeleton, config):
+def metres_per_pixel(skeleton: Skeleton, config: ActivityConfig) -> float | None:
     """Image scale at a body [m/px]: torso_length over the torso's length in pixels, or None."""
     top, hip = torso_top(skeleton), mean_of(skeleton, HIPS)
     if top is None or hip is None:
@@ -246,7 +254,7 @@ def metres_per_pixel(skeleton, config):
     return config.torso_length / torso if torso > 0.0 else None
 
 
-def body_depth_of(skeleton, depth):
+def body_depth_of(skeleton: Skeleton, depth: ArrayLike) -> float | None:
     """Median depth [m] of the detected torso joints (neck, shoulders, hips), or None."""
     joints = present(skeleton, (NECK,) + SHOULDERS + HIPS)
     d = np.asarray(depth, dtype=float)[joints] if joints else np.zeros(0)
@@ -254,7 +262,8 @@ def body_depth_of(skeleton, depth):
     return float(np.median(d)) if d.size else None
 
 
-def body_heading(skeleton, depth, scale):
+def body_heading(skeleton: Skeleton, depth: ArrayLike,
+                 scale: float) -> NDArray[np.float64] | None:
     """Unit vector (x right, z away from the camera) the body faces, from the shoulders: the
     right-to-left-shoulder line turned by 90 deg; None without both shoulders and their depths."""
     if len(present(skeleton, SHOULDERS)) < 2:
@@ -268,7 +277,8 @@ def body_heading(skeleton, depth, scale):
     return None if norm == 0.0 else np.array([-right_z, right_x]) / norm
 
 
-def chat_partners(skeleton, depth, others, config):
+def chat_partners(skeleton: Skeleton, depth: ArrayLike, others: Iterable[BodyView],
+                  config: ActivityConfig) -> list[BodyView]:
     """Table 5-4's person in the eyesight, read from skeletons: the other bodies (BodyView) within
     partner_distance of the person whose heading points at the person within
     partner_facing_angle (distances in the ground plane: pixels x metres_per_pixel across,
@@ -277,7 +287,7 @@ def chat_partners(skeleton, depth, others, config):
     top = torso_top(skeleton)
     if scale is None or z is None or top is None:
         return []
-    partners = []
+    partners: list[BodyView] = []
     for other in others:
         o_scale, o_z = metres_per_pixel(other.skeleton, config), body_depth_of(other.skeleton,
                                                                                other.depth)
@@ -295,13 +305,15 @@ def chat_partners(skeleton, depth, others, config):
     return partners
 
 
-def partner_objects(partners, seen):
+def partner_objects(partners: Iterable[BodyView],
+                    seen: Sequence[SeenObject]) -> list[SeenObject]:
     """SeenObject 'person' boxes (around the detected joints) of the chat partners that O_e does
     not already hold as a 'person' box around their torso."""
-    added = []
+    added: list[SeenObject] = []
     for partner in partners:
         top = torso_top(partner.skeleton)
-        if any(o.label == "person" and o.width > 0 and o.distance_to(top) == 0.0 for o in seen):
+        if top is not None and any(o.label == "person" and o.width > 0
+                                   and o.distance_to(top) == 0.0 for o in seen):
             continue
         pts = partner.skeleton[np.isfinite(partner.skeleton).all(axis=1)]
         (u0, v0), (u1, v1) = pts.min(axis=0), pts.max(axis=0)
@@ -310,7 +322,9 @@ def partner_objects(partners, seen):
     return added
 
 
-def activity_scores(near, seen, looking, table, config, resting_on=(), posture=""):
+def activity_scores(near: Iterable[SeenObject], seen: Iterable[SeenObject], looking: bool,
+                    table: AffordanceTable, config: ActivityConfig,
+                    resting_on: Iterable[SeenObject] = (), posture: str = "") -> dict[str, float]:
     """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E,
     plus our support term w_s sum_Os P_s(a|o, posture)P(o) for the furniture rested on.
     """
@@ -330,7 +344,7 @@ def activity_scores(near, seen, looking, table, config, resting_on=(), posture="
     return score
 
 
-def activity_probabilities(score):
+def activity_probabilities(score: Mapping[str, float]) -> dict[str, float]:
     """Normalise the scores to P(a) (Eqs. 3-14, 3-15); empty when every score is zero."""
     total = sum(score.values())
     if total <= 0.0:
@@ -338,7 +352,7 @@ def activity_probabilities(score):
     return {a: s / total for a, s in score.items() if s > 0.0}
 
 
-def posture_from_skeleton(skeleton, config):
+def posture_from_skeleton(skeleton: Skeleton, config: ActivityConfig) -> str:
     """General activity from the skeleton geometry: lying, sitting or standing (Sec. 3.2.4)."""
     neck = torso_top(skeleton)
     hip = mean_of(skeleton, HIPS)
@@ -357,7 +371,9 @@ def posture_from_skeleton(skeleton, config):
     return UNKNOWN_POSTURE
 
 
-def recognise_activity(skeleton, objects, table, config, depth=None, others=()):
+def recognise_activity(skeleton: Skeleton, objects: Sequence[SeenObject], table: AffordanceTable,
+                       config: ActivityConfig, depth: ArrayLike | None = None,
+                       others: Sequence[BodyView] = ()) -> ActivityResult:
     """Algorithm 3-3 with the hierarchical fallback: detailed activity or posture.
 
     Args:
@@ -374,7 +390,7 @@ def recognise_activity(skeleton, objects, table, config, depth=None, others=()):
         activity_scores(near, seen, looking, table, config, resting, posture))
     activity = posture
     if probabilities:
-        best = max(probabilities, key=probabilities.get)
+        best = max(probabilities, key=probabilities.__getitem__)
         if probabilities[best] >= config.probability_threshold:
             activity = best
     return ActivityResult(activity, probabilities, posture, [o.label for o in near],

@@ -6,6 +6,7 @@ seventy two years old" comes back as "I am 72 years old") and refuse, with a rea
 can say, anything they cannot read with confidence ("I'm at Woven." for "I'm a woman.").
 """
 import re
+from collections.abc import Iterable, Sequence
 
 MAX_AGE = 150          # [years] human_db.model.MAX_AGE: an older age is a misheard number
 MAX_NAME_WORDS = 3     # "Frank", "Frank Miller", "Mary Ann Smith"
@@ -43,13 +44,13 @@ class AnswerError(ValueError):
     """An answer that cannot be read; the message says what was not understood."""
 
 
-def _words(text):
+def _words(text: str) -> list[str]:
     return [w.lower() for w in _WORD.findall(text)]
 
 
-def _name_from_words(words, text):
+def _name_from_words(words: Iterable[str], text: str) -> str:
     """Leading name-like words (up to MAX_NAME_WORDS), capitalised; AnswerError when none."""
-    name = []
+    name: list[str] = []
     for word in words:
         if word.lower() in NOT_NAME_WORDS:
             break
@@ -59,7 +60,7 @@ def _name_from_words(words, text):
     return " ".join(name)
 
 
-def parse_name(text):
+def parse_name(text: str) -> str:
     """The name in an answer to "What is your name?": "My name is Frank", "I'm Frank", "Frank".
 
     Returns the name with each word capitalised; raises AnswerError naming the answer."""
@@ -80,7 +81,7 @@ def parse_name(text):
     return _name_from_words(words, text)
 
 
-def parse_gender(text):
+def parse_gender(text: str) -> str:
     """"female" or "male" from "I am a man / male / woman / female"; AnswerError otherwise."""
     words = set(_words(text))
     male, female = words & MALE_WORDS, words & FEMALE_WORDS
@@ -91,7 +92,7 @@ def parse_gender(text):
     return "male" if male else "female"
 
 
-def _number_words(words):
+def _number_words(words: Sequence[str]) -> int | None:
     """The first run of English number words ("seventy two", "a hundred and one") as an int,
     None when the words hold none."""
     value, found = 0, False
@@ -107,16 +108,17 @@ def _number_words(words):
     return value if found else None
 
 
-def parse_age(text):
+def parse_age(text: str) -> int:
     """Age [years] from "I am 72 years old", "72", "seventy-two"; AnswerError when there is no
     number or it is no plausible age (> MAX_AGE: "twenty nine" heard as "20,000,000")."""
     digits = _DIGITS.search(text)
     if digits:
         age = int(digits.group(0).replace(",", ""))
     else:
-        age = _number_words(_words(text.replace("-", " ")))
-        if age is None:
+        spoken = _number_words(_words(text.replace("-", " ")))
+        if spoken is None:
             raise AnswerError(f"I did not catch an age in '{text}'")
+        age = spoken
     if not 0 < age <= MAX_AGE:
         raise AnswerError(f"{age} years is not an age I can believe")
     return age
@@ -126,7 +128,7 @@ YES_WORDS = frozenset({"yes", "yeah", "yep", "yup", "correct", "right", "sure", 
 NO_WORDS = frozenset({"no", "nope", "wrong", "not", "incorrect"})
 
 
-def parse_yes_no(text):
+def parse_yes_no(text: str) -> bool:
     """True for "Yes.", "Yeah, that's right", False for "No.", "Nope"; AnswerError when the
     answer holds both or neither."""
     words = set(_words(text))
@@ -136,7 +138,7 @@ def parse_yes_no(text):
     return yes
 
 
-def closest_name(name, names, similarity):
+def closest_name(name: str, names: Iterable[str], similarity: float) -> str:
     """The name of `names` spelt most like `name` with a similarity (difflib ratio, case
     ignored) of at least `similarity`, or "" when none is (a misheard "Carl" for "Carol")."""
     import difflib

@@ -22,10 +22,14 @@ person is matched against the visible part of their box (what a detector can box
 rate against apparent height is also fitted with a logistic curve (`fit_miss_curve`), which the
 simulator uses between and beyond the measured heights.
 """
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
+from perception.detector_registry import Detector, PoseEstimator
 from perception.image_frontend import joint_colours, person_crop
 
 FRAME = (640, 480)              # [px] width, height of one robot camera image
@@ -37,6 +41,10 @@ COLOUR_PATCH = 5                # [px] as perception.image_frontend.FrontEndConf
 CROP_PADDING = 0.15             # [-] as FrontEndConfig.crop_padding
 MIN_JOINTS = 4                  # [-] a skeleton with fewer seen joints counts as a pose miss
 
+Box = tuple[float, float, float, float]          # (x, y, w, h) [px]
+Transform = tuple[float, float, float]           # (s, x0, y0): reference px -> frame px
+Pose = tuple[NDArray[np.float64], NDArray[np.float64]]   # points (18, 2) [px], confidence (18,)
+
 
 @dataclass(frozen=True)
 class Lighting:
@@ -47,7 +55,7 @@ class Lighting:
     white_balance: tuple = (1.0, 1.0, 1.0)      # [-] R, G, B cast left after auto white balance
     read_noise: float = 1.5                     # [0-255] sensor noise at the sensor's own gain
 
-    def render(self, image_bgr, rng):
+    def render(self, image_bgr: np.ndarray, rng: np.random.Generator) -> NDArray[np.uint8]:
         """The frame as the camera gives it: exposure quantised at the sensor, read noise, then
         auto-exposure's gain 1 / light, then the colour cast (BGR order)."""
         sensor = np.round(image_bgr.astype(float) * self.light)
@@ -78,7 +86,7 @@ class Condition:
     lighting: Lighting = Lighting("daylight")
 
 
-def conditions():
+def conditions() -> list[Condition]:
     """Every condition of the table, one factor changed at a time."""
     out = [Condition("scale", f"scale {s:g}", scale=s) for s in SCALES]
     out += [Condition("occlusion", f"{side} {f:g}", occlusion=(side, f)) for side, f in OCCLUSIONS]
@@ -86,7 +94,7 @@ def conditions():
     return out
 
 
-def fit_frame(image, frame=FRAME):
+def fit_frame(image: np.ndarray, frame: tuple[int, int] = FRAME) -> np.ndarray:
     """The photo shrunk (never enlarged) to fit the top camera's image, centred on grey, above
     a grey bottom image: the reference (stitched) frame."""
     import cv2
@@ -99,7 +107,8 @@ def fit_frame(image, frame=FRAME):
     return np.vstack([top, np.full_like(top, CANVAS_GREY)])
 
 
-def on_canvas(image, frame=FRAME):
+def on_canvas(image: np.ndarray,
+              frame: tuple[int, int] = FRAME) -> tuple[NDArray[np.uint8], Transform]:
     """`image` centred on a grey canvas of `frame` (width, height): (canvas, (1, x0, y0))."""
     width, height = frame
     canvas = np.full((height, width, 3), CANVAS_GREY, np.uint8)
@@ -109,7 +118,8 @@ def on_canvas(image, frame=FRAME):
     return canvas, (1.0, float(x0), float(y0))
 
 
-def shrink(reference, scale, frame=FRAME):
+def shrink(reference: np.ndarray, scale: float,
+           frame: tuple[int, int] = FRAME) -> tuple[np.ndarray, Transform]:
     """The reference frame's top image shrunk by `scale` about its centre on grey (the scene
     farther away), and the (s, x0, y0) that maps reference pixels into it."""
     import cv2
@@ -123,14 +133,15 @@ def shrink(reference, scale, frame=FRAME):
     return np.vstack([canvas, reference[height:]]), (scale, x0, y0)
 
 
-def visible_part(box, side, fraction):
+def visible_part(box: Sequence[float], side: str, fraction: float) -> Box:
     """The (x, y, w, h) part of a box left in view when its lower (`bottom`) or right (`side`)
     `fraction` is hidden."""
     x, y, w, h = box
     return (x, y, w, h * (1 - fraction)) if side == "bottom" else (x, y, w * (1 - fraction), h)
 
 
-def occlude(reference, boxes, side, fraction):
+def occlude(reference: np.ndarray, boxes: Iterable[Sequence[float]], side: str,
+            fraction: float) -> np.ndarray:
     """Grey over the lower (`bottom`) or right (`side`) `fraction` of each (x, y, w, h) box."""
     out = reference.copy()
     for box in boxes:
@@ -142,7 +153,7 @@ def occlude(reference, boxes, side, fraction):
     return out
 
 
-def iou(a, b):
+def iou(a: Sequence[float], b: Sequence[float]) -> float:
     """Intersection over union of two (x, y, w, h) boxes."""
     ax1, ay1, bx1, by1 = a[0] + a[2], a[1] + a[3], b[0] + b[2], b[1] + b[3]
     iw = max(0.0, min(ax1, bx1) - max(a[0], b[0]))
@@ -152,13 +163,14 @@ def iou(a, b):
     return inter / union if union > 0 else 0.0
 
 
-def to_reference(box, transform):
+def to_reference(box: Sequence[float], transform: Transform) -> Box:
     """A (x, y, w, h) box of a transformed frame in reference-frame pixels."""
     s, x0, y0 = transform
     return ((box[0] - x0) / s, (box[1] - y0) / s, box[2] / s, box[3] / s)
 
 
-def best_match(box, candidates):
+def best_match(box: Sequence[float],
+               candidates: Sequence[Sequence[float]]) -> tuple[int, float]:
     """Index and IoU of the candidate box overlapping `box` most (-1, 0.0 when none)."""
     if not candidates:
         return -1, 0.0
@@ -167,7 +179,7 @@ def best_match(box, candidates):
     return k, overlaps[k]
 
 
-def box_error(reference, found):
+def box_error(reference: Sequence[float], found: Sequence[float]) -> float:
     """Mean absolute edge displacement of `found` against `reference`, over its height."""
     ref = np.array([reference[0], reference[1], reference[0] + reference[2],
                     reference[1] + reference[3]])
@@ -175,7 +187,7 @@ def box_error(reference, found):
     return float(np.abs(got - ref).mean() / max(reference[3], 1.0))
 
 
-def keypoint_error(reference, found, height):
+def keypoint_error(reference: Pose, found: Pose, height: float) -> float:
     """RMS distance of the joints both skeletons see, over the person's height (NaN if none)."""
     (rp, rc), (fp, fc) = reference, found
     both = (rc > 0) & (fc > 0)
@@ -188,8 +200,8 @@ def keypoint_error(reference, found, height):
 @dataclass
 class PersonSeen:
     box: tuple                  # (x, y, w, h) in reference-frame pixels
-    skeleton: tuple = None      # (points (18, 2) in reference-frame px, confidence (18,)) or None
-    colours: np.ndarray = None  # (3, 3) RGB at joints 1, 2, 5 (zeros where unseen)
+    skeleton: Pose | None = None   # (points in reference-frame px, confidence) or None
+    colours: np.ndarray | None = None  # (3, 3) RGB at joints 1, 2, 5 (zeros where unseen)
 
 
 @dataclass
@@ -198,7 +210,8 @@ class FrameSeen:
     objects: list = field(default_factory=list)    # [(label, (x, y, w, h))] reference pixels
 
 
-def observe(image, transform, detector, pose):
+def observe(image: np.ndarray, transform: Transform, detector: Detector,
+            pose: PoseEstimator) -> FrameSeen:
     """Run the real detectors on one frame; boxes and joints mapped to reference pixels."""
     seen = FrameSeen()
     for det in detector.detect(image):
@@ -244,12 +257,13 @@ class Tally:
     missed_sizes: list = field(default_factory=list)     # ... of the missed ones
 
 
-def tally_frame(tally, reference, seen, occlusion=(), scale=1.0):
+def tally_frame(tally: Tally, reference: FrameSeen, seen: FrameSeen,
+                occlusion: tuple[str, float] | tuple[()] = (), scale: float = 1.0) -> None:
     """Add one condition frame's detections, compared with the reference frame's, to `tally`;
     `occlusion` (side, fraction) says which part of each reference person is hidden, `scale`
     how much smaller than in the reference frame everything is."""
     tally.images += 1
-    used = set()
+    used: set[int] = set()
     for person in reference.people:
         tally.people += 1
         box = visible_part(person.box, *occlusion) if occlusion else person.box
@@ -270,6 +284,8 @@ def tally_frame(tally, reference, seen, occlusion=(), scale=1.0):
         error = keypoint_error(person.skeleton, found.skeleton, person.box[3])
         if np.isfinite(error):
             tally.keypoint_errors.append(error)
+        if person.colours is None or found.colours is None:
+            raise ValueError("a person seen with a skeleton but without its joint colours")
         tally.colours += [(ref, got) for ref, got in zip(person.colours.astype(float),
                                                          found.colours.astype(float))
                           if ref.any() and got.any()]
@@ -277,7 +293,7 @@ def tally_frame(tally, reference, seen, occlusion=(), scale=1.0):
                               best_match(p.box, [q.box for q in reference.people])[1] < FALSE_IOU
                               and best_match(p.box, [b for _, b in reference.objects])[1]
                               < FALSE_IOU)
-    claimed = set()
+    claimed: set[int] = set()
     for label, box in reference.objects:
         tally.objects += 1
         size = float(np.sqrt(box[2] * box[3])) * scale
@@ -296,7 +312,8 @@ def tally_frame(tally, reference, seen, occlusion=(), scale=1.0):
                                and best_match(box, every_reference)[1] < FALSE_IOU)
 
 
-def transformed(reference_image, reference, condition, rng):
+def transformed(reference_image: np.ndarray, reference: FrameSeen, condition: Condition,
+                rng: np.random.Generator) -> tuple[NDArray[np.uint8], Transform]:
     """The condition's frame and its transform to reference pixels."""
     image, transform = reference_image, (1.0, 0.0, 0.0)
     if condition.scale < 1.0:
@@ -307,18 +324,18 @@ def transformed(reference_image, reference, condition, rng):
     return condition.lighting.render(image, rng), transform
 
 
-def person_heights(reference, condition):
+def person_heights(reference: FrameSeen, condition: Condition) -> list[float]:
     """Apparent heights [px] of the reference people under `condition`."""
     return [p.box[3] * condition.scale for p in reference.people]
 
 
-def _mean(values, digits=3):
+def _mean(values: Sequence[float], digits: int = 3) -> float | None:
     return round(float(np.mean(values)), digits) if len(values) else None
 
 
-def summarise(condition, tally, heights):
+def summarise(condition: Condition, tally: Tally, heights: Sequence[float]) -> dict[str, Any]:
     """One table row (plain types for YAML)."""
-    row = {"name": condition.name, "people": tally.people,
+    row: dict[str, Any] = {"name": condition.name, "people": tally.people,
            "miss_rate": round(tally.missed / tally.people, 3) if tally.people else None,
            "missed": tally.missed,
            "pose_miss_rate": (round(tally.pose_missed / tally.posed, 3)
@@ -355,7 +372,9 @@ def summarise(condition, tally, heights):
     return row
 
 
-def colour_model(pairs):
+def colour_model(
+        pairs: Sequence[tuple[NDArray[np.float64], NDArray[np.float64]]]
+) -> tuple[NDArray[np.float64], float]:
     """Per-channel factor (least squares through the origin) from reference to found RGB, and
     the RMS per-channel residual [0-255] left after it."""
     ref = np.array([r for r, _ in pairs])
@@ -365,17 +384,19 @@ def colour_model(pairs):
     return factor, float(np.sqrt(np.mean(np.square(residual))))
 
 
-def calibrate(photos, detector, pose, seed=0, progress=None):
+def calibrate(photos: Iterable[tuple[str, np.ndarray]], detector: Detector, pose: PoseEstimator,
+              seed: int = 0,
+              progress: Callable[[int, int], None] | None = None) -> dict[str, Any]:
     """The calibration table: {"scale": [...], "occlusion": [...], "lighting": [...]} rows.
 
     `photos` is [(name, BGR image)]; `progress(done, total)` is called after each frame.
     """
     rng = np.random.default_rng(seed)
-    references = []
+    references: list[tuple[np.ndarray, FrameSeen]] = []
     for _, photo in photos:
         image = fit_frame(photo)
         references.append((image, observe(image, (1.0, 0.0, 0.0), detector, pose)))
-    table = {"scale": [], "occlusion": [], "lighting": []}
+    table: dict[str, Any] = {"scale": [], "occlusion": [], "lighting": []}
     every = conditions()
     total, done = len(every) * len(references), 0
     for condition in every:
@@ -395,7 +416,8 @@ def calibrate(photos, detector, pose, seed=0, progress=None):
     return table
 
 
-def fit_miss_curve(rows, sizes="heights", missed_sizes="missed_heights"):
+def fit_miss_curve(rows: Sequence[Mapping[str, Any]], sizes: str = "heights",
+                   missed_sizes: str = "missed_heights") -> dict[str, float]:
     """Logistic miss rate against apparent size h [px] (a person's height, an object's square
     root of area), fitted by maximum likelihood to every reference person or object of every
     scale row: miss(h) = 1 / (1 + exp((h - h50) / width)). Returns {"h50": px, "width": px}."""
@@ -407,7 +429,7 @@ def fit_miss_curve(rows, sizes="heights", missed_sizes="missed_heights"):
         k = np.flatnonzero((heights == h) & ~missed)[0]
         missed[k] = True
 
-    def negative_log_likelihood(params):
+    def negative_log_likelihood(params: NDArray[np.float64]) -> float:
         h50, log_width = params
         p = 1.0 / (1.0 + np.exp(np.clip((heights - h50) / np.exp(log_width), -50, 50)))
         p = np.clip(p, 1e-9, 1 - 1e-9)

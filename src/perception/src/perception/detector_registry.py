@@ -4,8 +4,11 @@ The image front end node (`~detector`, `~pose`), the benchmark and the tests mak
 here by name; adding a model is one entry in DETECTORS or POSE_ESTIMATORS (see the package
 README, "Adding a detector")."""
 from dataclasses import dataclass
-from typing import Protocol
-from collections.abc import Callable
+from typing import Any, Protocol
+from collections.abc import Callable, Mapping
+
+import numpy as np
+from numpy.typing import NDArray
 
 from perception.detectors import DarknetConfig, DarknetDetector, Detection, MediapipePose
 
@@ -13,13 +16,14 @@ from perception.detectors import DarknetConfig, DarknetDetector, Detection, Medi
 class Detector(Protocol):
     """Finds objects (COCO names) in a BGR image."""
 
-    def detect(self, image) -> list[Detection]: ...
+    def detect(self, image: np.ndarray) -> list[Detection]: ...
 
 
 class PoseEstimator(Protocol):
     """COCO-18 skeletons in a BGR image: [(points (18, 2) [px], confidence (18,))]."""
 
-    def skeletons(self, image) -> list: ...
+    def skeletons(self, image: np.ndarray) -> list[tuple[NDArray[np.float64],
+                                                          NDArray[np.float64]]]: ...
 
 
 @dataclass(frozen=True)
@@ -29,7 +33,7 @@ class ModelEntry:
     make: Callable         # settings (dict) -> the model
 
 
-def _darknet(settings):
+def _darknet(settings: dict[str, Any]) -> DarknetDetector:
     """cfg, weights, names and any other DarknetConfig field (its defaults otherwise)."""
     return DarknetDetector(DarknetConfig(**settings))
 
@@ -45,17 +49,19 @@ POSE_ESTIMATORS = {
 }
 
 
-def _make(table, kind, name, settings):
+def _make(table: Mapping[str, ModelEntry], kind: str, name: str,
+          settings: Mapping[str, Any] | None) -> Any:
     if name not in table:
         raise ValueError(f"unknown {kind} {name!r}; known: {', '.join(sorted(table))}")
     return table[name].make(dict(settings or {}))
 
 
-def make_detector(name, settings=None) -> Detector:
+def make_detector(name: str, settings: Mapping[str, Any] | None = None) -> Detector:
     """The detector registered as `name`, made from `settings` (its entry says which keys)."""
     return _make(DETECTORS, "detector", name, settings)
 
 
-def make_pose_estimator(name, settings=None) -> PoseEstimator:
+def make_pose_estimator(name: str,
+                        settings: Mapping[str, Any] | None = None) -> PoseEstimator:
     """The pose estimator registered as `name`."""
     return _make(POSE_ESTIMATORS, "pose estimator", name, settings)

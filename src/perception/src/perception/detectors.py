@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from perception.keypoints import NECK, NUM_KEYPOINTS
 
@@ -25,7 +26,7 @@ class Detection:
     height: float
 
     @property
-    def centre(self):
+    def centre(self) -> tuple[float, float]:
         return self.x + self.width / 2.0, self.y + self.height / 2.0
 
 
@@ -41,7 +42,7 @@ class DarknetConfig:
     nms_threshold: float = 0.45        # [-] IoU above which the weaker box is suppressed
 
 
-def check_image(image, what="image"):
+def check_image(image: ArrayLike | None, what: str = "image") -> NDArray[np.uint8]:
     """A BGR uint8 image (H, W, 3) with H, W > 0, else ValueError naming what is wrong."""
     if image is None:
         raise ValueError(f"{what} is missing")
@@ -53,7 +54,7 @@ def check_image(image, what="image"):
     return array
 
 
-def stitch(top, bottom):
+def stitch(top: ArrayLike | None, bottom: ArrayLike | None) -> NDArray[np.uint8]:
     """Sec. 3.2.1: the top camera's image above the bottom camera's (same width) -> one frame."""
     top, bottom = check_image(top, "top image"), check_image(bottom, "bottom image")
     if top.shape[1] != bottom.shape[1]:
@@ -61,10 +62,13 @@ def stitch(top, bottom):
     return np.vstack([top, bottom])
 
 
+Box = tuple[list[float], float, int]   # ([x, y, width, height] [px], score, class index)
+
+
 class DarknetDetector:
     """YOLO through cv2.dnn.readNetFromDarknet."""
 
-    def __init__(self, config):
+    def __init__(self, config: DarknetConfig) -> None:
         import cv2
         for path in (config.cfg, config.weights, config.names):
             if not Path(path).is_file():
@@ -75,7 +79,7 @@ class DarknetDetector:
         self.outputs = self.net.getUnconnectedOutLayersNames()
         self._cv2 = cv2
 
-    def detect(self, image):
+    def detect(self, image: ArrayLike | None) -> list[Detection]:
         """Objects in a BGR image: [Detection] after per-class non-maximum suppression."""
         image = check_image(image)
         h, w = image.shape[:2]
@@ -87,14 +91,14 @@ class DarknetDetector:
         classes = scores.argmax(axis=1)
         confidence = scores[np.arange(len(rows)), classes]
         keep = confidence >= self.config.confidence_threshold
-        boxes = []
+        boxes: list[Box] = []
         for (cx, cy, bw, bh), score, cls in zip(rows[keep, :4], confidence[keep], classes[keep]):
             boxes.append(([float((cx - bw / 2) * w), float((cy - bh / 2) * h),
                            float(bw * w), float(bh * h)], float(score), int(cls)))
         return self._suppress(boxes)
 
-    def _suppress(self, boxes):
-        found = []
+    def _suppress(self, boxes: list[Box]) -> list[Detection]:
+        found: list[Detection] = []
         for cls in sorted({b[2] for b in boxes}):
             group = [b for b in boxes if b[2] == cls]
             idx = self._cv2.dnn.NMSBoxes([b[0] for b in group], [b[1] for b in group],
@@ -111,7 +115,8 @@ class DarknetDetector:
 MEDIAPIPE_FOR_COCO = (0, None, 12, 14, 16, 11, 13, 15, 24, 26, 28, 23, 25, 27, 5, 2, 8, 7)
 
 
-def coco18_from_mediapipe(landmarks_xyv, width, height, min_visibility):
+def coco18_from_mediapipe(landmarks_xyv: ArrayLike, width: float, height: float,
+                          min_visibility: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Mediapipe's 33 landmarks (normalised x, y, visibility) -> COCO-18 (18, 2) [px] + confidence.
 
     The neck (joint 1) is the mid-point of the shoulders when both are visible enough.
@@ -138,14 +143,16 @@ class MediapipePose:
     """Human pose with mediapipe 0.10.21 solutions.pose (bundled model, one person per image;
     image_frontend runs it on each person box for several people)."""
 
-    def __init__(self, model_complexity=1, min_detection_confidence=0.5, min_visibility=0.5):
+    def __init__(self, model_complexity: int = 1, min_detection_confidence: float = 0.5,
+                 min_visibility: float = 0.5) -> None:
         import mediapipe as mp
         self.min_visibility = min_visibility        # [-] landmarks below it are "not detected"
         self.pose = mp.solutions.pose.Pose(static_image_mode=True,
                                            model_complexity=model_complexity,
                                            min_detection_confidence=min_detection_confidence)
 
-    def skeletons(self, image):
+    def skeletons(self,
+                  image: ArrayLike | None) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
         """COCO-18 skeletons in a BGR image: [(points (18, 2) [px], confidence (18,))]."""
         image = check_image(image)
         rgb = np.ascontiguousarray(image[:, :, ::-1])
@@ -156,5 +163,5 @@ class MediapipePose:
         h, w = image.shape[:2]
         return [coco18_from_mediapipe(lm, w, h, self.min_visibility)]
 
-    def close(self):
+    def close(self) -> None:
         self.pose.close()

@@ -6,10 +6,13 @@ rectangle, Sec. 3.2.2) and per joint, shirt colour at joints 1, 2, 5 (Sec. 3.2.3
 Pose is top-down: mediapipe finds one person per image, so it runs on each YOLO 'person' box
 (padded crop) and the keypoints are mapped back, one skeleton per person, as OpenPose gives.
 """
-from dataclasses import dataclass
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
+from perception.detector_registry import Detector, PoseEstimator
 from perception.detectors import check_image, stitch
 from perception.keypoints import L_SHOULDER, NECK, R_SHOULDER
 from perception.localisation import DepthWindowConfig, box_depth
@@ -25,32 +28,31 @@ class FrontEndConfig:
     top_down: bool = True        # pose per YOLO person box (False: mediapipe on the whole image)
     crop_padding: float = 0.15   # [-] person box grown by this share of its size on each side
     min_crop: int = 32           # [px] person boxes narrower or lower than this are skipped
-    depth: DepthWindowConfig = None
-
-    def __post_init__(self):
-        if self.depth is None:
-            self.depth = DepthWindowConfig()
+    depth: DepthWindowConfig = field(default_factory=DepthWindowConfig)
 
 
-def _patch(image, x, y, side):
+def _patch(image: np.ndarray, x: float, y: float, side: int) -> np.ndarray:
     half = side // 2
     h, w = image.shape[:2]
     xi, yi = int(round(x)), int(round(y))
     return image[max(0, yi - half):min(h, yi + half + 1), max(0, xi - half):min(w, xi + half + 1)]
 
 
-def joint_colours(image_bgr, points, confidence, side):
+def joint_colours(image_bgr: np.ndarray, points: NDArray[np.float64],
+                  confidence: NDArray[np.float64], side: int) -> NDArray[np.uint8]:
     """(3, 3) uint8 RGB at joints 1, 2, 5 (patch mean); zeros where a joint is not seen."""
     colours = np.zeros((3, 3), np.uint8)
     for i, joint in enumerate(COLOUR_JOINTS):
         if confidence[joint] > 0 and np.isfinite(points[joint]).all():
-            patch = _patch(image_bgr, *points[joint], side)
+            x, y = points[joint]
+            patch = _patch(image_bgr, x, y, side)
             if patch.size:
                 colours[i] = patch.reshape(-1, 3).mean(axis=0)[::-1].round().astype(np.uint8)
     return colours
 
 
-def joint_depths(depth, points, confidence, config):
+def joint_depths(depth: np.ndarray | None, points: NDArray[np.float64],
+                 confidence: NDArray[np.float64], config: FrontEndConfig) -> NDArray[np.float64]:
     """(18,) depth [m] per joint: median of valid pixels in a small patch, NaN if none."""
     out = np.full(len(points), np.nan)
     if depth is None:
@@ -65,7 +67,8 @@ def joint_depths(depth, points, confidence, config):
     return out
 
 
-def person_crop(box, shape, padding):
+def person_crop(box: Sequence[float], shape: tuple[int, ...],
+                padding: float) -> tuple[int, int, int, int]:
     """Integer (x0, y0, x1, y1) of a padded (x, y, width, height) box, clipped to the image."""
     x, y, w, h = box
     height, width = shape[:2]
@@ -75,10 +78,12 @@ def person_crop(box, shape, padding):
     return x0, y0, x1, y1
 
 
-def top_down_skeletons(image, person_boxes, pose, config):
+def top_down_skeletons(
+        image: np.ndarray, person_boxes: Iterable[Sequence[float]], pose: PoseEstimator,
+        config: FrontEndConfig) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
     """One COCO-18 skeleton per person box: pose on the padded crop, keypoints shifted back to
     the image [(points (18, 2) [px], confidence (18,))]; a crop with no pose gives none."""
-    skeletons = []
+    skeletons: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
     for box in person_boxes:
         x0, y0, x1, y1 = person_crop(box, image.shape, config.crop_padding)
         if x1 - x0 < config.min_crop or y1 - y0 < config.min_crop:
@@ -88,13 +93,15 @@ def top_down_skeletons(image, person_boxes, pose, config):
     return skeletons
 
 
-def build_frame(top, bottom, depth_top, depth_bottom, detector, pose, config):
+def build_frame(top: ArrayLike, bottom: ArrayLike | None, depth_top: ArrayLike | None,
+                depth_bottom: ArrayLike | None, detector: Detector, pose: PoseEstimator,
+                config: FrontEndConfig) -> FrameView:
     """Stitched frame of detections; depth images may be None (then depths are NaN).
 
     Raises ValueError for an empty image or mismatched sizes (the message says which).
     """
     image = stitch(top, bottom) if bottom is not None else check_image(top, "top image")
-    depth = None
+    depth: NDArray[np.float64] | None = None
     if depth_top is not None:
         parts = [np.asarray(depth_top, float)] + (
             [np.asarray(depth_bottom, float)] if bottom is not None and depth_bottom is not None

@@ -23,12 +23,17 @@ Two parts, both ROS-free:
   the human changes his/her clothes"): the dialogue ends there and `recalled` names them, whose
   shirt colours the node then updates.
 """
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from human_db.colour import IdentificationConfig, identifies, mean_shirt_distance, shirt_colours
+from human_db.colour import (IdentificationConfig, Shirt, identifies, mean_shirt_distance,
+                             shirt_colours)
 from human_db.model import Human
+from numpy.typing import ArrayLike, NDArray
 from task_planner.instruction import ROBOT, Instruction
+from task_planner.reward import Priority
 
 from perception.answers import (AnswerError, closest_name, parse_age, parse_gender, parse_name,
                                 parse_yes_no)
@@ -74,7 +79,7 @@ class Stranger:
     name: str = ""             # set once registered
 
 
-def seen_shirt(values):
+def seen_shirt(values: Iterable[float]) -> NDArray[np.int64] | None:
     """9 uint8 (r1 g1 b1 r2 g2 b2 r5 g5 b5) -> (3, 3) array, or None when a joint was not seen
     (visual perception sends zeros then); InvalidColour names a malformed value."""
     colours = shirt_colours([int(v) for v in values], "observed shirt colour")
@@ -91,26 +96,29 @@ class NewcomerWatch:
         place_ids: {place name: graph node id}.
     """
 
-    def __init__(self, config, function, priority, place_ids):
+    def __init__(self, config: IntroductionConfig, function: tuple[int, float], priority: Priority,
+                 place_ids: Mapping[str, int]) -> None:
         self.config, self.function, self.priority = config, function, priority
         self.place_ids = place_ids
         self.identification = IdentificationConfig(config.threshold, config.ambiguity_margin)
-        self.strangers = []    # Stranger, in the order first seen
+        self.strangers: list[Stranger] = []    # in the order first seen
 
-    def _matching(self, colours):
+    def _matching(self, colours: np.ndarray) -> Stranger | None:
         """The stranger whose shirt is closest to `colours` within the threshold, or None."""
-        best, best_distance = None, self.config.threshold
+        best: Stranger | None = None
+        best_distance = self.config.threshold
         for stranger in self.strangers:
             distance = mean_shirt_distance(colours, stranger.colours)
             if distance < best_distance:
                 best, best_distance = stranger, distance
         return best
 
-    def open_strangers(self):
+    def open_strangers(self) -> list[Stranger]:
         """The strangers whose introduce instruction is open (or being submitted)."""
         return [s for s in self.strangers if s.instruction_id and not s.name]
 
-    def observe(self, colours, place, stamp, known):
+    def observe(self, colours: np.ndarray | None, place: str, stamp: float,
+                known: Iterable[Shirt]) -> Instruction | None:
         """One sighting of an unidentified person; returns an introduce Instruction or None.
 
         Args:
@@ -138,7 +146,7 @@ class NewcomerWatch:
             return None
         return self._introduce(stranger, stamp)
 
-    def _introduce(self, stranger, stamp):
+    def _introduce(self, stranger: Stranger, stamp: float) -> Instruction | None:
         if stranger.place not in self.place_ids:
             return None
         code, duration = self.function
@@ -151,10 +159,10 @@ class NewcomerWatch:
             destination_name=stranger.place,
             text=f"meet the unknown person in {stranger.place} (shirt {rgb})")
 
-    def by_instruction(self, instruction_id):
+    def by_instruction(self, instruction_id: int) -> Stranger | None:
         return next((s for s in self.strangers if s.instruction_id == instruction_id), None)
 
-    def taken(self, instruction_id):
+    def taken(self, instruction_id: int) -> Stranger:
         """The task buffer took the introduce instruction being submitted, as `instruction_id`;
         returns its stranger."""
         stranger = self.by_instruction(SUBMITTING)
@@ -163,7 +171,7 @@ class NewcomerWatch:
         stranger.instruction_id = instruction_id
         return stranger
 
-    def not_taken(self, now):
+    def not_taken(self, now: float) -> Stranger:
         """The introduce instruction being submitted was not taken: leave its stranger alone for
         `retry_after`; returns the stranger."""
         stranger = self.by_instruction(SUBMITTING)
@@ -172,11 +180,11 @@ class NewcomerWatch:
         self.not_met(stranger, now)
         return stranger
 
-    def registered(self, stranger, name):
+    def registered(self, stranger: Stranger, name: str) -> None:
         """The stranger is now `name` in human_db: never introduced again."""
         stranger.name = name
 
-    def not_met(self, stranger, now):
+    def not_met(self, stranger: Stranger, now: float) -> None:
         """The meeting failed (no answers, trip failed): leave them alone for `retry_after`."""
         stranger.instruction_id, stranger.sightings = 0, 0
         stranger.left_until = now + self.config.retry_after
@@ -195,11 +203,12 @@ class IntroductionDialogue:
 
     QUESTIONS = (NAME, GENDER, AGE)
 
-    def __init__(self, config, colours, started, place="", residents=()):
+    def __init__(self, config: IntroductionConfig, colours: ArrayLike, started: float,
+                 place: str = "", residents: Iterable[str] = ()) -> None:
         self.config, self.colours, self.place = config, np.array(colours), place
         self.state, self.retries, self.asked_at = NAME, 0, started
         self.started = started
-        self.answers = {}     # question -> parsed value
+        self.answers: dict[str, Any] = {}     # question -> parsed value (str, or int age)
         self.ip = ""          # phone of the first answer; "" = the robot's microphone
         self.residents = {name.lower(): name for name in residents}   # registered names
         self.recalled = ""    # the resident this stranger turned out to be ("" = a new person)
@@ -207,20 +216,20 @@ class IntroductionDialogue:
         self.candidate = ""   # CONFIRM: the resident whose name it may be
 
     @property
-    def open(self):
+    def open(self) -> bool:
         return self.state not in (COMPLETE, FAILED)
 
-    def _question(self):
+    def _question(self) -> str:
         if self.state == CONFIRM:
             return self.config.confirm_question.format(name=self.candidate)
         return {NAME: self.config.name_question, GENDER: self.config.gender_question,
                 AGE: self.config.age_question}[self.state]
 
-    def hear(self, text, ip, now):
+    def hear(self, text: str, ip: str, now: float) -> Turn:
         """One answer from the person; returns the Turn (next question, re-ask or the end)."""
         if not self.open:
             raise RuntimeError(f"dialogue is {self.state}; no answer expected")
-        reader = {NAME: parse_name, GENDER: parse_gender, AGE: parse_age,
+        reader: Callable[[str], Any] = {NAME: parse_name, GENDER: parse_gender, AGE: parse_age,
                   CONFIRM: parse_yes_no}[self.state]
         try:
             value = reader(text)
@@ -238,18 +247,18 @@ class IntroductionDialogue:
                 return Turn(self._question(), CONFIRM)
         return self._take(value, ip, now)
 
-    def _recall(self, name):
+    def _recall(self, name: str) -> Turn:
         self.recalled = self.answers[NAME] = name
         self.state = COMPLETE
         return Turn("", COMPLETE)
 
-    def _confirmed(self, yes, ip, now):
+    def _confirmed(self, yes: bool, ip: str, now: float) -> Turn:
         if yes:
             return self._recall(self.candidate)
         self.state = NAME       # not the resident: a new person with the name as heard
         return self._take(self.heard_name, ip, now)
 
-    def _take(self, value, ip, now):
+    def _take(self, value: str | int, ip: str, now: float) -> Turn:
         """Record an answer to the current question and ask the next."""
         self.ip = self.ip or ip
         self.answers[self.state] = value
@@ -262,13 +271,13 @@ class IntroductionDialogue:
             return Turn(f"{self.config.thanks.format(name=value)} {self._question()}", GENDER)
         return Turn(self._question(), self.state)
 
-    def tick(self, now):
+    def tick(self, now: float) -> Turn:
         """Ask again after `answer_timeout` without an answer; Turn() when nothing is due."""
         if not self.open or now - self.asked_at < self.config.answer_timeout:
             return Turn("", self.state)
         return self._ask_again("Sorry, I did not hear you.", now)
 
-    def _ask_again(self, apology, now):
+    def _ask_again(self, apology: str, now: float) -> Turn:
         self.asked_at = now
         if self.retries >= self.config.max_retries:
             self.state = FAILED
@@ -276,13 +285,13 @@ class IntroductionDialogue:
         self.retries += 1
         return Turn(f"{apology} {self._question()}", self.state)
 
-    def abort(self):
+    def abort(self) -> Turn:
         """End the dialogue as FAILED from outside (the node could not go on); returns the Turn
         with the give-up sentence."""
         self.state = FAILED
         return Turn(self.config.give_up, FAILED)
 
-    def human(self):
+    def human(self) -> Human:
         """The human_db Human to register, in the place the robot met them (raises InvalidHuman
         naming a bad field)."""
         if self.state != COMPLETE:
@@ -291,10 +300,10 @@ class IntroductionDialogue:
                      shirt_colour=tuple(tuple(int(c) for c in j) for j in self.colours),
                      ip=self.ip, location=self.place)
 
-    def welcome(self):
+    def welcome(self) -> str:
         text = self.config.recalled if self.recalled else self.config.welcome
         return text.format(name=self.answers[NAME])
 
-    def shirt(self):
+    def shirt(self) -> tuple[tuple[int, ...], ...]:
         """The shirt colours ((r, g, b) x 3) the person wears now."""
         return tuple(tuple(int(c) for c in joint) for joint in self.colours)

@@ -7,9 +7,12 @@ frame by a 4x4 homogeneous transform (from tf in the node), and named by the gra
 containing it.
 """
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from floorplan.semantic_graph import SemanticGraph
+from numpy.typing import ArrayLike, NDArray
 
 
 @dataclass
@@ -34,14 +37,16 @@ class DepthWindowConfig:
     max_depth: float = 8.0      # [m] farther readings are invalid
 
 
-def pixel_to_camera(px, py, depth, intrinsics):
+def pixel_to_camera(px: float, py: float, depth: float,
+                    intrinsics: Intrinsics) -> NDArray[np.float64]:
     """Eqs. 3-3, 3-4, 3-5: pixel (px, py) at depth d -> (x_r, y_r, z_r) [m], optical frame."""
     x = (px - intrinsics.cx) / intrinsics.fx * depth
     y = (py - intrinsics.cy) / intrinsics.fy * depth
     return np.array([x, y, depth], dtype=float)
 
 
-def depth_window(box, config, image_shape):
+def depth_window(box: Sequence[float], config: DepthWindowConfig,
+                 image_shape: tuple[int, ...]) -> tuple[int, int, int, int]:
     """Rectangle (x0, y0, x1, y1) [px, exclusive end] centred on the box, sized by the box."""
     x, y, w, h = box
     cx, cy = x + w / 2.0, y + h / 2.0
@@ -53,7 +58,8 @@ def depth_window(box, config, image_shape):
     return x0, y0, x1, y1
 
 
-def box_depth(depth_image, box, config):
+def box_depth(depth_image: ArrayLike, box: Sequence[float],
+              config: DepthWindowConfig) -> float | None:
     """Mean valid depth [m] in the adaptive rectangle, or None when no pixel there is valid.
 
     Args:
@@ -69,7 +75,8 @@ def box_depth(depth_image, box, config):
     return float(valid.mean()) if valid.size else None
 
 
-def optical_to_map_transform(robot_pose, mount_x, mount_height, tilt):
+def optical_to_map_transform(robot_pose: Sequence[float], mount_x: float, mount_height: float,
+                             tilt: float) -> NDArray[np.float64]:
     """4x4 transform map <- camera optical frame for a camera on a planar robot.
 
     Args:
@@ -89,12 +96,12 @@ def optical_to_map_transform(robot_pose, mount_x, mount_height, tilt):
     return transform
 
 
-def transform_point(transform, point):
+def transform_point(transform: ArrayLike, point: ArrayLike) -> NDArray[np.float64]:
     """Apply a 4x4 homogeneous transform to a 3-D point."""
     return (np.asarray(transform, dtype=float) @ np.append(np.asarray(point, dtype=float), 1.0))[:3]
 
 
-def point_in_polygon(x, y, polygon):
+def point_in_polygon(x: float, y: float, polygon: Sequence[Sequence[float]]) -> bool:
     """Even-odd ray casting: is (x, y) inside the polygon [[x, y], ...]?"""
     inside = False
     n = len(polygon)
@@ -105,7 +112,7 @@ def point_in_polygon(x, y, polygon):
     return inside
 
 
-def semantic_place(graph, x, y):
+def semantic_place(graph: SemanticGraph, x: float, y: float) -> str:
     """Name of the graph place whose region contains (x, y) [m], or "" if none does."""
     for place in graph.places:
         if point_in_polygon(x, y, place.region):
@@ -113,14 +120,15 @@ def semantic_place(graph, x, y):
     return ""
 
 
-def stitched_pixel(u, v, top_height):
+def stitched_pixel(u: float, v: float, top_height: int) -> tuple[str, float, float]:
     """Camera of the stitched pair that saw pixel (u, v): ('top'|'bottom', u, v_camera)."""
     if v < top_height:
         return "top", u, v
     return "bottom", u, v - top_height
 
 
-def localise_box(depth_image, box, intrinsics, camera_to_map, config):
+def localise_box(depth_image: ArrayLike, box: Sequence[float], intrinsics: Intrinsics,
+                 camera_to_map: ArrayLike, config: DepthWindowConfig) -> NDArray[np.float64] | None:
     """Box in one camera's image -> map (x, y, z) [m], or None when the depth there is invalid."""
     d = box_depth(depth_image, box, config)
     if d is None:

@@ -6,7 +6,7 @@ from pathlib import Path
 import yaml
 
 from perception.requests import RejectedUtterance
-from perception.verbal_instructions import Person
+from perception.verbal_instructions import Person, VerbalPipeline
 
 
 @dataclass(frozen=True)
@@ -31,13 +31,13 @@ class Outcome:
     rejected: str = ""   # refusal reason; "" = accepted
 
 
-def load_corpus(path):
+def load_corpus(path: str | Path) -> tuple[list[Person], list[CorpusCase]]:
     """(people, cases) of a corpus YAML file (see src/perception/data/verbal_corpus.yaml)."""
     data = yaml.safe_load(Path(path).read_text())
     people = [Person(name=p["name"], ip=str(p["ip"]), location=p["location"])
               for p in data["people"]]
     ip_of = {p.name: p.ip for p in people}
-    cases = []
+    cases: list[CorpusCase] = []
     for entry in data["cases"]:
         speaker_ip = str(entry["ip"]) if "ip" in entry else ip_of[entry["from"]]
         fields = {k: v for k, v in entry.items() if k not in ("from", "ip")}
@@ -46,7 +46,7 @@ def load_corpus(path):
     return people, cases
 
 
-def outcome_of(pipeline, text, ip, start_time=0.0):
+def outcome_of(pipeline: VerbalPipeline, text: str, ip: str, start_time: float = 0.0) -> Outcome:
     """What the pipeline makes of one sentence, in the corpus's terms."""
     try:
         interpretation, result = pipeline.process(text, ip, start_time)
@@ -58,7 +58,7 @@ def outcome_of(pipeline, text, ip, start_time=0.0):
                    target=first.target, chain=tuple(names[i.function] for i in follow_ups))
 
 
-def case_passes(case, outcome):
+def case_passes(case: CorpusCase, outcome: Outcome) -> bool:
     """True when the outcome matches every expectation of the case."""
     if case.rejected or outcome.rejected:
         return bool(case.rejected) and case.rejected in outcome.rejected
@@ -66,7 +66,7 @@ def case_passes(case, outcome):
         (case.function, case.level, case.target, case.chain)
 
 
-def function_matches(case, outcome):
+def function_matches(case: CorpusCase, outcome: Outcome) -> bool:
     """True when the requested function (or the refusal) is right, whatever the priority."""
     if case.rejected or outcome.rejected:
         return bool(case.rejected) and bool(outcome.rejected)

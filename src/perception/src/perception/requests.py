@@ -6,8 +6,10 @@ come from config/keywords.yaml (see load_keyword_config).
 """
 import functools
 import re
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import yaml
 
@@ -17,6 +19,7 @@ PRIORITY_LEVELS = ("physical", "negative", "neutral", "positive")
 
 # Words: runs of letters (any script), with one inner apostrophe ("don't", "bob's").
 _WORD = re.compile(r"[^\W\d_]+(?:['’][^\W\d_]+)?")
+Phrase = tuple[str, ...]   # lowercase words
 
 
 class RejectedUtterance(ValueError):
@@ -54,7 +57,7 @@ class KeywordConfig:
     min_english_share: float  # share of known English words below which text is refused
     english_words: frozenset  # lowercase common English words
 
-    def vocabulary(self):
+    def vocabulary(self) -> frozenset[str]:
         """Every lowercase word the configuration knows as English (not a name)."""
         words = set(self.english_words)
         for function in self.functions.values():
@@ -78,12 +81,12 @@ class FunctionMatch:
     keyword: str  # the phrase (or physical term) that selected it
 
 
-def tokenize(text):
+def tokenize(text: str) -> list[Token]:
     """Words of `text` in order, as Tokens."""
     return [Token(m.group(0), m.group(0).lower().replace("’", "'")) for m in _WORD.finditer(text)]
 
 
-def _text_of(entry, where):
+def _text_of(entry: object, where: str) -> str:
     """A word or phrase entry of the configuration, refused unless it is a string.
 
     YAML 1.1 reads the unquoted words no, yes, on, off, true, false, y, n as booleans: a negation
@@ -96,7 +99,7 @@ def _text_of(entry, where):
     return entry
 
 
-def phrase_of(entry, where):
+def phrase_of(entry: object, where: str) -> Phrase:
     """A configuration phrase as a tuple of lowercase words; raises KeywordConfigError."""
     words = tuple(w.lower().replace("’", "'") for w in _WORD.findall(_text_of(entry, where)))
     if not words:
@@ -105,7 +108,7 @@ def phrase_of(entry, where):
 
 
 @functools.lru_cache(maxsize=4096)
-def inflections(word):
+def inflections(word: str) -> frozenset[str]:
     """A keyword word and its regular inflections (remind: reminds, reminded, reminding), so that
     "reminded me", as a recogniser may hear "remind me", still matches."""
     forms = {word, word + "s", word + "es", word + "ed", word + "ing"}
@@ -114,21 +117,22 @@ def inflections(word):
     return frozenset(forms)
 
 
-def _matches_at(words, start, phrase):
+def _matches_at(words: Sequence[str], start: int, phrase: Phrase) -> bool:
     return all(words[start + k] in inflections(part) for k, part in enumerate(phrase))
 
 
-def find_phrases(words, phrases):
+def find_phrases(words: Sequence[str], phrases: Iterable[Phrase]) -> list[tuple[int, Phrase]]:
     """All (start index, phrase) where a phrase (or a regular inflection of its words) occurs
     in the word list, sorted by start, longer phrases first."""
-    found = []
+    found: list[tuple[int, Phrase]] = []
     for phrase in phrases:
         found.extend((i, phrase) for i in range(len(words) - len(phrase) + 1)
                      if _matches_at(words, i, phrase))
     return sorted(found, key=lambda hit: (hit[0], -len(hit[1])))
 
 
-def check_text(text, config, is_known_name):
+def check_text(text: str, config: KeywordConfig,
+               is_known_name: Callable[[str], bool]) -> list[Token]:
     """Refuse empty, over-long and non-English text; return its tokens otherwise.
 
     Args:
@@ -153,16 +157,16 @@ def check_text(text, config, is_known_name):
     return tokens
 
 
-def _covered(start, size, spans):
+def _covered(start: int, size: int, spans: Iterable[tuple[int, int]]) -> bool:
     return any(s <= start and start + size <= s + n for s, n in spans)
 
 
-def _negated(words, start, config):
+def _negated(words: Sequence[str], start: int, config: KeywordConfig) -> bool:
     window = words[max(0, start - config.negation_window):start]
     return any(True for _ in find_phrases(window, config.negations))
 
 
-def find_physical_terms(words, config):
+def find_physical_terms(words: Sequence[str], config: KeywordConfig) -> tuple[str, ...]:
     """§3.3: the physical terms of the dictionary that occur in the sentence, in order.
 
     Beyond the seed's plain dictionary look-up, a term inside an exception phrase ("fell asleep")
@@ -174,10 +178,11 @@ def find_physical_terms(words, config):
                  and not _negated(words, start, config))
 
 
-def extract_function(words, config, physical_terms):
+def extract_function(words: Sequence[str], config: KeywordConfig,
+                     physical_terms: Sequence[str]) -> FunctionMatch | None:
     """Fig. 3-15: the robot function requested by the earliest keyword; with no keyword, the
     physical function when a physical term occurs; None when nothing is requested."""
-    hits = []
+    hits: list[tuple[int, int, str, Phrase]] = []
     for function in config.functions.values():
         hits.extend((start, -len(phrase), function.name, phrase)
                     for start, phrase in find_phrases(words, function.keywords))
@@ -189,7 +194,8 @@ def extract_function(words, config, physical_terms):
     return None
 
 
-def find_target(tokens, config, canonical_name):
+def find_target(tokens: Sequence[Token], config: KeywordConfig,
+                canonical_name: Callable[[str], str | None]) -> str | None:
     """The household member the sentence names, or None (the speaker is the target).
 
     Args:
@@ -215,7 +221,7 @@ def find_target(tokens, config, canonical_name):
     return None
 
 
-def _function_from_yaml(name, entry):
+def _function_from_yaml(name: str, entry: Any) -> RobotFunction:
     where = f"functions.{name}"
     try:
         function = RobotFunction(
@@ -232,7 +238,7 @@ def _function_from_yaml(name, entry):
     return function
 
 
-def _validate(config):
+def _validate(config: KeywordConfig) -> None:
     codes = [f.code for f in config.functions.values()]
     if len(set(codes)) != len(codes):
         raise KeywordConfigError(f"functions: codes must be unique; got {codes}")
@@ -252,7 +258,7 @@ def _validate(config):
         raise KeywordConfigError(f"negation_window must be >= 0; got {config.negation_window}")
 
 
-def keyword_config_from_dict(data):
+def keyword_config_from_dict(data: Any) -> KeywordConfig:
     """KeywordConfig from the parsed YAML mapping; raises KeywordConfigError."""
     try:
         config = KeywordConfig(
@@ -283,7 +289,7 @@ def keyword_config_from_dict(data):
     return config
 
 
-def load_keyword_config(path):
+def load_keyword_config(path: str | Path) -> KeywordConfig:
     """KeywordConfig from config/keywords.yaml; raises KeywordConfigError naming the file."""
     path = Path(path)
     try:

@@ -5,9 +5,13 @@ schedule, a reminder (the seed's `deviation_function`; a deployment may check on
 instead). Beyond the seed, a reminder when a schedule entry starts. Priority: the self-generated
 level of config/priorities.yaml.
 """
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
+from human_db.model import Human
+from human_db.schedule import ScheduleCheck
 from task_planner.instruction import ROBOT, Instruction
+from task_planner.reward import Priority
 
 
 @dataclass
@@ -40,7 +44,9 @@ class SelfInstructionGenerator:
         activity_codes: {activity: Instruction.status code}.
     """
 
-    def __init__(self, config, functions, priority, place_ids, activity_codes):
+    def __init__(self, config: SelfInstructionConfig, functions: Mapping[str, tuple[int, float]],
+                 priority: Priority, place_ids: Mapping[str, int],
+                 activity_codes: Mapping[str, int]) -> None:
         for name in list(config.recommendations.values()) + [config.remind_function,
                                                              config.deviation_function]:
             if name not in functions:
@@ -48,9 +54,10 @@ class SelfInstructionGenerator:
                                  f"(known: {sorted(functions)})")
         self.config, self.functions, self.priority = config, functions, priority
         self.place_ids, self.activity_codes = place_ids, activity_codes
-        self._last = {}          # (person, function) -> stamp
+        self._last: dict[tuple[str, str, str], float] = {}   # (person, function, why) -> stamp
 
-    def _make(self, function, obs, text, why="observed"):
+    def _make(self, function: str, obs: Observation, text: str,
+              why: str = "observed") -> Instruction | None:
         key = (obs.person, function, why)
         if key in self._last and obs.stamp - self._last[key] < self.config.repeat_after:
             return None
@@ -66,9 +73,10 @@ class SelfInstructionGenerator:
             destination_name=obs.place, text=text)
         return instruction
 
-    def generate(self, obs, schedule_check=None):
+    def generate(self, obs: Observation,
+                 schedule_check: ScheduleCheck | None = None) -> list[Instruction]:
         """Instructions for one observation; schedule_check: human_db ScheduleCheck or None."""
-        made = []
+        made: list[Instruction | None] = []
         function = self.config.recommendations.get(obs.activity)
         if function:
             made.append(self._make(function, obs,
@@ -76,6 +84,8 @@ class SelfInstructionGenerator:
                                    f"doing '{obs.activity}' in {obs.place}"))
         if schedule_check is not None and schedule_check.deviates:
             entry = schedule_check.entry
+            if entry is None:
+                raise ValueError("a schedule deviation without the schedule entry in force")
             function = self.config.deviation_function
             made.append(self._make(function, obs,
                                    f"{function.replace('_', ' ')} {obs.person}: schedule says "
@@ -83,7 +93,8 @@ class SelfInstructionGenerator:
                                    f"'{obs.activity}' in {obs.place}", why="deviation"))
         return [m for m in made if m is not None]
 
-    def due_reminders(self, humans, previous_s, now_s, stamp):
+    def due_reminders(self, humans: Iterable[Human], previous_s: float, now_s: float,
+                      stamp: float) -> list[Instruction]:
         """Reminders of the schedule entries that started in (previous_s, now_s] [s since
         midnight], served where the person was last seen (else where the entry is).
 
@@ -93,7 +104,7 @@ class SelfInstructionGenerator:
         """
         if not self.config.timed_reminders:
             return []
-        made = []
+        made: list[Instruction | None] = []
         for human in humans:
             for entry in human.schedules:
                 if not started_between(entry.start, previous_s, now_s):
@@ -107,7 +118,7 @@ class SelfInstructionGenerator:
         return [m for m in made if m is not None]
 
 
-def started_between(start_s, previous_s, now_s):
+def started_between(start_s: float, previous_s: float, now_s: float) -> bool:
     """True when a time of day `start_s` lies in (previous_s, now_s], across midnight too."""
     if previous_s <= now_s:
         return previous_s < start_s <= now_s

@@ -1,5 +1,6 @@
 """Sentence sentiment with VADER (thesis 000 §3.1.3, §3.3): compound score and its label."""
 import re
+from collections.abc import Collection
 from dataclasses import dataclass
 
 from vaderSentiment.vaderSentiment import SentimentIntensityAnalyzer
@@ -20,7 +21,7 @@ class Sentiment:
     label: str       # POSITIVE, NEUTRAL or NEGATIVE
 
 
-def sentiment_label(compound, threshold=SentimentConfig.threshold):
+def sentiment_label(compound: float, threshold: float = SentimentConfig.threshold) -> str:
     """§3.3: compound >= +threshold is positive, <= -threshold negative, neutral in between.
 
     The seed cites VADER's thresholds of ±0.05; VADER's documentation counts the boundary value
@@ -35,7 +36,7 @@ def sentiment_label(compound, threshold=SentimentConfig.threshold):
     return NEUTRAL
 
 
-def mood_text(text, ignored_words):
+def mood_text(text: str, ignored_words: Collection[str]) -> str:
     """The text VADER should score: `text` without words that only frame a request.
 
     Our addition to §3.3: request verbs such as "cheer", "help" or "play" are positive in VADER's
@@ -50,10 +51,10 @@ def mood_text(text, ignored_words):
 class SentimentAnalyzer:
     """VADER with its bundled lexicon (no network): text -> Sentiment."""
 
-    def __init__(self, config=SentimentConfig()):
+    def __init__(self, config: SentimentConfig = SentimentConfig()) -> None:
         self.config = config
         self._vader = SentimentIntensityAnalyzer()  # reads the lexicon shipped in the package
 
-    def analyse(self, text):
+    def analyse(self, text: str) -> Sentiment:
         compound = self._vader.polarity_scores(text)["compound"]
         return Sentiment(compound=compound, label=sentiment_label(compound, self.config.threshold))

@@ -18,7 +18,7 @@ class Voice:
     pitch: int = 50           # espeak-ng pitch, 0..99 (its default)
 
 
-def voice_of(spec):
+def voice_of(spec: str) -> Voice:
     """Voice of a `name[:words-per-minute]` spec; ValueError naming the spec when malformed."""
     name, _, wpm = spec.partition(":")
     if not name or (wpm and not wpm.isdigit()) or (wpm and int(wpm) <= 0):
@@ -26,7 +26,7 @@ def voice_of(spec):
     return Voice(name=name, words_per_min=int(wpm or Voice.words_per_min))
 
 
-def _tool(name):
+def _tool(name: str) -> str:
     path = shutil.which(name)
     if path is None:
         raise SynthesisUnavailable(f"{name} is not installed: run scripts/setup (it installs the "
@@ -34,7 +34,8 @@ def _tool(name):
     return path
 
 
-def synthesise(text, wav_path, voice=Voice(), sample_rate=16000):
+def synthesise(text: str, wav_path: str | Path, voice: Voice = Voice(),
+               sample_rate: int = 16000) -> Path:
     """Speak `text` into `wav_path` as 16-bit mono PCM at `sample_rate` [Hz]."""
     espeak, sox = _tool("espeak-ng"), _tool("sox")
     with tempfile.TemporaryDirectory() as workdir:

@@ -11,10 +11,12 @@ import numbers
 import os
 import time
 import wave
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from perception.stt_vocabulary import (Decoding, choose_reading, suppressed_outside,
                                       vocabulary_path, vocabulary_words, window_log_prob)
@@ -47,9 +49,9 @@ class AudioLimits:
     max_audio_s: float = MAX_AUDIO_S          # [s] longest utterance
     max_channels: int = MAX_CHANNELS          # channels of a WAV file
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("min_sample_rate", "max_sample_rate", "max_audio_s", "max_channels"):
-            value = getattr(self, name)
+            value: float = getattr(self, name)
             if not (isinstance(value, numbers.Real) and 0 < value < math.inf):
                 raise ValueError(f"AudioLimits.{name} must be a positive finite number; "
                                  f"got {value!r}")
@@ -57,25 +59,26 @@ class AudioLimits:
             raise ValueError(f"AudioLimits.min_sample_rate {self.min_sample_rate} is above "
                              f"max_sample_rate {self.max_sample_rate}")
 
-    def max_samples(self, rate):
+    def max_samples(self, rate: float) -> int:
         """Most samples `max_audio_s` holds at `rate` [Hz]."""
         return math.ceil(self.max_audio_s * rate)
 
 
-def _number(value):
+def _number(value: float) -> str:
     """A declared value for a reason: integral numbers without a fraction or exponent."""
     if isinstance(value, numbers.Real) and math.isfinite(value) and value == int(value):
         return str(int(value))
     return f"{value:g}" if isinstance(value, numbers.Real) else repr(value)
 
 
-def check_audio(sample_rate, samples, channels=1, sample_width=PCM_SAMPLE_WIDTH,
-                limits=AudioLimits()):
+def check_audio(sample_rate: float, samples: int, channels: int = 1,
+                sample_width: int = PCM_SAMPLE_WIDTH,
+                limits: AudioLimits = AudioLimits()) -> str | None:
     """Why audio declaring `sample_rate` [Hz], `samples` frames (samples per channel),
     `channels` and `sample_width` [bytes] cannot be transcribed; None when it can.
 
     Each reason names the field and its value; several are joined with "; "."""
-    reasons = []
+    reasons: list[str] = []
     rate_ok = False
     if not isinstance(sample_rate, numbers.Real) or isinstance(sample_rate, bool):
         reasons.append(f"sample_rate {sample_rate!r} is not a number")
@@ -111,9 +114,9 @@ class SttConfig:
     beam_size: int = 1           # 1 = greedy decoding (fastest); 5 = Whisper's default search
     language: str = "en"         # tiny.en is English only
     vad_filter: bool = True      # Silero VAD drops silence before decoding (no text from silence)
-    temperatures: tuple = (0.0,)  # decoding temperatures; one 0.0 = deterministic. Whisper's
-    #                               fallback (0.2 ... 1.0 on poor decodes) samples at random, so
-    #                               the same audio could give different text run to run
+    # decoding temperatures; one 0.0 = deterministic. Whisper's fallback (0.2 ... 1.0 on poor
+    # decodes) samples at random, so the same audio could give different text run to run
+    temperatures: tuple[float, ...] = (0.0,)
     max_compression_ratio: float = 2.4  # a segment whose text zlib compresses by more than this
     #                                     is stuck repeating ("the end of the end of ..."),
     #                                     Whisper's own test for a failed decode: beam search is
@@ -126,7 +129,7 @@ class SttConfig:
     #                                 most this below the free one (speech outside the
     #                                 vocabulary scores far lower)
 
-    def check(self):
+    def check(self) -> None:
         """ValueError naming a setting no decoding can use."""
         for name in ("cpu_threads", "beam_size"):
             if getattr(self, name) < 1:
@@ -150,7 +153,7 @@ NODE_FIELDS = ("model_dir", "compute_type", "cpu_threads", "beam_size", "vad_fil
                "max_compression_ratio", "vocabulary", "vocabulary_margin")
 
 
-def load_stt_config(path):
+def load_stt_config(path: str | Path) -> SttConfig:
     """An SttConfig from a YAML mapping of the fields the STT node reads (NODE_FIELDS; e.g.
     config/semnav_stt.yaml, which semantic_nav.launch loads as the node's parameters); fields
     left out keep their defaults. A missing file is a FileNotFoundError; bad YAML, an unknown
@@ -195,13 +198,13 @@ class Transcript:
     free_text: str = ""  # with a vocabulary: the free decoding's text (what `text` replaced)
 
 
-def model_cache_root():
+def model_cache_root() -> Path:
     """Directory of every fetched artefact (scripts/fetch_models writes there)."""
     default = Path.home() / ".cache" / "tamp_ws" / "models"
     return Path(os.environ.get("TAMP_MODEL_CACHE", default))
 
 
-def whisper_model_dir(model_dir=""):
+def whisper_model_dir(model_dir: str = "") -> Path:
     """The Whisper tiny.en directory, checked; raises ModelMissing naming scripts/setup."""
     directory = Path(model_dir) if model_dir else model_cache_root() / MODEL_NAME
     missing = [name for name in MODEL_FILES if not (directory / name).is_file()]
@@ -212,7 +215,8 @@ def whisper_model_dir(model_dir=""):
     return directory
 
 
-def resample(samples, rate_in, rate_out=WHISPER_RATE, max_s=MAX_AUDIO_S):
+def resample(samples: NDArray[np.floating], rate_in: float, rate_out: float = WHISPER_RATE,
+             max_s: float = MAX_AUDIO_S) -> NDArray[np.float32]:
     """Band-limited resampling of a mono signal by the FFT (zero-padding or truncating the
     spectrum), so downsampling does not alias. Refuses (AudioError) a rate that is not a finite
     number > 0 and an output longer than `max_s` [s] or empty from a non-empty input."""
@@ -237,12 +241,13 @@ def resample(samples, rate_in, rate_out=WHISPER_RATE, max_s=MAX_AUDIO_S):
     return (np.fft.irfft(spectrum, size_out) * (size_out / samples.size)).astype(np.float32)
 
 
-def pcm16_to_float(samples):
+def pcm16_to_float(samples: ArrayLike) -> NDArray[np.float32]:
     """int16 PCM -> float32 in [-1, 1)."""
     return np.asarray(samples, dtype=np.int16).astype(np.float32) / 32768.0
 
 
-def audio_from_pcm16(samples, sample_rate, limits=AudioLimits()):
+def audio_from_pcm16(samples: Sequence[int] | np.ndarray, sample_rate: float,
+                     limits: AudioLimits = AudioLimits()) -> NDArray[np.float32]:
     """Mono int16 PCM declared at `sample_rate` [Hz] -> float32 at 16 kHz, checked first
     (`check_audio`); raises AudioError with the reason."""
     reason = check_audio(sample_rate, len(samples), limits=limits)
@@ -251,7 +256,7 @@ def audio_from_pcm16(samples, sample_rate, limits=AudioLimits()):
     return resample(pcm16_to_float(samples), sample_rate, max_s=limits.max_audio_s)
 
 
-def read_wav(path, limits=AudioLimits()):
+def read_wav(path: str | Path, limits: AudioLimits = AudioLimits()) -> NDArray[np.float32]:
     """A 16-bit PCM WAV file as float32 mono at 16 kHz; raises AudioError naming the file. The
     header is checked (`check_audio`) before the samples are read."""
     try:
@@ -274,7 +279,7 @@ def read_wav(path, limits=AudioLimits()):
 class SpeechToText:
     """faster-whisper over the cached Whisper tiny.en: 16 kHz float audio -> Transcript."""
 
-    def __init__(self, config=SttConfig()):
+    def __init__(self, config: SttConfig = SttConfig()) -> None:
         from faster_whisper import WhisperModel  # heavy import, only where STT is used
         from faster_whisper.tokenizer import Tokenizer
 
@@ -284,14 +289,15 @@ class SpeechToText:
         self._model = WhisperModel(str(self.model_dir), device="cpu",
                                    compute_type=config.compute_type,
                                    cpu_threads=config.cpu_threads)
-        self._held_suppress = None   # suppress_tokens of the decoding held to the vocabulary
+        # suppress_tokens of the decoding held to the vocabulary
+        self._held_suppress: list[int] | None = None
         if words:
             tokenizer = Tokenizer(self._model.hf_tokenizer, self._model.model.is_multilingual,
                                   task="transcribe", language=config.language)
             self._held_suppress = suppressed_outside(tokenizer.encode, tokenizer.eot, words,
                                                      tokenizer.non_speech_tokens)
 
-    def transcribe(self, samples):
+    def transcribe(self, samples: ArrayLike) -> Transcript:
         """Text of one utterance (float32 mono at 16 kHz); "" when it holds no speech or every
         decoding of it got stuck repeating. With a vocabulary, the reading held to it when
         stt_vocabulary.choose_reading takes it."""
@@ -305,14 +311,15 @@ class SpeechToText:
         if free is None and self.config.beam_size > 1:
             free = self._decode(samples, 1)   # beam search looped where greedy decoding may not
         text, held = (free.text if free else ""), False
-        if self._held_suppress is not None and text:
+        if self._held_suppress is not None and free is not None and text:
             held_decoding = self._decode(samples, self.config.beam_size, self._held_suppress)
             text, held = choose_reading(free, held_decoding, self.config.vocabulary_margin)
         return Transcript(text=text, audio_s=samples.size / WHISPER_RATE,
                           latency_s=time.monotonic() - start, held=held,
                           free_text=free.text if self._held_suppress is not None and free else "")
 
-    def _decode(self, samples, beam_size, suppress_tokens=(-1,)):
+    def _decode(self, samples: NDArray[np.float32], beam_size: int,
+                suppress_tokens: Sequence[int] = (-1,)) -> Decoding | None:
         """The Decoding of the segments Whisper decodes with `beam_size` (`suppress_tokens`:
         Whisper's default set, or the held decoding's); None when a segment is stuck repeating
         (its compression ratio above max_compression_ratio): that text is no reading."""

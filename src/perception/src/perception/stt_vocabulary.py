@@ -12,8 +12,10 @@ mostly far lower.
 """
 import math
 import re
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 WORD = re.compile(r"[a-z]+(?:'[a-z]+)?")
 PLACEHOLDER = re.compile(r"\{[^{}]*\}")   # "{dir}" in a phrase template: no word of its own
@@ -32,7 +34,18 @@ class Decoding:
     log_prob: float   # Whisper's log-probability of its tokens (window_log_prob) [nats]
 
 
-def vocabulary_path(path, config_dir=None):
+class Segment(Protocol):
+    """What window_log_prob reads of a faster-whisper segment."""
+
+    @property
+    def seek(self) -> int: ...          # start of its 30-s window [frames]
+    @property
+    def avg_logprob(self) -> float: ...
+    @property
+    def tokens(self) -> list[int]: ...
+
+
+def vocabulary_path(path: str | Path, config_dir: str | Path | None = None) -> Path:
     """The file of a vocabulary setting: an absolute path (or one from ~) as it is, a relative
     one in tamp_resources' config folder (`config_dir`, found with rospkg when None), so that
     one setting reads the same for the STT node and for an evaluation. VocabularyError when
@@ -49,7 +62,7 @@ def vocabulary_path(path, config_dir=None):
     return Path(config_dir) / path
 
 
-def _strings(data):
+def _strings(data: object) -> Iterator[str]:
     """Every string of parsed YAML, mapping keys left out."""
     if isinstance(data, str):
         yield data
@@ -61,7 +74,7 @@ def _strings(data):
             yield from _strings(item)
 
 
-def vocabulary_words(path):
+def vocabulary_words(path: str | Path) -> frozenset[str]:
     """The words of a vocabulary file, lower-cased (letters with at most one apostrophe inside)
     -> frozenset: of a YAML file (.yaml, .yml; e.g. config/semnav_phrases.yaml) its string
     values, without mapping keys, comments and {placeholders}; of any other file its whole
@@ -81,12 +94,13 @@ def vocabulary_words(path):
     return words
 
 
-def suppressed_outside(encode, end_of_text, words, barred=()):
+def suppressed_outside(encode: Callable[[str], Iterable[int]], end_of_text: int,
+                       words: Iterable[str], barred: Iterable[int] = ()) -> list[int]:
     """Token ids below `end_of_text` (Whisper's text tokens) that no form of `words` uses: the
     word with and without a leading space, lower-case and capitalised, plus PUNCTUATION; and
     the `barred` ones (Whisper's non-speech tokens, which its free decoding bars too).
     `encode`: text -> token ids (Whisper's tokenizer). -> sorted list, for suppress_tokens."""
-    allowed = set()
+    allowed: set[int] = set()
     for word in words:
         for form in (word, word.capitalize()):
             allowed.update(encode(" " + form))
@@ -97,18 +111,18 @@ def suppressed_outside(encode, end_of_text, words, barred=()):
     return [token for token in range(end_of_text) if token not in allowed]
 
 
-def window_log_prob(segments):
+def window_log_prob(segments: Iterable[Segment]) -> float:
     """Whisper's log-probability of a decoding's tokens from faster-whisper's segments: every
     segment cut from one 30-s window (same `seek`) carries that window's avg_logprob, its summed
     log-probability over the window's tokens and end divided by their count."""
-    windows = {}
+    windows: dict[int, tuple[float, int]] = {}
     for segment in segments:
         average, tokens = windows.get(segment.seek, (segment.avg_logprob, 0))
         windows[segment.seek] = (average, tokens + len(segment.tokens))
     return sum(average * (tokens + 1) for average, tokens in windows.values())
 
 
-def choose_reading(free, held, margin):
+def choose_reading(free: Decoding, held: Decoding | None, margin: float) -> tuple[str, bool]:
     """The text to publish: the held decoding's when it exists (it is None when it got stuck
     repeating) and scores at most `margin` nats below the free one, else the free decoding's.
     -> (text, True when the held reading was taken)."""

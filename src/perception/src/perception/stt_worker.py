@@ -11,9 +11,13 @@ is transcribed again (speech or silence).
 import logging
 import threading
 import traceback
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from perception.stt import AudioError, AudioLimits, audio_from_pcm16
+import numpy as np
+from numpy.typing import ArrayLike
+
+from perception.stt import AudioError, AudioLimits, Transcript, audio_from_pcm16
 
 OK, WARN, ERROR = 0, 1, 2  # diagnostic_msgs/DiagnosticStatus levels
 MAX_REASON_CHARS = 300     # a reason shown on /diagnostics is cut to this length
@@ -22,7 +26,7 @@ WORKER = "utterance"       # the guard's worker name for the handling of one utt
 
 @dataclass(frozen=True)
 class AudioInput:
-    samples: object       # int16 PCM, mono (sequence or numpy array); or float32 at 16 kHz
+    samples: Sequence[int] | np.ndarray   # int16 PCM, mono; or float32 at 16 kHz
     sample_rate: float    # [Hz] as the sender declared it
     ip: str = ""          # the sender's phone IP; "" = the robot's microphone
     stamp: object = None  # when it was spoken (the caller's time type), handed back to publish
@@ -36,7 +40,7 @@ class Outcome:
     reason: str = ""  # why it was refused or failed
 
 
-def error_reason(error):
+def error_reason(error: BaseException) -> str:
     """'TypeName: message (at file:line in function)' of an exception, on one line."""
     text = " ".join(str(error).split())
     reason = f"{type(error).__name__}: {text}" if text else type(error).__name__
@@ -50,14 +54,14 @@ def error_reason(error):
 class SttHealth:
     """Counts and last reasons of the worker, thread-safe; `status()` is its diagnostics."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._lock = threading.Lock()
         self.counts = {"utterances": 0, "silent": 0, "refused": 0, "failed": 0}
         self.last_refusal = self.last_failure = ""
         self.last_latency_s = self.last_real_time_factor = 0.0
         self._level = OK
 
-    def record(self, outcome, transcript=None):
+    def record(self, outcome: Outcome, transcript: Transcript | None = None) -> None:
         with self._lock:
             self.counts[{"published": "utterances"}.get(outcome.kind, outcome.kind)] += 1
             if transcript is not None:
@@ -72,7 +76,7 @@ class SttHealth:
             else:
                 self._level = OK
 
-    def status(self, **extra):
+    def status(self, **extra: object) -> tuple[int, str, dict[str, str]]:
         """(level, message, {key: text}) now; `extra` values are added (e.g. queued=2)."""
         with self._lock:
             if self._level == ERROR:
@@ -90,7 +94,7 @@ class SttHealth:
             return self._level, message, {key: str(value) for key, value in values.items()}
 
 
-def _python_log(level, text):
+def _python_log(level: str, text: str) -> None:
     logging.getLogger("perception.stt").log(
         {"info": logging.INFO, "warn": logging.WARNING}.get(level, logging.ERROR), text)
 
@@ -101,17 +105,20 @@ class SttWorker:
     "error"; guard(worker, context, fn, *args, on_error=...): the node's guard, with the signature
     of `supervision.health.Health.run` (`Supervisor.health.run` in the node)."""
 
-    def __init__(self, transcribe, publish, limits=AudioLimits(), log=_python_log, *, guard):
+    def __init__(self, transcribe: Callable[[ArrayLike], Transcript],
+                 publish: Callable[[str, AudioInput], None], limits: AudioLimits = AudioLimits(),
+                 log: Callable[[str, str], None] = _python_log, *,
+                 guard: Callable[..., Outcome | None]) -> None:
         self.transcribe, self.publish, self.limits, self.log = transcribe, publish, limits, log
         self.guard = guard
         self.health = SttHealth()
 
-    def handle(self, audio, decoded=False):
+    def handle(self, audio: AudioInput, decoded: bool = False) -> Outcome | None:
         """One utterance -> its Outcome; never raises. `decoded`: the samples are already float32
         mono at 16 kHz (a WAV file read by `stt.read_wav`)."""
-        failed = []
+        failed: list[Outcome] = []
 
-        def fail(error):
+        def fail(error: BaseException) -> None:
             """The guard's on_error: the utterance fails with the reason of `error`."""
             failed.append(Outcome("failed", reason=error_reason(error)))
             self.health.record(failed[0])
@@ -121,7 +128,7 @@ class SttWorker:
         outcome = self.guard(WORKER, f"utterance from {audio.origin}", self._handle, audio,
                              decoded, on_error=fail)
         return failed[0] if failed else outcome
-    def _handle(self, audio, decoded):
+    def _handle(self, audio: AudioInput, decoded: bool) -> Outcome:
         try:
             samples = audio.samples if decoded else audio_from_pcm16(
                 audio.samples, audio.sample_rate, self.limits)

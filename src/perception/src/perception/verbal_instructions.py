@@ -12,14 +12,18 @@ back to the speaker with the reason: one refused here (`rejection_sentence`), an
 planner did not take (`refusal_sentence`).
 """
 from abc import ABC, abstractmethod
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 
 from task_planner.instruction import HUMAN, NAME_MAX_CHARS, Instruction
+from task_planner.reward import Priority
 from task_planner.robot_functions import about_text
+from task_planner.submission import Submission
 
-from perception.requests import (CAREGIVER, PRIORITY_LEVELS, RejectedUtterance, check_text,
-                                 extract_function, find_physical_terms, find_target)
-from perception.sentiment import mood_text
+from perception.requests import (CAREGIVER, PRIORITY_LEVELS, KeywordConfig, RejectedUtterance,
+                                 RobotFunction, check_text, extract_function,
+                                 find_physical_terms, find_target)
+from perception.sentiment import SentimentAnalyzer, mood_text
 
 ANONYMOUS = "anonymous"
 # An unknown phone's request is served as "anonymous@<address>", which must fit an instruction's
@@ -38,14 +42,14 @@ class PeopleDirectory(ABC):
     """Who is who: the human database seen from verbal perception."""
 
     @abstractmethod
-    def lookup_by_ip(self, ip):
+    def lookup_by_ip(self, ip: str) -> Person | None:
         """Person whose phone has this IP, or None."""
 
     @abstractmethod
-    def lookup_by_name(self, name):
+    def lookup_by_name(self, name: str) -> Person | None:
         """Person of this name (case-insensitive), or None."""
 
-    def location_of(self, name):
+    def location_of(self, name: str) -> str:
         """Last known place of the named person; "" when unknown."""
         person = self.lookup_by_name(name)
         return person.location if person else ""
@@ -54,14 +58,14 @@ class PeopleDirectory(ABC):
 class DictPeopleDirectory(PeopleDirectory):
     """PeopleDirectory over an in-memory list of Persons."""
 
-    def __init__(self, people):
+    def __init__(self, people: Collection[Person]) -> None:
         self._by_name = {p.name.lower(): p for p in people}
         self._by_ip = {p.ip: p for p in people if p.ip}
 
-    def lookup_by_ip(self, ip):
+    def lookup_by_ip(self, ip: str) -> Person | None:
         return self._by_ip.get(ip)
 
-    def lookup_by_name(self, name):
+    def lookup_by_name(self, name: str) -> Person | None:
         return self._by_name.get(name.lower())
 
 
@@ -73,9 +77,9 @@ class Interpretation:
     compound: float        # VADER compound score
     sentiment: str         # positive / neutral / negative (§3.3)
     physical_terms: tuple  # physical terms found (§3.3)
-    function: object       # requests.RobotFunction requested
+    function: RobotFunction  # robot function requested
     keyword: str           # phrase that selected the function
-    target_name: object    # named person (str), or None when the speaker is the target
+    target_name: str | None  # named person, or None when the speaker is the target
     level: str             # priority level: physical / negative / neutral / positive
 
 
@@ -85,7 +89,7 @@ class BuildResult:
     notes: tuple         # human-readable remarks worth logging (anonymous source, ...)
 
 
-def priority_level(physical_terms, sentiment):
+def priority_level(physical_terms: Sequence[str], sentiment: str) -> str:
     """§4.2.1: physical help outranks mood; otherwise the sentiment label is the level.
 
     VADER scores "I have a headache and fever" 0.0 (neutral), so physical terms must decide.
@@ -97,7 +101,7 @@ def priority_level(physical_terms, sentiment):
     return sentiment
 
 
-def check_phone(ip):
+def check_phone(ip: str) -> None:
     """Refuse a phone address that cannot name a request's source: longer than PHONE_MAX_CHARS,
     or holding spaces or control characters. Raises RejectedUtterance naming the problem."""
     if len(ip) > PHONE_MAX_CHARS:
@@ -107,13 +111,14 @@ def check_phone(ip):
         raise RejectedUtterance(f"the phone address {ip!r} holds spaces or control characters")
 
 
-def interpret(text, keywords, analyser, directory):
+def interpret(text: str, keywords: KeywordConfig, analyser: SentimentAnalyzer,
+              directory: PeopleDirectory) -> Interpretation:
     """Fig. 3-15: sentiment, physical terms, requested function and target of one sentence.
 
     Raises RejectedUtterance for empty, over-long or non-English text, for a sentence that asks
     for no robot function, and for an unknown target name.
     """
-    def canonical_name(word):
+    def canonical_name(word: str) -> str | None:
         person = directory.lookup_by_name(word)
         return person.name if person else None
 
@@ -133,7 +138,8 @@ def interpret(text, keywords, analyser, directory):
 class InstructionBuilder:
     """Table 4-1 instructions from Interpretations, with provisional ids (see above)."""
 
-    def __init__(self, keywords, priorities, place_ids, directory):
+    def __init__(self, keywords: KeywordConfig, priorities: Mapping[str, Priority],
+                 place_ids: Mapping[str, int], directory: PeopleDirectory) -> None:
         """Args:
             priorities: {level: task_planner.reward.Priority} (config/priorities.yaml, read by
                 load_priorities) holding every level of Table 5-5 that speech can produce.
@@ -150,9 +156,9 @@ class InstructionBuilder:
         self.place_ids = place_ids
         self.directory = directory
 
-    def build(self, interpretation, ip, start_time):
+    def build(self, interpretation: Interpretation, ip: str, start_time: float) -> BuildResult:
         """§4.2.1: the instruction (or chain) for one interpreted utterance from phone `ip`."""
-        notes = []
+        notes: list[str] = []
         speaker = self.directory.lookup_by_ip(ip)
         if speaker is None:
             source = f"{ANONYMOUS}@{ip}" if ip else ANONYMOUS
@@ -178,7 +184,7 @@ class InstructionBuilder:
             previous_id = instruction.id
         return BuildResult(tuple(instructions), tuple(notes))
 
-    def _place_of(self, name, notes):
+    def _place_of(self, name: str, notes: list[str]) -> str:
         """Graph place of the named person: their last known location, else the default place."""
         person = self.directory.lookup_by_name(name)
         location = person.location if person else ""
@@ -188,8 +194,9 @@ class InstructionBuilder:
         notes.append(f"{name}: {why}; serving at {self.keywords.default_place}")
         return self.keywords.default_place
 
-    def _instruction(self, provisional_id, interpretation, function, source, person, previous_id,
-                     start_time, text, notes):
+    def _instruction(self, provisional_id: int, interpretation: Interpretation,
+                     function: RobotFunction, source: str, person: str, previous_id: int,
+                     start_time: float, text: str, notes: list[str]) -> Instruction:
         priority = self.priorities[interpretation.level]
         place = self._place_of(person, notes)
         instruction = Instruction(
@@ -204,25 +211,27 @@ class InstructionBuilder:
 class VerbalPipeline:
     """Fig. 3-15 end to end: utterance text + phone IP -> instructions (or RejectedUtterance)."""
 
-    def __init__(self, keywords, analyser, builder, directory):
+    def __init__(self, keywords: KeywordConfig, analyser: SentimentAnalyzer,
+                 builder: InstructionBuilder, directory: PeopleDirectory) -> None:
         self.keywords = keywords
         self.analyser = analyser
         self.builder = builder
         self.directory = directory
 
-    def process(self, text, ip, start_time):
+    def process(self, text: str, ip: str,
+                start_time: float) -> tuple[Interpretation, BuildResult]:
         """Returns (Interpretation, BuildResult); raises RejectedUtterance naming the problem."""
         check_phone(ip)
         interpretation = interpret(text, self.keywords, self.analyser, self.directory)
         return interpretation, self.builder.build(interpretation, ip, start_time)
 
 
-def rejection_sentence(reason):
+def rejection_sentence(reason: str) -> str:
     """What the robot says when it does not take a spoken request, `reason` saying why."""
     return f"Sorry, I cannot take your request: {reason}"
 
 
-def refusal_sentence(submission):
+def refusal_sentence(submission: Submission) -> str:
     """What the robot says when the task planner did not take (all of) a spoken request:
     task_planner.submission.Submission -> sentence naming the reason; "" when all was taken."""
     if submission.complete:

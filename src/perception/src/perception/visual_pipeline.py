@@ -6,12 +6,16 @@ every joint and shirt colour at joints 1, 2, 5 -- what the simulator publishes a
 front end (YOLO + mediapipe + depth image) produces. Problems with one person (missing joints,
 no valid depth) are reported in that person's `problems` instead of raising.
 """
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from floorplan.semantic_graph import SemanticGraph
 
-from perception.activity import BodyView, SeenObject, recognise_activity, torso_top
-from perception.keypoints import HIPS, L_SHOULDER, NECK, R_SHOULDER, as_skeleton, present
+from perception.activity import (ActivityConfig, ActivityResult, AffordanceTable, BodyView,
+                                 SeenObject, recognise_activity, torso_top)
+from perception.keypoints import (HIPS, L_SHOULDER, NECK, R_SHOULDER, Skeleton, as_skeleton,
+                                  present)
 from perception.localisation import pixel_to_camera, semantic_place, stitched_pixel, transform_point
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
@@ -55,14 +59,14 @@ class StackedCameras:
 
 @dataclass
 class PersonResult:
-    activity: object               # ActivityResult
-    position: tuple = None         # (x, y) [m] in the map, None when not localised
+    activity: ActivityResult
+    position: tuple[float, float] | None = None   # (x, y) [m] in the map, None: not localised
     place: str = ""
-    shirt: np.ndarray = None       # (3, 3) when all three colour joints were seen
+    shirt: np.ndarray | None = None   # (3, 3) when all three colour joints were seen
     problems: list = field(default_factory=list)
 
 
-def body_depth(person, min_depth):
+def body_depth(person: PersonView, min_depth: float) -> float | None:
     """Median depth [m] over the detected torso joints with valid depth, or None."""
     d = np.asarray(person.depth, dtype=float)[list(DEPTH_JOINTS)]
     seen = np.asarray(person.confidence)[list(DEPTH_JOINTS)] > 0
@@ -70,10 +74,10 @@ def body_depth(person, min_depth):
     return float(np.median(valid)) if valid.size else None
 
 
-def objects_for(skeleton, objects):
+def objects_for(skeleton: Skeleton, objects: Iterable[ObjectBox]) -> list[SeenObject]:
     """Candidate objects for one person: everything except the person box around their neck (else
     the top of their torso: shoulders or head)."""
-    keep = []
+    keep: list[SeenObject] = []
     neck = torso_top(skeleton)
     for obj in objects:
         own = obj.label == "person" and neck is not None and (
@@ -84,7 +88,7 @@ def objects_for(skeleton, objects):
     return keep
 
 
-def body_view(person, objects):
+def body_view(person: PersonView, objects: Iterable[ObjectBox]) -> BodyView:
     """A PersonView as another body of the frame: P(o) of the 'person' box around its torso top,
     else the mean confidence of its detected joints."""
     skeleton = as_skeleton(person.points, person.confidence)
@@ -100,12 +104,13 @@ def body_view(person, objects):
     return BodyView(skeleton, np.asarray(person.depth, dtype=float), confidence)
 
 
-def unknown_classes(objects, table):
+def unknown_classes(objects: Iterable[ObjectBox], table: AffordanceTable) -> list[str]:
     """Sorted labels of the objects the affordance table has no entry for (people excepted)."""
     return sorted({o.label for o in objects if o.label != "person" and not table.known(o.label)})
 
 
-def locate(skeleton, depth, cameras):
+def locate(skeleton: Skeleton, depth: float | None,
+           cameras: StackedCameras) -> tuple[float, float] | None:
     """Map (x, y) [m] of the body from the neck (else hips) pixel and the body depth."""
     anchor = present(skeleton, (NECK,)) or present(skeleton, HIPS)
     if not anchor or depth is None:
@@ -113,10 +118,14 @@ def locate(skeleton, depth, cameras):
     u, v = skeleton[anchor].mean(axis=0)
     which, u, v = stitched_pixel(u, v, cameras.top_height)
     point = pixel_to_camera(u, v, depth, cameras.intrinsics[which])
-    return tuple(transform_point(cameras.to_map[which], point)[:2])
+    x, y = transform_point(cameras.to_map[which], point)[:2]
+    return float(x), float(y)
 
 
-def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3, others=()):
+def analyse_person(person: PersonView, objects: Sequence[ObjectBox], table: AffordanceTable,
+                   config: ActivityConfig, cameras: StackedCameras | None,
+                   graph: SemanticGraph | None, min_depth: float = 0.3,
+                   others: Sequence[BodyView] = ()) -> PersonResult:
     """Activity, map position, semantic place and shirt colours of one person (`others`: the
     frame's other people as BodyView, possible chat partners)."""
     skeleton = as_skeleton(person.points, person.confidence)
@@ -137,7 +146,9 @@ def analyse_person(person, objects, table, config, cameras, graph, min_depth=0.3
     return result
 
 
-def analyse_frame(frame, table, config, cameras=None, graph=None):
+def analyse_frame(frame: FrameView, table: AffordanceTable, config: ActivityConfig,
+                  cameras: StackedCameras | None = None,
+                  graph: SemanticGraph | None = None) -> list[PersonResult]:
     """Every person of a frame -> [PersonResult] in the frame's order."""
     bodies = [body_view(p, frame.objects) for p in frame.people]
     return [analyse_person(p, frame.objects, table, config, cameras, graph,

@@ -25,9 +25,17 @@ goal, or its ω dithers round zero until the episode times out (EVALUATION.md, "
 a blocked arc").
 """
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from semantic_nav.laser_layer import LaserModel
+
+Points = NDArray[np.float64]   # (M, 2) laser returns in the base frame (scan_points)
 
 
 @dataclass
@@ -51,7 +59,7 @@ class GuardConfig:
     #                            nearest return ahead [rad/s]
 
 
-def scan_points(ranges, laser, laser_x=0.0):
+def scan_points(ranges: ArrayLike, laser: "LaserModel", laser_x: float = 0.0) -> Points:
     """Valid returns of one scan of `laser` (laser_layer.LaserModel) as (M, 2) points in the base
     frame (x forward, y left); NaN, out-of-range and "no return" readings are dropped."""
     ranges = np.asarray(ranges, dtype=float)
@@ -61,7 +69,7 @@ def scan_points(ranges, laser, laser_x=0.0):
     return np.column_stack((laser_x + r * np.cos(a), r * np.sin(a)))
 
 
-def arc_positions(v, w, times):
+def arc_positions(v: float, w: float, times: ArrayLike) -> NDArray[np.float64]:
     """Unicycle positions (x, y) after `times` [s] at constant (v, ω) from the origin facing +x."""
     times = np.asarray(times, dtype=float)
     if abs(w) < 1e-9:
@@ -69,7 +77,8 @@ def arc_positions(v, w, times):
     return np.column_stack((v / w * np.sin(w * times), v / w * (1.0 - np.cos(w * times))))
 
 
-def ramped_arc_positions(v, w, w_now, accel, times):
+def ramped_arc_positions(v: float, w: float, w_now: float, accel: float,
+                         times: ArrayLike) -> NDArray[np.float64]:
     """Unicycle positions (x, y) after `times` [s] (an even grid from 0) at speed v from the
     origin facing +x, while ω goes from `w_now` to `w` at `accel` [rad/s^2] and then stays.
     The heading is integrated at each interval's midpoint."""
@@ -78,7 +87,7 @@ def ramped_arc_positions(v, w, w_now, accel, times):
     change = w - w_now
     ramp = abs(change) / accel           # time to reach w
 
-    def heading(t):
+    def heading(t: NDArray[np.float64]) -> NDArray[np.float64]:
         t_ramp = np.minimum(t, ramp)
         return w_now * t + math.copysign(0.5 * accel, change) * t_ramp ** 2 \
             + change * np.maximum(t - ramp, 0.0)
@@ -88,7 +97,8 @@ def ramped_arc_positions(v, w, w_now, accel, times):
     return np.vstack(([0.0, 0.0], np.cumsum(steps, axis=0)))
 
 
-def _path_positions(v, w, w_now, config, times):
+def _path_positions(v: float, w: float, w_now: float | None, config: GuardConfig,
+                    times: NDArray[np.float64]) -> NDArray[np.float64]:
     """The positions the guard checks: the commanded arc, or with the base's ω lag (w_now
     known and angular_accel > 0) the path the base really drives."""
     if w_now is None or config.angular_accel <= 0.0 or abs(w - w_now) < 1e-9:
@@ -96,7 +106,8 @@ def _path_positions(v, w, w_now, config, times):
     return ramped_arc_positions(v, w, w_now, config.angular_accel, times)
 
 
-def guard_velocity(v, w, points, config=None, w_now=None):
+def guard_velocity(v: float, w: float, points: Points, config: GuardConfig | None = None,
+                   w_now: float | None = None) -> float:
     """The moving velocity the guard lets through for the command (v, ω) and the scan `points`
     (base frame, from scan_points). ω is never changed. Returns v' with |v'| <= |v|.
 
@@ -110,7 +121,7 @@ def guard_velocity(v, w, points, config=None, w_now=None):
     return _arc_speed(v, w, _near_points(v, points, config), config, w_now)
 
 
-def _near_points(v, points, config):
+def _near_points(v: float, points: Points, config: GuardConfig) -> Points:
     """The returns an arc at speed v can reach within the horizon (the rest cannot block it)."""
     if len(points) == 0:
         return points
@@ -118,7 +129,8 @@ def _near_points(v, points, config):
     return points[np.hypot(points[:, 0], points[:, 1]) < reach]
 
 
-def _arc_speed(v, w, near, config, w_now):
+def _arc_speed(v: float, w: float, near: Points, config: GuardConfig,
+               w_now: float | None) -> float:
     """guard_velocity's v' for a moving command, given the returns _near_points kept."""
     if len(near) == 0:
         return float(v)
@@ -139,7 +151,9 @@ def _arc_speed(v, w, near, config, w_now):
     return math.copysign(min(abs(v), free_path / config.horizon), v)
 
 
-def steer_around(v, w, points, blocked_below, config=None, w_now=None):
+def steer_around(v: float, w: float, points: Points, blocked_below: float,
+                 config: GuardConfig | None = None,
+                 w_now: float | None = None) -> tuple[float, float]:
     """Beyond the seed: the command (v', ω') the guard sends for (v, ω). As guard_velocity, with
     ω kept, unless the guard would stop a robot the network wants to move (guarded |v| below
     `blocked_below`, the slowest real motion, while |v| is not); then, with `steer` on:
@@ -163,7 +177,8 @@ def steer_around(v, w, points, blocked_below, config=None, w_now=None):
     return _turn_in_place(guarded, w, points, config)
 
 
-def _nearest_free_arc(v, w, points, config, w_now):
+def _nearest_free_arc(v: float, w: float, points: Points, config: GuardConfig,
+                      w_now: float | None) -> tuple[float, float] | None:
     """(v', ω') on the ω grid nearest ω (ties: further to ω's side) that the guard lets through
     at the usable speed, or None. The returns in reach depend on v only: selected once."""
     if v < 0.0 and not config.allow_reverse:
@@ -182,7 +197,8 @@ def _nearest_free_arc(v, w, points, config, w_now):
     return None
 
 
-def _turn_in_place(guarded, w, points, config):
+def _turn_in_place(guarded: float, w: float, points: Points,
+                   config: GuardConfig) -> tuple[float, float]:
     """Step 2 of steer_around: (v', ω') when no arc is usable."""
     if abs(w) >= config.steer_turn:
         return guarded, float(w)
@@ -199,7 +215,7 @@ def _turn_in_place(guarded, w, points, config):
 GUARD_ACTIONS = ("slowed", "held", "steered", "turned")
 
 
-def guard_action(v, w, sent_v, sent_w):
+def guard_action(v: float, w: float, sent_v: float, sent_w: float) -> str | None:
     """What the guard (with the follower's v_move stop) did to the command (v, ω) it sent as
     (sent_v, sent_w): "steered" to another ω, "turned" in place, "held" still (ω kept),
     "slowed", or None (passed unchanged)."""
@@ -210,7 +226,7 @@ def guard_action(v, w, sent_v, sent_w):
     return "slowed" if abs(sent_v) < abs(v) else None
 
 
-def format_guard_actions(counts):
+def format_guard_actions(counts: Mapping[str, int]) -> str:
     """{action: count} (DirectionFollower.guard_actions) -> "slowed N, held N, steered N,
     turned N", the node's diagnostics value."""
     return ", ".join(f"{action} {counts.get(action, 0)}" for action in GUARD_ACTIONS)

@@ -19,9 +19,11 @@ all, as route_oracle.nth_branch_on_side. The follower passes N - 1 counted corne
 side's branches) before it gives the network the side's first turn
 (follower.DirectionFollower._turn_when_passed; `opening_beside` tells when the last is behind).
 """
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 
 @dataclass
@@ -35,7 +37,8 @@ class CornerCountConfig:
     max_count: int = 3          # counts above are "3 or more" (classes 0 … max_count) [1]
 
 
-def side_ranges(ranges, angle_min, angle_increment, window_deg):
+def side_ranges(ranges: ArrayLike, angle_min: float, angle_increment: float,
+                window_deg: float) -> NDArray[np.float32]:
     """Raw scans (N, beams) -> (N, 2) shortest range within ±window_deg of +90° (left) and
     -90° (right), laser angles counter-clockwise from the front [rad]."""
     ranges = np.asarray(ranges, dtype=np.float64)
@@ -59,11 +62,11 @@ class CornerCounter:
     the same corner. Causal, so training (count_inputs over the records) and control
     (follower, live scans) see the same counts."""
 
-    def __init__(self, config=None):
+    def __init__(self, config: CornerCountConfig | None = None) -> None:
         self.config = config or CornerCountConfig()
         self.reset()
 
-    def reset(self, side=None):
+    def reset(self, side: str | None = None) -> None:
         """A new simple instruction: nothing counted, no travel; `side` "left" / "right" counts
         the branches on that side only, None every corner over both sides."""
         if side not in (None, *SIDE_COLUMNS):
@@ -71,11 +74,12 @@ class CornerCounter:
         self.side = side
         self.travel = 0.0
         self.count = 0
-        self.run_start = [None, None]     # travel where each side's current opening began
+        # travel where each side's current opening began
+        self.run_start: list[float | None] = [None, None]
         self.counted = [False, False]     # that opening belongs to a counted corner
         self.corner_end = -np.inf         # travel where the last counted opening closed
 
-    def observe(self, sides):
+    def observe(self, sides: Sequence[float] | np.ndarray) -> int:
         """Side ranges (left, right) [m] at this step -> corners counted so far (capped at
         max_count)."""
         config = self.config
@@ -101,18 +105,20 @@ class CornerCounter:
                 self.count += 0 if same else 1
         return min(self.count, config.max_count)
 
-    def opening_beside(self):
+    def opening_beside(self) -> bool:
         """Whether an opening runs beside the robot now on a counted side (one side: that
         side; else either)."""
         sides = [SIDE_COLUMNS[self.side]] if self.side is not None else [0, 1]
         return any(self.run_start[side] is not None for side in sides)
 
-    def advance(self, distance):
+    def advance(self, distance: float) -> None:
         """The robot drove `distance` [m] (its sign is ignored) before the next step."""
         self.travel += abs(float(distance))
 
 
-def count_inputs(sides, commands, rate, config):
+def count_inputs(sides: Iterable[Sequence[float] | np.ndarray],
+                 commands: Sequence[Sequence[float]] | np.ndarray, rate: float,
+                 config: CornerCountConfig | None) -> NDArray[np.int64]:
     """The `counts` input of a recorded sequence: CornerCounter over its side ranges, travel from
     the expert's v -> (N,) int64."""
     counter = CornerCounter(config)
@@ -123,6 +129,7 @@ def count_inputs(sides, commands, rate, config):
     return counts
 
 
-def one_hot_counts(counts, max_count):
+def one_hot_counts(counts: ArrayLike, max_count: int) -> NDArray[np.float32]:
+
     """(N,) counts -> (N, max_count + 1) float32 one-hot rows."""
     return np.eye(max_count + 1, dtype=np.float32)[np.asarray(counts)]

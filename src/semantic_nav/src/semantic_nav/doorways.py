@@ -9,8 +9,13 @@ corridors (1.8-2.4 m, floor_generator) are wider than their doors (0.8-1.1 m), s
 told from a corridor's opening by its width alone.
 """
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from semantic_nav.laser_layer import LaserModel
 
 
 @dataclass
@@ -22,7 +27,8 @@ class DoorConfig:
     depth: float = 0.2       # a beam goes through an opening if it ends this far past it [m]
 
 
-def segment_ranges(p, q, angles):
+def segment_ranges(p: NDArray[np.float64], q: NDArray[np.float64],
+                   angles: NDArray[np.float64]) -> NDArray[np.float64]:
     """Range along each beam angle from the laser to the line through p and q (inf where the
     beam is parallel to it or points away)."""
     d = np.asarray(q, dtype=float) - p
@@ -33,7 +39,7 @@ def segment_ranges(p, q, angles):
     return np.where(np.isfinite(t) & (t > 0), t, np.inf)
 
 
-def close_doorways(ranges, laser, config):
+def close_doorways(ranges: np.ndarray, laser: "LaserModel", config: DoorConfig) -> np.ndarray:
     """Raw ranges of `laser` (laser_layer.LaserModel) with every beam that goes through an
     opening narrower than `config.width` cut at the opening, as if a wall stood there; the
     input is not changed, and with width 0 it is returned as is.
@@ -68,7 +74,8 @@ def close_doorways(ranges, laser, config):
     return out
 
 
-def cut_beam_ends(ranges, closed, laser):
+def cut_beam_ends(ranges: np.ndarray, closed: np.ndarray,
+                  laser: "LaserModel") -> NDArray[np.float64]:
     """(M, 2) ends, in the laser frame, of the beams that close_doorways cut: where `closed`
     reads shorter than the raw `ranges` (NaN readings are never cut)."""
     if closed is ranges:

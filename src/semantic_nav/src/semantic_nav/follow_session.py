@@ -14,8 +14,9 @@ import numpy as np
 
 from supervision.health import fault_text
 
-from semantic_nav.follower import UnknownInstructionError
+from semantic_nav.follower import DirectionFollower, FollowerCommand, UnknownInstructionError
 from semantic_nav.instruction_layer import UnfollowableInstruction, check_followable
+from semantic_nav.laser_layer import LaserModel
 from semantic_nav.splitting import InstructionError
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
@@ -39,7 +40,7 @@ class Outcome:
     spoken: str = ""         # the reason said to the person ("": nothing to say)
 
 
-def step_failed(error, completed=0):
+def step_failed(error: BaseException, completed: int = 0) -> Outcome:
     """Outcome of a sentence whose control step raised `error` (also while it was being
     started): aborted, the fault named in the message and in the spoken sentence."""
     text = fault_text(error)
@@ -52,7 +53,7 @@ class InstructionRefused(ValueError):
     """The sentence cannot be followed (no words, unknown words, a corner beyond the third, not
     English); str() says why in full, `spoken` says it to the person in one sentence."""
 
-    def __init__(self, message, spoken):
+    def __init__(self, message: str, spoken: str) -> None:
         super().__init__(message)
         self.spoken = spoken
 
@@ -60,7 +61,8 @@ class InstructionRefused(ValueError):
 class FollowSession:
     """Follow one sentence: start it, step it once per control period, end it."""
 
-    def __init__(self, follower, sentence, now, max_duration):
+    def __init__(self, follower: DirectionFollower, sentence: str, now: float,
+                 max_duration: float) -> None:
         """Raises InstructionRefused for a sentence the follower cannot take or must not try
         (instruction_layer.check_followable, with the follower's word vectors if it has any),
         before the follower is started: the robot does not move."""
@@ -82,9 +84,10 @@ class FollowSession:
                                      "staying here.") from error
         self.follower, self.sentence = follower, sentence
         self.started, self.max_duration = now, max_duration
-        self.index, self.outcome = 0, None
+        self.index = 0
+        self.outcome: Outcome | None = None
 
-    def feedback(self, command=None):
+    def feedback(self, command: FollowerCommand | None = None) -> Feedback:
         index = min(self.index, len(self.classes) - 1)
         predicted = command.predicted_class if command is not None else self.classes[index]
         z_w = getattr(self.follower, "z_w", None)     # DirectionFollower: softmax per part
@@ -95,7 +98,8 @@ class FollowSession:
         return Feedback(index, text, int(predicted), float(confidence),
                         -1 if corners is None else int(corners))
 
-    def step(self, ranges, laser, now):
+    def step(self, ranges: np.ndarray, laser: LaserModel,
+             now: float) -> tuple[float, float, Feedback]:
         """One control step -> (v, w); sets self.outcome when the sentence is done or too long."""
         if now - self.started > self.max_duration:
             self.outcome = Outcome(ABORTED, self.index,
@@ -112,12 +116,12 @@ class FollowSession:
             return 0.0, 0.0, self.feedback(command)
         return float(command.v), float(command.w), self.feedback(command)
 
-    def stop(self, reason):
+    def stop(self, reason: str) -> Outcome:
         """Ended from outside (preempted, replaced, shut down) -> Outcome."""
         self.outcome = Outcome(ABORTED, self.index, reason)
         return self.outcome
 
-    def fail(self, error):
+    def fail(self, error: BaseException) -> Outcome:
         """The control step raised `error` -> Outcome (aborted; step_failed)."""
         self.outcome = step_failed(error, self.index)
         return self.outcome

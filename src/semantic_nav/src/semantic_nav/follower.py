@@ -9,10 +9,13 @@ the halting counter has ended every simple instruction.
 """
 import itertools
 import os
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_action,
                                           scan_points, steer_around)
@@ -20,14 +23,22 @@ from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
 from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE,
                                               STRAIGHT, TURN_CLASSES, get, ids)
-from semantic_nav.instruction_layer import (check_followable, counting_mode, phrase_vocabulary,
-                                            sentence_vector, tokenise)
-from semantic_nav.laser_layer import load_laser_config
+from semantic_nav.instruction_layer import (SentenceVector, check_followable, counting_mode,
+                                            phrase_vocabulary, sentence_vector, tokenise)
+from semantic_nav.laser_layer import LaserModel, load_laser_config
 from semantic_nav.misheard import readings, reads_homophones
 from semantic_nav.postprocess import HaltingCounter, PostprocessConfig, adjust_speed, apply_stop
 from semantic_nav.splitting import SPLITTINGS, TOKEN, InstructionError, split_instruction
 from supervision import config_file
 from tamp_resources import resource
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
+    import keras
+
+    from semantic_nav.step_policy import StepPolicy
+    from semantic_nav.word_vectors import WordVectors
 
 ROOT = resource()
 DEFAULT_MODEL = ROOT / "models" / "semantic_nav" / "default.keras"
@@ -40,7 +51,7 @@ class UnknownInstructionError(ValueError):
     word, or one whose remaining words classify without confidence; `words` are the words it
     did not know."""
 
-    def __init__(self, message, words=()):
+    def __init__(self, message: str, words: Iterable[str] = ()) -> None:
         super().__init__(message)
         self.words = list(words)
 
@@ -93,11 +104,14 @@ class FollowerConfig:
     doors: DoorConfig = field(default_factory=DoorConfig)     # beyond the seed
 
 
-def _section(cls, values, where):
+Section = TypeVar("Section", bound="DataclassInstance")
+
+
+def _section(cls: type[Section], values: Mapping[str, Any], where: str) -> Section:
     """A config dataclass from a YAML mapping; unknown keys are named."""
     config_file.check_keys(values, [f.name for f in fields(cls)], where)
     default = cls()
-    converted = {}
+    converted: dict[str, Any] = {}
     for key, value in values.items():
         kind = type(getattr(default, key))
         if kind is bool and not isinstance(value, bool):
@@ -112,7 +126,7 @@ def _section(cls, values, where):
     return replace(default, **converted)
 
 
-def load_follower_config(path):
+def load_follower_config(path: str | os.PathLike[str]) -> FollowerConfig:
     """A FollowerConfig from a YAML file (config/semnav_follower.yaml lists every key with its
     default): top-level control_period and laser_config, sections postprocess, guard and doors. Keys
     left out keep their defaults; an unknown key (with the nearest known one) or a wrong type is a
@@ -137,7 +151,7 @@ def load_follower_config(path):
     return config
 
 
-def model_file(model_path=None):
+def model_file(model_path: str | os.PathLike[str] | None = None) -> Path:
     """The follower's model file: `model_path`, else $SEMNAV_MODEL, else the committed default.
     ModelMissingError (naming `make train`) if it does not exist."""
     path = Path(model_path or os.environ.get("SEMNAV_MODEL", DEFAULT_MODEL))
@@ -157,18 +171,18 @@ class FollowerCommand:
     index: int              # current simple instruction, 0-based
     predicted_class: int    # 1..10 (argmax Z_w) of the current simple instruction
     done: bool              # every simple instruction has halted
-    corners: int = None     # corners counted in this simple instruction (count-input networks)
+    corners: int | None = None  # corners counted in this simple instruction (count-input networks)
 
 
 PASS_CLASS = ids(motion=STRAIGHT)[0]   # the class LSTM_fused gets while corners are passed
 
 
-def _one_hot(label, size):
+def _one_hot(label: int, size: int) -> NDArray[np.float64]:
     """The one-hot class vector of class `label` (Z_w's output order)."""
     return np.eye(size)[CLASS_IDS.index(label)]
 
 
-def class_one_hot(z_w):
+def class_one_hot(z_w: NDArray[np.float64]) -> NDArray[np.float64]:
     """Beyond the seed: Z_w -> the one-hot vector of its class (argmax). LSTM_fused learnt on
     Z_w of training phrasings, one-hot to about 1e-7; a classifier trained with noise on the word
     vectors is less sure of some phrasings (the default model's Z_w on office_wings' counting
@@ -177,7 +191,7 @@ def class_one_hot(z_w):
     return np.eye(len(z_w))[int(np.argmax(z_w))]
 
 
-def _step_policy(model):
+def _step_policy(model: "StepPolicy | keras.Model") -> "StepPolicy":
     """A StepPolicy, a Keras model of build_network, or anything with classify, step, reset."""
     if all(hasattr(model, name) for name in ("classify", "step", "reset")):
         return model
@@ -188,12 +202,14 @@ def _step_policy(model):
 class DirectionFollower:
     """Sentence + scans -> velocity commands, one simple instruction after the other."""
 
-    def __init__(self, model, word_vectors, config=None):
+    def __init__(self, model: "StepPolicy | keras.Model", word_vectors: "WordVectors",
+                 config: FollowerConfig | None = None) -> None:
         self.config = config or FollowerConfig()
         self.control_period = self.config.control_period
         self.policy = _step_policy(model)
         self.word_vectors = word_vectors
-        self.vocabulary = self.phrase_words = None
+        self.vocabulary: frozenset[str] | None = None
+        self.phrase_words: frozenset[str] | None = None
         if self.config.phrase_vocabulary:   # index keys in row order; GloVe 6B: by frequency
             common = itertools.islice(word_vectors.index, self.config.common_words_known)
             self.phrase_words = phrase_vocabulary(self.config.phrase_vocabulary)
@@ -206,15 +222,22 @@ class DirectionFollower:
         self._sent_w = 0.0      # ω of the last command sent (the guard's estimate of the base's)
         self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)   # in the current sentence
         self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
-        self.instructions, self.z_w, self.classes, self.countings = [], [], [], []
-        self.z_now = None       # the class LSTM_fused gets now (z_w, or a pass / turn class)
+        self.instructions: list[str] = []
+        self.z_w: list[NDArray[np.float64]] = []
+        self.classes: list[int] = []
+        self.countings: list[str] = []
+        # the class LSTM_fused gets now (z_w, or a pass / turn class)
+        self.z_now: NDArray[np.float64] | None = None
         self.passing = 0        # side branches still to pass before the turn (pass then turn)
-        self.unknown_words = []
-        self.corrections = []   # (heard, read as) of the current sentence's misheard words
+        self.unknown_words: list[str] = []
+        # (heard, read as) of the current sentence's misheard words
+        self.corrections: list[tuple[str, str]] = []
         self.index = 0
 
     @classmethod
-    def from_files(cls, model_path=None, word_vectors=None, config=None):
+    def from_files(cls, model_path: str | os.PathLike[str] | None = None,
+                   word_vectors: "WordVectors | str | os.PathLike[str] | None" = None,
+                   config: FollowerConfig | str | Path | None = None) -> "DirectionFollower":
         """Load a .keras model (default models/semantic_nav/default.keras) and the GloVe vectors
         (a WordVectors, a GloVe file / cache directory, or None for the default cache); `config`
         is a FollowerConfig, the path of a follower YAML (load_follower_config) or None."""
@@ -228,7 +251,8 @@ class DirectionFollower:
             word_vectors = load_word_vectors(word_vectors)
         return cls(policy, word_vectors, config)
 
-    def _reread(self, part, skipped):
+    def _reread(self, part: str, skipped: Sequence[str]) -> tuple[
+            str, np.ndarray, list[str], NDArray[np.float64], list[tuple[str, str]]] | None:
         """The simple instruction `part` with misheard words replaced (misheard.readings), when
         some readings are read by Z_w with unknown_min_confidence and all of those give one
         class -> (text, vectors, words still skipped, z, [(heard, read as)]) of the most
@@ -237,21 +261,22 @@ class DirectionFollower:
         confidence."""
         if not self.phrase_words or self.config.misheard_edits < 1:
             return None
-        sure = []
-        for tokens, fixed in readings(tokenise(part), skipped, self.phrase_words,
-                                      self.config.misheard_edits):
+        sure: list[tuple[float, str, SentenceVector, NDArray[np.float64],
+                         list[tuple[str, str]]]] = []
+        for tokens, corrections in readings(tokenise(part), skipped, self.phrase_words,
+                                            self.config.misheard_edits):
             text = " ".join(tokens)
             converted = sentence_vector(text, self.word_vectors, self.vocabulary)
             z = self.policy.classify(converted.vectors)
             if float(np.max(z)) >= self.config.unknown_min_confidence:
-                sure.append((float(np.max(z)), text, converted, z, list(fixed)))
+                sure.append((float(np.max(z)), text, converted, z, list(corrections)))
         sure = [reading for reading in sure if reads_homophones(reading[4], skipped)] or sure
         if not sure or len({int(np.argmax(reading[3])) for reading in sure}) > 1:
             return None
         _, text, converted, z, fixed = max(sure, key=lambda reading: reading[0])
         return text, converted.vectors, converted.oov, z, fixed
 
-    def start(self, sentence):
+    def start(self, sentence: str) -> list[int]:
         """Split and classify a sentence; resets memory. Returns the class (1..10) of each simple
         instruction. UnknownInstructionError if a simple instruction has no known word;
         UnfollowableInstruction if one read with its misheard words (misheard.py) asks for a
@@ -260,7 +285,8 @@ class DirectionFollower:
             parts = split_instruction(sentence, self.config.splitting)
         except InstructionError as error:
             raise UnknownInstructionError(str(error)) from error
-        vectors, unknown = [], []
+        vectors: list[np.ndarray] = []
+        unknown: list[list[str]] = []
         for part in parts:
             try:
                 converted = sentence_vector(part, self.word_vectors, self.vocabulary)
@@ -271,7 +297,7 @@ class DirectionFollower:
             vectors.append(converted.vectors)
             unknown.append(converted.oov)
         z_w = [self.policy.classify(v) for v in vectors]
-        corrections = []
+        corrections: list[tuple[str, str]] = []
         for k, (part, oov, z) in enumerate(zip(parts, unknown, z_w)):
             # a skipped word that sounds like a phrase-set word most likely was that word: the
             # rest alone may read with confidence and wrongly ("can you make a lift on at the
@@ -287,14 +313,13 @@ class DirectionFollower:
                     f"{', '.join(oov)} it reads as class {CLASS_IDS[int(np.argmax(z))]} with "
                     f"only {float(np.max(z)):.2f} confidence (< "
                     f"{self.config.unknown_min_confidence})", oov)
-        unknown = [word for oov in unknown for word in oov]
         self.corrections = corrections
         self.instructions = parts
         self.classes = [CLASS_IDS[int(np.argmax(z))] for z in z_w]
         self.countings = [counting_mode(part, label) if self.config.side_counting
                           else COUNT_CORNERS for part, label in zip(parts, self.classes)]
         self.z_w = [class_one_hot(z) for z in z_w] if self.config.one_hot_class else z_w
-        self.unknown_words = unknown
+        self.unknown_words = [word for oov in unknown for word in oov]
         self.index = 0
         self._reset_memory()
         self.halting.reset()
@@ -302,7 +327,7 @@ class DirectionFollower:
         self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)
         return list(self.classes)
 
-    def _reset_memory(self):
+    def _reset_memory(self) -> None:
         """A new simple instruction: LSTM_fused's memory and the corner count start afresh."""
         self.policy.reset()
         self.passing = 0
@@ -321,12 +346,14 @@ class DirectionFollower:
                 self.z_now = _one_hot(PASS_CLASS, len(self.z_now))
             self.counter.reset(side=side)
 
-    def _turn_when_passed(self, counted):
+    def _turn_when_passed(self, counted: int) -> None:
         """Pass then turn: once N - 1 corners (for a one-side count: branches on that side) are
         counted and the last of them is behind the robot, the instruction is driven as that
         side's first turn, the count afresh (the network turns into the next branch on that
         side). LSTM_fused keeps its memory: a network started afresh just past a crossroad
         takes it for the branch it has turned into and stops."""
+        if self.counter is None or self.z_now is None:
+            raise RuntimeError("pass then turn needs a corner counter and a started instruction")
         if not self.passing or counted < self.passing or self.counter.opening_beside():
             return
         self.passing = 0
@@ -335,10 +362,10 @@ class DirectionFollower:
                               len(self.z_now))
 
     @property
-    def done(self):
+    def done(self) -> bool:
         return bool(self.instructions) and self.index >= len(self.instructions)
 
-    def step(self, ranges, laser):
+    def step(self, ranges: np.ndarray, laser: LaserModel) -> FollowerCommand:
         """One control step: raw ranges of `laser` (laser_layer.LaserModel) -> FollowerCommand.
 
         Scans of any beam count are interpolated to the canonical scan (laser_layer.ScanError
@@ -348,6 +375,8 @@ class DirectionFollower:
             raise RuntimeError("DirectionFollower.step before start(sentence)")
         if self.done:
             return self._command(0.0, 0.0)
+        if self.z_now is None:
+            raise RuntimeError("DirectionFollower.step: no class for the current instruction")
         ranges = self._close_doorways(ranges, laser)
         scan, _ = preprocess_scan(ranges, laser, self.canonical, self.preprocess)
         if self.counter is not None:
@@ -372,22 +401,25 @@ class DirectionFollower:
         # the count of the instruction the command's index names (0 when one just began)
         return self._command(v, w, None if self.counter is None else self.counter.count)
 
-    def _close_doorways(self, ranges, laser):
+    def _close_doorways(self, ranges: np.ndarray, laser: LaserModel) -> np.ndarray:
         """doorways.close_doorways on the raw scan; keeps the cut beams' ends (laser frame) in
         `doorway_points` for the node's marker."""
         closed = close_doorways(ranges, laser, self.config.doors)
         self.doorway_points = cut_beam_ends(ranges, closed, laser)
         return closed
 
-    def _sides(self, ranges, laser):
+    def _sides(self, ranges: np.ndarray, laser: LaserModel) -> NDArray[np.float32]:
         """corner_count.side_ranges of one raw scan; invalid readings (NaN, below the laser's
         range_min) count as no opening."""
+        if self.counter is None:
+            raise RuntimeError("DirectionFollower._sides without a corner counter")
         ranges = np.asarray(ranges, dtype=np.float64)
         ranges = np.where(np.isnan(ranges) | (ranges < laser.range_min), 0.0, ranges)
         return side_ranges(ranges[None], laser.angle_min, laser.angle_increment,
                            self.counter.config.window_deg)[0]
 
-    def _guarded(self, v, w, ranges, laser):
+    def _guarded(self, v: float, w: float, ranges: np.ndarray,
+                 laser: LaserModel) -> tuple[float, float]:
         """collision_guard on the post-processed command -> (v, ω); a guarded speed the robot
         cannot drive (below v_move, §2.2.5.1) becomes a stop, which the halting counter then
         counts, unless the guard can steer round the wall (GuardConfig.steer)."""
@@ -403,7 +435,7 @@ class DirectionFollower:
             self.guard_actions[action] += 1
         return guarded, steered
 
-    def _command(self, v, w, corners=None):
+    def _command(self, v: float, w: float, corners: int | None = None) -> FollowerCommand:
         current = min(self.index, len(self.instructions) - 1)
         return FollowerCommand(v=v, w=w, index=current, predicted_class=self.classes[current],
                                done=self.done, corners=corners)

@@ -17,6 +17,7 @@ Per class:
   "class4", or "class_turn" with the side as `{dir}`);
 - `mirror`: the class of its left-right mirror image (right and left swapped).
 """
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 STRAIGHT, BACK, TURN = "straight", "back", "turn"
@@ -37,12 +38,12 @@ class InstructionClass:
     at: str | None = None        # None (first branch on its side), "second", "third", "end"
 
     @property
-    def corner(self):
+    def corner(self) -> int | None:
         """The corner it turns at, counted over both sides (2, 3), or None."""
-        return CORNER_NUMBERS.get(self.at)
+        return CORNER_NUMBERS.get(self.at) if self.at is not None else None
 
 
-def check_classes(classes):
+def check_classes(classes: Sequence[InstructionClass]) -> None:
     """Raise ValueError where a class list contradicts itself (CLASSES is checked at import)."""
     numbers = [c.number for c in classes]
     if numbers != list(range(1, len(classes) + 1)):
@@ -92,14 +93,14 @@ BY_ID = {c.number: c for c in CLASSES}
 NAMES = {c.number: c.name for c in CLASSES}
 
 
-def ids(**facts):
+def ids(**facts: object) -> tuple[int, ...]:
     """Numbers of the classes whose fields equal `facts`, in list order, e.g.
     ids(motion=TURN, at=None) -> (2, 3)."""
     return tuple(c.number for c in CLASSES
                  if all(getattr(c, key) == value for key, value in facts.items()))
 
 
-def get(number):
+def get(number: int) -> InstructionClass:
     """The class numbered `number`; ValueError naming the known numbers otherwise."""
     try:
         return BY_ID[number]

@@ -1,14 +1,20 @@
 """Instruction layer, conversion stage (thesis 002 §2.2.3.2 and §3.1): sentence -> simple
 instructions -> tokens -> sentence vectors (one GloVe vector per word)."""
+import os
 import re
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from semantic_nav.instruction_classes import (COUNT_CORNERS, COUNT_SIDE, COUNTING_IDS,
                                               MAX_CORNER)
 from semantic_nav.splitting import TOKEN, InstructionError, split_instruction
+
+if TYPE_CHECKING:
+    from semantic_nav.word_vectors import WordVectors
 
 # Numerals as words: typed and transcribed instructions write "2nd corner" or "2 corners", the
 # phrase sets (and so LSTM_w) know "second" and "two"; GloVe puts "2nd" about as near "third"
@@ -57,12 +63,12 @@ class SentenceVector:
     """The word vectors of one simple instruction (§2.2.3.2) and what was left out."""
 
     text: str                       # the simple instruction
-    tokens: list                    # its lower-case tokens
+    tokens: list[str]               # its lower-case tokens
     vectors: np.ndarray             # float32 (n_known_tokens, dim), in token order
-    oov: list = field(default_factory=list)  # tokens without a word vector (skipped)
+    oov: list[str] = field(default_factory=list)  # tokens without a word vector (skipped)
 
 
-def read_transcript(text):
+def read_transcript(text: str) -> str:
     """A speech recogniser's transcript as the follower reads it (beyond the seed, whose phone
     recogniser wrote no punctuation): its commas and semicolons dropped (TRANSCRIPT_PAUSES) and a
     number's homophone before a bare counted singular read as the number ("to intersection" ->
@@ -70,19 +76,19 @@ def read_transcript(text):
     return HOMOPHONE_SINGULAR.sub(_as_number, TRANSCRIPT_PAUSES.sub(" ", text).strip())
 
 
-def read_counts(text):
+def read_counts(text: str) -> str:
     """`text` with a number's homophone before a counted plural written as the number ("to
     corners" -> "two corners", "free intersections" -> "three intersections"; HOMOPHONE_PLURAL)."""
     return HOMOPHONE_PLURAL.sub(_as_number, text)
 
 
-def _as_number(match):
+def _as_number(match: re.Match[str]) -> str:
     """The number a homophone stands for, and the plural of what it counts."""
     homophone, counted = match.group(1).lower(), match.group(2).lower()
     return f"{NUMBER_HOMOPHONES[homophone]} {COUNTED_SINGULARS.get(counted, counted)}"
 
 
-def tokenise(text):
+def tokenise(text: str) -> list[str]:
     """Lower-case word tokens of one simple instruction, numbers' homophones before counted
     things as the numbers (read_counts), numerals up to ten as words, "right-hand" as "right"
     (SIDE_HAND), a verb before "n't" in full ("can't" -> "can" "n't") and "'ll" as "will"
@@ -93,7 +99,7 @@ def tokenise(text):
             CLITICS.get(token, token) for token, following in zip(tokens, tokens[1:] + [""])]
 
 
-def numeral_as_word(token):
+def numeral_as_word(token: str) -> str:
     """"2nd" -> "second", "3" -> "three" (0 to 10); any other token unchanged."""
     ordinal = ORDINAL.match(token)
     if ordinal and int(ordinal.group(1)) < len(ORDINAL_WORDS):
@@ -103,7 +109,8 @@ def numeral_as_word(token):
     return token
 
 
-def sentence_vector(text, word_vectors, vocabulary=None):
+def sentence_vector(text: str, word_vectors: "WordVectors",
+                    vocabulary: Collection[str] | None = None) -> SentenceVector:
     """§2.2.3.2: the sentence vector of one simple instruction; unknown words are skipped and
     counted (word_vectors.oov_counts). Beyond the seed, with a `vocabulary` (phrase_vocabulary)
     words outside it are skipped too ("take a lift turn": speech recognition's "lift" for
@@ -122,7 +129,8 @@ def sentence_vector(text, word_vectors, vocabulary=None):
     return SentenceVector(text=text, tokens=tokens, vectors=vectors, oov=skipped)
 
 
-def compound_words(token, word_vectors, vocabulary=None):
+def compound_words(token: str, word_vectors: "WordVectors",
+                   vocabulary: Collection[str] | None = None) -> list[str]:
     """A hyphenated token that is not a known word as its parts ("about-face" -> "about",
     "face"); any other token as it is."""
     known = token in word_vectors and (vocabulary is None or token in vocabulary)
@@ -131,7 +139,7 @@ def compound_words(token, word_vectors, vocabulary=None):
     return [part for part in token.split("-") if part]
 
 
-def phrase_vocabulary(path):
+def phrase_vocabulary(path: str | os.PathLike[str]) -> frozenset[str]:
     """Every word of a phrase-set file (config/semnav_phrases.yaml: every set and split, "{dir}"
     as right and left), as `tokenise` gives them -> frozenset. InstructionError naming the file
     when it cannot be read."""
@@ -140,7 +148,8 @@ def phrase_vocabulary(path):
         data = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError) as error:
         raise InstructionError(f"phrase vocabulary {path}: {error}") from None
-    words, stack = set(), [data]
+    words: set[str] = set()
+    stack: list[Any] = [data]    # parsed YAML: strings, mappings and lists of them
     while stack:
         value = stack.pop()
         if isinstance(value, str):
@@ -155,7 +164,7 @@ def phrase_vocabulary(path):
     return frozenset(words)
 
 
-def convert_instruction(sentence, word_vectors):
+def convert_instruction(sentence: str, word_vectors: "WordVectors") -> list[SentenceVector]:
     """Split a sentence and convert each simple instruction: list of SentenceVector, in order."""
     return [sentence_vector(part, word_vectors) for part in split_instruction(sentence)]
 
@@ -186,7 +195,7 @@ ONE_SIDE_COUNTS = re.compile(
     rf"|\b(?:not|n't)(?: take| use)? (?:this|the (?:next|first)(?: two)?) {SIDE_NOT_CORNER}")
 
 
-def counting_mode(text, label=None):
+def counting_mode(text: str, label: int | None = None) -> str:
     """COUNT_SIDE when the simple instruction `text` counts the branches on one side (module
     comment above), else COUNT_CORNERS; always COUNT_CORNERS for a class `label` that counts
     nothing (not 5-8)."""
@@ -256,12 +265,12 @@ class FollowableConfig:
 class UnfollowableInstruction(InstructionError):
     """A sentence the robot must not try: str() says why in full, `spoken` says it to a person."""
 
-    def __init__(self, reason, spoken):
+    def __init__(self, reason: str, spoken: str) -> None:
         super().__init__(reason)
         self.spoken = spoken
 
 
-def number_value(token):
+def number_value(token: str) -> tuple[int, bool] | None:
     """(value, is_ordinal) of a number token ("99th", "4", "fourth", "twenty-first",
     "hundredth"), else None."""
     digits = DIGIT_ORDINAL.match(token)
@@ -285,20 +294,20 @@ def number_value(token):
     return total, ordinal
 
 
-def ordinal_text(number):
+def ordinal_text(number: int) -> str:
     """1 -> "1st", 12 -> "12th", 23 -> "23rd", 99 -> "99th"."""
     if 10 <= number % 100 <= 20:
         return f"{number}th"
     return f"{number}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(number % 10, 'th')}"
 
 
-def corners_asked(text):
+def corners_asked(text: str) -> list[int]:
     """The corner numbers one simple instruction counts to: a number before a corner word
     ("the 99th corner", "five corners down", "the fourth left") or after "corner" ("corner
     number four", "corner three"), one more after "after" / "past" ("after the third corner" is
     the fourth); a cardinal before a measure ("the corner 5 metres ahead") is a distance."""
     tokens = TOKEN.findall(text.lower())
-    asked = []
+    asked: list[int] = []
     for i, token in enumerate(tokens):
         value = number_value(token)
         if value is None:
@@ -313,7 +322,8 @@ def corners_asked(text):
     return asked
 
 
-def english_fraction(sentence, word_vectors, config=None):
+def english_fraction(sentence: str, word_vectors: "WordVectors",
+                     config: FollowableConfig | None = None) -> tuple[int, int]:
     """(common, words): how many of the sentence's words (letters only, any alphabet; numbers
     left out) are common English words: among the `common_words` most frequent of the word
     vectors' vocabulary (GloVe files list words by frequency) and not in FOREIGN_WORDS."""
@@ -325,7 +335,8 @@ def english_fraction(sentence, word_vectors, config=None):
     return common, len(words)
 
 
-def check_followable(sentence, word_vectors=None, config=None):
+def check_followable(sentence: str, word_vectors: "WordVectors | None" = None,
+                     config: FollowableConfig | None = None) -> None:
     """Refuse (UnfollowableInstruction) a sentence the robot must not try to follow:
 
     - with `word_vectors`, a sentence of which fewer than `min_english_fraction` of the words are

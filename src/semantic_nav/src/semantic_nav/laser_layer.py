@@ -8,11 +8,15 @@ Beam arrays are 1-D float arrays in the order of sensor_msgs/LaserScan (angle_mi
 counter-clockwise, angle of beam j = angle_min + j * angle_increment).
 """
 import math
+import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
+from numpy.typing import ArrayLike, NDArray
 
 
 class ScanError(ValueError):
@@ -31,7 +35,7 @@ class LaserModel:
     range_max: float = math.inf  # readings above this mean "no return" [m]
 
     @property
-    def angle_max(self):
+    def angle_max(self) -> float:
         return self.angle_min + (self.beams - 1) * self.angle_increment
 
 
@@ -43,7 +47,7 @@ class CanonicalScan:
     start: int              # B_start: first step used
     steps: int              # B_steps: number of steps used
 
-    def angles(self):
+    def angles(self) -> NDArray[np.float64]:
         """Eq. 2.2-3: angle_i = B_min + (B_start + i) * B_diff, 0 <= i < B_steps [rad]."""
         i = np.arange(self.steps)
         return self.model.angle_min + (self.start + i) * self.model.angle_increment
@@ -58,7 +62,7 @@ class PreprocessConfig:
     max_invalid_fraction: float = 0.25  # more invalid beams than this -> ScanError [1]
 
 
-def laser_model_from_dict(name, entry):
+def laser_model_from_dict(name: str, entry: Mapping[str, Any]) -> LaserModel:
     """Build a LaserModel from a YAML mapping with angles in degrees; ScanError names bad keys."""
     try:
         model = LaserModel(
@@ -73,7 +77,8 @@ def laser_model_from_dict(name, entry):
     return model
 
 
-def load_laser_config(path):
+def load_laser_config(path: str | os.PathLike[str]
+                      ) -> tuple[dict[str, LaserModel], CanonicalScan, PreprocessConfig]:
     """Read config/semnav_laser.yaml -> (models by name, CanonicalScan, PreprocessConfig)."""
     config = yaml.safe_load(Path(path).read_text())
     models = {name: laser_model_from_dict(name, entry)
@@ -86,7 +91,8 @@ def load_laser_config(path):
     return models, scan, PreprocessConfig(**config.get("preprocess", {}))
 
 
-def repair_invalid_beams(ranges, model, config):
+def repair_invalid_beams(ranges: ArrayLike, model: LaserModel,
+                         config: PreprocessConfig) -> tuple[NDArray[np.float64], int]:
     """REP-117 readings -> finite ranges: +inf/above range_max -> no return, NaN/below range_min
     (incl. 0) -> value of the nearest valid beam; -inf (too close) -> range_min.
 
@@ -115,7 +121,8 @@ def repair_invalid_beams(ranges, model, config):
     return out, count
 
 
-def interpolation_indices(source, angles):
+def interpolation_indices(source: LaserModel,
+                          angles: ArrayLike) -> tuple[NDArray[np.int_], NDArray[np.float64]]:
     """Eq. 2.2-4 and 2.2-5: SAMP_i = floor((angle - A_min) / A_diff) and INTER_i / A_diff.
 
     Returns (SAMP as int array, INTER_i / A_diff in [0, 1)). ScanError if an angle lies outside
@@ -132,7 +139,8 @@ def interpolation_indices(source, angles):
     return samp, steps - samp
 
 
-def interpolate_scan(ranges, source, canonical):
+def interpolate_scan(ranges: ArrayLike, source: LaserModel,
+                     canonical: CanonicalScan) -> NDArray[np.float64]:
     """Eq. 2.2-6: B_i = A_SAMP + (A_SAMP+1 - A_SAMP) * INTER_i / A_diff for the canonical angles."""
     ranges = np.asarray(ranges, dtype=np.float64)
     samp, fraction = interpolation_indices(source, canonical.angles())
@@ -140,14 +148,14 @@ def interpolate_scan(ranges, source, canonical):
     return ranges[samp] + (ranges[upper] - ranges[samp]) * fraction
 
 
-def saturate(ranges, config=None):
+def saturate(ranges: ArrayLike, config: PreprocessConfig | None = None) -> NDArray[np.float64]:
     """Eq. 2.2-7: f(x) = x if x < 5 m, else 10 m."""
     config = config or PreprocessConfig()
     ranges = np.asarray(ranges, dtype=np.float64)
     return np.where(ranges < config.saturation_threshold, ranges, config.saturated_value)
 
 
-def l2_normalise(values):
+def l2_normalise(values: ArrayLike) -> NDArray[np.float64]:
     """Eq. 2.2-9: x_i / sqrt(sum_k x_k^2) (sklearn's normalize(norm='l2') for one sample)."""
     values = np.asarray(values, dtype=np.float64)
     norm = math.sqrt(float(np.dot(values, values)))
@@ -156,7 +164,8 @@ def l2_normalise(values):
     return values / norm
 
 
-def preprocess_scan(ranges, source, canonical, config=None):
+def preprocess_scan(ranges: ArrayLike, source: LaserModel, canonical: CanonicalScan,
+                    config: PreprocessConfig | None = None) -> tuple[NDArray[np.float32], int]:
     """The whole layer: repair, interpolate, saturate, normalise -> canonical input vector.
 
     Returns (float32 array of canonical.steps values, number of repaired invalid beams).
@@ -167,7 +176,8 @@ def preprocess_scan(ranges, source, canonical, config=None):
     return l2_normalise(saturate(interpolated, config)).astype(np.float32), invalid
 
 
-def model_from_scan(name, angle_min, angle_increment, beams, range_min=0.0, range_max=math.inf):
+def model_from_scan(name: str, angle_min: float, angle_increment: float, beams: int,
+                    range_min: float = 0.0, range_max: float = math.inf) -> LaserModel:
     """LaserModel from the fields of a sensor_msgs/LaserScan (so any laser works unannounced)."""
     if not angle_increment > 0 or beams < 2:
         raise ScanError(f"{name}: scan needs angle_increment > 0 and >= 2 beams, got "

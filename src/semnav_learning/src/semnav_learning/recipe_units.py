@@ -1,9 +1,10 @@
 """The units of a training recipe (semnav_learning.recipe), each through the library: a dataset
-build (dataset_build.build_dataset), a closed-loop plan (eval_cli.episode_specs), a training or
-Z_w retraining (trainer.Trainer), a DAgger collection (dagger.collect_round) and an evaluation
-(eval_cli.main). Outputs under the recipe's work directory: datasets/<unit>/, plans/<unit>.json,
-train/<unit>/, models/<unit>.keras (+ .json), dagger/<unit>.records, eval/<unit>.json and
-eval/docs/. Each run returns the unit's record for done/<unit>.json."""
+build (dataset_build.build_dataset), a closed-loop plan (evaluation_run.episode_specs), a
+training or Z_w retraining (trainer.Trainer), a DAgger collection (dagger.collect_round) and an
+evaluation (evaluation_run.evaluate_run). Outputs under the recipe's work directory:
+datasets/<unit>/, plans/<unit>.json, train/<unit>/, models/<unit>.keras (+ .json),
+dagger/<unit>.records, eval/<unit>.json and eval/docs/. Each run returns the unit's record for
+done/<unit>.json."""
 import dataclasses
 import json
 
@@ -14,7 +15,7 @@ from semnav_learning.trainer import Trainer, TrainerConfig, TrainingError
 from semnav_learning.training import TrainingConfig
 from tamp_resources import resource
 
-TEST_FLOORS = ["office_ring", "office_comb"]      # eval_cli's default floors: never trained on
+TEST_FLOORS = ["office_ring", "office_comb"]      # the floors never trained on
 
 
 def floor_paths(recipe, floors):
@@ -64,16 +65,16 @@ class UnitRunner:
         return {"dataset": str(out), "records": records}
 
     def run_plan(self, unit, progress):
-        from semnav_learning import eval_cli
+        from semnav_learning.evaluation_run import EvaluationRun, EvaluationRunError, episode_specs
         path = self.work / "plans" / f"{unit.name}.json"
         args = unit.args
-        argv = ["--map", *map(str, floor_paths(self.recipe, args["floors"])),
-                "--episodes-per-class", str(args["per_class"]), "--seed",
-                str(args.get("seed", 0)), "--plan", str(path)]
-        if "classes" in args:
-            argv += ["--classes", *map(str, args["classes"])]
-        parsed = eval_cli.argument_parser().parse_args(argv)
-        specs, _, _ = eval_cli.episode_specs(parsed, resource("config", "semnav_phrases.yaml"))
+        run = EvaluationRun(maps=floor_paths(self.recipe, args["floors"]),
+                            episodes_per_class=args["per_class"], seed=args.get("seed", 0),
+                            plan=path, classes=args.get("classes", EvaluationRun().classes))
+        try:
+            specs, _, _ = episode_specs(run)
+        except EvaluationRunError as error:
+            raise RecipeError(f"unit {unit.name}: {error}") from error
         progress(1, 1, "plans")
         return {"plan": str(path), "episodes": len(specs)}
 
@@ -146,7 +147,7 @@ class UnitRunner:
                                               word_vectors=self.recipe.words)
         sets = load_phrase_sets(resource("config", "semnav_phrases.yaml"))
         classes = args.get("classes", list(CLASS_IDS))
-        rng = np.random.default_rng(args.get("seed", 0) * 1000 + 1)  # dagger_semnav round 1
+        rng = np.random.default_rng(args.get("seed", 0) * 1000 + 1)  # seed * 1000 + round 1
         total, count = len(classes) * args.get("per_class", 4), [0]
 
         def episode_done(result):
@@ -169,21 +170,23 @@ class UnitRunner:
         return figures
 
     def run_evaluate(self, unit, progress):
-        from semnav_learning import eval_cli
+        from semnav_learning.evaluation_run import EvaluationRun, EvaluationRunError, evaluate_run
         args, eval_dir = unit.args, self.work / "eval"
         result = eval_dir / f"{unit.name}.json"
-        argv = ["--model", str(self.model_path(args["model"])),
-                "--plan", str(eval_dir / f"plan_{args['plan']}.json"),
-                "--map", *map(str, floor_paths(self.recipe, args.get("floors", TEST_FLOORS))),
-                "--episodes-per-class", str(args.get("per_class", 100)),
-                "--seed", str(args.get("seed", 0)), "--laser", args.get("laser", "utm30lx"),
-                "--workers", str(args.get("workers", 2)), "--name", unit.name,
-                "--docs", str(eval_dir / "docs"), "--json", str(result)]
-        if "classes" in args:
-            argv += ["--classes", *map(str, args["classes"])]
-        if "follower_config" in args:      # a workspace path, e.g. the seed's follower
-            argv += ["--follower-config", str(self.recipe.root / args["follower_config"])]
-        eval_cli.main(argv=argv)
+        follower = args.get("follower_config")     # a workspace path, e.g. the seed's follower
+        run = EvaluationRun(
+            model=str(self.model_path(args["model"])),
+            plan=eval_dir / f"plan_{args['plan']}.json",
+            maps=floor_paths(self.recipe, args.get("floors", TEST_FLOORS)),
+            episodes_per_class=args.get("per_class", 100), seed=args.get("seed", 0),
+            laser=args.get("laser", "utm30lx"), workers=args.get("workers", 2), name=unit.name,
+            docs=eval_dir / "docs", json=result,
+            classes=args.get("classes", EvaluationRun().classes),
+            follower_config=self.recipe.root / follower if follower else None)
+        try:
+            evaluate_run(run, f"{self.recipe.path} unit {unit.name}")
+        except EvaluationRunError as error:
+            raise RecipeError(f"unit {unit.name}: {error}") from error
         _, episodes, successes, rate = json.loads(result.read_text())["policy"]["total"]
         progress(1, 1, "evaluations")
         self.report(f"  {unit.name} ({args['model']}): {successes}/{episodes} goals "

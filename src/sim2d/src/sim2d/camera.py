@@ -8,12 +8,15 @@ frame reports it: the object's 3D box is cut at the near plane, projected, cut t
 image, and the parts seen by the top and the bottom camera are joined across the seam.
 """
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-from sim2d.detection_model import IdealModel
-from sim2d.raycast import segments_clear
+from sim2d.detection_model import DetectionConfig, DetectionModel, IdealModel
+from sim2d.raycast import GridGeometry, segments_clear
 from sim2d.skeleton import (
     L_EAR, L_EYE, L_SHOULDER, NECK, NOSE, NUM_KEYPOINTS, R_EAR, R_EYE, R_SHOULDER)
 
@@ -23,6 +26,7 @@ FACE_KEYPOINTS = (NOSE, R_EYE, L_EYE)
 NEAR_PLANE = 0.05   # [m] optical z below which nothing projects (as in `project`)
 # The 12 edges of an object's box: index pairs into SimObject.corners() (index 4 ix + 2 iy + iz).
 BOX_EDGES = tuple((i, i | bit) for bit in (1, 2, 4) for i in range(8) if not i & bit)
+Extent = tuple[float, float, float, float]   # (u0, v0, u1, v1) [px]
 
 
 @dataclass
@@ -38,26 +42,6 @@ class CameraConfig:
     mount_x: float = 0.09       # [m] ahead of base_link
     mount_height: float = 1.15  # [m] above the floor
     tilt: float = 0.0           # [rad] pitch down
-
-
-@dataclass
-class DetectionConfig:
-    """How good the simulated detectors are (sim2d.detection_model): `ideal` uses the constants
-    below; `calibrated` takes misses, keypoint and colour errors, label confusions and false
-    detections from the calibration table and uses only max_range, the depth noise, the
-    confidences, the box margin and the seed from here."""
-
-    model: str = "ideal"                # "ideal" or "calibrated"
-    calibration: str = ""               # calibrated: the table (path relative to the world file)
-    max_range: float = 6.0              # [m] nothing is detected farther away
-    miss_probability: float = 0.05      # [-] ideal: chance a visible person or object is missed
-    keypoint_noise: float = 2.0         # [px] ideal: 1 sigma
-    depth_noise: float = 0.02           # [m] 1 sigma, plus depth_noise_fraction * depth
-    depth_noise_fraction: float = 0.01  # [-]
-    colour_noise: float = 6.0           # [0-255] ideal: 1 sigma on shirt colour channels
-    confidence_range: tuple = (0.6, 0.95)  # [-] detector confidences are drawn from this range
-    box_margin: float = 0.08            # [-] person box grows by this fraction per side
-    seed: int = 0
 
 
 @dataclass
@@ -90,7 +74,8 @@ class CameraFrame:
     skeletons: list = field(default_factory=list)
 
 
-def camera_points(points, robot_pose, camera):
+def camera_points(points: np.ndarray, robot_pose: Sequence[float],
+                  camera: CameraConfig) -> npt.NDArray[np.float64]:
     """Map-frame points (N, 3) -> camera optical-frame points (N, 3) [m]."""
     x, y, yaw = robot_pose
     c, s = math.cos(yaw), math.sin(yaw)
@@ -104,7 +89,8 @@ def camera_points(points, robot_pose, camera):
     return np.column_stack([-left, y_down, z])
 
 
-def project(points_cam, camera):
+def project(points_cam: np.ndarray,
+            camera: CameraConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pinhole projection (inverse of thesis 000 Eqs. 3-3, 3-4): (u, v, in_image) per point."""
     z = points_cam[:, 2]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -114,7 +100,9 @@ def project(points_cam, camera):
     return u, v, inside
 
 
-def project_stacked(points, robot_pose, top, bottom):
+def project_stacked(points: np.ndarray, robot_pose: Sequence[float], top: CameraConfig,
+                    bottom: CameraConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                   np.ndarray]:
     """Project into the stitched frame: top image rows 0..H-1, bottom image rows H..2H-1.
 
     Returns u, v, visible, depth (optical z of the camera that sees the point).
@@ -130,7 +118,7 @@ def project_stacked(points, robot_pose, top, bottom):
     return u, v, visible, depth
 
 
-def hidden_face(keypoints, robot_pose):
+def hidden_face(keypoints: np.ndarray, robot_pose: Sequence[float]) -> tuple[int, ...]:
     """Nose and eyes when the head (18, 3 map-frame keypoints) faces away from the robot by more
     than FACE_AWAY: what a person seen from behind hides from the pose detector."""
     head = keypoints[[R_EAR, L_EAR]].mean(axis=0)
@@ -140,7 +128,9 @@ def hidden_face(keypoints, robot_pose):
     return FACE_KEYPOINTS if cos < math.cos(FACE_AWAY) else ()
 
 
-def clip_to_near_plane(points_cam, edges=BOX_EDGES, near=NEAR_PLANE):
+def clip_to_near_plane(points_cam: np.ndarray,
+                       edges: Iterable[tuple[int, int]] = BOX_EDGES,
+                       near: float = NEAR_PLANE) -> npt.NDArray[np.float64]:
     """Vertices (n, 3) of a convex solid cut at optical z = near: its corners in front of the
     plane plus the points where its edges cross it (empty when wholly behind)."""
     z = points_cam[:, 2]
@@ -152,17 +142,17 @@ def clip_to_near_plane(points_cam, edges=BOX_EDGES, near=NEAR_PLANE):
     return np.array(kept).reshape(-1, 3)
 
 
-def convex_hull(points):
+def convex_hull(points: npt.ArrayLike) -> np.ndarray:
     """Counter-clockwise convex hull (m, 2) of 2D points (Andrew's monotone chain)."""
     pts = sorted(set(map(tuple, np.asarray(points, dtype=float))))
     if len(pts) < 3:
         return np.array(pts).reshape(-1, 2)
 
-    def turns_left(a, b, c):
+    def turns_left(a: Sequence[float], b: Sequence[float], c: Sequence[float]) -> bool:
         return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0
 
-    def half(seq):
-        chain = []
+    def half(seq: Iterable[tuple[float, ...]]) -> list[tuple[float, ...]]:
+        chain: list[tuple[float, ...]] = []
         for p in seq:
             while len(chain) >= 2 and not turns_left(chain[-2], chain[-1], p):
                 chain.pop()
@@ -173,14 +163,15 @@ def convex_hull(points):
     return np.array(lower[:-1] + upper[:-1])
 
 
-def clip_polygon(polygon, width, height):
+def clip_polygon(polygon: Iterable[Sequence[float]], width: float,
+                 height: float) -> npt.NDArray[np.float64]:
     """Sutherland-Hodgman: the convex polygon (m, 2) cut to the image [0, width] x [0, height]."""
     poly = [tuple(p) for p in polygon]
     for axis, bound, keep_below in ((0, 0.0, False), (0, width, True),
                                     (1, 0.0, False), (1, height, True)):
-        def inside(p):
+        def inside(p: Sequence[float]) -> bool:
             return p[axis] <= bound if keep_below else p[axis] >= bound
-        out = []
+        out: list[tuple[float, ...]] = []
         for k, p in enumerate(poly):
             q = poly[k - 1]
             if inside(p) != inside(q):
@@ -194,7 +185,8 @@ def clip_polygon(polygon, width, height):
     return np.array(poly).reshape(-1, 2)
 
 
-def visible_extent(corners, robot_pose, camera):
+def visible_extent(corners: np.ndarray, robot_pose: Sequence[float],
+                   camera: CameraConfig) -> Extent | None:
     """(u0, v0, u1, v1) [px] bounding the part of the object's box (8 map-frame corners) that one
     camera's image shows, or None when none of it is in the image."""
     pc = clip_to_near_plane(camera_points(corners, robot_pose, camera))
@@ -214,21 +206,24 @@ def visible_extent(corners, robot_pose, camera):
     return u0, v0, u1, v1
 
 
-def stitched_extent(corners, robot_pose, top, bottom):
+def stitched_extent(corners: np.ndarray, robot_pose: Sequence[float], top: CameraConfig,
+                    bottom: CameraConfig) -> Extent | None:
     """Visible extent of an object in the stitched frame: the top and bottom cameras' parts
     (bottom rows offset by the top image's height) joined into one box, or None."""
-    parts = []
+    parts: list[Extent] = []
     for camera, row_offset in ((top, 0.0), (bottom, float(top.height))):
         part = visible_extent(corners, robot_pose, camera)
         if part is not None:
             parts.append((part[0], part[1] + row_offset, part[2], part[3] + row_offset))
     if not parts:
         return None
-    parts = np.array(parts)
-    return (*parts[:, :2].min(axis=0), *parts[:, 2:].max(axis=0))
+    joined = np.array(parts)
+    (u0, v0), (u1, v1) = joined[:, :2].min(axis=0), joined[:, 2:].max(axis=0)
+    return u0, v0, u1, v1
 
 
-def hidden_by_boxes(points, eye, boxes, margin=0.2):
+def hidden_by_boxes(points: npt.ArrayLike, eye: np.ndarray, boxes: Iterable[Sequence[Any]],
+                    margin: float = 0.2) -> npt.NDArray[np.bool_]:
     """True for each map-frame point (n, 3) that a solid box hides from `eye` (3,): the sight
     line, stopped `margin` m short of the point (a body touching a sofa is not behind it),
     crosses a box [(x, y, yaw, elevation, (sx, sy, sz))] (slab test in the box's frame)."""
@@ -258,23 +253,24 @@ def hidden_by_boxes(points, eye, boxes, margin=0.2):
 class Camera:
     """The robot's stacked cameras plus the detector models that read them."""
 
-    def __init__(self, top, bottom, detection, occluders, model=None):
+    def __init__(self, top: CameraConfig, bottom: CameraConfig, detection: DetectionConfig,
+                 occluders: GridGeometry, model: DetectionModel | None = None) -> None:
         self.top, self.bottom, self.detection = top, bottom, detection
         self.occluders = occluders          # GridGeometry of what blocks the view (walls)
-        self.model = model if model is not None else IdealModel(detection)
+        self.model: DetectionModel = model if model is not None else IdealModel(detection)
         self.rng = np.random.default_rng(detection.seed)
 
     @property
-    def frame_size(self):
+    def frame_size(self) -> tuple[int, int]:
         return self.top.width, self.top.height + self.bottom.height
 
-    def eye(self, robot_pose):
+    def eye(self, robot_pose: Sequence[float]) -> npt.NDArray[np.float64]:
         """Map-frame (3,) position of the top camera."""
         x, y, yaw = robot_pose
         return np.array([x + math.cos(yaw) * self.top.mount_x,
                          y + math.sin(yaw) * self.top.mount_x, self.top.mount_height])
 
-    def apparent_height(self, points, robot_pose):
+    def apparent_height(self, points: np.ndarray, robot_pose: Sequence[float]) -> float:
         """[px] the body (n, 3 map-frame points) would span in an unbounded image: its larger
         extent (height, or length across the view for a lying body) over its depth."""
         eye = self.eye(robot_pose)
@@ -284,7 +280,8 @@ class Camera:
                                                                  np.ptp(points[:, 1]))))
         return self.top.fy * spread / depth
 
-    def in_line_of_sight(self, robot_pose, targets):
+    def in_line_of_sight(self, robot_pose: Sequence[float],
+                         targets: Sequence[Sequence[float]]) -> npt.NDArray[np.bool_]:
         """True for each map-frame (x, y) target that no occluder hides from the camera."""
         if len(targets) == 0:
             return np.zeros(0, dtype=bool)
@@ -300,17 +297,19 @@ class Camera:
         clear[candidate] = segments_clear(self.occluders, ox, oy, t[candidate])
         return clear
 
-    def _confidence(self):
+    def _confidence(self) -> float:
         low, high = self.detection.confidence_range
         return float(self.rng.uniform(low, high))
 
-    def _box(self, u, v):
+    def _box(self, u: np.ndarray, v: np.ndarray) -> tuple[int, int, int, int]:
         w, h = self.frame_size
         x0, x1 = max(0, int(np.floor(u.min()))), min(w - 1, int(np.ceil(u.max())))
         y0, y1 = max(0, int(np.floor(v.min()))), min(h - 1, int(np.ceil(v.max())))
         return x0, y0, x1 - x0, y1 - y0
 
-    def detect_objects(self, objects, robot_pose, lighting=None, labels=()):
+    def detect_objects(self, objects: Sequence[tuple[str, str, npt.ArrayLike, np.ndarray]],
+                       robot_pose: Sequence[float], lighting: Sequence[str] | None = None,
+                       labels: Iterable[str] = ()) -> list[ObjectDetection]:
         """YOLO-like boxes of the objects [(name, label, corners (8, 3), centre (3,))]: the box of
         each object's visible projection in the stitched frame (see `stitched_extent`).
 
@@ -338,7 +337,7 @@ class Camera:
                                               d + self._depth_noise(d), truth=name))
         return detections
 
-    def false_detections(self, lighting, labels):
+    def false_detections(self, lighting: str, labels: Iterable[str]) -> list[ObjectDetection]:
         """Boxes of nothing (a calibrated detector's false people and objects) for one frame."""
         people, others = self.model.false_counts(self.rng, lighting)
         width, height = self.frame_size
@@ -351,12 +350,14 @@ class Camera:
                                        float(self.rng.uniform(1.0, self.detection.max_range))))
         return out
 
-    def _depth_noise(self, depth):
+    def _depth_noise(self, depth: float) -> float:
         sigma = self.detection.depth_noise + self.detection.depth_noise_fraction * abs(depth)
         return float(self.rng.normal(0.0, sigma))
 
-    def detect_person(self, name, keypoints, shirt_colour, robot_pose, hidden=(),
-                      lighting="daylight", hidden_fraction=0.0):
+    def detect_person(self, name: str, keypoints: np.ndarray, shirt_colour: Sequence[Any],
+                      robot_pose: Sequence[float], hidden: Iterable[int] = (),
+                      lighting: str = "daylight", hidden_fraction: float = 0.0
+                      ) -> tuple[SkeletonDetection | None, ObjectDetection | None]:
         """OpenPose-like skeleton plus a YOLO 'person' box that contains every keypoint; the
         skeleton is None when the pose model misses a person the box detector found.
 
@@ -375,8 +376,9 @@ class Camera:
         v = np.clip(v + noise[1], 0, h - 1)
         low, high = det.confidence_range
         conf = np.where(visible, self.rng.uniform(low, high, NUM_KEYPOINTS), 0.0)
-        sigma = det.depth_noise + det.depth_noise_fraction * np.nan_to_num(depth)
-        depth = np.where(visible, depth + self.rng.normal(0.0, 1.0, NUM_KEYPOINTS) * sigma, np.nan)
+        depth_sigma = det.depth_noise + det.depth_noise_fraction * np.nan_to_num(depth)
+        depth = np.where(visible, depth + self.rng.normal(0.0, 1.0, NUM_KEYPOINTS) * depth_sigma,
+                         np.nan)
         u, v = np.where(visible, u, 0.0), np.where(visible, v, 0.0)
         colours = np.zeros((3, 3), dtype=np.uint8)
         for i, joint in enumerate(COLOUR_JOINTS):
@@ -394,10 +396,11 @@ class Camera:
             return None, box
         return skeleton, box
 
-    def person_missed(self, keypoints, robot_pose, hidden_fraction, lighting):
+    def person_missed(self, keypoints: np.ndarray, robot_pose: Sequence[float],
+                      hidden_fraction: float, lighting: str) -> bool:
         """Whether the box detector misses this person (the model's miss rate)."""
         return self.model.person_missed(self.rng, self.apparent_height(keypoints, robot_pose),
                                         hidden_fraction, lighting)
 
-    def missed(self):
+    def missed(self) -> bool:
         return self.rng.random() < self.detection.miss_probability

@@ -1,15 +1,21 @@
 """Plot a simulated camera frame: boxes with class, confidence and depth, COCO-18 skeletons."""
+from pathlib import Path
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from sim2d.camera import CameraFrame  # noqa: E402
 
 # OpenPose COCO-18 limbs (keypoint index pairs) for drawing skeletons
 LIMBS = ((1, 2), (2, 3), (3, 4), (1, 5), (5, 6), (6, 7), (1, 8), (8, 9), (9, 10), (1, 11),
          (11, 12), (12, 13), (1, 0), (0, 14), (14, 16), (0, 15), (15, 17))
 
 
-def plot_camera_frame(frame, title="", out_path=None):
+def plot_camera_frame(frame: CameraFrame, title: str = "",
+                      out_path: str | Path | None = None) -> Figure:
     """Draw a camera frame's detections: boxes with class and confidence, skeleton limbs,
     keypoints coloured by the shirt colour read at joints 1, 2, 5."""
     fig, ax = plt.subplots(figsize=(5.0, 5.0 * frame.height / frame.width + 0.4))

@@ -4,9 +4,11 @@ Pose layout everywhere: (x [m], y [m], yaw [rad]) in the map frame; body twist (
 base_link [m/s, m/s, rad/s]; wheel speeds (left, right) [rad/s].
 """
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 HOLONOMIC, DIFFERENTIAL = "holonomic", "differential"
+Pose = tuple[float, float, float]   # (x, y, yaw), or a body twist (vx, vy, wz)
 
 
 @dataclass
@@ -38,12 +40,13 @@ class RobotState:
     bumps: int = 0                      # number of steps blocked so far
 
 
-def wrap_angle(angle):
+def wrap_angle(angle: float) -> float:
     """Angle in [-pi, pi)."""
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
-def integrate_body_twist(pose, vx, vy, wz, dt):
+def integrate_body_twist(pose: Sequence[float], vx: float, vy: float, wz: float,
+                         dt: float) -> Pose:
     """Exact pose after moving with a constant body twist for dt (a circular arc when wz != 0)."""
     x, y, yaw = pose
     turn = wz * dt
@@ -57,25 +60,26 @@ def integrate_body_twist(pose, vx, vy, wz, dt):
     return x + cy * fx - sy * fy, y + sy * fx + cy * fy, wrap_angle(yaw + turn)
 
 
-def wheels_to_twist(left, right, wheels):
+def wheels_to_twist(left: float, right: float, wheels: WheelConfig) -> tuple[float, float]:
     """Differential drive: wheel speeds [rad/s] -> (v [m/s], w [rad/s])."""
     v = wheels.radius * (right + left) / 2.0
     w = wheels.radius * (right - left) / wheels.separation
     return v, w
 
 
-def twist_to_wheels(v, w, wheels):
+def twist_to_wheels(v: float, w: float, wheels: WheelConfig) -> tuple[float, float]:
     """Differential drive: (v [m/s], w [rad/s]) -> wheel speeds (left, right) [rad/s]."""
     left = (v - w * wheels.separation / 2.0) / wheels.radius
     right = (v + w * wheels.separation / 2.0) / wheels.radius
     return left, right
 
 
-def _approach(current, target, max_step):
+def _approach(current: float, target: float, max_step: float) -> float:
     return current + max(-max_step, min(max_step, target - current))
 
 
-def limit_twist(command, current, drive, limits, dt):
+def limit_twist(command: Sequence[float], current: Sequence[float], drive: str,
+                limits: DriveLimits, dt: float) -> Pose:
     """Clamp the command to the speed limits and ramp toward it within the acceleration limits."""
     vx, vy, wz = command
     if drive == DIFFERENTIAL:
@@ -88,7 +92,9 @@ def limit_twist(command, current, drive, limits, dt):
             _approach(current[2], wz, limits.max_angular_accel * dt))
 
 
-def step_robot(state, drive, limits, radius, clearance, dt, wheels=None):
+def step_robot(state: RobotState, drive: str, limits: DriveLimits, radius: float,
+               clearance: Callable[[float, float], float], dt: float,
+               wheels: WheelConfig | None = None) -> RobotState:
     """Advance one robot by dt; a translation into an obstacle is refused (stall, bump).
 
     clearance(x, y) -> free distance [m] around a map point. The robot may still turn in place

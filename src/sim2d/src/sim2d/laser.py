@@ -1,15 +1,19 @@
 """Laser range finders: models from config/lasers/*.yaml and scans with noise and dropouts."""
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import astuple, dataclass
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 import yaml
 
-from sim2d.raycast import ray_march
+from sim2d.raycast import GridGeometry, RangeTable, ray_march
 
 NOISE_POOL = 1 << 18   # standard normals drawn once; each scan reads a slice at a random offset
 OFFSET_BLOCK = 4096    # random pool offsets drawn at once
+Circles = Sequence[Sequence[float]] | np.ndarray   # [(x, y, r)] [m]
+Boxes = Sequence[Sequence[float]] | np.ndarray     # [(x0, y0, x1, y1)] [m]
 
 
 class LaserModelError(ValueError):
@@ -32,13 +36,13 @@ class LaserModel:
     dropout_probability: float = 0.0  # [-] chance a beam returns nothing
     num_beams: int = 0          # [-] 0: derived from the angle span
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.num_beams <= 0:
             span = (self.angle_max - self.angle_min) / self.angle_increment
             self.num_beams = int(round(span)) + 1
         self.angle_max = self.angle_min + (self.num_beams - 1) * self.angle_increment
 
-    def beam_angles(self):
+    def beam_angles(self) -> npt.NDArray[np.float64]:
         """Beam directions [rad] in the laser frame."""
         return self.angle_min + np.arange(self.num_beams) * self.angle_increment
 
@@ -47,7 +51,7 @@ LASER_FIELDS = ("name", "angle_min", "angle_max", "angle_increment", "range_min"
                 "scan_time")
 
 
-def load_laser_model(path):
+def load_laser_model(path: str | Path) -> LaserModel:
     """Read one config/lasers/<model>.yaml; LaserModelError names the file and the problem."""
     path = Path(path)
     try:
@@ -70,7 +74,7 @@ def load_laser_model(path):
     return model
 
 
-def find_laser_model(name, laser_dir):
+def find_laser_model(name: str, laser_dir: str | Path) -> LaserModel:
     """The model called `name` in laser_dir; the error lists the models that exist."""
     path = Path(laser_dir) / f"{name}.yaml"
     if not path.is_file():
@@ -80,7 +84,7 @@ def find_laser_model(name, laser_dir):
     return load_laser_model(path)
 
 
-def circle_ranges(ox, oy, angles, circles):
+def circle_ranges(ox: float, oy: float, angles: np.ndarray, circles: Circles) -> np.ndarray:
     """Ranges [m] along each ray to the nearest of `circles` [(x, y, r)], inf if none is hit."""
     if len(circles) == 0:
         return np.full(np.shape(angles), np.inf)
@@ -95,7 +99,8 @@ def circle_ranges(ox, oy, angles, circles):
     return np.where(hit, t, np.inf).min(axis=0)
 
 
-def beam_windows(bearings, halves, angle_min, increment, num_beams):
+def beam_windows(bearings: np.ndarray, halves: np.ndarray, angle_min: float, increment: float,
+                 num_beams: int) -> tuple[np.ndarray, np.ndarray]:
     """Per circle, the beams of a fan (beam i at angle_min + i * increment) that can reach it:
     its bearing +- its angular half-width, one beam of margin each side (the exact test decides
     the tangent beams). -> (circle index, beam index) pairs as two flat int arrays. A window
@@ -127,8 +132,9 @@ def beam_windows(bearings, halves, angle_min, increment, num_beams):
     return np.repeat(owners, counts), np.cumsum(steps)
 
 
-def overlay_circles(ranges, lx, ly, lyaw, circles, cos_beam, sin_beam, angle_min, increment,
-                    reach=math.inf):
+def overlay_circles(ranges: np.ndarray, lx: float, ly: float, lyaw: float, circles: Circles,
+                    cos_beam: np.ndarray, sin_beam: np.ndarray, angle_min: float,
+                    increment: float, reach: float = math.inf) -> np.ndarray:
     """`ranges` with circles [(x, y, r)] overlaid, each cast only on the beams of its angular
     window (beam_windows), in the laser frame with the beams' precomputed cos / sin: the same
     hits as circle_ranges at a cost that grows with the beams the circles cover, not with
@@ -151,7 +157,9 @@ def overlay_circles(ranges, lx, ly, lyaw, circles, cos_beam, sin_beam, angle_min
     return out
 
 
-def window_hits(fx, fy, d2, r2, cos_beam, sin_beam, angle_min, increment, num_beams):
+def window_hits(fx: np.ndarray, fy: np.ndarray, d2: np.ndarray, r2: np.ndarray,
+                cos_beam: np.ndarray, sin_beam: np.ndarray, angle_min: float, increment: float,
+                num_beams: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The beams that hit circles seen from a laser: circles at (fx, fy) in the laser frame,
     squared distance d2 and squared radius r2 (arrays, one per circle), each cast on the beams of
     its angular window (beam_windows) -> (circle index, beam index, range) per hit."""
@@ -166,7 +174,7 @@ def window_hits(fx, fy, d2, r2, cos_beam, sin_beam, angle_min, increment, num_be
     return circle[hit], beam[hit], t[hit]
 
 
-def box_ranges(ox, oy, angles, boxes):
+def box_ranges(ox: float, oy: float, angles: np.ndarray, boxes: Boxes) -> np.ndarray:
     """Ranges [m] along each ray to the nearest axis-aligned box [(x0, y0, x1, y1)] (slab
     method, exact), inf if none is hit; 0 for a ray starting inside a box."""
     if len(boxes) == 0:
@@ -192,7 +200,8 @@ def box_ranges(ox, oy, angles, boxes):
 class LaserSensor:
     """A laser of a given model mounted on a robot; `scan(pose)` returns noisy ranges."""
 
-    def __init__(self, model, mount, geometry, table=None, seed=0):
+    def __init__(self, model: LaserModel, mount: Sequence[float], geometry: GridGeometry,
+                 table: RangeTable | None = None, seed: int = 0) -> None:
         self.model = model
         self.mount = tuple(float(v) for v in mount)   # (x, y, yaw) in base_link [m, m, rad]
         self.geometry = geometry
@@ -213,28 +222,30 @@ class LaserSensor:
                        "dropout": np.where(dropped, np.inf, 0.0).astype(np.float32),
                        "noise": np.where(dropped, np.inf,
                                          model.noise_std * normal).astype(np.float32)}
-        self._offsets, self._next_offset = [], 0
+        self._offsets: list[int] = []
+        self._next_offset = 0
         steps = model.angle_increment / (2.0 * np.pi / table.config.angle_bins) if table else 0.0
         self.fan_step = int(round(steps)) if table and abs(steps - round(steps)) < 1e-6 else 0
 
-    def reseed(self, seed):
+    def reseed(self, seed: int) -> None:
         """Restart the noise stream (e.g. per episode, so an episode's scans do not depend on
         the episodes run before it); the noise pools stay those of the construction seed."""
         self.rng = np.random.default_rng(seed)
         self._offsets, self._next_offset = [], 0
 
-    def pose_in_map(self, pose):
+    def pose_in_map(self, pose: Sequence[float]) -> tuple[float, float, float]:
         x, y, yaw = pose
         mx, my, myaw = self.mount
         c, s = math.cos(yaw), math.sin(yaw)
         return x + c * mx - s * my, y + s * mx + c * my, yaw + myaw
 
-    def true_ranges(self, pose, circles=(), boxes=()):
+    def true_ranges(self, pose: Sequence[float], circles: Circles = (),
+                    boxes: Boxes = ()) -> np.ndarray:
         """Noise-free ranges [m] from the map, circular obstacles such as people and boxes such
         as closed doors (exact casts overlaid on the static map's table or ray march)."""
         lx, ly, lyaw = self.pose_in_map(pose)
-        ranges = None
-        if self.fan_step:
+        ranges: np.ndarray | None = None
+        if self.fan_step and self.table is not None:   # a fan step implies a table
             ranges = self.table.cast_fan(lx, ly, lyaw + self.model.angle_min,
                                          self.model.num_beams, self.fan_step)
             if ranges is not None and not len(circles) and not len(boxes):
@@ -254,7 +265,7 @@ class LaserSensor:
             ranges = np.minimum(ranges, box_ranges(lx, ly, world_angles, boxes))
         return ranges
 
-    def _pool_slice(self, pool):
+    def _pool_slice(self, pool: np.ndarray) -> np.ndarray:
         if self._next_offset == len(self._offsets):     # offsets drawn in bulk: cheaper per scan
             self._offsets = self.rng.integers(0, NOISE_POOL, OFFSET_BLOCK).tolist()
             self._next_offset = 0
@@ -262,13 +273,14 @@ class LaserSensor:
         self._next_offset += 1
         return pool[start:start + self.model.num_beams]
 
-    def scan(self, pose, circles=(), boxes=()):
+    def scan(self, pose: Sequence[float], circles: Circles = (), boxes: Boxes = ()) -> np.ndarray:
         """One scan [m]: Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117)."""
         ranges = np.asarray(self.true_ranges(pose, circles, boxes), dtype=np.float32)
         return noisy_ranges(self.model, ranges, lambda pool: self._pool_slice(self._pools[pool]))
 
 
-def noisy_ranges(model, ranges, draw):
+def noisy_ranges(model: LaserModel, ranges: np.ndarray,
+                 draw: Callable[[str], np.ndarray]) -> np.ndarray:
     """Gaussian range noise, dropouts and out-of-range beams as +inf (REP 117) on float32 true
     ranges [m] of one scan or rows of scans; draw(pool) reads the noise pool "normal",
     "dropout" or "noise" (LaserSensor) in the shape of `ranges`. Returns a new array."""

@@ -9,13 +9,15 @@ noise stream and the arithmetic is the same, element for element, so every scan 
 LaserSensor.scan returns, bit for bit (test_laser_batch.py).
 """
 import math
+from collections.abc import Sequence
 
 import numpy as np
+import numpy.typing as npt
 
-from sim2d.laser import box_ranges, noisy_ranges, window_hits
+from sim2d.laser import Boxes, LaserSensor, box_ranges, noisy_ranges, window_hits
 
 
-def batch_key(laser):
+def batch_key(laser: LaserSensor) -> tuple[tuple, int] | None:
     """Lasers with equal keys can be cast together: one model, one range table, windowed
     overlay; None for a laser that casts alone (no table, or every beam against every circle)."""
     if laser.table is None or not laser.windowed:
@@ -23,7 +25,9 @@ def batch_key(laser):
     return laser.model_key, id(laser.table)
 
 
-def scan_many(lasers, poses, circles=None, owners=None, boxes=()):
+def scan_many(lasers: Sequence[LaserSensor], poses: Sequence[Sequence[float]],
+              circles: np.ndarray | None = None, owners: Sequence[int] | None = None,
+              boxes: Boxes = ()) -> np.ndarray | None:
     """One noisy scan [m] per laser (rows of a float32 (lasers, beams) array), as
     `laser.scan(pose, circles without the laser's own robot, boxes)` gives each; None when a
     laser stands where its table has no sample (the caller casts those alone).
@@ -33,12 +37,14 @@ def scan_many(lasers, poses, circles=None, owners=None, boxes=()):
     the row of its own robot in `circles` (-1: none); boxes: closed doors (x0, y0, x1, y1).
     """
     first = lasers[0]
-    at = [laser.pose_in_map(pose) for laser, pose in zip(lasers, poses)]
-    xs, ys, yaws = zip(*at)
+    if first.table is None:
+        raise ValueError("scan_many casts lasers with a range table only (see batch_key)")
+    in_map = [laser.pose_in_map(pose) for laser, pose in zip(lasers, poses)]
+    xs, ys, yaws = zip(*in_map)
     ranges = first.table.cast_rows(xs, ys, yaws, first.angles, first.fan_step)
     if ranges is None:
         return None
-    at = np.array(at)   # (K, 3) laser poses in the map
+    at = np.array(in_map)   # (K, 3) laser poses in the map
     if circles is not None and len(circles):
         ranges = overlay_many(ranges, at, circles, np.asarray(owners), first)
     if len(boxes):   # rounded to float32 before the minimum, as the circles' hits
@@ -49,7 +55,8 @@ def scan_many(lasers, poses, circles=None, owners=None, boxes=()):
     return add_noise(lasers, ranges)
 
 
-def overlay_many(ranges, at, circles, owners, laser):
+def overlay_many(ranges: np.ndarray, at: np.ndarray, circles: npt.ArrayLike, owners: np.ndarray,
+                 laser: LaserSensor) -> np.ndarray:
     """laser.overlay_circles for every laser pose of `at` at once, in place on the float32
     (lasers x beams) `ranges`: each circle of `circles` (N x 3) but the laser's own robot
     (`owners`) is cast on the beams of its angular window. The hits are rounded to float32
@@ -75,7 +82,7 @@ def overlay_many(ranges, at, circles, owners, laser):
     return ranges
 
 
-def add_noise(lasers, ranges):
+def add_noise(lasers: Sequence[LaserSensor], ranges: np.ndarray) -> np.ndarray:
     """LaserSensor.scan's noise, dropouts and range limits (laser.noisy_ranges) on (lasers x
     beams) float32 true ranges, each laser drawing from its own noise stream."""
     shape = ranges.shape   # one concatenate: a third of np.stack's cost on these rows

@@ -8,11 +8,12 @@ turn by alpha1 * pi/2 per step (0.7 rad per second at 100 Hz). Holonomic bases t
 alpha terms on their body-frame increment instead (noisy_body_increment).
 """
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from sim2d.kinematics import wrap_angle
+from sim2d.kinematics import Pose, wrap_angle
 
 
 @dataclass
@@ -32,7 +33,8 @@ NOISE_POOL = 1 << 10    # standard-normal triples drawn at once: the same stream
                         # and a new Odometry costs 0.14 ms, not 6.7 ms (1 << 15)
 
 
-def noisy_increment(previous, current, config, noise):
+def noisy_increment(previous: Sequence[float], current: Sequence[float], config: OdometryConfig,
+                    noise: Sequence[float]) -> tuple[float, float, float]:
     """Probabilistic Robotics Table 5.6: (rot1, trans, rot2) of a true move, with sampled noise."""
     dx, dy = current[0] - previous[0], current[1] - previous[1]
     trans = math.hypot(dx, dy)
@@ -49,7 +51,9 @@ def noisy_increment(previous, current, config, noise):
             rot2 * config.scale_angular)
 
 
-def noisy_body_increment(previous, current, config, noise):
+def noisy_body_increment(previous: Sequence[float], current: Sequence[float],
+                         config: OdometryConfig,
+                         noise: Sequence[float]) -> tuple[float, float, float]:
     """Holonomic bases: Table 5.6's alpha terms on the body-frame increment (dx, dy, dtheta).
 
     The heading change takes alpha1 per radian turned and alpha2 per metre driven; the
@@ -77,15 +81,16 @@ class Odometry:
 
     holonomic: the base can move sideways (noisy_body_increment), else Table 5.6."""
 
-    def __init__(self, config, start_pose, holonomic=False):
+    def __init__(self, config: OdometryConfig, start_pose: Sequence[float],
+                 holonomic: bool = False) -> None:
         self.config = config
         self.holonomic = holonomic
         self.rng = np.random.default_rng(config.seed)
         self._pool, self._next = self.rng.standard_normal((NOISE_POOL, 3)).tolist(), 0
-        self.pose = (0.0, 0.0, 0.0)           # odom frame starts at the robot's start pose
+        self.pose: Pose = (0.0, 0.0, 0.0)     # odom frame starts at the robot's start pose
         self._last_truth = tuple(start_pose)
 
-    def update(self, true_pose):
+    def update(self, true_pose: Sequence[float]) -> Pose:
         if self._next == NOISE_POOL:
             self._pool, self._next = self.rng.standard_normal((NOISE_POOL, 3)).tolist(), 0
         noise = self._pool[self._next]

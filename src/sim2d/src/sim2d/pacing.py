@@ -22,13 +22,13 @@ class Pacer:
     `seconds_lost` count the stalls; `shortfall(sim, wall)` -> the speed achieved over the last
     full window when it fell short of the requested one, else None."""
 
-    def __init__(self, config, sim, wall):
+    def __init__(self, config: PacerConfig, sim: float, wall: float) -> None:
         self.config = config
         self.base_sim, self.base_wall = sim, wall
         self.slips, self.seconds_lost = 0, 0.0
         self.window_sim, self.window_wall = sim, wall
 
-    def delay(self, sim, wall):
+    def delay(self, sim: float, wall: float) -> float:
         speed = self.config.speed
         if speed <= 0:
             return 0.0
@@ -40,7 +40,7 @@ class Pacer:
             return 0.0
         return max(ahead, 0.0)
 
-    def shortfall(self, sim, wall):
+    def shortfall(self, sim: float, wall: float) -> float | None:
         """The achieved speed of the window just completed if below min_ratio x speed."""
         elapsed = wall - self.window_wall
         if self.config.speed <= 0 or elapsed < self.config.window:

@@ -21,7 +21,7 @@ class ScheduleEntry:
     holding: str = ""           # name of the object in the hands ("" = none)
     looking_at: str = ""        # name of the object looked at ("" = straight ahead)
     via: list = field(default_factory=list)   # [[x, y], ...] waypoints [m]
-    shirt_colour: tuple = None  # clothes put on at the destination (as Person's); None = same
+    shirt_colour: tuple | None = None  # clothes put on there (as Person's); None = same
 
 
 @dataclass
@@ -38,13 +38,13 @@ class Person:
     radius: float = 0.2         # [m] footprint seen by lasers
     _path: list = field(default_factory=list, repr=False)
     _next_entry: int = 0
-    _arrival: ScheduleEntry = None
+    _arrival: ScheduleEntry | None = None
 
     @property
-    def walking(self):
+    def walking(self) -> bool:
         return bool(self._path)
 
-    def step(self, now, dt):
+    def step(self, now: float, dt: float) -> None:
         """Start the schedule's moves that are due and walk along the current path."""
         while self._next_entry < len(self.schedule) and self.schedule[self._next_entry].time <= now:
             entry = self.schedule[self._next_entry]
@@ -56,7 +56,7 @@ class Person:
         if self._path:
             self._walk(self.walking_speed * dt)
 
-    def _walk(self, distance):
+    def _walk(self, distance: float) -> None:
         x, y, yaw = self.pose
         while self._path and distance > 0:
             tx, ty = self._path[0]
@@ -73,6 +73,8 @@ class Person:
         self.pose = (x, y, yaw)
         if not self._path:
             entry = self._arrival
+            if entry is None:   # a path is only ever set together with its schedule entry
+                raise RuntimeError(f"person {self.name!r} walked a path of no schedule entry")
             self.pose = tuple(entry.pose)
             self.posture, self.activity = entry.posture, entry.activity
             self.holding, self.looking_at = entry.holding, entry.looking_at

@@ -11,11 +11,16 @@ Two casters share one geometry (occupied cells are squares of side `resolution`)
 """
 import hashlib
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal, overload
 
 import cv2
 import numpy as np
+import numpy.typing as npt
+
+from floorplan.occupancy_map import OccupancyMap
 
 TABLE_FORMAT = "faces-dda-v3"   # bump when the table contents change (invalidates caches)
 SAFE_MARGIN = 1.5        # [cells] DT bound loss: point-to-cell-centre plus half a cell diagonal
@@ -23,13 +28,15 @@ MAX_ITERATIONS = 4000    # guard against pathological grazing rays
 CLEARANCE_LOSS = np.sqrt(2.0)  # [cells] point-to-centre plus half the obstacle cell's diagonal
 
 
-def distance_transform(occupied):
+def distance_transform(occupied: np.ndarray) -> npt.NDArray[np.float32]:
     """Distance [cells] from every cell centre to the nearest occupied cell centre (0 inside)."""
     free = np.ascontiguousarray(~occupied, dtype=np.uint8)
     return cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE).astype(np.float32)
 
 
-def _cell_entry(ox, oy, cos, sin, col, row, origin_x, origin_y, resolution):
+def _cell_entry(ox: np.ndarray, oy: np.ndarray, cos: np.ndarray, sin: np.ndarray,
+                col: np.ndarray, row: np.ndarray, origin_x: float, origin_y: float,
+                resolution: float) -> tuple[np.ndarray, np.ndarray]:
     """Range at which each ray enters its cell square (slab method), and whether it enters
     through a face parallel to x (a "y face", normal along y)."""
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -53,14 +60,14 @@ class GridGeometry:
     origin_y: float        # [m]
 
     @classmethod
-    def from_map(cls, grid):
+    def from_map(cls, grid: OccupancyMap) -> "GridGeometry":
         if abs(grid.origin[2]) > 1e-9:
             raise ValueError(f"rotated map origins are not supported (yaw {grid.origin[2]})")
         occupied = grid.occupied_mask()
         return cls(occupied, distance_transform(occupied), float(grid.resolution),
                    float(grid.origin[0]), float(grid.origin[1]))
 
-    def clearance_at(self, x, y):
+    def clearance_at(self, x: float, y: float) -> float:
         """Scalar clearance (see `clearance`), without numpy overhead."""
         col = math.floor((x - self.origin_x) / self.resolution)
         row = math.floor((y - self.origin_y) / self.resolution)
@@ -69,7 +76,7 @@ class GridGeometry:
         d = float(self.dist[row, col])
         return max(d - CLEARANCE_LOSS, 0.0) * self.resolution if d > 0 else 0.0
 
-    def clearance(self, x, y):
+    def clearance(self, x: npt.ArrayLike, y: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Lower bound [m] of the free distance around map points (0 outside or in obstacles)."""
         col = np.floor((np.asarray(x, dtype=float) - self.origin_x) / self.resolution).astype(int)
         row = np.floor((np.asarray(y, dtype=float) - self.origin_y) / self.resolution).astype(int)
@@ -80,7 +87,22 @@ class GridGeometry:
         return np.maximum(d - CLEARANCE_LOSS, 0.0) * self.resolution * (d > 0)
 
 
-def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
+@overload
+def ray_march(geometry: GridGeometry, ox: npt.ArrayLike, oy: npt.ArrayLike,
+              angles: npt.ArrayLike, max_range: float,
+              return_faces: Literal[False] = False) -> npt.NDArray[np.float64]: ...
+
+
+@overload
+def ray_march(geometry: GridGeometry, ox: npt.ArrayLike, oy: npt.ArrayLike,
+              angles: npt.ArrayLike, max_range: float, return_faces: Literal[True]
+              ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...
+
+
+def ray_march(geometry: GridGeometry, ox: npt.ArrayLike, oy: npt.ArrayLike,
+              angles: npt.ArrayLike, max_range: float, return_faces: bool = False
+              ) -> npt.NDArray[np.float64] | tuple[npt.NDArray[np.float64],
+                                                   npt.NDArray[np.bool_]]:
     """Ranges [m] of rays from (ox, oy) at `angles` [rad] to the first occupied cell.
 
     Far from obstacles a ray jumps by the distance-transform bound (sphere tracing); within
@@ -140,7 +162,8 @@ def ray_march(geometry, ox, oy, angles, max_range, return_faces=False):
     return ranges.reshape(angles.shape)
 
 
-def segments_clear(geometry, ox, oy, targets, spacing=0.5):
+def segments_clear(geometry: GridGeometry, ox: float, oy: float, targets: npt.ArrayLike,
+                   spacing: float = 0.5) -> npt.NDArray[np.bool_]:
     """True for each target (x, y) whose straight segment from (ox, oy) crosses no occupied
     cell, sampled every `spacing` cells (all segments in one vectorised lookup)."""
     t = np.asarray(targets, dtype=float).reshape(-1, 2)
@@ -189,7 +212,9 @@ class RangeTable:
     RANGE_MASK = np.uint16((1 << 15) - 1)
     NO_HIT = (1 << 15) - 1          # 32.767 m: beyond every supported max_range
 
-    def __init__(self, geometry, config, index, table, points=None):
+    def __init__(self, geometry: GridGeometry, config: RangeTableConfig, index: np.ndarray,
+                 table: np.ndarray,
+                 points: tuple[np.ndarray, np.ndarray] | None = None) -> None:
         self.geometry, self.config = geometry, config
         self.index = index      # int32 (rows, cols): table row of each sample point, -1 if none
         self.table = table      # uint16 (n, angle_bins), see the class docstring
@@ -209,7 +234,9 @@ class RangeTable:
         self._inv_sin = np.concatenate([inv_sin, inv_sin])
 
     @classmethod
-    def build(cls, geometry, config=None, cache_dir=None, chunk_rays=2_000_000, lazy=False):
+    def build(cls, geometry: GridGeometry, config: RangeTableConfig | None = None,
+              cache_dir: str | Path | None = None, chunk_rays: int = 2_000_000,
+              lazy: bool = False) -> "RangeTable":
         """Tabulate every sample point with enough clearance; reuse a cached table if present.
 
         lazy: without a cached table, fill each row when a cast first needs it (the same
@@ -239,7 +266,8 @@ class RangeTable:
         return cls(geometry, config, index, table)
 
     @classmethod
-    def _tabulate(cls, geometry, config, xs, ys):
+    def _tabulate(cls, geometry: GridGeometry, config: RangeTableConfig, xs: np.ndarray,
+                  ys: np.ndarray) -> np.ndarray:
         """Table rows (uint16 entries over every direction) of the sample points (xs, ys)."""
         angles = np.arange(config.angle_bins) * (2.0 * np.pi / config.angle_bins)
         ranges, faces = ray_march(geometry, xs[:, None], ys[:, None],
@@ -249,20 +277,21 @@ class RangeTable:
         return mm.astype(np.uint16) | (faces.astype(np.uint16) << 15)
 
     @property
-    def filled_rows(self):
+    def filled_rows(self) -> int:
         """How many rows hold ranges (all of them unless the table is lazy)."""
         return len(self.table) if self._filled is None else int(self._filled.sum())
 
-    def _fill(self, entry):
+    def _fill(self, entry: int) -> None:
         """Fill row `entry` of a lazy table if it is still empty."""
-        if self._filled is not None and not self._filled[entry]:
+        if self._filled is not None and self._points is not None and not self._filled[entry]:
             xs, ys = self._points
             self.table[entry] = self._tabulate(self.geometry, self.config, xs[entry:entry + 1],
                                                ys[entry:entry + 1])[0]
             self._filled[entry] = True
 
     @staticmethod
-    def _sample_points(geometry, config):
+    def _sample_points(geometry: GridGeometry, config: RangeTableConfig
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         g = geometry
         cols = int(np.floor(g.dist.shape[1] * g.resolution / config.cell_size))
         rows = int(np.floor(g.dist.shape[0] * g.resolution / config.cell_size))
@@ -275,7 +304,8 @@ class RangeTable:
         return index, gx[ok], gy[ok]
 
     @staticmethod
-    def _cache_path(geometry, config, cache_dir):
+    def _cache_path(geometry: GridGeometry, config: RangeTableConfig,
+                    cache_dir: str | Path | None) -> Path | None:
         if cache_dir is None:
             return None
         digest = hashlib.sha256(np.packbits(geometry.occupied).tobytes())
@@ -283,7 +313,7 @@ class RangeTable:
                             geometry.origin_y, config, TABLE_FORMAT)).encode())
         return Path(cache_dir) / f"range_table_{digest.hexdigest()[:16]}.npy"
 
-    def _nearest(self, x, y):
+    def _nearest(self, x: float, y: float) -> tuple[int, float, float] | None:
         """(table row, dx, dy) of the sample point nearest to (x, y), or None if untabulated."""
         size = self.config.cell_size
         col = math.floor((x - self.geometry.origin_x) / size)
@@ -298,7 +328,7 @@ class RangeTable:
         dy = y - (self.geometry.origin_y + (row + 0.5) * size)
         return entry, dx, dy
 
-    def cast(self, x, y, angles):
+    def cast(self, x: float, y: float, angles: npt.ArrayLike) -> npt.NDArray[np.float32] | None:
         """Ranges [m] from (x, y) along `angles` [rad] (nearest table bin); None if untabulated.
 
         Values above max_range mean no return.
@@ -311,7 +341,7 @@ class RangeTable:
         return self._shifted(raw, found[1], found[2], self._inv_cos[bins],
                              self._inv_sin[bins])
 
-    def _bins(self, angles):
+    def _bins(self, angles: np.ndarray) -> npt.NDArray[np.int64]:
         """Nearest table bin of each angle [rad], in [-angle_bins, angle_bins): numpy's
         negative indices address the table and the doubled inverse cos / sin arrays as their
         remainder modulo angle_bins would, so angles within +-2 pi (a wrapped yaw plus a beam
@@ -322,7 +352,8 @@ class RangeTable:
             bins %= count
         return bins
 
-    def cast_fan(self, x, y, first_angle, count, step_bins):
+    def cast_fan(self, x: float, y: float, first_angle: float, count: int,
+                 step_bins: int) -> npt.NDArray[np.float32] | None:
         """Like cast for `count` beams `step_bins` table bins apart from first_angle [rad]."""
         found = self._nearest(x, y)
         if found is None:
@@ -337,7 +368,8 @@ class RangeTable:
         return self._shifted(row[window], found[1], found[2], self._inv_cos[window],
                              self._inv_sin[window])
 
-    def cast_rows(self, xs, ys, yaws, angles, fan_step=0):
+    def cast_rows(self, xs: Sequence[float], ys: Sequence[float], yaws: Sequence[float],
+                  angles: np.ndarray, fan_step: int = 0) -> npt.NDArray[np.float32] | None:
         """`cast` from several points at once: row k is cast(xs[k], ys[k], angles + yaws[k]),
         or with `fan_step` cast_fan(xs[k], ys[k], yaws[k] + angles[0], len(angles), fan_step),
         value for value; None when a point is untabulated."""
@@ -357,7 +389,8 @@ class RangeTable:
             inv_cos, inv_sin = self._inv_cos[bins], self._inv_sin[bins]
         return self._shifted(self.table[entries, bins], dx, dy, inv_cos, inv_sin)
 
-    def _shifted(self, raw, dx, dy, inv_cos, inv_sin):
+    def _shifted(self, raw: np.ndarray, dx: float | np.ndarray, dy: float | np.ndarray,
+                 inv_cos: np.ndarray, inv_sin: np.ndarray) -> npt.NDArray[np.float32]:
         """Table ranges moved from the sample point by (dx, dy) along each hit face (dx, dy:
         numbers, or columns for rows of ranges)."""
         ranges = (raw & self.RANGE_MASK).astype(np.float32)

@@ -5,13 +5,16 @@ person; a person holding something has both wrists at the held point in front of
 head (nose, eyes, ears) turns toward what the person looks at (the held object by default).
 """
 import math
+from collections.abc import Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 NOSE, NECK, R_SHOULDER, R_ELBOW, R_WRIST, L_SHOULDER, L_ELBOW, L_WRIST = range(8)
 R_HIP, R_KNEE, R_ANKLE, L_HIP, L_KNEE, L_ANKLE, R_EYE, L_EYE, R_EAR, L_EAR = range(8, 18)
 HEAD = (NOSE, R_EYE, L_EYE, R_EAR, L_EAR)
 NUM_KEYPOINTS = 18
+Points = npt.NDArray[np.float64]   # (n, 3) [m]
 
 STANDING = np.array([
     [0.09, 0.0, 1.60], [0.0, 0.0, 1.45], [0.0, -0.19, 1.42], [0.0, -0.23, 1.14],
@@ -36,7 +39,7 @@ MAX_HEAD_YAW = 1.3      # [rad]
 MAX_HEAD_PITCH = 0.9    # [rad]
 
 
-def posture_keypoints(posture):
+def posture_keypoints(posture: str) -> Points:
     """Idle keypoints (18, 3) in the person frame for standing, sitting or lying."""
     if posture == "standing":
         return STANDING.copy()
@@ -48,13 +51,13 @@ def posture_keypoints(posture):
     raise ValueError(f"unknown posture {posture!r} (standing, sitting, lying)")
 
 
-def hold_point(points):
+def hold_point(points: Points) -> Points:
     """Person-frame point [m] where the hands hold an object (in front of the chest)."""
     shoulders = (points[R_SHOULDER] + points[L_SHOULDER]) / 2.0
     return shoulders + np.array([HOLD_REACH, 0.0, -HOLD_DROP])
 
 
-def hold_in_hands(points):
+def hold_in_hands(points: Points) -> Points:
     """Move both arms so the wrists meet at the hold point; returns the hold point."""
     target = hold_point(points)
     for shoulder, elbow, wrist, side in ((R_SHOULDER, R_ELBOW, R_WRIST, -1.0),
@@ -65,7 +68,7 @@ def hold_in_hands(points):
     return target
 
 
-def turn_head(points, target):
+def turn_head(points: Points, target: npt.ArrayLike) -> None:
     """Rotate the head keypoints about the head centre to face the person-frame point target."""
     pivot = points[NECK] + np.array([0.0, 0.0, HEAD_PIVOT])
     d = np.asarray(target, dtype=float) - pivot
@@ -78,7 +81,7 @@ def turn_head(points, target):
         points[k] = pivot + rz @ (ry @ (points[k] - pivot))
 
 
-def to_world(points, pose):
+def to_world(points: Points, pose: Sequence[float]) -> Points:
     """Person-frame points -> map frame, given the person's pose (x, y, yaw)."""
     x, y, yaw = pose
     c, s = math.cos(yaw), math.sin(yaw)
@@ -88,7 +91,7 @@ def to_world(points, pose):
     return out
 
 
-def to_person(point, pose):
+def to_person(point: Sequence[float] | np.ndarray, pose: Sequence[float]) -> Points:
     """Map-frame point -> person frame."""
     x, y, yaw = pose
     c, s = math.cos(yaw), math.sin(yaw)
@@ -96,7 +99,9 @@ def to_person(point, pose):
     return np.array([c * dx + s * dy, -s * dx + c * dy, point[2]])
 
 
-def person_keypoints(posture, pose, holding=False, look_target=None):
+def person_keypoints(posture: str, pose: Sequence[float], holding: bool = False,
+                     look_target: Sequence[float] | np.ndarray | None = None
+                     ) -> tuple[Points, Points | None]:
     """Map-frame keypoints (18, 3) and the map-frame hold point (None if not holding)."""
     points = posture_keypoints(posture)
     hold = hold_in_hands(points) if holding and posture != "lying" else None

@@ -8,10 +8,12 @@ elapsed. Camera frames are computed on request (`camera_frame`).
 import copy
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 
 from sim2d.camera import Camera, CameraFrame, hidden_by_boxes, hidden_face
 from sim2d.detection_model import make_detection_model
@@ -22,7 +24,8 @@ from floorplan.occupancy_map import load_map
 from sim2d.odometry import Odometry
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
 from sim2d.skeleton import person_keypoints
-from sim2d.world_config import WorldError, load_world_config
+from sim2d.world_config import (LaserMount, RobotConfig, WorldConfig, WorldError,
+                                load_world_config)
 
 CACHE_DIR = Path(os.environ.get("SIM2D_CACHE", Path.home() / ".cache" / "sim2d"))
 TABLE_MARGIN = 0.05     # [m] extra clearance given up so the table covers every reachable pose
@@ -48,10 +51,10 @@ class SimObject:
     size: tuple             # (x, y, z) [m]
     held_by: str = ""
 
-    def centre(self):
+    def centre(self) -> npt.NDArray[np.float64]:
         return np.array([self.pose[0], self.pose[1], self.elevation + self.size[2] / 2.0])
 
-    def corners(self):
+    def corners(self) -> npt.NDArray[np.float64]:
         """The 8 corners (8, 3) of the object's box in the map frame."""
         x, y, yaw = self.pose
         hx, hy = self.size[0] / 2.0, self.size[1] / 2.0
@@ -66,21 +69,21 @@ class SimObject:
 
 @dataclass
 class Robot:
-    config: object                       # RobotConfig
+    config: RobotConfig
     state: RobotState
     odometry: Odometry
     lasers: list                         # [LaserSensor]
     laser_mounts: list                   # [LaserMount]
-    camera: Camera = None
+    camera: Camera | None = None
     scans: list = field(default_factory=list)   # latest Scan per laser (None before the first)
     next_scan: list = field(default_factory=list)
 
     @property
-    def name(self):
+    def name(self) -> str:
         return self.config.name
 
 
-def new_odometry(robot_config, pose):
+def new_odometry(robot_config: RobotConfig, pose: Sequence[float]) -> Odometry:
     """Odometry that starts at `pose`, with the noise model of the robot's drive."""
     return Odometry(robot_config.odometry, pose, holonomic=robot_config.drive != DIFFERENTIAL)
 
@@ -88,7 +91,8 @@ def new_odometry(robot_config, pose):
 class World:
     """Everything in one simulated building, stepped without ROS."""
 
-    def __init__(self, config, cache_dir=CACHE_DIR, lazy_tables=False):
+    def __init__(self, config: WorldConfig, cache_dir: str | Path | None = CACHE_DIR,
+                 lazy_tables: bool = False) -> None:
         """cache_dir: where range tables are kept (None: not kept); lazy_tables: a range table
         that is not cached fills its rows as the lasers need them (always so without a
         cache_dir) instead of tabulating the whole map first."""
@@ -99,12 +103,13 @@ class World:
         self.camera_geometry = self._camera_geometry(config.camera_transparent)
         self.doors = {d.name: d.closed for d in config.doors}   # name -> closed
         self._door_boxes = {d.name: tuple(d.box) for d in config.doors}
-        self.closed_boxes, self.collision_geometry = [], self.geometry
+        self.closed_boxes: list[tuple[float, ...]] = []
+        self.collision_geometry = self.geometry
         self._apply_doors()
         self.cache_dir = cache_dir
         self.lazy_tables = lazy_tables or cache_dir is None
-        self._tables = {}
-        self._held = {}        # person name -> (pose, posture, holding) last applied
+        self._tables: dict[tuple[float, float], RangeTable] = {}
+        self._held: dict[str, tuple] = {}   # person name -> (pose, posture, holding) last applied
         self.people = copy.deepcopy(config.people)   # the world's own, moving copies
         self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
                         for o in config.objects}
@@ -113,8 +118,9 @@ class World:
         self._update_people(0.0)
 
     @classmethod
-    def from_file(cls, path, laser_dir=None, cache_dir=CACHE_DIR, raycast=None,
-                  lazy_tables=False):
+    def from_file(cls, path: str | Path, laser_dir: str | Path | None = None,
+                  cache_dir: str | Path | None = CACHE_DIR, raycast: str | None = None,
+                  lazy_tables: bool = False) -> "World":
         """Load a world file; raycast ("march" or "table") overrides every laser's choice."""
         config = load_world_config(path, laser_dir)
         if raycast:
@@ -125,7 +131,7 @@ class World:
                     laser.raycast = raycast
         return cls(config, cache_dir, lazy_tables)
 
-    def _camera_geometry(self, transparent):
+    def _camera_geometry(self, transparent: Sequence[Sequence[float]]) -> GridGeometry:
         if not transparent:
             return self.geometry
         occupied = self.geometry.occupied.copy()
@@ -136,7 +142,7 @@ class World:
         return GridGeometry(occupied, distance_transform(occupied), self.geometry.resolution,
                             self.geometry.origin_x, self.geometry.origin_y)
 
-    def _table(self, laser_mount, robot_config):
+    def _table(self, laser_mount: LaserMount, robot_config: RobotConfig) -> RangeTable:
         reach = math.hypot(laser_mount.mount[0], laser_mount.mount[1])
         table_config = RangeTableConfig(max_range=laser_mount.model.range_max)
         table_config.min_clearance = max(
@@ -147,7 +153,7 @@ class World:
                                                  lazy=self.lazy_tables)
         return self._tables[key]
 
-    def _make_robot(self, rc, index):
+    def _make_robot(self, rc: RobotConfig, index: int) -> Robot:
         clearance = float(self.collision_geometry.clearance(rc.pose[0], rc.pose[1]))
         if clearance < rc.radius:
             raise WorldError(f"{self.config.path}: robot {rc.name!r} at ({rc.pose[0]:.2f}, "
@@ -167,7 +173,7 @@ class World:
                      lasers, list(rc.lasers), camera, [None] * len(lasers),
                      [laser.model.scan_time for laser in lasers])
 
-    def set_door(self, name, closed):
+    def set_door(self, name: str, closed: bool) -> None:
         """Open or close door `name`: a closed door blocks robots and lasers (not the camera).
 
         The map (and the lasers' range table) stay static: the laser casts the closed doors
@@ -181,7 +187,7 @@ class World:
             self.doors[name] = bool(closed)
             self._apply_doors()
 
-    def _apply_doors(self):
+    def _apply_doors(self) -> None:
         self.closed_boxes = [self._door_boxes[n] for n, closed in self.doors.items() if closed]
         if not self.closed_boxes:
             self.collision_geometry = self.geometry
@@ -195,13 +201,13 @@ class World:
                                                self.geometry.resolution, self.geometry.origin_x,
                                                self.geometry.origin_y)
 
-    def robot(self, name):
+    def robot(self, name: str) -> Robot:
         for robot in self.robots:
             if robot.name == name:
                 return robot
         raise KeyError(f"no robot named {name!r}")
 
-    def place_robot(self, name, pose):
+    def place_robot(self, name: str, pose: Sequence[float]) -> None:
         """Teleport a robot (e.g. to start an episode): at rest, odometry restarted at zero.
 
         Raises WorldError if the pose is inside or against an obstacle.
@@ -217,7 +223,7 @@ class World:
         robot.next_scan = [self.time + laser.model.scan_time for laser in robot.lasers]
 
     # --- commands -------------------------------------------------------------------------
-    def set_twist(self, name, vx, vy, wz):
+    def set_twist(self, name: str, vx: float, vy: float, wz: float) -> None:
         """Body twist command [m/s, m/s, rad/s]; a NaN or infinite value is refused."""
         if not all(math.isfinite(v) for v in (vx, vy, wz)):
             raise CommandError(f"robot {name!r}: non-finite velocity command ({vx}, {vy}, {wz})")
@@ -227,18 +233,20 @@ class World:
                                f"cannot be executed")
         robot.state.command = (float(vx), float(vy), float(wz))
 
-    def set_wheel_speeds(self, name, left, right):
+    def set_wheel_speeds(self, name: str, left: float, right: float) -> None:
         """Differential drive: wheel speed command (left, right) [rad/s]."""
         robot = self.robot(name)
         if robot.config.drive != DIFFERENTIAL:
             raise CommandError(f"robot {name!r} is holonomic; it takes twist commands")
         if not (math.isfinite(left) and math.isfinite(right)):
             raise CommandError(f"robot {name!r}: non-finite wheel command ({left}, {right})")
+        if robot.config.wheels is None:
+            raise CommandError(f"robot {name!r} is differential drive without a wheel config")
         v, w = wheels_to_twist(left, right, robot.config.wheels)
         robot.state.command = (v, 0.0, w)
 
     # --- stepping -------------------------------------------------------------------------
-    def _update_people(self, dt):
+    def _update_people(self, dt: float) -> None:
         for person in self.people:
             person.step(self.time, dt)
         for person in self.people:
@@ -257,13 +265,13 @@ class World:
                     obj.elevation = hold[2] - obj.size[2] / 2.0
                     obj.held_by = person.name
 
-    def _obstacle_circles(self, exclude):
+    def _obstacle_circles(self, exclude: Robot | None) -> list[tuple[float, float, float]]:
         circles = [(p.pose[0], p.pose[1], p.radius) for p in self.people]
         circles += [(r.state.pose[0], r.state.pose[1], r.config.radius)
                     for r in self.robots if r is not exclude]
         return circles
 
-    def step(self, dt):
+    def step(self, dt: float) -> None:
         """Advance the world by dt [s]: every robot moves, then the lasers due scan the world as
         it stands at the new time."""
         if not dt > 0:
@@ -272,7 +280,7 @@ class World:
         if self.people:
             self._update_people(dt)
         clearance = self.collision_geometry.clearance_at
-        due = []
+        due: list[tuple[Robot, int]] = []
         for robot in self.robots:
             rc = robot.config
             step_robot(robot.state, rc.drive, rc.limits, rc.radius,
@@ -283,16 +291,17 @@ class World:
         if due:
             self._scan(due)
 
-    def _scan(self, due):
+    def _scan(self, due: Sequence[tuple[Robot, int]]) -> None:
         """Scan the lasers `due` [(robot, laser index)]: lasers of one model and table together
         (laser_batch) when `batch_scans` is on, the others one by one; the same scans either
         way."""
         crowded = bool(self.people) or len(self.robots) > 1
-        groups = {}
+        groups: dict[tuple, list[tuple[Robot, int]]] = {}
         for robot, j in due:
             key = batch_key(robot.lasers[j]) if self.batch_scans else None
             groups.setdefault(key if key is not None else (id(robot), j), []).append((robot, j))
-        circles = owners = None
+        circles: np.ndarray | None = None
+        owners: dict[int, int] = {}   # id(robot) -> its row in `circles`
         for members in groups.values():
             scans = None
             if len(members) > 1:
@@ -312,7 +321,7 @@ class World:
                 robot.next_scan[j] += robot.lasers[j].model.scan_time
 
     # --- camera ---------------------------------------------------------------------------
-    def camera_frame(self, name):
+    def camera_frame(self, name: str) -> CameraFrame:
         """Detections of robot `name`'s camera at the current time (CameraFrame)."""
         robot = self.robot(name)
         camera = robot.camera

@@ -3,20 +3,28 @@
 See config/worlds/README.md for the format. Every error names the file and the offending entry.
 """
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
-from sim2d.camera import CameraConfig, DetectionConfig
-from sim2d.detection_model import DAYLIGHT, CalibrationError, load_calibration
+from sim2d.camera import CameraConfig
+from sim2d.detection_model import DetectionConfig
+from sim2d.detection_model import DAYLIGHT, Calibration, CalibrationError, load_calibration
 from sim2d.kinematics import DIFFERENTIAL, HOLONOMIC, DriveLimits, WheelConfig
-from sim2d.laser import LaserModelError, find_laser_model
+from sim2d.laser import LaserModel, LaserModelError, find_laser_model
 from floorplan.occupancy_map import load_map
 from sim2d.odometry import OdometryConfig
 from sim2d.passage_check import PassageCheck, PassageConfig, blockage_message, resting_poses
 from sim2d.people import POSTURES, Person, ScheduleEntry
-from floorplan.semantic_graph import load_graph
+from floorplan.semantic_graph import SemanticGraph, load_graph
 from supervision import config_file
 from tamp_resources import resource
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
+D = TypeVar("D", bound="DataclassInstance")
 
 
 class WorldError(config_file.ConfigError):
@@ -25,7 +33,7 @@ class WorldError(config_file.ConfigError):
 
 @dataclass
 class LaserMount:
-    model: object               # LaserModel
+    model: LaserModel
     mount: tuple                # (x, y, yaw) in base_link [m, m, rad]
     mount_height: float = 0.3   # [m] (for the static tf only)
     frame: str = "base_laser"
@@ -40,7 +48,7 @@ class CameraRig:
     bottom: CameraConfig
     detection: DetectionConfig
     rate: float = 10.0          # [Hz] detection frames per second
-    calibration: object = None  # detection_model.Calibration of the calibrated model
+    calibration: Calibration | None = None  # the calibrated model's table
 
 
 @dataclass
@@ -51,10 +59,10 @@ class RobotConfig:
     pose: tuple                 # start (x, y, yaw) [m, m, rad]
     namespace: str = ""         # ROS namespace ("" = global topics)
     limits: DriveLimits = field(default_factory=DriveLimits)
-    wheels: WheelConfig = None  # differential drive only
+    wheels: WheelConfig | None = None   # differential drive only
     odometry: OdometryConfig = field(default_factory=OdometryConfig)
     lasers: list = field(default_factory=list)   # [LaserMount]
-    camera: CameraRig = None
+    camera: CameraRig | None = None
 
 
 @dataclass
@@ -70,7 +78,7 @@ class ObjectConfig:
 class WorldConfig:
     path: Path
     map_path: Path
-    graph_path: Path = None
+    graph_path: Path | None = None
     robots: list = field(default_factory=list)
     people: list = field(default_factory=list)
     objects: list = field(default_factory=list)
@@ -78,7 +86,7 @@ class WorldConfig:
     doors: list = field(default_factory=list)   # [DoorConfig]
     lighting: list = field(default_factory=list)   # [LightingZone]; daylight elsewhere
 
-    def lighting_at(self, x, y):
+    def lighting_at(self, x: float, y: float) -> str:
         """Name of the lighting at map point (x, y): the first zone holding it, else daylight."""
         for zone in self.lighting:
             x0, y0, x1, y1 = zone.box
@@ -123,20 +131,20 @@ DOOR_KEYS = ("name", "box", "closed")
 ELBOW_MARGIN = 0.05     # [m] a resting person's floor disc beyond the disc the lasers see
 
 
-def check_keys(data, allowed, where):
+def check_keys(data: object, allowed: Sequence[str], where: str) -> dict[str, Any]:
     """Raise WorldError "<where>: unknown key ... (did you mean ...?)" for the first key of
     `data` not in `allowed`; `where` names the file and the field path."""
     return config_file.check_keys(data, allowed, where, WorldError)
 
 
-def _dataclass_from(cls, data, where):
+def _dataclass_from(cls: type[D], data: Mapping[str, Any] | None, where: str) -> D:
     if data is None:
         return cls()
     check_keys(data, tuple(cls.__dataclass_fields__), where)
     return cls(**data)
 
 
-def _number(value, where):
+def _number(value: Any, where: str) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError):
@@ -147,15 +155,15 @@ def _number(value, where):
 
 
 class _Parser:
-    def __init__(self, path, laser_dir):
+    def __init__(self, path: str | Path, laser_dir: str | Path | None) -> None:
         self.path = Path(path)
         self.laser_dir = Path(laser_dir) if laser_dir else resource("config", "lasers")
-        self.graph = None
+        self.graph: SemanticGraph | None = None
 
-    def fail(self, message):
+    def fail(self, message: str) -> NoReturn:
         raise WorldError(f"{self.path}: {message}")
 
-    def pose(self, value, where):
+    def pose(self, value: Any, where: str) -> tuple[float, ...]:
         if isinstance(value, str):
             if self.graph is None:
                 self.fail(f"{where}: place name {value!r} needs a 'graph' file")
@@ -168,10 +176,10 @@ class _Parser:
         pose = [_number(v, f"{self.path}: {where}") for v in value]
         return tuple(pose + [0.0] * (3 - len(pose)))
 
-    def keys(self, data, allowed, where):
+    def keys(self, data: object, allowed: Sequence[str], where: str) -> None:
         check_keys(data, allowed, f"{self.path}: {where}")
 
-    def laser(self, data, where):
+    def laser(self, data: dict[str, Any], where: str) -> LaserMount:
         self.keys(data, LASER_KEYS, where)
         if "model" not in data:
             self.fail(f"{where}: missing 'model'")
@@ -186,7 +194,7 @@ class _Parser:
             self.fail(f"{where}: raycast must be 'march' or 'table', got {laser.raycast!r}")
         return laser
 
-    def camera(self, data, where):
+    def camera(self, data: dict[str, Any] | None, where: str) -> CameraRig | None:
         if data is None:
             return None
         check_keys(data, CAMERA_KEYS, where)
@@ -208,7 +216,7 @@ class _Parser:
         return CameraRig(top, bottom, detection, _number(data.get("rate", 10.0), f"{where}.rate"),
                          calibration)
 
-    def robot(self, data, i):
+    def robot(self, data: dict[str, Any], i: int) -> RobotConfig:
         where = f"robots[{i}]"
         self.keys(data, ROBOT_KEYS, where)
         missing = [k for k in ("name", "drive", "radius", "pose") if k not in data]
@@ -235,7 +243,7 @@ class _Parser:
                     for j, laser in enumerate(data.get("lasers", []))],
             camera=self.camera(data.get("camera"), f"{self.path}: {path}.camera"))
 
-    def schedule_entry(self, data, where, path):
+    def schedule_entry(self, data: dict[str, Any], where: str, path: str) -> ScheduleEntry:
         self.keys(data, ENTRY_KEYS, path)
         if "time" not in data or "pose" not in data:
             self.fail(f"{where}: a schedule entry needs 'time' and 'pose'")
@@ -253,12 +261,12 @@ class _Parser:
             self.fail(f"{where}: posture must be one of {POSTURES}, got {entry.posture!r}")
         return entry
 
-    def shirt_colour(self, value, where, path):
+    def shirt_colour(self, value: Any, where: str, path: str) -> tuple[tuple[int, ...], ...]:
         """[r, g, b] for all three joints, or {joint1: [r, g, b], joint2: ..., joint5: ...}."""
         if isinstance(value, dict):
             self.keys(value, SHIRT_KEYS, path)
-        joints = ([value.get(k) for k in ("joint1", "joint2", "joint5")]
-                  if isinstance(value, dict) else [value] * 3)
+        joints: list[Any] = ([value.get(k) for k in ("joint1", "joint2", "joint5")]
+                             if isinstance(value, dict) else [value] * 3)
         for rgb in joints:
             if (not isinstance(rgb, (list, tuple)) or len(rgb) != 3
                     or not all(isinstance(c, int) and 0 <= c <= 255 for c in rgb)):
@@ -266,7 +274,7 @@ class _Parser:
                           f"{{joint1, joint2, joint5: [r, g, b]}}, got {value!r}")
         return tuple(tuple(rgb) for rgb in joints)
 
-    def person(self, data, i):
+    def person(self, data: dict[str, Any], i: int) -> Person:
         path = f"people[{i}]"
         self.keys(data, PERSON_KEYS, path)
         missing = [k for k in ("name", "shirt_colour", "pose") if k not in data]
@@ -281,7 +289,7 @@ class _Parser:
                                                f"{path}.schedule[{j}]")
                            for j, e in enumerate(data.get("schedule", []))),
                           key=lambda e: e.time)
-        sizes = {}
+        sizes: dict[str, Any] = {}   # Person keyword arguments: radius, walking_speed [m, m/s]
         for key in ("radius", "walking_speed"):
             if key in data:
                 sizes[key] = _number(data[key], f"{self.path}: {where}.{key}")
@@ -293,7 +301,7 @@ class _Parser:
                       holding=data.get("holding", ""), looking_at=data.get("looking_at", ""),
                       schedule=schedule, **sizes)
 
-    def obj(self, data, i):
+    def obj(self, data: dict[str, Any], i: int) -> ObjectConfig:
         self.keys(data, OBJECT_KEYS, f"objects[{i}]")
         missing = [k for k in ("name", "label", "pose", "size") if k not in data]
         if missing:
@@ -307,7 +315,7 @@ class _Parser:
                             _number(data.get("elevation", 0.0), f"{self.path}: {where}.elevation"),
                             size)
 
-    def parse(self):
+    def parse(self) -> WorldConfig:
         data = self.with_base(self.read(self.path))
         if "map" not in data:
             self.fail("expected a mapping with at least 'map'")
@@ -340,7 +348,7 @@ class _Parser:
                            [list(map(float, r)) for r in data.get("camera_transparent", [])],
                            self.doors(data.get("doors", [])), lighting)
 
-    def lighting(self, entries, robots):
+    def lighting(self, entries: Sequence[Any], robots: Sequence[RobotConfig]) -> list[LightingZone]:
         """The lighting zones; each condition must be a row of every calibrated camera's table."""
         zones = [self.lighting_zone(z, i) for i, z in enumerate(entries)]
         tables = [r.camera.calibration for r in robots
@@ -353,7 +361,7 @@ class _Parser:
                               f"{', '.join(table.lighting)})")
         return zones
 
-    def lighting_zone(self, data, index):
+    def lighting_zone(self, data: dict[str, Any], index: int) -> LightingZone:
         where = f"lighting[{index}]"
         self.keys(data, LIGHTING_KEYS, where)
         missing = [k for k in LIGHTING_KEYS if k not in data]
@@ -367,7 +375,7 @@ class _Parser:
             self.fail(f"{where}: box must have x0 < x1 and y0 < y1, got {list(box)}")
         return LightingZone(str(data["name"]), box, str(data["condition"]))
 
-    def with_base(self, data):
+    def with_base(self, data: dict[str, Any]) -> dict[str, Any]:
         """`data` over the keys of its `base` world (one level; the base's map, graph and camera
         calibration paths stay relative to the base's folder)."""
         if "base" not in data:
@@ -386,20 +394,20 @@ class _Parser:
                                                 / detection["calibration"]).resolve())
         return {**base, **data}
 
-    def read(self, path):
+    def read(self, path: str | Path) -> dict[str, Any]:
         data = config_file.read_yaml(path, WorldError, "world file")
         if not isinstance(data, dict):
             self.fail(f"{path}: expected a mapping with at least 'map'")
         return data
 
-    def doors(self, entries):
+    def doors(self, entries: Sequence[Any]) -> list[DoorConfig]:
         doors = [self.door(d, i) for i, d in enumerate(entries)]
         names = [d.name for d in doors]
         if len(set(names)) != len(names):
             self.fail(f"door names must be unique, got {names}")
         return doors
 
-    def door(self, data, index):
+    def door(self, data: Any, index: int) -> DoorConfig:
         where = f"doors[{index}]"
         if not isinstance(data, dict) or "name" not in data or "box" not in data:
             self.fail(f"{where}: expected a mapping with 'name' and 'box', got {data!r}")
@@ -416,7 +424,8 @@ class _Parser:
             self.fail(f"{where}: closed must be true or false, got {door.closed!r}")
         return door
 
-    def check_passages(self, map_path, robots, people):
+    def check_passages(self, map_path: Path, robots: Sequence[RobotConfig],
+                       people: Sequence[Person]) -> None:
         """Refuse a resting pose that cuts two graph places apart (sim2d.passage_check)."""
         if self.graph is None or not robots or not people:
             return
@@ -435,7 +444,7 @@ class _Parser:
                     self.fail(blockage_message(person.name, label, blockage, check))
 
 
-def load_world_config(path, laser_dir=None):
+def load_world_config(path: str | Path, laser_dir: str | Path | None = None) -> WorldConfig:
     """Parse a world YAML; laser models come from laser_dir (default: tamp_resources'
     config/lasers)."""
     return _Parser(path, laser_dir).parse()

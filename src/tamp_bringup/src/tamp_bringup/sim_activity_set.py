@@ -12,7 +12,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from sim2d.camera import Camera, CameraConfig, DetectionConfig, hidden_face, project_stacked
+from sim2d.camera import Camera, CameraConfig, hidden_face, project_stacked
+from sim2d.detection_model import DetectionConfig
 from sim2d.skeleton import (
     L_EAR, L_EYE, L_HIP, L_SHOULDER, NECK, NOSE, R_EAR, R_EYE, R_HIP, R_SHOULDER,
     person_keypoints)

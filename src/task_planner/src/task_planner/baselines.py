@@ -7,10 +7,13 @@ serves it. Opt enumerates every order, as the seed did, and refuses sets above a
 import functools
 import itertools
 import math
+from collections.abc import Callable, Iterable
+from typing import ClassVar, Literal
 
 import numpy as np
 
 from task_planner.planner_api import TARGET
+from task_planner.problem import Problem
 
 
 class PlannerTooLarge(ValueError):
@@ -20,13 +23,14 @@ class PlannerTooLarge(ValueError):
 class FirstComeFirstServe:
     """FCFS: the earliest launched instruction (then the lowest id)."""
 
-    kind = TARGET
+    kind: ClassVar[Literal["target"]] = TARGET
+    problem: Problem
     name = "FCFS"
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem = problem
 
-    def choose(self, node, clock, available):
+    def choose(self, node: int, clock: float, available: np.ndarray) -> int:
         p = self.problem
         return int(available[np.lexsort((p.ids[available], p.launch[available]))[0]])
 
@@ -34,29 +38,31 @@ class FirstComeFirstServe:
 class RandomOrder:
     """Rand: a uniformly random available instruction, from a seeded generator."""
 
-    kind = TARGET
+    kind: ClassVar[Literal["target"]] = TARGET
+    problem: Problem
     name = "Rand"
 
-    def __init__(self, seed=0):
+    def __init__(self, seed: int = 0) -> None:
         self.seed = seed
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem, self.rng = problem, np.random.default_rng(self.seed)
 
-    def choose(self, node, clock, available):
+    def choose(self, node: int, clock: float, available: np.ndarray) -> int:
         return int(self.rng.choice(available))
 
 
 class PriorityFirst:
     """PF: the highest initial reward gamma (ties: first come first served)."""
 
-    kind = TARGET
+    kind: ClassVar[Literal["target"]] = TARGET
+    problem: Problem
     name = "PF"
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem = problem
 
-    def choose(self, node, clock, available):
+    def choose(self, node: int, clock: float, available: np.ndarray) -> int:
         p = self.problem
         keys = (p.ids[available], p.launch[available], -p.gamma[available])
         return int(available[np.lexsort(keys)[0]])
@@ -65,13 +71,14 @@ class PriorityFirst:
 class ShortestTimeFirst:
     """SF: the least navigation time plus duration from the robot's node (ties: lowest id)."""
 
-    kind = TARGET
+    kind: ClassVar[Literal["target"]] = TARGET
+    problem: Problem
     name = "SF"
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem = problem
 
-    def choose(self, node, clock, available):
+    def choose(self, node: int, clock: float, available: np.ndarray) -> int:
         p = self.problem
         cost = p.travel_s[node, p.node[available]] + p.duration[available]
         return int(available[np.lexsort((p.ids[available], cost))[0]])
@@ -80,15 +87,17 @@ class ShortestTimeFirst:
 class PlannedOrder:
     """Serves a whole order computed at the first decision by `solve(problem) -> order`."""
 
-    kind = TARGET
+    kind: ClassVar[Literal["target"]] = TARGET
+    problem: Problem
+    order: list[int] | None
 
-    def __init__(self, name, solve):
+    def __init__(self, name: str, solve: Callable[[Problem], Iterable[int]]) -> None:
         self.name, self.solve = name, solve
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem, self.order = problem, None
 
-    def choose(self, node, clock, available):
+    def choose(self, node: int, clock: float, available: np.ndarray) -> int:
         if self.order is None:
             self.order = list(self.solve(self.problem))
         for index in self.order:
@@ -98,7 +107,7 @@ class PlannedOrder:
         raise RuntimeError("planned order has no available instruction left")
 
 
-def exhaustive_optimum(problem, max_instructions=10):
+def exhaustive_optimum(problem: Problem, max_instructions: int = 10) -> list[int]:
     """Opt of §5.3.1: the best of all M! orders that respect `previous_id` chains.
 
     Raises PlannerTooLarge above `max_instructions` instead of exhausting memory or time.
@@ -115,17 +124,20 @@ def exhaustive_optimum(problem, max_instructions=10):
         orders, rewards = _evaluate_permutations(problem, head)
         if len(rewards) and rewards.max() > best_reward:
             best_reward, best_order = rewards.max(), orders[int(np.argmax(rewards))]
+    if best_order is None:
+        raise ValueError("Opt: no order respects the previous_id chains")
     return [int(i) for i in best_order]
 
 
 @functools.lru_cache(maxsize=4)
-def _permutation_table(size):
+def _permutation_table(size: int) -> np.ndarray:
     """All permutations of range(size) as an int array (size!, size)."""
     return np.array(list(itertools.permutations(range(size))), dtype=int).reshape(
         math.factorial(size), size)
 
 
-def _evaluate_permutations(problem, head):
+def _evaluate_permutations(problem: Problem,
+                           head: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray]:
     """Rewards of every order starting with `head`, vectorised (chains filtered out)."""
     rest = np.array([i for i in range(problem.count) if i not in head], dtype=int)
     tails = rest[_permutation_table(len(rest))]

@@ -9,6 +9,7 @@ charging place, lasting as long as a full charge takes from the current level.
 from dataclasses import dataclass
 
 from task_planner.instruction import ROBOT, Instruction
+from task_planner.reward import Priority
 
 
 @dataclass(frozen=True)
@@ -24,12 +25,13 @@ class BatteryConfig:
 class BatteryModel:
     """Energy bookkeeping per executor mode; `level_wh` in watt-hours."""
 
-    def __init__(self, config=None, level_wh=None, now=0.0):
+    def __init__(self, config: BatteryConfig | None = None, level_wh: float | None = None,
+                 now: float = 0.0) -> None:
         self.config = config or BatteryConfig()
         self.level_wh = self.config.capacity_wh if level_wh is None else float(level_wh)
         self._last = float(now)
 
-    def drain(self, mode, now):
+    def drain(self, mode: str, now: float) -> None:
         """Spend the energy of `mode` (idle, moving, executing, charging) since the last call.
 
         While charging nothing is drained; the gain is added by `charge` when the function ends.
@@ -39,23 +41,25 @@ class BatteryModel:
         self.level_wh = max(0.0, self.level_wh - power_w * (now - self._last) / 3600.0)
         self._last = float(now)
 
-    def charge(self, duration_s):
+    def charge(self, duration_s: float) -> None:
         """Add `duration_s` of charging (the charge function ran this long)."""
         self.level_wh = min(self.config.capacity_wh,
                             self.level_wh + self.config.charge_w * duration_s / 3600.0)
 
     @property
-    def fraction(self):
+    def fraction(self) -> float:
         return self.level_wh / self.config.capacity_wh
 
-    def is_low(self):
+    def is_low(self) -> bool:
         return self.fraction < self.config.low_fraction
 
-    def seconds_to_full(self):
+    def seconds_to_full(self) -> float:
         return (self.config.capacity_wh - self.level_wh) * 3600.0 / self.config.charge_w
 
 
-def charge_instruction(instruction_id, now, place, place_name, priority, battery, function_code):
+def charge_instruction(instruction_id: int, now: float, place: int, place_name: str,
+                       priority: Priority, battery: BatteryModel,
+                       function_code: int) -> Instruction:
     """The self-generated 'go charge' instruction (Table 4-1, type ROBOT); the executor gives it
     the task buffer's next id."""
     return Instruction(id=instruction_id, gamma=priority.gamma, beta=priority.beta,

@@ -10,24 +10,32 @@ of Reward-Maximising A*). The result is a provably optimal order over all orders
 `previous_id` chains; it equals the exhaustive Opt wherever Opt runs.
 """
 import time
+from collections.abc import Iterable, Sequence
+from typing import ClassVar, Literal
 
 import numpy as np
 
 from task_planner.baselines import PlannerTooLarge
 from task_planner.planner_api import TARGET
-from task_planner.problem import order_reward
-from task_planner.rollout_planner import RolloutPlanner
+from task_planner.problem import Problem, order_reward
+from task_planner.rollout_planner import RolloutConfig, RolloutPlanner
 from task_planner.simulate import run_planner
 
 _TOLERANCE = 1e-12  # rewards closer than this count as equal when pruning
 _GREEDY_PROBES = 4  # labels per layer completed greedily to improve the incumbent
+
+Label = tuple[float, float, tuple[int, ...]]  # (clock [s], reward so far, order served)
+FlatLabel = tuple[int, int, Label]            # (served set as bits, node, label)
+Layer = dict[tuple[int, int], list[Label]]    # (served set as bits, node) -> its labels
 
 
 class SolverTimeout(RuntimeError):
     """The exact optimiser ran past its time limit."""
 
 
-def exact_optimum(problem, max_instructions=40, initial_order=None, time_limit_s=None):
+def exact_optimum(problem: Problem, max_instructions: int = 40,
+                  initial_order: Iterable[int] | None = None,
+                  time_limit_s: float | None = None) -> list[int]:
     """Provably optimal service order (list of instruction indices) of a static problem.
 
     Args:
@@ -44,7 +52,7 @@ def exact_optimum(problem, max_instructions=40, initial_order=None, time_limit_s
     best_order = list(initial_order) if initial_order is not None else _greedy_order(problem)[0]
     best_reward = order_reward(problem, best_order)
     deadline = None if time_limit_s is None else time.perf_counter() + time_limit_s
-    layer = {(0, problem.start_node): [(0.0, 0.0, ())]}
+    layer: Layer = {(0, problem.start_node): [(0.0, 0.0, ())]}
     for _ in range(count):
         layer, promising = _extend_layer(problem, layer, best_reward, deadline)
         for served, node, (clock, reward, order) in promising:  # better incumbents prune more
@@ -58,14 +66,17 @@ def exact_optimum(problem, max_instructions=40, initial_order=None, time_limit_s
     return [int(i) for i in best_order]
 
 
-def warm_exact_optimum(problem, max_instructions=40, rollout=None, time_limit_s=None):
+def warm_exact_optimum(problem: Problem, max_instructions: int = 40,
+                       rollout: RolloutConfig | None = None,
+                       time_limit_s: float | None = None) -> list[int]:
     """`exact_optimum` with its pruning bound seeded by the order the rollout planner serves
     (`rollout`: its RolloutConfig, None for the defaults)."""
     warm = run_planner(problem, RolloutPlanner(rollout))
     return exact_optimum(problem, max_instructions, [i for i, _ in warm.served], time_limit_s)
 
 
-def _extend_layer(problem, layer, best_reward, deadline):
+def _extend_layer(problem: Problem, layer: Layer, best_reward: float,
+                  deadline: float | None) -> tuple[Layer, list[FlatLabel]]:
     """All non-dominated, not-pruned labels with one more instruction served."""
     p = problem
     flat = [(served, node, label) for (served, node), labels in layer.items() for label in labels]
@@ -74,7 +85,7 @@ def _extend_layer(problem, layer, best_reward, deadline):
     predecessor_bit = [0 if k < 0 else 1 << int(k) for k in p.predecessor]
     nodes, durations, launches = p.node.tolist(), p.duration.tolist(), p.launch.tolist()
     gamma, beta, travel = p.gamma.tolist(), p.beta.tolist(), p.travel_s.tolist()
-    following = {}
+    following: Layer = {}
     for (served, node, (clock, reward, order)), bound, drop in zip(flat, bounds, dropped):
         if drop or reward + bound < best_reward - _TOLERANCE:
             continue
@@ -90,7 +101,7 @@ def _extend_layer(problem, layer, best_reward, deadline):
     return following, promising
 
 
-def _delay_dominated(problem, flat, bounds):
+def _delay_dominated(problem: Problem, flat: Sequence[FlatLabel], bounds: np.ndarray) -> np.ndarray:
     """Mark labels that a later, richer label of the same (set, node) provably matches.
 
     Starting Delta seconds later scales every future reward by at least beta_min ** Delta (the
@@ -98,7 +109,7 @@ def _delay_dominated(problem, flat, bounds):
     r_A - r_B >= (1 - beta_min ** (t_A - t_B)) * bound_B, bound_B being B's admissible bound.
     """
     dropped = np.zeros(len(flat), dtype=bool)
-    groups = {}
+    groups: dict[tuple[int, int], list[int]] = {}
     for k, (served, node, _) in enumerate(flat):
         groups.setdefault((served, node), []).append(k)
     for (served, _), members in groups.items():
@@ -115,7 +126,8 @@ def _delay_dominated(problem, flat, bounds):
     return dropped
 
 
-def _layer_bounds(problem, flat, deadline, chunk=1024):
+def _layer_bounds(problem: Problem, flat: Sequence[FlatLabel], deadline: float | None,
+                  chunk: int = 1024) -> np.ndarray:
     """Admissible bounds on the reward still to come, for every label of a layer (numpy)."""
     p = problem
     bits = 1 << np.arange(p.count, dtype=object)
@@ -131,7 +143,8 @@ def _layer_bounds(problem, flat, deadline, chunk=1024):
     return np.concatenate(bounds) if bounds else np.zeros(0)
 
 
-def _reward_bounds(problem, remaining, nodes, clock):
+def _reward_bounds(problem: Problem, remaining: np.ndarray, nodes: np.ndarray,
+                   clock: np.ndarray) -> np.ndarray:
     """The lesser of two relaxations of the reward still to come, per label (rows).
 
     (a) each remaining instruction served as if driven to directly next; (b) the k-th service ends
@@ -154,7 +167,7 @@ def _reward_bounds(problem, remaining, nodes, clock):
     return np.minimum(by_direct, by_slot)
 
 
-def _insert(labels, label):
+def _insert(labels: list[Label], label: Label) -> None:
     """Keep `labels` free of dominated (time, reward) pairs."""
     time, reward = label[0], label[1]
     for other in labels:
@@ -164,7 +177,8 @@ def _insert(labels, label):
     labels.append(label)
 
 
-def _greedy_order(problem, served=(), node=None, clock=0.0, reward=0.0):
+def _greedy_order(problem: Problem, served: Iterable[int] = (), node: int | None = None,
+                  clock: float = 0.0, reward: float = 0.0) -> tuple[list[int], float]:
     """Complete a partial order by the reward-rate rule; returns (order of the rest, total reward).
 
     Args:
@@ -195,16 +209,19 @@ class ExactReplanner:
     initial rewards.
     """
 
-    kind = TARGET
+    kind: ClassVar[Literal["target"]] = TARGET
     name = "Exact-replan"
+    problem: Problem
+    plan: list[int]
+    known: frozenset[int]
 
-    def __init__(self, max_instructions=40):
+    def __init__(self, max_instructions: int = 40) -> None:
         self.max_instructions = max_instructions
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem, self.plan, self.known = problem, [], frozenset()
 
-    def choose(self, node, clock, available):
+    def choose(self, node: int, clock: float, available: np.ndarray) -> int:
         known = frozenset(available.tolist())
         if not known <= self.known or not self.plan:
             self.plan = self._solve(node, clock, available)
@@ -215,7 +232,7 @@ class ExactReplanner:
                 return index
         raise RuntimeError("exact replanner: no available instruction in its plan")
 
-    def _solve(self, node, clock, available):
+    def _solve(self, node: int, clock: float, available: np.ndarray) -> list[int]:
         from dataclasses import replace
 
         from task_planner.problem import Problem

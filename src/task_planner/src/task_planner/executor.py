@@ -13,6 +13,7 @@ search, patrol, give way, ask to pass and retry, charge, fleet claims and corrid
 modules of task_planner.behaviours, and the planner stays a ROS-free decision they ask.
 """
 from collections import deque
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -24,12 +25,19 @@ from task_planner.behaviours.fleet_allocation import fleet_allocator
 from task_planner.behaviours.receiving import new_id
 from task_planner.behaviours.recovery import fault
 from task_planner.behaviours.tree import build_tree, drawing, tick
-from task_planner.planner_api import NODE, STEP, kind_of
+from task_planner.executor_commands import Command
+from task_planner.fleet_link import FleetLink
+from task_planner.graph import TopologicalGraph
+from task_planner.instruction import Instruction
+from task_planner.people_belief import PeopleAtPlaces
+from task_planner.planner_api import NODE, STEP, Planner, kind_of
+from task_planner.robot_functions import RobotFunction
+from task_planner.task_buffer import Record, TaskBuffer
 
 __all__ = ["Charging", "Executor", "ExecutorConfig", "latency_ms", "nearest_node"]
 
 
-def latency_ms(samples_s):
+def latency_ms(samples_s: Sequence[float]) -> tuple[float, float, float]:
     """(median, 95th percentile, max) [ms] of wall times [s]; zeros when there are none."""
     if not len(samples_s):
         return 0.0, 0.0, 0.0
@@ -37,7 +45,7 @@ def latency_ms(samples_s):
     return float(np.median(ms)), float(np.percentile(ms, 95)), float(ms.max())
 
 
-def nearest_node(graph, x, y):
+def nearest_node(graph: TopologicalGraph, x: float, y: float) -> int:
     """The graph node whose pose is closest to (x, y) [m]: where a restarted robot stands."""
     poses = np.asarray(graph.poses, dtype=float)  # (V, 3) x, y, yaw [m, m, rad]
     return int(np.argmin(np.hypot(poses[:, 0] - x, poses[:, 1] - y)))
@@ -50,8 +58,10 @@ class Executor:
     times and the collaborators are read through it.
     """
 
-    def __init__(self, buffer, graph, planner, people, functions, config=None, start_node=0,
-                 charging=None, fleet=None):
+    def __init__(self, buffer: TaskBuffer, graph: TopologicalGraph, planner: Planner,
+                 people: PeopleAtPlaces, functions: dict[int, RobotFunction],
+                 config: ExecutorConfig | None = None, start_node: int = 0,
+                 charging: Charging | None = None, fleet: FleetLink | None = None) -> None:
         if kind_of(planner) == STEP:
             raise ValueError(f"planner {planner.name!r} decides every step along an edge; the "
                              f"executor drives whole edges and runs node or target planners")
@@ -71,39 +81,41 @@ class Executor:
 
     # ---- events: each ticks the tree once and returns its commands ----
 
-    def receive(self, instructions, now):
+    def receive(self, instructions: Iterable[Instruction],
+                now: float) -> tuple[list[tuple[Record | None, str]], list[Command]]:
         """Journal new instructions (one transaction), share them with the fleet and re-decide;
         returns (results, commands)."""
         commands = tick(self.tree, self.state, RECEIVED, now, inbox=list(instructions),
                         results=[])
         return self.state.results, commands
 
-    def tick(self, now):
+    def tick(self, now: float) -> list[Command]:
         """Periodic step: finish an execution whose time is up, look, retry, or decide."""
         return tick(self.tree, self.state, TICK, now)
 
-    def arrived(self, now):
+    def arrived(self, now: float) -> list[Command]:
         """The navigation goal was reached (or, while looking around, the heading)."""
         return tick(self.tree, self.state, ARRIVED, now)
 
-    def aborted(self, now, reason):
+    def aborted(self, now: float, reason: str) -> list[Command]:
         """Navigation gave up on the goal: ask to pass and retry, or fail and decide again."""
         return tick(self.tree, self.state, ABORTED, now, reason=reason)
 
-    def cancel(self, instruction_id, now):
+    def cancel(self, instruction_id: int, now: float) -> tuple[Record, list[Command]]:
         """Withdraw an instruction (for the whole fleet); the robot stops its function if it was
         executing it. Returns (record, commands); an unknown id raises TaskBufferError."""
         record = self.state.buffer.get(instruction_id)   # an unknown id: refused before anything
         commands = tick(self.tree, self.state, CANCELLED, now, cancelled=record)
         return self.state.buffer.get(instruction_id), commands
 
-    def fault(self, now, reason, fail=True, rejoin=False):
+    def fault(self, now: float, reason: str, fail: bool = True,
+              rejoin: bool = False) -> list[Command]:
         """A step of the executor raised: fail the instruction being served with `reason` (with
         `fail` off, leave it open: another robot holds it, or the pool is out of reach), stop,
         and go idle; with `rejoin`, rejoin the fleet at the next event."""
         return fault(self.state, now, reason, fail_it=fail, rejoin=rejoin)
 
-    def function_over(self, instruction_id, now):
+    def function_over(self, instruction_id: int, now: float) -> bool:
         """The robot function of `instruction_id` ended before its time was up (an introduce
         dialogue that is over): the next tick finishes it. False when the robot is not
         executing that instruction."""
@@ -114,30 +126,30 @@ class Executor:
         ctx.log.append((now, f"function of {instruction_id} over early"))
         return True
 
-    def new_id(self, previous_id=0):
+    def new_id(self, previous_id: int = 0) -> int:
         """The id for an instruction whose sender lets the robot choose (its fleet's, if any)."""
         return new_id(self.state, previous_id)
 
-    def serving(self):
+    def serving(self) -> int:
         """Id of the instruction the robot serves (0 when idle or patrolling)."""
         return self.state.serving()
 
-    def activity(self):
+    def activity(self) -> str:
         """What the robot does now (behaviours.accounting: travel, look around, searching, ...)."""
         return activity(self.state)
 
-    def drawing(self):
+    def drawing(self) -> str:
         """The behaviour tree with each node's status of the last event (text)."""
         return drawing(self.tree)
 
     # ---- what the robot's users read ----
 
     @property
-    def node(self):
+    def node(self) -> int:
         return self.state.node
 
     @node.setter
-    def node(self, node):   # where a restarted robot stands (nearest_node)
+    def node(self, node: int) -> None:   # where a restarted robot stands (nearest_node)
         self.state.node = int(node)
 
     mode = property(lambda self: self.state.mode)

@@ -13,7 +13,7 @@ class Navigate:
 
     node: int
     instruction_id: int  # the instruction this move is for (0 when none)
-    yaw: float = None
+    yaw: float | None = None
 
 
 @dataclass(frozen=True)
@@ -55,9 +55,13 @@ class Search:
     start_s: float       # first miss [s]
     end_s: float         # found or given up [s]
     found: bool
-    places: tuple        # place names looked at, in order (the last one found them if found)
+    places: tuple[str, ...]  # place names looked at, in order (the last one found them if found)
 
 
 @dataclass(frozen=True)
 class Say:
     text: str
+
+
+# what the executor's events return, for the node or executor_sim to carry out
+Command = Navigate | StopMotion | Wait | Execute | Verify | Say

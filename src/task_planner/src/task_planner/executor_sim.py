@@ -5,16 +5,26 @@ listed in `blocked` is aborted `abort_after_s` after it was sent (move_base find
 robot function takes its `Execute.duration_s`. Turning back mid-edge costs the time already driven
 on that edge. Instructions arrive at their given times.
 """
-from dataclasses import dataclass, field
+from __future__ import annotations
 
-from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, TypedDict
+
+from task_planner.executor_commands import (Command, Execute, Navigate, Say, StopMotion, Verify,
+                                            Wait)
+from task_planner.graph import TopologicalGraph
+from task_planner.instruction import Instruction
+
+if TYPE_CHECKING:   # executor imports the behaviours, which need not load for the model
+    from task_planner.executor import Executor
 
 
 @dataclass
 class NavigationModel:
-    graph: object                  # TopologicalGraph
+    graph: TopologicalGraph
     speed_mps: float = 0.5         # driving speed [m/s]
-    blocked: set = field(default_factory=set)  # frozenset({a, b}) edges that cannot be driven
+    blocked: set[frozenset[int]] = field(default_factory=set)  # edges that cannot be driven
     abort_after_s: float = 2.0     # time move_base takes to give up on a blocked goal [s]
     turn_s: float = 2.0            # time one turn of a look around takes [s]
 
@@ -23,43 +33,53 @@ class NavigationModel:
 class Trace:
     """What happened in a run: goals sent, functions executed, sentences spoken."""
 
-    goals: list = field(default_factory=list)       # (time [s], node)
-    executed: list = field(default_factory=list)    # (time [s], instruction id, function name)
-    said: list = field(default_factory=list)        # (time [s], text)
+    goals: list[tuple[float, int]] = field(default_factory=list)       # (time [s], node)
+    executed: list[tuple[float, int, str]] = field(default_factory=list)  # (time [s],
+                                                    # instruction id, function name)
+    said: list[tuple[float, str]] = field(default_factory=list)        # (time [s], text)
 
 
 class _Drive:
     """The goal being driven to: from `origin` to `goal`, arriving (or aborting) at `eta`."""
 
-    def __init__(self, origin, goal, eta, edge_s, aborts):
+    def __init__(self, origin: int, goal: int, eta: float, edge_s: float, aborts: bool) -> None:
         self.origin, self.goal, self.eta, self.edge_s, self.aborts = (origin, goal, eta, edge_s,
                                                                       aborts)
 
 
-def run_executor(executor, arrivals, navigation, until_s=float("inf"), start_s=0.0):
+class _Model(TypedDict):
+    """One robot's state in the model: the drive under way and when its function ends."""
+
+    drive: _Drive | None
+    execution_end: float | None
+
+
+def run_executor(executor: Executor, arrivals: Iterable[tuple[float, Instruction]],
+                 navigation: NavigationModel, until_s: float = float("inf"),
+                 start_s: float = 0.0) -> Trace:
     """Run `executor` from `start_s` on `arrivals` [(time [s], Instruction)] until `until_s`.
 
     Returns the Trace; results are in executor.buffer.
     """
-    arrivals = sorted(arrivals, key=lambda item: item[0])
-    trace, state = Trace(), {"drive": None, "execution_end": None}
+    pending = sorted(arrivals, key=lambda item: item[0])
+    trace, state = Trace(), _Model(drive=None, execution_end=None)
 
-    def carry_out(commands, clock):
+    def carry_out(commands: Iterable[Command], clock: float) -> None:
         _carry_out(commands, clock, executor, navigation, state, trace)
 
     clock = start_s
     carry_out(executor.tick(clock), clock)
     while True:
         drive, end = state["drive"], state["execution_end"]
-        times = [t for t in (arrivals[0][0] if arrivals else None,
+        times = [t for t in (pending[0][0] if pending else None,
                              drive.eta if drive else None, end) if t is not None]
         if not times or min(times) > until_s:
             return trace
         clock = max(clock, min(times))
-        if arrivals and arrivals[0][0] <= clock:
+        if pending and pending[0][0] <= clock:
             batch = []
-            while arrivals and arrivals[0][0] <= clock:
-                batch.append(arrivals.pop(0)[1])
+            while pending and pending[0][0] <= clock:
+                batch.append(pending.pop(0)[1])
             carry_out(executor.receive(batch, clock)[1], clock)
         elif drive is not None and drive.eta <= clock:
             state["drive"] = None
@@ -71,7 +91,8 @@ def run_executor(executor, arrivals, navigation, until_s=float("inf"), start_s=0
             carry_out(executor.tick(clock), clock)
 
 
-def _carry_out(commands, clock, executor, navigation, state, trace):
+def _carry_out(commands: Iterable[Command], clock: float, executor: Executor,
+               navigation: NavigationModel, state: _Model, trace: Trace) -> None:
     """Start what the executor's commands ask for in the model; note them in the trace."""
     for command in commands:
         if isinstance(command, Navigate) and command.yaw is not None:  # turn in place
@@ -92,7 +113,8 @@ def _carry_out(commands, clock, executor, navigation, state, trace):
             trace.said.append((clock, command.text))
 
 
-def _start_drive(navigation, current, node, goal, clock):
+def _start_drive(navigation: NavigationModel, current: _Drive | None, node: int, goal: int,
+                 clock: float) -> _Drive:
     """A new drive toward `goal`: a turn back mid-edge, a retry, or leaving node `node`."""
     if current is not None and goal == current.origin:  # turn back: retrace what was driven
         driven_s = current.edge_s - (current.eta - clock)
@@ -107,7 +129,10 @@ def _start_drive(navigation, current, node, goal, clock):
     return _Drive(origin, goal, clock + edge_s, edge_s, False)
 
 
-def run_executor_fleet(executors, arrivals, navigation, step_s=0.25, until_s=3600.0, kills=()):
+def run_executor_fleet(executors: Sequence[Executor],
+                       arrivals: Iterable[tuple[float, int, Instruction]],
+                       navigation: NavigationModel, step_s: float = 0.25, until_s: float = 3600.0,
+                       kills: Iterable[tuple[float, int]] = ()) -> list[Trace]:
     """Run the executors of a fleet (each with its FleetLink on one pool) side by side.
 
     `arrivals`: [(time [s], robot index, Instruction)], each submitted to that robot; `kills`:
@@ -117,17 +142,17 @@ def run_executor_fleet(executors, arrivals, navigation, step_s=0.25, until_s=360
     or closed at its next tick. Runs until nothing is open in a live robot's journal and nothing is
     left to arrive, or until `until_s`. Returns one Trace per robot.
     """
-    arrivals = sorted(arrivals, key=lambda item: item[0])
-    kills = dict((robot, t) for t, robot in kills)
+    pending = sorted(arrivals, key=lambda item: item[0])
+    killed = dict((robot, t) for t, robot in kills)
     traces = [Trace() for _ in executors]
-    states = [{"drive": None, "execution_end": None} for _ in executors]
+    states = [_Model(drive=None, execution_end=None) for _ in executors]
     clock = 0.0
     while clock <= until_s:
-        live = [k for k in range(len(executors)) if clock < kills.get(k, float("inf"))]
+        live = [k for k in range(len(executors)) if clock < killed.get(k, float("inf"))]
         for k in live:
             executor, state, trace = executors[k], states[k], traces[k]
-            commands = []
-            batch = [i for t, robot, i in arrivals if t <= clock and robot == k]
+            commands: list[Command] = []
+            batch = [i for t, robot, i in pending if t <= clock and robot == k]
             if batch:
                 commands += executor.receive(batch, clock)[1]
             drive = state["drive"]
@@ -135,12 +160,13 @@ def run_executor_fleet(executors, arrivals, navigation, step_s=0.25, until_s=360
                 state["drive"] = None
                 commands += (executor.aborted(clock, "no path to the goal") if drive.aborts
                              else executor.arrived(clock))
-            if state["execution_end"] is not None and state["execution_end"] <= clock:
+            end = state["execution_end"]
+            if end is not None and end <= clock:
                 state["execution_end"] = None
             _carry_out(commands + executor.tick(clock), clock, executor, navigation, state,
                        trace)
-        arrivals = [a for a in arrivals if a[0] > clock]   # a gone robot's are never taken
-        if not arrivals and all(not executors[k].buffer.open_records() for k in live):
+        pending = [a for a in pending if a[0] > clock]   # a gone robot's are never taken
+        if not pending and all(not executors[k].buffer.open_records() for k in live):
             return traces
         clock += step_s
     return traces

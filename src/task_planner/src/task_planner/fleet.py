@@ -14,11 +14,14 @@ single-robot planner on the instructions nobody has claimed) and `SequentialAuct
 optimum over all assignments and orders is `fleet_exact.fleet_exact_optimum`.
 """
 import time
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Literal, Protocol, cast, overload
 
 import numpy as np
 
-from task_planner.planner_api import NODE, TARGET, kind_of
+from task_planner.planner_api import NODE, TARGET, NodePlanner, Planner, TargetPlanner, kind_of
+from task_planner.problem import Problem
 from task_planner.reward import decayed_reward
 
 
@@ -34,7 +37,7 @@ class FleetDeadlock(ValueError):
     """The robots' orders and the instruction chains wait on each other."""
 
 
-def check_starts(problem, starts):
+def check_starts(problem: Problem, starts: Sequence[RobotStart]) -> None:
     """ValueError naming the robot whose start is outside the graph or not a finite time."""
     if not starts:
         raise ValueError("a fleet needs at least one robot")
@@ -46,7 +49,7 @@ def check_starts(problem, starts):
                              f"got {start.free_at}")
 
 
-def service_end(problem, node, clock, index, after=0.0):
+def service_end(problem: Problem, node: int, clock: float, index: int, after: float = 0.0) -> float:
     """The timing rule of one service: a robot free at `clock` [s] on `node` drives the shortest
     path to instruction `index`, starts no earlier than its launch and `after` (its
     predecessor's completion), and is done after its duration -> completion [s]."""
@@ -54,7 +57,8 @@ def service_end(problem, node, clock, index, after=0.0):
     return max(arrive, problem.launch[index], after) + problem.duration[index]
 
 
-def fleet_completion(problem, orders, starts):
+def fleet_completion(problem: Problem, orders: Sequence[Sequence[int]],
+                     starts: Sequence[RobotStart]) -> dict[int, float]:
     """Completion time [s] of every served instruction (dict index -> time) when robot r serves
     `orders[r]` in order under the fleet's timing rule.
 
@@ -69,7 +73,7 @@ def fleet_completion(problem, orders, starts):
         raise ValueError("an instruction is in two orders (or twice in one)")
     p = problem
     position, node = [0] * len(orders), [s.node for s in starts]
-    clock, done = [float(s.free_at) for s in starts], {}
+    clock, done = [float(s.free_at) for s in starts], dict[int, float]()
     while len(done) < len(listed):
         progressed = False
         for r, order in enumerate(orders):
@@ -92,7 +96,7 @@ def fleet_completion(problem, orders, starts):
     return done
 
 
-def completion_reward(problem, completion):
+def completion_reward(problem: Problem, completion: Mapping[int, float]) -> float:
     """Sum of Eq. 4-2 over a dict index -> completion time [s]."""
     if not completion:
         return 0.0
@@ -102,7 +106,8 @@ def completion_reward(problem, completion):
                                 finish - problem.launch[index]).sum())
 
 
-def fleet_reward(problem, orders, starts):
+def fleet_reward(problem: Problem, orders: Sequence[Sequence[int]],
+                 starts: Sequence[RobotStart]) -> float:
     """The fleet's accumulated reward (sum of Eq. 4-2) of serving `orders`."""
     return completion_reward(problem, fleet_completion(problem, orders, starts))
 
@@ -111,11 +116,11 @@ def fleet_reward(problem, orders, starts):
 class FleetRun:
     """What an allocator did: each robot's service order and every completion time."""
 
-    orders: list                                     # per robot: instruction indices in order
-    completion: dict                                 # index -> completion time [s]
-    decision_calls: list = field(default_factory=list)   # wall time of each decision [s]
+    orders: list[list[int]]                          # per robot: instruction indices in order
+    completion: dict[int, float]                     # index -> completion time [s]
+    decision_calls: list[float] = field(default_factory=list)  # wall time of each decision [s]
 
-    def reward(self, problem):
+    def reward(self, problem: Problem) -> float:
         return completion_reward(problem, self.completion)
 
 
@@ -126,13 +131,22 @@ class FleetView:
     completion times of the claimed ones (`done`, possibly in the future)."""
 
     robot: int
-    nodes: list
-    clocks: list
+    nodes: list[int]
+    clocks: list[float]
     open: np.ndarray
-    done: dict
+    done: dict[int, float]
 
 
-def run_fleet(problem, starts, allocator):
+class Allocator(Protocol):
+    """Decides for the robots of a fleet (`run_fleet`): reset with the problem and the robots'
+    starts, then asked by the robot that is free first."""
+
+    def reset(self, problem: Problem, starts: Sequence[RobotStart]) -> None: ...
+
+    def decide(self, view: FleetView, available: np.ndarray) -> tuple[str, int | None]: ...
+
+
+def run_fleet(problem: Problem, starts: Sequence[RobotStart], allocator: Allocator) -> FleetRun:
     """Run `allocator` online on `problem` with robots at `starts`; returns a FleetRun.
 
     The free robot with the earliest clock decides: it is given the instructions it could start
@@ -145,7 +159,7 @@ def run_fleet(problem, starts, allocator):
     p = problem
     allocator.reset(p, starts)
     robots = [_Robot(s.node, float(s.free_at)) for s in starts]
-    pending, done = set(range(p.count)), {}
+    pending, done = set(range(p.count)), dict[int, float]()
     run = FleetRun(orders=[[] for _ in starts], completion=done)
     while pending:
         r = min(range(len(robots)), key=lambda k: (robots[k].clock, robots[k].yielded, k))
@@ -172,6 +186,9 @@ def run_fleet(problem, starts, allocator):
             continue
         for b in robots:
             b.yielded = False
+        if value is None:
+            raise RuntimeError(f"allocator answered {action!r} for robot {r} without a node or "
+                               f"an instruction")
         if action == "move":
             length_s = p.edge_s[robot.node, value]
             if length_s <= 0:
@@ -186,7 +203,7 @@ def run_fleet(problem, starts, allocator):
                                f"start now")
         if action == "serve" and p.node[index] != robot.node:
             raise RuntimeError(f"allocator served instruction {index} away from its node")
-        robot.clock += p.travel_s[robot.node, p.node[index]]
+        robot.clock += float(p.travel_s[robot.node, p.node[index]])
         robot.node = int(p.node[index])
         robot.clock = max(robot.clock, p.launch[index]) + p.duration[index]
         pending.discard(index)
@@ -202,16 +219,29 @@ class _Robot:
     yielded: bool = False    # waited at this clock for the others to decide first
 
 
-def _available(p, pending, done, clock):
+def _available(p: Problem, pending: set[int], done: Mapping[int, float],
+               clock: float) -> np.ndarray:
     return np.array(sorted(i for i in pending if p.launch[i] <= clock and (
         p.predecessor[i] < 0 or done.get(int(p.predecessor[i]), np.inf) <= clock)), dtype=int)
 
 
-def _known(p, pending, clock):
+def _known(p: Problem, pending: set[int], clock: float) -> np.ndarray:
     return np.array(sorted(i for i in pending if p.launch[i] <= clock), dtype=int)
 
 
-def _next_event(p, pending, done, robots, clock, strict=False):
+@overload
+def _next_event(p: Problem, pending: set[int], done: Mapping[int, float],
+                robots: Sequence[_Robot], clock: float,
+                strict: Literal[False] = False) -> float: ...
+
+
+@overload
+def _next_event(p: Problem, pending: set[int], done: Mapping[int, float],
+                robots: Sequence[_Robot], clock: float, strict: bool) -> float | None: ...
+
+
+def _next_event(p: Problem, pending: set[int], done: Mapping[int, float], robots: Sequence[_Robot],
+                clock: float, strict: bool = False) -> float | None:
     """The earliest time after `clock` at which something may change: a launch, a completion,
     another robot's clock. None (strict) or RuntimeError when there is none."""
     times = [p.launch[i] for i in pending if p.launch[i] > clock]
@@ -230,19 +260,19 @@ class PerRobotPlanners:
     claimed. Robots do not coordinate; two may head for the same instruction, and the one that
     arrives first serves it."""
 
-    def __init__(self, make_planner, name):
+    def __init__(self, make_planner: Callable[[], Planner], name: str) -> None:
         self.make_planner, self.name = make_planner, name
 
-    def reset(self, problem, starts):
+    def reset(self, problem: Problem, starts: Sequence[RobotStart]) -> None:
         self.planners = [self.make_planner() for _ in starts]
         for planner in self.planners:
             planner.reset(problem)
 
-    def decide(self, view, available):
+    def decide(self, view: FleetView, available: np.ndarray) -> tuple[str, int | None]:
         planner = self.planners[view.robot]
         node, clock = view.nodes[view.robot], view.clocks[view.robot]
         if kind_of(planner) == NODE:
-            return planner.decide(node, clock, available)
+            return cast(NodePlanner, planner).decide(node, clock, available)
         if kind_of(planner) == TARGET:
-            return "target", planner.choose(node, clock, available)
+            return "target", cast(TargetPlanner, planner).choose(node, clock, available)
         raise ValueError(f"{planner.name}: a fleet robot runs node or target planners")

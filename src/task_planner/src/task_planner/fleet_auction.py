@@ -12,11 +12,13 @@ completion. The free robot then heads for the first instruction of its plan one 
 (as an executor drives, node by node); the other plans are provisional, and the auction is re-run
 at every node and completion, so a new instruction can turn a robot on its way.
 """
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from task_planner.fleet import service_end
+from task_planner.fleet import FleetView, RobotStart, service_end
+from task_planner.problem import Problem
 from task_planner.reward import decayed_reward
 
 _TIE = 1e-12   # gains closer than this are equal (the lower robot, then instruction, wins)
@@ -33,14 +35,15 @@ class SequentialAuction:
     """Online fleet allocator: the sequential single-item auction, re-run at every decision."""
 
     name = "Auction"
+    problem: Problem   # set by reset
 
-    def __init__(self, config=None):
+    def __init__(self, config: AuctionConfig | None = None) -> None:
         self.config = config or AuctionConfig()
 
-    def reset(self, problem, starts):
+    def reset(self, problem: Problem, starts: Sequence[RobotStart]) -> None:
         self.problem = problem
 
-    def decide(self, view, available):
+    def decide(self, view: FleetView, available: np.ndarray) -> tuple[str, int | None]:
         """Towards the first instruction of this robot's plan; wait while it needs a
         predecessor that is claimed (done later) or while only other robots' plans can start.
         Plans whose chains wait on each other across robots (the bids see only planned times)
@@ -60,17 +63,17 @@ class SequentialAuction:
         own = [i for i in mine if i in startable]
         return self._towards(view, own[0] if own else self._best_alone(view, available))
 
-    def _towards(self, view, index):
+    def _towards(self, view: FleetView, index: int) -> tuple[str, int]:
         """Serve instruction `index` here, or drive one edge towards it (decide again there)."""
         node, place = view.nodes[view.robot], int(self.problem.node[index])
         if node == place:
             return "serve", index
         return "move", int(self.problem.graph.next_hop[node, place])
 
-    def allocate(self, view):
+    def allocate(self, view: FleetView) -> list[list[int]]:
         """Every robot's plan (instruction indices in order) after the auction."""
         p = self.problem
-        plans = [[] for _ in view.nodes]
+        plans: list[list[int]] = [[] for _ in view.nodes]
         planned = dict(view.done)            # index -> (planned) completion time
         open_items = [int(i) for i in view.open]
         insertion = len(open_items) <= self.config.insertion_limit
@@ -88,8 +91,10 @@ class SequentialAuction:
             plans[r], values[r] = plan, value
             planned.update(zip(plan, finish))
 
-    def _best_insertion(self, view, plans, values, planned, ready):
-        best = None
+    def _best_insertion(self, view: FleetView, plans: Sequence[list[int]], values: Sequence[float],
+                        planned: dict[int, float],
+                        ready: Sequence[int]) -> tuple[int, list[int], list[float], float]:
+        best: tuple[float, int, list[int], list[float], float] | None = None
         for r, plan in enumerate(plans):
             for i in ready:
                 before = int(self.problem.predecessor[i])
@@ -100,9 +105,13 @@ class SequentialAuction:
                     gain = value - values[r]
                     if best is None or gain > best[0] + _TIE:
                         best = (gain, r, trial, finish, value)
+        if best is None:
+            raise ValueError("auction: no robot bid for the ready instructions")
         return best[1:]
 
-    def _best_append(self, view, plans, values, planned, ready):
+    def _best_append(self, view: FleetView, plans: Sequence[list[int]], values: Sequence[float],
+                     planned: dict[int, float],
+                     ready: Sequence[int]) -> tuple[int, list[int], list[float], float]:
         """Append bids of every robot for every ready instruction, as arrays."""
         p = self.problem
         items = np.array(ready)
@@ -115,20 +124,25 @@ class SequentialAuction:
                                        p.launch[items]), after) + p.duration[items]
         gain = decayed_reward(p.gamma[items], p.beta[items], finish - p.launch[items])
         rate = gain / np.maximum(finish - clock[:, None], _MIN_STEP_S)
-        r, k = np.unravel_index(int(np.argmax(rate)), rate.shape)
+        row, k = np.unravel_index(int(np.argmax(rate)), rate.shape)
+        r = int(row)
         plan = plans[r] + [int(items[k])]
         finish_r, value = self._timeline(view, r, plan, planned)
-        return int(r), plan, finish_r, value
+        return r, plan, finish_r, value
 
-    def _end(self, view, r, plan, planned):
+    def _end(self, view: FleetView, r: int, plan: Sequence[int],
+             planned: dict[int, float]) -> tuple[int, float]:
         if not plan:
             return view.nodes[r], view.clocks[r]
         return int(self.problem.node[plan[-1]]), planned[plan[-1]]
 
-    def _timeline(self, view, r, plan, planned):
+    def _timeline(self, view: FleetView, r: int, plan: Sequence[int],
+                  planned: dict[int, float]) -> tuple[list[float], float]:
         """(completion times, reward) of robot r serving `plan` from where it is free."""
         p = self.problem
-        node, clock, finish, value, own = view.nodes[r], view.clocks[r], [], 0.0, {}
+        node, clock, value = view.nodes[r], view.clocks[r], 0.0
+        finish: list[float] = []
+        own: dict[int, float] = {}
         for i in plan:
             before = int(p.predecessor[i])
             after = own.get(before, planned.get(before, 0.0)) if before >= 0 else 0.0
@@ -139,7 +153,7 @@ class SequentialAuction:
             value += p.gamma[i] * p.beta[i] ** (clock - p.launch[i])   # Eq. 4-2, scalar: hot loop
         return finish, value
 
-    def _best_alone(self, view, available):
+    def _best_alone(self, view: FleetView, available: np.ndarray) -> int:
         """The available instruction that earns robot `view.robot` most, served next."""
         p, r = self.problem, view.robot
         finish = np.maximum(view.clocks[r] + p.travel_s[view.nodes[r], p.node[available]],

@@ -23,9 +23,14 @@ its own journal (task_buffer); the pool (fleet_pool) is what the robots agree on
 Instructions the robot gives itself for its own body (charging) are `keep_local`: never shared
 and never claimed.
 """
+from collections.abc import Callable, Collection, Iterable
+from contextlib import AbstractContextManager
+
 from task_planner.fleet_pool import (CANCELLED, CLAIMED, DONE, FAILED, OPEN, STATE_NAMES,
-                                     LeaseLost)
+                                     FleetPool, LeaseLost)
 from task_planner import task_buffer
+from task_planner.instruction import Instruction
+from task_planner.task_buffer import Record
 
 # pool state -> the task buffer state an instruction closed elsewhere takes
 _BUFFER_STATE = {DONE: task_buffer.DONE, FAILED: task_buffer.FAILED,
@@ -36,19 +41,21 @@ _POOL_STATE = {buffer_state: pool_state for pool_state, buffer_state in _BUFFER_
 class FleetLink:
     """The pool as one robot named `robot` sees it (the name is the pool's claim holder)."""
 
-    def __init__(self, pool, robot, renew_period_s=None):
+    def __init__(self, pool: FleetPool, robot: str, renew_period_s: float | None = None) -> None:
         self.pool, self.robot = pool, robot
         # renew well within the lease: three chances before it runs out
         self.renew_period_s = pool.lease_s / 3 if renew_period_s is None else renew_period_s
         self.held = 0              # the instruction id this robot holds (0: none)
-        self.local = set()         # ids of instructions kept to this robot
-        self.corridors = set()     # names of the corridors this robot holds
+        self.local: set[int] = set()       # ids of instructions kept to this robot
+        self.corridors: set[str] = set()   # names of the corridors this robot holds
         self._place = -1           # where the robot serves the one it holds
         self._seq = 0              # the pool's last shared instruction taken in
         self._renewed_at = -float("inf")
-        self._reported = None      # ((node, free_at), when) of the last report
+        self._reported: tuple[tuple[int, float], float] | None = None  # ((node, free_at),
+                                   # when) of the last report
 
-    def rejoin(self, records, own, keep=0, now=0.0, place=-1):
+    def rejoin(self, records: Iterable[Record], own: Callable[[Instruction], bool], keep: int = 0,
+               now: float = 0.0, place: int = -1) -> dict[int, str]:
         """Start from the journal's `records`, in one pool transaction: close in the pool what
         the journal closed (when the pool holds that instruction under its id), give back every
         claim and corridor held before, claim again `keep` (the instruction the robot serves
@@ -58,7 +65,8 @@ class FleetLink:
         fleet knows that id as another's), and does not hold `keep` if it is one of them."""
         with self.pool.transaction():
             entries = {entry.id: entry for entry in self.pool.entries()}
-            unshared, closed = [], []
+            unshared: list[Instruction] = []
+            closed: list[Record] = []
             for record in records:
                 instruction, entry = record.instruction, entries.get(record.instruction.id)
                 if not record.is_open:
@@ -82,45 +90,45 @@ class FleetLink:
                 self.held, self._place, self._renewed_at = keep, place, now
         return clashes
 
-    def next_id(self, above=0):
+    def next_id(self, above: int = 0) -> int:
         """An id no robot of the fleet has used, above `above` (the robot's own journal's)."""
         return self.pool.next_id(above)
 
-    def keep_local(self, instruction_id):
+    def keep_local(self, instruction_id: int) -> None:
         self.local.add(int(instruction_id))
 
-    def conflicts(self, instructions):
+    def conflicts(self, instructions: Iterable[Instruction]) -> dict[int, str]:
         """{id: reason} of the instructions whose id the pool holds for another instruction."""
         return self.pool.conflicting([i for i in instructions if i.id not in self.local])
 
-    def transaction(self):
+    def transaction(self) -> AbstractContextManager[None]:
         """The pool's transaction context (FleetPool.transaction)."""
         return self.pool.transaction()
 
-    def share(self, instructions):
+    def share(self, instructions: Iterable[Instruction]) -> dict[int, str]:
         """Share instructions this robot accepted; {id: reason} of those the pool refused."""
         return self.pool.share([i for i in instructions if i.id not in self.local])
 
-    def news(self):
+    def news(self) -> list[Instruction]:
         """Instructions the other robots shared since the last call, in their order."""
         self._seq, shared = self.pool.since(self._seq)
         return shared
 
-    def taken(self, now):
+    def taken(self, now: float) -> set[int]:
         """Ids this robot must not choose at `now`: held by another robot."""
         return self.pool.held_by_others(self.robot, now)
 
-    def busy_places(self, now):
+    def busy_places(self, now: float) -> set[int]:
         """Places where another robot serves, or drives to serve, what it holds."""
         return self.pool.places_held_by_others(self.robot, now)
 
-    def closed_in_pool(self, ids):
+    def closed_in_pool(self, ids: Iterable[int]) -> list[tuple[int, int, str]]:
         """[(id, task buffer state, reason)] of `ids` the pool holds closed: by another robot,
         or by this one before its journal was lost."""
         return [(i, _BUFFER_STATE[entry.state], f"{STATE_NAMES[entry.state]} by {entry.robot}")
                 for i, entry in self.pool.closed([i for i in ids if i not in self.local]).items()]
 
-    def claim(self, instruction_id, now, place=-1):
+    def claim(self, instruction_id: int, now: float, place: int = -1) -> bool:
         """True when the robot holds the instruction now (kept ones always), to serve it at
         `place`; gives back the one it held before."""
         if instruction_id in self.local:
@@ -135,7 +143,7 @@ class FleetLink:
         self.held, self._place, self._renewed_at = instruction_id, place, now
         return True
 
-    def holds(self, instruction_id, now):
+    def holds(self, instruction_id: int, now: float) -> bool:
         """True when the robot still holds the instruction at `now` (renewing its lease)."""
         if instruction_id in self.local:
             return True
@@ -146,20 +154,21 @@ class FleetLink:
             self.held = 0
         return False
 
-    def enter(self, names, now):
+    def enter(self, names: Collection[str], now: float) -> str:
         """Hold the corridors `names` (keeping those held); "" or the robot in one of them."""
         holder = self.pool.enter(self.robot, sorted(names), now)
         if not holder:
             self.corridors |= set(names)
         return holder
 
-    def leave(self, keep=()):
+    def leave(self, keep: Iterable[str] = ()) -> None:
         """Give up the corridors held but those in `keep` (in the pool too, whatever this link
         remembers)."""
-        self.pool.leave(self.robot, tuple(keep))
-        self.corridors &= set(keep)
+        kept = tuple(keep)
+        self.pool.leave(self.robot, kept)
+        self.corridors &= set(kept)
 
-    def renew(self, now):
+    def renew(self, now: float) -> None:
         """Renew the robot's lease when `renew_period_s` has passed since the last renewal."""
         if (self.held or self.corridors) and now - self._renewed_at >= self.renew_period_s:
             self._renewed_at = now
@@ -167,7 +176,7 @@ class FleetLink:
             if not self.pool.renew(self.robot, now, ids, self.corridors):
                 self.held = 0   # lost: another robot may hold it now (closed_in_pool tells)
 
-    def report(self, node, free_at, now):
+    def report(self, node: int, free_at: float, now: float) -> None:
         """Tell the fleet where this robot will be free next and from when [s]: when that
         changed, and within its lease otherwise (renew_period_s)."""
         state = (int(node), round(float(free_at), 3))
@@ -177,17 +186,18 @@ class FleetLink:
         self.pool.report(self.robot, state[0], state[1], now)
         self._reported = (state, now)
 
-    def fleet(self, now):
+    def fleet(self, now: float) -> dict[str, tuple[int, float]]:
         """{robot: (node, free_at)} of the fleet's robots that reported within their lease."""
         return self.pool.robots(now)
 
-    def release(self):
+    def release(self) -> None:
         """Give back the instruction the robot holds (it serves none now)."""
         if self.held:
             self.pool.release(self.robot, self.held)
             self.held = 0
 
-    def close(self, instruction_id, now, state):
+    def close(self, instruction_id: int, now: float, state: int) -> str:
+
         """Close an instruction this robot finished (DONE) or failed (FAILED) in the pool, or one
         it was told to cancel (CANCELLED). Returns "" or why the pool did not take it (the
         robot's lease ran out: another robot may have served it too)."""

@@ -30,10 +30,13 @@ instruction Instruction refuses: written by hand or damaged) is skipped by `sinc
 `quarantined` with the reason; the robots go on with the others.
 """
 import json
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
+from types import TracebackType
+from typing import Literal
 
 from task_planner.fleet_pool_db import (FleetPoolError, PoolUnavailable,  # noqa: F401 (theirs too)
-                                        open_pool_db)
+                                        PostgreSQLPool, Rows, SQLitePool, open_pool_db)
 from task_planner.instruction import Instruction, InvalidInstruction
 from task_planner.journal_rows import fields_problem
 
@@ -69,23 +72,23 @@ class FleetPool:
     """One fleet's shared instructions and their claims at `where`: an SQLite file's path (or
     ':memory:', or sqlite:///abs/path) or a PostgreSQL URL (`synchronous`: SQLite's PRAGMA)."""
 
-    def __init__(self, where, lease_s=10.0, synchronous="FULL"):
+    def __init__(self, where: object, lease_s: float = 10.0, synchronous: str = "FULL") -> None:
         if not lease_s > 0:
             raise FleetPoolError(f"lease_s must be > 0, got {lease_s}")
         self.lease_s = float(lease_s)
         self._db = open_pool_db(where, _TABLES, synchronous)
         self.path = self._db.name   # names the pool in messages (a URL without its password)
-        self.quarantined = {}   # id -> reason of the pool rows `since` skipped
+        self.quarantined: dict[int, str] = {}   # id -> reason of the pool rows `since` skipped
 
-    def close(self):
+    def close(self) -> None:
         self._db.close()
 
-    def _run(self, sql, args=()):
+    def _run(self, sql: str, args: Sequence[object] = ()) -> Rows:
         return self._db.run(sql, args)
 
     # ---- instructions ----
 
-    def next_id(self, above=0):
+    def next_id(self, above: int = 0) -> int:
         """A fresh id for the fleet: more than every id handed out or shared, and than `above`."""
         with self._write():
             self._db.serialize()
@@ -97,10 +100,10 @@ class FleetPool:
             self._run("INSERT INTO pool_ids VALUES (?)", (new,))
             return new
 
-    def share(self, instructions):
+    def share(self, instructions: Iterable[Instruction]) -> dict[int, str]:
         """Put instructions into the pool for every robot. Returns {id: reason} for those refused:
         the pool holds another instruction under that id. One already there is left as it is."""
-        refused = {}
+        refused: dict[int, str] = {}
         with self._write():
             self._db.serialize()   # sequence numbers in commit order: `since` misses none
             seq = self._run("SELECT COALESCE(MAX(seq), 0) FROM pool").fetchone()[0]
@@ -115,22 +118,22 @@ class FleetPool:
                           (instruction.id, OPEN, seq, text))
         return refused
 
-    def conflicting(self, instructions):
+    def conflicting(self, instructions: Iterable[Instruction]) -> dict[int, str]:
         """{id: reason} of the instructions `share` would refuse (read only)."""
         return {i.id: _conflict(i.id) for i in instructions
                 if self._shared(i.id) not in (None, _encode(i))}
 
-    def _shared(self, instruction_id):
+    def _shared(self, instruction_id: int) -> str | None:
         row = self._run("SELECT instruction FROM pool WHERE id=?",
                         (int(instruction_id),)).fetchone()
         return None if row is None else row[0]
 
-    def since(self, seq):
+    def since(self, seq: int) -> tuple[int, list[Instruction]]:
         """(latest seq, [Instruction shared after `seq`]), in the order they were shared; a row
         that does not load is left out and kept in `quarantined`."""
         rows = self._run(f"SELECT seq, id, instruction FROM pool WHERE seq>? AND "
                          f"{self._db.is_integer('seq')} ORDER BY seq", (int(seq),)).fetchall()
-        shared = []
+        shared: list[Instruction] = []
         for _, instruction_id, text in rows:
             try:
                 shared.append(_decode(text))
@@ -142,30 +145,30 @@ class FleetPool:
 
     # ---- claims ----
 
-    def claimable(self, now):
+    def claimable(self, now: float) -> list[int]:
         """Ids nobody holds at `now` (open, or claimed under a lease that has run out)."""
         rows = self._run("SELECT id FROM pool WHERE state=? OR (state=? AND lease_until<?) "
                          "ORDER BY id", (OPEN, CLAIMED, now))
         return [row[0] for row in rows]
 
-    def held_by_others(self, robot, now):
+    def held_by_others(self, robot: str, now: float) -> set[int]:
         """Ids another robot holds at `now` (claimed under a lease that still runs)."""
         rows = self._run("SELECT id FROM pool WHERE state=? AND robot<>? AND lease_until>=?",
                          (CLAIMED, robot, now))
         return {row[0] for row in rows}
 
-    def places_held_by_others(self, robot, now):
+    def places_held_by_others(self, robot: str, now: float) -> set[int]:
         """Places (graph nodes) where another robot serves, or drives to serve, what it holds."""
         rows = self._run("SELECT DISTINCT place FROM pool WHERE state=? AND robot<>? AND "
                          "lease_until>=? AND place>=0", (CLAIMED, robot, now))
         return {row[0] for row in rows}
 
-    def closed(self, ids):
+    def closed(self, ids: Iterable[int]) -> dict[int, PoolEntry]:
         """{id: PoolEntry} of those of `ids` that are closed (done, failed or cancelled)."""
-        found = {}
-        ids = [int(i) for i in ids]
-        for start in range(0, len(ids), 500):   # SQLite's limit on bound variables
-            part = ids[start:start + 500]
+        found: dict[int, PoolEntry] = {}
+        wanted = [int(i) for i in ids]
+        for start in range(0, len(wanted), 500):   # SQLite's limit on bound variables
+            part = wanted[start:start + 500]
             rows = self._run(
                 f"SELECT id, state, robot, lease_until, completion_time, claims FROM pool WHERE "
                 f"state IN (?, ?, ?) AND id IN ({','.join('?' * len(part))})",
@@ -173,7 +176,7 @@ class FleetPool:
             found.update((row[0], PoolEntry(*row)) for row in rows)
         return found
 
-    def claim(self, robot, instruction_id, now, place=-1):
+    def claim(self, robot: str, instruction_id: int, now: float, place: int = -1) -> bool:
         """True when `robot` now holds the instruction (until now + lease_s), to serve it at
         `place` (a graph node; -1: not said); False when another robot holds it, it is closed or
         not in the pool (or another robot's transaction writes it just now). Claiming what the
@@ -192,26 +195,27 @@ class FleetPool:
                  int(instruction_id), OPEN, CLAIMED, now, robot))
             return changed.rowcount == 1
 
-    def renew(self, robot, now, ids=(), corridors=()):
+    def renew(self, robot: str, now: float, ids: Iterable[int] = (),
+              corridors: Iterable[str] = ()) -> list[int]:
         """Extend the leases `robot` still holds at `now` on the instructions `ids` and the
         corridors `corridors` (only those: a claim left over from before a restart is never kept
         alive); returns those of `ids` it holds."""
         _check_robot(robot)
-        ids, corridors = [int(i) for i in ids], list(corridors)
+        wanted, names = [int(i) for i in ids], list(corridors)
         with self._write():
             held = []
-            for instruction_id in ids:
+            for instruction_id in wanted:
                 changed = self._run(
                     "UPDATE pool SET lease_until=? WHERE id=? AND robot=? AND state=? AND "
                     "lease_until>=?", (now + self.lease_s, instruction_id, robot, CLAIMED, now))
                 if changed.rowcount == 1:
                     held.append(instruction_id)
-            for name in corridors:
+            for name in names:
                 self._run("UPDATE corridors SET lease_until=? WHERE name=? AND robot=? AND "
                           "lease_until>=?", (now + self.lease_s, name, robot, now))
             return held
 
-    def release_all(self, robot):
+    def release_all(self, robot: str) -> None:
         """Give back every instruction and corridor `robot` holds (a restarted executor starts
         from its journal, not from claims it made before)."""
         _check_robot(robot)
@@ -220,7 +224,7 @@ class FleetPool:
                       "state=?", (OPEN, robot, CLAIMED))
             self._run("DELETE FROM corridors WHERE robot=?", (robot,))
 
-    def settle(self, robot, instruction_id, now, state):
+    def settle(self, robot: str, instruction_id: int, now: float, state: int) -> bool:
         """Close an instruction `robot`'s journal closed (`state`: DONE, FAILED or CANCELLED) that
         the pool still holds open or claimed by that robot (it stopped between the two writes);
         True when it did."""
@@ -235,16 +239,16 @@ class FleetPool:
                 (state, robot, now, int(instruction_id), OPEN, CLAIMED, robot))
             return changed.rowcount == 1
 
-    def complete(self, robot, instruction_id, now):
+    def complete(self, robot: str, instruction_id: int, now: float) -> None:
         """Close the instruction as served by `robot`; LeaseLost unless it holds it at `now`."""
         self._close_held(robot, instruction_id, now, DONE)
 
-    def fail(self, robot, instruction_id, now):
+    def fail(self, robot: str, instruction_id: int, now: float) -> None:
         """Close the instruction as failed by `robot` (no other robot tries it again); LeaseLost
         unless it holds it at `now`."""
         self._close_held(robot, instruction_id, now, FAILED)
 
-    def cancel(self, robot, instruction_id, now):
+    def cancel(self, robot: str, instruction_id: int, now: float) -> bool:
         """Close an instruction that is not yet closed as cancelled through `robot`, whoever
         holds it; False when it is closed already or not in the pool."""
         _check_robot(robot)
@@ -254,7 +258,7 @@ class FleetPool:
                 "(?, ?)", (CANCELLED, robot, now, int(instruction_id), OPEN, CLAIMED))
             return changed.rowcount == 1
 
-    def enter(self, robot, names, now):
+    def enter(self, robot: str, names: Sequence[str], now: float) -> str:
         """Hold every corridor of `names` for `robot` (all or none); "" when it does, else the
         robot that holds one of them (its lease still running)."""
         _check_robot(robot)
@@ -271,7 +275,7 @@ class FleetPool:
                           (name, robot, now + self.lease_s))
         return ""
 
-    def leave(self, robot, keep=()):
+    def leave(self, robot: str, keep: Iterable[str] = ()) -> None:
         """Give up every corridor `robot` holds but those in `keep`."""
         _check_robot(robot)
         with self._write():
@@ -280,7 +284,7 @@ class FleetPool:
                 if name not in keep:
                     self._run("DELETE FROM corridors WHERE name=?", (name,))
 
-    def report(self, robot, node, free_at, now):
+    def report(self, robot: str, node: int, free_at: float, now: float) -> None:
         """`robot` will be free at graph node `node` from `free_at` [s]; the report holds until
         now + lease_s (a robot that stops reporting drops out of `robots`)."""
         _check_robot(robot)
@@ -290,24 +294,24 @@ class FleetPool:
                       "lease_until=excluded.lease_until",
                       (robot, int(node), float(free_at), now + self.lease_s))
 
-    def robots(self, now):
+    def robots(self, now: float) -> dict[str, tuple[int, float]]:
         """{robot: (node, free_at)} of the robots whose report still holds at `now`."""
         return {row[0]: (row[1], row[2]) for row in self._run(
             "SELECT robot, node, free_at FROM robots WHERE lease_until>=? ORDER BY robot",
             (now,))}
 
-    def release(self, robot, instruction_id):
+    def release(self, robot: str, instruction_id: int) -> None:
         """Give a held instruction back to the pool (the robot will not serve it)."""
         with self._write():
             self._run("UPDATE pool SET state=?, robot='', lease_until=0 WHERE id=? AND robot=? "
                       "AND state=?", (OPEN, int(instruction_id), robot, CLAIMED))
 
-    def entries(self):
+    def entries(self) -> list[PoolEntry]:
         """Every PoolEntry, by id."""
         return [PoolEntry(*row) for row in self._run(
             "SELECT id, state, robot, lease_until, completion_time, claims FROM pool ORDER BY id")]
 
-    def _close_held(self, robot, instruction_id, now, state):
+    def _close_held(self, robot: str, instruction_id: int, now: float, state: int) -> None:
         _check_robot(robot)
         with self._write():
             changed = self._run(
@@ -317,7 +321,7 @@ class FleetPool:
                 raise LeaseLost(f"robot {robot!r} does not hold instruction {instruction_id} "
                                 f"at {now:.3f} s: {self._describe(instruction_id)}")
 
-    def _describe(self, instruction_id):
+    def _describe(self, instruction_id: int) -> str:
         row = self._run("SELECT state, robot, lease_until FROM pool WHERE id=?",
                         (int(instruction_id),)).fetchone()
         if row is None:
@@ -329,12 +333,12 @@ class FleetPool:
             return f"in the unknown state {state!r}"
         return STATE_NAMES[state] + (f" by {robot!r}" if robot else "")
 
-    def transaction(self):
+    def transaction(self) -> "_Transaction":
         """A context in which this connection's writes form one transaction: the other robots
         see all of them at its end or none (e.g. instructions shared with the claim on one)."""
         return _Transaction(self._db)
 
-    def _write(self):
+    def _write(self) -> "_Transaction":
         return _Transaction(self._db)
 
 
@@ -343,15 +347,16 @@ class _Transaction:
     start, so a read-then-update cannot interleave with another process's). Inside an open
     transaction it joins that one."""
 
-    def __init__(self, db):
+    def __init__(self, db: SQLitePool | PostgreSQLPool) -> None:
         self.db, self.outer = db, False
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         self.outer = not self.db.in_transaction
         if self.outer:
             self.db.begin()
 
-    def __exit__(self, kind, error, trace):
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> Literal[False]:
         if not self.outer:
             return False
         if kind is None:
@@ -365,16 +370,16 @@ class _Transaction:
         return False
 
 
-def _conflict(instruction_id):
+def _conflict(instruction_id: int) -> str:
     return (f"instruction {instruction_id}: the fleet pool holds another instruction under this "
             "id (let the fleet choose: id 0)")
 
 
-def _encode(instruction):
+def _encode(instruction: Instruction) -> str:
     return json.dumps(asdict(instruction), sort_keys=True)
 
 
-def _decode(text):
+def _decode(text: str) -> Instruction:
     """The Instruction of a pool row's JSON; FleetPoolError naming what is wrong with it."""
     try:
         values = json.loads(text)
@@ -390,6 +395,7 @@ def _decode(text):
         raise FleetPoolError(str(error)) from None
 
 
-def _check_robot(robot):
+def _check_robot(robot: object) -> None:
+
     if not isinstance(robot, str) or not robot:
         raise FleetPoolError(f"a robot is named by a non-empty string, got {robot!r}")

@@ -17,7 +17,10 @@ several, chosen by where the pool is (`open_pool_db`):
 Both run the same SQL, written with `?` placeholders.
 """
 import re
+import sqlite3
 import time
+from collections.abc import Iterator, Sequence
+from typing import Any, Protocol
 
 from task_planner.journal_file import JournalFileError, expected_columns, open_journal
 
@@ -33,7 +36,7 @@ _PASSWORD = re.compile(r"://([^:@/]*):[^@/]*@")
 _SCHEMA_LOCK = 0x666C656574   # advisory lock: robots starting together make the tables once
 
 
-def without_password(url):
+def without_password(url: str) -> str:
     """The URL to show: its password, if any, replaced by ***."""
     return _PASSWORD.sub(r"://\1:***@", url)
 
@@ -47,7 +50,21 @@ class PoolUnavailable(FleetPoolError):
     connects again."""
 
 
-def open_pool_db(where, tables, synchronous="FULL"):
+class Rows(Protocol):
+    """What a pool database's `run` returns: a DB-API cursor over the statement's rows."""
+
+    @property
+    def rowcount(self) -> int: ...
+
+    def fetchone(self) -> Any: ...
+
+    def fetchall(self) -> list[Any]: ...
+
+    def __iter__(self) -> Iterator[Any]: ...
+
+
+def open_pool_db(where: object, tables: Sequence[str],
+                 synchronous: str = "FULL") -> "SQLitePool | PostgreSQLPool":
     """The database of the pool at `where` (module docstring), its `tables` made (CREATE TABLE
     IF NOT EXISTS ..., SQLite types); FleetPoolError when it is foreign or unusable."""
     where = str(where)
@@ -69,7 +86,7 @@ class SQLitePool:
 
     row_lock = ""   # BEGIN IMMEDIATE holds the whole file
 
-    def __init__(self, path, tables, synchronous):
+    def __init__(self, path: str, tables: Sequence[str], synchronous: str) -> None:
         try:
             self.db = open_journal(path, synchronous, tables, "fleet pool")
         except JournalFileError as error:
@@ -78,31 +95,31 @@ class SQLitePool:
         self.name = path
 
     @staticmethod
-    def is_integer(column):
+    def is_integer(column: str) -> str:
         """An SQL condition: `column` holds an integer (SQLite keeps any value in any column)."""
         return f"typeof({column}) = 'integer'"
 
-    def run(self, sql, args=()):
+    def run(self, sql: str, args: Sequence[object] = ()) -> sqlite3.Cursor:
         return self.db.execute(sql, args)
 
-    def serialize(self):
+    def serialize(self) -> None:
         """Writes are serialized already (BEGIN IMMEDIATE)."""
 
     @property
-    def in_transaction(self):
+    def in_transaction(self) -> bool:
         return self.db.in_transaction
 
-    def begin(self):
+    def begin(self) -> None:
         self.db.execute("BEGIN IMMEDIATE")
 
-    def commit(self):
+    def commit(self) -> None:
         self.db.execute("COMMIT")
 
-    def rollback(self):
+    def rollback(self) -> None:
         if self.db.in_transaction:
             self.db.execute("ROLLBACK")
 
-    def close(self):
+    def close(self) -> None:
         self.db.close()
 
 
@@ -111,7 +128,7 @@ class PostgreSQLPool:
 
     row_lock = " FOR UPDATE SKIP LOCKED"   # a row another robot is writing is not claimable
 
-    def __init__(self, url, tables):
+    def __init__(self, url: str, tables: Sequence[str]) -> None:
         import psycopg2   # only where PostgreSQL is used
         self._psycopg2, self.url = psycopg2, url
         self.name = without_password(url)
@@ -119,15 +136,16 @@ class PostgreSQLPool:
                              .replace(" INTEGER", " BIGINT") for statement in tables)
         self._expected = {table: tuple(column[0] for column in columns)
                           for table, columns in expected_columns(tables).items()}
-        self.db, self.in_transaction = None, False
+        self.db: Any = None   # a psycopg2 connection (untyped), None while disconnected
+        self.in_transaction = False
         self._retry_at, self._refused = 0.0, ""   # when to try connecting again, and why not
         self._connect()
 
     @staticmethod
-    def is_integer(_column):
+    def is_integer(_column: str) -> str:
         return "TRUE"   # columns are typed
 
-    def run(self, sql, args=()):
+    def run(self, sql: str, args: Sequence[object] = ()) -> Rows:
         cursor = self._connection().cursor()
         try:
             cursor.execute(sql.replace("?", "%s"), args)
@@ -135,19 +153,19 @@ class PostgreSQLPool:
             raise self._unavailable(error) from error
         return cursor
 
-    def serialize(self):
+    def serialize(self) -> None:
         """Writes that read before they insert wait for each other (until the commit)."""
         self.run("LOCK TABLE pool_ids IN EXCLUSIVE MODE")
 
-    def begin(self):
+    def begin(self) -> None:
         self.run("BEGIN")
         self.in_transaction = True
 
-    def commit(self):
+    def commit(self) -> None:
         self.run("COMMIT")
         self.in_transaction = False
 
-    def rollback(self):
+    def rollback(self) -> None:
         """End the transaction with nothing written (also on a lost connection)."""
         self.in_transaction = False
         if self.db is not None and not self.db.closed:
@@ -156,10 +174,10 @@ class PostgreSQLPool:
             except (self._psycopg2.OperationalError, self._psycopg2.InterfaceError):
                 self._drop()
 
-    def close(self):
+    def close(self) -> None:
         self._drop()
 
-    def _connection(self):
+    def _connection(self) -> Any:
         if self.db is None or self.db.closed:
             if self.in_transaction:
                 raise PoolUnavailable(f"fleet pool {self.name}: the connection was lost inside "
@@ -167,7 +185,7 @@ class PostgreSQLPool:
             self._connect()
         return self.db
 
-    def _connect(self):
+    def _connect(self) -> None:
         self._drop()
         started = time.monotonic()
         if started < self._retry_at:
@@ -196,10 +214,10 @@ class PostgreSQLPool:
             self._drop()
             raise self._unavailable(error) from error
 
-    def _check_foreign(self, cursor):
+    def _check_foreign(self, cursor: Any) -> None:
         cursor.execute("SELECT table_name, column_name FROM information_schema.columns WHERE "
                        "table_schema = current_schema() ORDER BY table_name, ordinal_position")
-        found = {}
+        found: dict[str, tuple[str, ...]] = {}
         for table, column in cursor.fetchall():
             found[table] = found.get(table, ()) + (column,)
         foreign = sorted(name for name, columns in found.items()
@@ -210,13 +228,15 @@ class PostgreSQLPool:
                 f"{', '.join(foreign)} not as in the pool's {', '.join(sorted(self._expected))}"
                 "); refusing to use it, the database is left untouched")
 
-    def _unavailable(self, error, then="the next call connects again"):
+    def _unavailable(self, error: Exception,
+                     then: str = "the next call connects again") -> PoolUnavailable:
         if self.db is not None and self.db.closed:
             self._drop()
         reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         return PoolUnavailable(f"fleet pool {self.name}: unavailable ({reason}); {then}")
 
-    def _drop(self):
+    def _drop(self) -> None:
+
         if self.db is not None:
             try:
                 self.db.close()

@@ -1,9 +1,10 @@
 """FLEET_ALLOCATORS, the one registry of fleet allocators (name -> factory from the planner
 settings, role, description); `make_allocator(name, settings)` builds one by name."""
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
-from task_planner.fleet import PerRobotPlanners
+from task_planner.fleet import Allocator, PerRobotPlanners
 from task_planner.fleet_auction import SequentialAuction
 from task_planner.planner_registry import (IMPROVED, SEED_FAITHFUL, PlannerSettings,
                                            make_planner)
@@ -14,10 +15,10 @@ class AllocatorEntry:
     name: str
     role: str           # planner_registry's SEED_FAITHFUL (the seed extended) or IMPROVED
     description: str
-    factory: Callable   # (PlannerSettings) -> allocator
+    factory: Callable[[PlannerSettings], Allocator]
 
 
-def _per_robot(planner):
+def _per_robot(planner: str) -> Callable[[PlannerSettings], PerRobotPlanners]:
     return lambda settings: PerRobotPlanners(lambda: make_planner(planner, settings),
                                              f"per-robot {planner}")
 
@@ -36,7 +37,8 @@ FLEET_ALLOCATORS = {entry.name: entry for entry in (
 )}
 
 
-def make_allocator(name, settings=None):
+def make_allocator(name: str,
+                   settings: PlannerSettings | Mapping[str, Any] | None = None) -> Allocator:
     """A fresh allocator by registry name; ValueError names the choices."""
     if name not in FLEET_ALLOCATORS:
         raise ValueError(f"unknown fleet allocator '{name}' (choose one of "

@@ -9,8 +9,10 @@ matrix of Floyd-Warshall.
 import hashlib
 import json
 import os
-from dataclasses import dataclass
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
@@ -26,11 +28,14 @@ class GraphError(ValueError):
 class TopologicalGraph:
     """Places and weighted edges; `adjacency[i, j]` = edge length [m], 0 = no edge (Fig. 4-7b)."""
 
-    names: tuple               # place names, index = node id
+    names: tuple[str, ...]     # place names, index = node id
     adjacency: np.ndarray      # (V, V) edge lengths [m]; 0 = no edge
-    poses: np.ndarray = None   # (V, 3) x, y, yaw in the map frame [m, m, rad], if known
+    poses: np.ndarray | None = None  # (V, 3) x, y, yaw in the map frame [m, m, rad], if known
+    # derived in __post_init__, not arguments
+    shortest: np.ndarray = field(init=False, repr=False, compare=False)
+    next_hop: np.ndarray = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         distances, hops = floyd_warshall(self.adjacency)
         unreachable = np.argwhere(~np.isfinite(distances))
         if len(unreachable):
@@ -41,32 +46,40 @@ class TopologicalGraph:
         object.__setattr__(self, "next_hop", hops)       # (V, V) first node on the path i -> j
 
     @property
-    def size(self):
+    def size(self) -> int:
         return len(self.names)
 
-    def edges(self):
+    def edges(self) -> list[tuple[int, int, float]]:
         """[(i, j, length_m)] with i < j."""
         rows, cols = np.nonzero(np.triu(self.adjacency))
         return [(int(i), int(j), float(self.adjacency[i, j])) for i, j in zip(rows, cols)]
 
-    def neighbours(self, node):
+    def pose(self, node: int) -> np.ndarray:
+        """(x, y, yaw) of `node` in the map frame [m, m, rad]; GraphError when the graph has no
+        poses."""
+        if self.poses is None:
+            raise GraphError(f"the graph has no poses: where place '{self.names[node]}' is is "
+                             "not known")
+        return self.poses[node]
+
+    def neighbours(self, node: int) -> list[int]:
         return [int(n) for n in np.flatnonzero(self.adjacency[node])]
 
-    def path(self, source, target):
+    def path(self, source: int, target: int) -> list[int]:
         """Node sequence of a shortest path, both ends included."""
         nodes = [source]
         while nodes[-1] != target:
             nodes.append(int(self.next_hop[nodes[-1], target]))
         return nodes
 
-    def index(self, name):
+    def index(self, name: str) -> int:
         try:
             return self.names.index(name)
         except ValueError:
             raise GraphError(f"unknown place '{name}' (known: {', '.join(self.names)})") from None
 
 
-def adjacency_matrix(size, edges):
+def adjacency_matrix(size: int, edges: Iterable[tuple[int, int, float]]) -> np.ndarray:
     """Fig. 4-7(b): symmetric matrix of edge lengths from [(i, j, length_m)]; 0 = no edge."""
     matrix = np.zeros((size, size))
     for i, j, length in edges:
@@ -77,7 +90,7 @@ def adjacency_matrix(size, edges):
     return matrix
 
 
-def floyd_warshall(adjacency):
+def floyd_warshall(adjacency: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """§4.2.3, Fig. 4-7(c): all-pairs shortest path lengths and first-hop matrix.
 
     Returns (distances, next_hop); distances are inf and next_hop -1 between disconnected nodes.
@@ -94,11 +107,13 @@ def floyd_warshall(adjacency):
     return distances, hops
 
 
-def graph_from_edges(names, edges, poses=None):
+def graph_from_edges(names: Iterable[str],
+                     edges: Iterable[tuple[str | int, str | int, float]],
+                     poses: np.ndarray | None = None) -> TopologicalGraph:
     """Build a graph from place names and [(name_a, name_b, length_m)] or index triples."""
     names = tuple(names)
-    index = {name: i for i, name in enumerate(names)}
-    resolved = []
+    index: dict[str | int, int] = {name: i for i, name in enumerate(names)}
+    resolved: list[tuple[Any, Any, float]] = []
     for a, b, length in edges:
         for end in (a, b):
             if not (end in index or (isinstance(end, int) and 0 <= end < len(names))):
@@ -107,12 +122,13 @@ def graph_from_edges(names, edges, poses=None):
     return TopologicalGraph(names, adjacency_matrix(len(names), resolved), poses)
 
 
-def default_cache_dir():
+def default_cache_dir() -> Path:
     base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
     return Path(base) / "tamp_ws" / "graph_edges"
 
 
-def load_graph(graph_path, robot_radius=0.25, cache_dir=None):
+def load_graph(graph_path: str | Path, robot_radius: float = 0.25,
+               cache_dir: str | Path | None = None) -> TopologicalGraph:
     """Read `<map>.graph.yaml`; edge lengths by A* on its occupancy map (cached).
 
     Args:
@@ -137,7 +153,8 @@ def load_graph(graph_path, robot_radius=0.25, cache_dir=None):
     return TopologicalGraph(names, adjacency_matrix(len(names), edges), poses)
 
 
-def measure_edge_lengths(map_path, poses, pairs, robot_radius):
+def measure_edge_lengths(map_path: Path, poses: np.ndarray, pairs: Sequence[tuple[int, int]],
+                         robot_radius: float) -> list[float]:
     """A* path length [m] between the poses of each pair of places on the occupancy grid."""
     from floorplan.astar import astar
     from floorplan.occupancy_map import load_map
@@ -146,7 +163,8 @@ def measure_edge_lengths(map_path, poses, pairs, robot_radius):
     blocked = grid.occupied_mask()
     lengths = []
     for i, j in pairs:
-        cells = [tuple(int(v) for v in grid.world_to_cell(*poses[k][:2])) for k in (i, j)]
+        cells = [(int(row), int(col)) for row, col in
+                 (grid.world_to_cell(*poses[k][:2]) for k in (i, j))]
         path = astar(blocked, cells[0], cells[1], grid.resolution, robot_radius)
         if path is None:
             raise GraphError(f"{map_path}: no A* path between places {i} and {j} "
@@ -155,14 +173,14 @@ def measure_edge_lengths(map_path, poses, pairs, robot_radius):
     return lengths
 
 
-def place_ids(graph_path):
+def place_ids(graph_path: str | Path) -> dict[str, int]:
     """{place name: node id} of `<map>.graph.yaml`, ids in file order as `load_graph` numbers
     them, without measuring edges; GraphError for a file the planner refuses."""
     spec = _read_graph_spec(Path(graph_path))
     return {node["name"]: index for index, node in enumerate(spec["nodes"])}
 
 
-def _content_hash(graph_path, map_path, robot_radius):
+def _content_hash(graph_path: Path, map_path: Path, robot_radius: float) -> str:
     digest = hashlib.sha256(f"radius={robot_radius}".encode())
     map_meta = yaml.safe_load(map_path.read_text())
     for path in (graph_path, map_path, map_path.parent / map_meta["image"]):
@@ -170,7 +188,7 @@ def _content_hash(graph_path, map_path, robot_radius):
     return digest.hexdigest()[:32]
 
 
-def _read_graph_spec(graph_path):
+def _read_graph_spec(graph_path: Path) -> dict[str, Any]:
     """The graph file through floorplan's reader; the planner also needs ids 0..n-1 in file
     order."""
     try:

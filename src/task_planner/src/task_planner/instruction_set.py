@@ -4,10 +4,12 @@ A successor becomes eligible only once its predecessor is done (Table 4-1 note o
 `previous_id`). A `previous_id` that names no instruction of the set is taken as already done (the
 task buffer drops finished instructions).
 """
-from task_planner.instruction import InvalidInstruction
+from collections.abc import Container, Sequence
+
+from task_planner.instruction import Instruction, InvalidInstruction
 
 
-def validate_instruction_set(instructions, node_count):
+def validate_instruction_set(instructions: Sequence[Instruction], node_count: int) -> None:
     """Raise InvalidInstruction naming the first bad item: duplicate id, unknown node, or cycle."""
     seen = set()
     for instruction in instructions:
@@ -21,7 +23,7 @@ def validate_instruction_set(instructions, node_count):
     check_chains_acyclic(instructions)
 
 
-def check_chains_acyclic(instructions):
+def check_chains_acyclic(instructions: Sequence[Instruction]) -> None:
     """Raise InvalidInstruction if following `previous_id` ever returns to an instruction."""
     previous = {i.id: i.previous_id for i in instructions}
     for start in previous:
@@ -35,6 +37,6 @@ def check_chains_acyclic(instructions):
             current = previous[current]
 
 
-def eligible(instruction, pending_ids):
+def eligible(instruction: Instruction, pending_ids: Container[int]) -> bool:
     """True when the instruction's predecessor is no longer pending (done or never in the set)."""
     return instruction.previous_id == 0 or instruction.previous_id not in pending_ids

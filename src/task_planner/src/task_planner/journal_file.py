@@ -8,6 +8,9 @@ The message names the file and, for a foreign file, the tables found. A missing 
 becomes a new journal; ':memory:' opens a journal without a file.
 """
 import sqlite3
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
 
 from human_db.store import table_columns
 
@@ -16,7 +19,7 @@ class JournalFileError(ValueError):
     """The journal file cannot be used; the message names the file and why."""
 
 
-def expected_columns(statements):
+def expected_columns(statements: Iterable[str]) -> dict[str, Any]:
     """table_columns of an in-memory database made by the journal's CREATE TABLE statements."""
     db = sqlite3.connect(":memory:")
     try:
@@ -27,12 +30,13 @@ def expected_columns(statements):
         db.close()
 
 
-def foreign_tables(found, expected):
+def foreign_tables(found: Mapping[str, Any], expected: Mapping[str, Any]) -> list[str]:
     """Names of the tables in `found` that are not the journal's or differ from it, sorted."""
     return sorted(name for name, columns in found.items() if expected.get(name) != columns)
 
 
-def open_journal(path, synchronous, statements, what="task buffer journal"):
+def open_journal(path: str | Path, synchronous: str, statements: Sequence[str],
+                 what: str = "task buffer journal") -> sqlite3.Connection:
     """An autocommit sqlite3 connection (WAL, PRAGMA synchronous) to the journal at `path`, its
     tables made by `statements` (CREATE TABLE IF NOT EXISTS ...); JournalFileError when the file
     is unreadable or foreign (module docstring); `what` names the file's kind in messages."""

@@ -9,6 +9,10 @@ the person out of it.
 """
 import math
 from collections import deque
+from collections.abc import Container, Iterable, Mapping, Sequence
+from typing import TypeVar
+
+Place = TypeVar("Place")   # a schedule's place: a graph node or a place name
 
 DAY_S = 86400.0   # [s]
 FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
@@ -17,18 +21,22 @@ FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
 class PeopleAtPlaces:
     """Where each person is now (graph node, or None when not known) and was before."""
 
-    def __init__(self, now=None, before=None):
-        self.now = dict(now or {})        # name -> node the person is at now, None = not known
+    def __init__(self, now: Mapping[str, int | None] | None = None,
+                 before: Mapping[str, Iterable[int]] | None = None) -> None:
+        self.now: dict[str, int | None] = dict(now or {})  # name -> node the person is at now,
+                                                           # None = not known
         self.before = {name: list(places) for name, places in (before or {}).items()}
         # name -> earlier nodes, most recent first
-        self.seen_s = {}                  # name -> when perception last saw them [s]
-        self.predicted = {}               # name -> node their schedule puts them at now
-        self.frames = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames perception
-                                                 # analysed, oldest first
-        self.unidentified = {}            # node -> (stamp [s], x, y [m]) of the latest person
-                                          # perception saw there but could not tell who
+        self.seen_s: dict[str, float] = {}  # name -> when perception last saw them [s]
+        self.predicted: dict[str, int | None] = {}  # name -> node their schedule puts them at now
+        self.frames: deque[float] = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames
+                                                 # perception analysed, oldest first
+        self.unidentified: dict[int, tuple[float, float, float]] = {}
+        # node -> (stamp [s], x, y [m]) of the latest person perception saw there but could not
+        # tell who
 
-    def take_frame(self, stamp, seen, unidentified):
+    def take_frame(self, stamp: float, seen: Iterable[tuple[str, int]],
+                   unidentified: Iterable[tuple[int, float, float]]) -> None:
         """One camera frame perception analysed, taken at `stamp` [s]: the people it identified
         ([(name, node)]) and those it saw at a place but could not tell ([(node, x, y)])."""
         for name, node in seen:
@@ -37,45 +45,45 @@ class PeopleAtPlaces:
             self.someone_unidentified(node, x, y, stamp)
         self.analysed(stamp)
 
-    def someone_unidentified(self, node, x, y, stamp):
+    def someone_unidentified(self, node: int, x: float, y: float, stamp: float) -> None:
         """Perception saw a person at `node`, at map position (x, y), whose shirt named nobody
         (seen from behind, half hidden): they may be the one looked for."""
         if stamp >= self.unidentified.get(node, (-math.inf,))[0]:
             self.unidentified[node] = (stamp, x, y)
 
-    def unidentified_at(self, node, since):
+    def unidentified_at(self, node: int, since: float) -> tuple[float, float] | None:
         """(x, y) of the latest person seen at `node` at or after `since` [s] whom perception
         could not tell, or None."""
         stamp, x, y = self.unidentified.get(node, (-math.inf, 0.0, 0.0))
         return (x, y) if stamp >= since else None
 
-    def analysed(self, stamp):
+    def analysed(self, stamp: float) -> None:
         """Perception finished a camera frame taken at `stamp` [s] (whoever it saw was
         reported with `seen`)."""
         self.frames.append(stamp)
 
-    def perceiving(self):
+    def perceiving(self) -> bool:
         """True once perception reported an analysed frame: how far it got can be waited for."""
         return bool(self.frames)
 
-    def frames_since(self, stamp):
+    def frames_since(self, stamp: float) -> int:
         """How many analysed frames were taken at or after `stamp` [s]."""
         return sum(1 for frame in self.frames if frame >= stamp)
 
-    def knows(self, name):
+    def knows(self, name: str) -> bool:
         """True once the person has been seen anywhere (or reported out of sight)."""
         return name in self.now or bool(self.before.get(name))
 
-    def is_at(self, name, node, since=-math.inf):
+    def is_at(self, name: str, node: int, since: float = -math.inf) -> bool:
         """Believed at `node`, seen there at or after `since` [s] (no stamp: any time)."""
         return self.now.get(name) == node and self.seen_s.get(name, math.inf) >= since
 
-    def last_known_places(self, name):
+    def last_known_places(self, name: str) -> list[int]:
         """Current place first, then earlier ones, each once."""
         places = [self.now.get(name)] + self.before.get(name, [])
         return list(dict.fromkeys(p for p in places if p is not None))
 
-    def seen(self, name, node, stamp=None):
+    def seen(self, name: str, node: int | None, stamp: float | None = None) -> None:
         """`name` seen at `node` (None: out of sight) at `stamp` [s]; an older report than the
         last one taken is ignored. The previous place becomes history."""
         if stamp is not None:
@@ -84,29 +92,32 @@ class PeopleAtPlaces:
             self.seen_s[name] = stamp
         self._move(name, node)
 
-    def take_table(self, sightings, schedules, day_s):
+    def take_table(self, sightings: Mapping[str, tuple[int | None, float]],
+                   schedules: Mapping[str, Iterable[tuple[float, float, int | None]]],
+                   day_s: float) -> None:
         """human_db's table (conversions.people_from_msg): each sighting, and the places the
         schedules predict at time of day `day_s` [s since midnight]."""
         for name, (node, stamp) in sightings.items():
             self.seen(name, node, stamp)
         self.predict(schedules, day_s)
 
-    def predict(self, schedules, day_s):
+    def predict(self, schedules: Mapping[str, Iterable[tuple[float, float, int | None]]],
+                day_s: float) -> None:
         """Where each person's schedule puts them at time of day `day_s` [s since midnight]."""
         for name, entries in schedules.items():
             self.predicted[name] = scheduled_place(entries, day_s)
 
-    def missed(self, name, node):
+    def missed(self, name: str, node: int) -> None:
         """A look at `node` did not find `name`: they are no longer believed there."""
         if self.now.get(name) == node:
             self._move(name, None)
 
-    def expected_at(self, node):
+    def expected_at(self, node: int) -> int:
         """How many people the belief or their schedule put at `node`."""
         names = set(self.now) | set(self.predicted)
         return sum(self.now.get(n) == node or self.predicted.get(n) == node for n in names)
 
-    def _move(self, name, node):
+    def _move(self, name: str, node: int | None) -> None:
         previous = self.now.get(name)
         if previous is not None and previous != node:
             self.before[name] = [previous] + [p for p in self.before.get(name, [])
@@ -114,7 +125,8 @@ class PeopleAtPlaces:
         self.now[name] = node
 
 
-def scheduled_place(entries, seconds_since_midnight):
+def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],
+                    seconds_since_midnight: float) -> Place | None:
     """The place of the schedule entry covering the time of day, or None.
 
     entries: (start, end, place) [s since midnight]; an entry whose end is before its start runs
@@ -129,7 +141,9 @@ def scheduled_place(entries, seconds_since_midnight):
     return None
 
 
-def search_order(name, people, looked_s, places, searched, distance_m=None):
+def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float],
+                 places: Iterable[int], searched: Container[int],
+                 distance_m: Sequence[float] | None = None) -> list[int]:
     """Where to look for `name` next: the place they were last seen (unless a look there has
     missed them since), then the place their schedule predicts, then every other place, the
     longest unlooked-at first, the nearest first among equally stale ones (`distance_m[n]`: from
@@ -137,16 +151,18 @@ def search_order(name, people, looked_s, places, searched, distance_m=None):
     first = [people.now.get(name), people.predicted.get(name)]
     rest = sorted(places, key=lambda n: (looked_s.get(n, -math.inf),
                                          0.0 if distance_m is None else distance_m[n], n))
-    return [n for n in dict.fromkeys(first + rest) if n is not None and n not in searched]
+    return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]
 
 
-def patrol_target(places, people, looked_s, now, min_interval_s, distance_m=None,
-                  never_looked_s=600.0):
+def patrol_target(places: Iterable[int], people: PeopleAtPlaces, looked_s: Mapping[int, float],
+                  now: float, min_interval_s: float, distance_m: Sequence[float] | None = None,
+                  never_looked_s: float = 600.0) -> int | None:
     """The place an idle robot should look at: the stalest (a place never looked at counts as
     `never_looked_s` [s] stale), weighted by how many people the belief or the schedules put
     there, the nearest first among equals (`distance_m[n]`: from the robot [m]); None when every
     place was looked at within `min_interval_s` [s]."""
-    def score(node):
+    def score(node: int) -> tuple[float, float, int]:
+
         staleness = now - looked_s.get(node, now - never_looked_s)
         near = 0.0 if distance_m is None else distance_m[node]
         return staleness * (1 + people.expected_at(node)), -near, -node

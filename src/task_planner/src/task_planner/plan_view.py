@@ -3,11 +3,14 @@ node it heads for and the plan it would follow if nothing new arrived.
 
 `ros_markers.py` turns a `PlanView` into rviz markers.
 """
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from task_planner.graph import floyd_warshall
+from task_planner.graph import TopologicalGraph, floyd_warshall
+from task_planner.instruction import Instruction
+from task_planner.planner_api import Planner
 from task_planner.problem import Problem
 from task_planner.ripple_planner import ripple_field
 from task_planner.robot_state import step_adjacency
@@ -23,7 +26,8 @@ class PlanView:
     stops: tuple           # ((instruction id, node), ...) in planned service order
 
 
-def ripple_values(graph, instructions, speed_mps, step_s):
+def ripple_values(graph: TopologicalGraph, instructions: Sequence[Instruction], speed_mps: float,
+                  step_s: float) -> np.ndarray:
     """Fig. 4-6: expected reward on each node, sum_i gamma_i * beta_i ** (steps(m_i, n) * step_s).
 
     Steps are the seed's edge discretisation (edges cut into `speed_mps * step_s` metre steps,
@@ -38,7 +42,9 @@ def ripple_values(graph, instructions, speed_mps, step_s):
     return ripple_field(gamma, beta, nodes, shortest_steps, step_s)
 
 
-def planned_order(graph, instructions, planner, speed_mps, start_node):
+def planned_order(graph: TopologicalGraph, instructions: Sequence[Instruction], planner: Planner,
+                  speed_mps: float, start_node: int
+                  ) -> tuple[tuple[int, ...], tuple[tuple[int, int], ...]]:
     """The route and service order `planner` would follow on the open `instructions`.
 
     All are taken as launched now (t = 0); chains (`previous_id`) hold. Returns (route, stops)
@@ -54,14 +60,16 @@ def planned_order(graph, instructions, planner, speed_mps, start_node):
     return tuple(int(n) for n in schedule.route), stops
 
 
-def plan_view(graph, instructions, planner, speed_mps, step_s, robot_node, next_node,
-              plan_max=None):
+def plan_view(graph: TopologicalGraph, instructions: Sequence[Instruction], planner: Planner,
+              speed_mps: float, step_s: float, robot_node: int, next_node: int,
+              plan_max: int | None = None) -> PlanView:
     """The `PlanView` of the open (pending) instructions for a robot at `robot_node`.
 
     With more than `plan_max` instructions the plan is left empty (playing a planner forward over
     a flood would cost more than a decision); the ripple values are always computed.
     """
-    route, stops = (), ()
+    route: tuple[int, ...] = ()
+    stops: tuple[tuple[int, int], ...] = ()
     if plan_max is None or len(instructions) <= plan_max:
         route, stops = planned_order(graph, instructions, planner, speed_mps, robot_node)
     return PlanView(values=ripple_values(graph, instructions, speed_mps, step_s),

@@ -22,16 +22,17 @@ none. The planners are registered in `planner_registry`.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, ClassVar, Literal, Protocol
+from typing import TYPE_CHECKING, ClassVar, Final, Literal, Protocol
 
 import numpy as np
 
 if TYPE_CHECKING:
     from task_planner.problem import Problem
+    from task_planner.robot_state import RobotState
 
-NODE = "node"      # decide(node, clock, available) -> ("serve", index) or ("move", neighbour)
-TARGET = "target"  # choose(node, clock, available) -> index
-STEP = "step"      # decide(state, clock, available) -> ("serve", index) or ("step", neighbour)
+NODE: Final = "node"  # decide(node, clock, available) -> ("serve", index) or ("move", neighbour)
+TARGET: Final = "target"  # choose(node, clock, available) -> index
+STEP: Final = "step"  # decide(state, clock, available) -> ("serve", index) or ("step", neighbour)
 KINDS = (NODE, TARGET, STEP)
 
 
@@ -68,9 +69,9 @@ class StepPlanner(Protocol):
 
     def reset(self, problem: Problem) -> None: ...
 
-    def start_state(self): ...
+    def start_state(self) -> RobotState: ...
 
-    def decide(self, state, clock: float,
+    def decide(self, state: RobotState, clock: float,
                available: np.ndarray) -> tuple[Literal["serve", "step"], int]: ...
 
 

@@ -9,8 +9,11 @@ The executor node, the scenario report's model figures and the planner benchmark
 planners from here, in registration order; adding a planner is one `PlannerEntry` below.
 `python3 -m task_planner.planner_registry` prints the registry.
 """
-from collections.abc import Callable
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from task_planner.baselines import (FirstComeFirstServe, PlannedOrder, PriorityFirst,
                                     RandomOrder, ShortestTimeFirst, exhaustive_optimum)
@@ -49,10 +52,10 @@ class PlannerSettings:
     rollout: RolloutConfig = field(default_factory=RolloutConfig)  # rollout_* keys
 
     @classmethod
-    def of(cls, settings=None):
+    def of(cls, settings: PlannerSettings | Mapping[str, Any] | None = None) -> PlannerSettings:
         """PlannerSettings from a settings mapping (missing keys keep the defaults); None gives
         the defaults and a PlannerSettings is returned as it is."""
-        if isinstance(settings, cls):
+        if isinstance(settings, PlannerSettings):
             return settings
         given, default = dict(settings or {}), cls()
         rollout = default.rollout
@@ -78,10 +81,11 @@ class PlannerEntry:
     role: str          # BASELINE, SEED_FAITHFUL or IMPROVED
     description: str   # one line
     factory: Callable[[PlannerSettings, int], Planner]  # (settings, seed of a random planner)
-    uses: frozenset    # where it runs (USES)
+    uses: frozenset[str]  # where it runs (USES)
     offline: bool = False  # solves the whole set at its first decision: a reference optimum
 
-    def make(self, settings=None, seed=0):
+    def make(self, settings: PlannerSettings | Mapping[str, Any] | None = None,
+             seed: int = 0) -> Planner:
         """A fresh planner; `settings`: a mapping of config/task_planner.yaml, PlannerSettings or
         None (defaults); `seed`: the generator seed of a randomised planner."""
         planner = self.factory(PlannerSettings.of(settings), seed)
@@ -92,7 +96,7 @@ class PlannerEntry:
         return planner
 
 
-def _registry(*entries):
+def _registry(*entries: PlannerEntry) -> dict[str, PlannerEntry]:
     for entry in entries:
         if entry.kind not in KINDS or entry.role not in ROLES \
                 or not entry.uses <= set(USES):
@@ -154,17 +158,18 @@ PLANNERS = _registry(
 )
 
 
-def entries(*uses):
+def entries(*uses: str) -> tuple[PlannerEntry, ...]:
     """The registered entries (registration order) that run in any of `uses`; all without."""
     return tuple(e for e in PLANNERS.values() if not uses or e.uses & set(uses))
 
 
-def planner_names(*uses):
+def planner_names(*uses: str) -> tuple[str, ...]:
     """Registry names of `entries(*uses)`."""
     return tuple(e.name for e in entries(*uses))
 
 
-def make_planner(name, settings=None, seed=0, use=None):
+def make_planner(name: str, settings: PlannerSettings | Mapping[str, Any] | None = None,
+                 seed: int = 0, use: str | None = None) -> Planner:
     """A fresh planner by registry name (see PlannerEntry.make); with `use`, only a planner that
     runs there (EXECUTOR: the executor node's choices). ValueError names the choices."""
     choices = planner_names(*(() if use is None else (use,)))
@@ -174,24 +179,25 @@ def make_planner(name, settings=None, seed=0, use=None):
     return PLANNERS[name].make(settings, seed)
 
 
-def make_planners(uses, settings=None, seed=0):
+def make_planners(uses: Iterable[str], settings: PlannerSettings | Mapping[str, Any] | None = None,
+                  seed: int = 0) -> list[Planner]:
     """Fresh planners of every entry that runs in any of `uses`, in registration order."""
     return [entry.make(settings, seed) for entry in entries(*uses)]
 
 
-def display_order():
+def display_order() -> list[str]:
     """Display names in table order: the offline optima first, then baselines, the seed's
     planner and ours (registration order within each)."""
     ranked = sorted(PLANNERS.values(), key=lambda e: (not e.offline, ROLES.index(e.role)))
     return [entry.label for entry in ranked]
 
 
-def label(name):
+def label(name: str) -> str:
     """The display name of the planner registered as `name`."""
     return PLANNERS[name].label
 
 
-def registry_table():
+def registry_table() -> str:
     """The registry as a Markdown table."""
     rows = ["| name | label | kind | role | runs in | description |", "|---|---|---|---|---|---|"]
     rows += [f"| `{e.name}` | {e.label} | {e.kind} | {e.role} | "

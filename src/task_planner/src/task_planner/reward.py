@@ -4,13 +4,14 @@ from pathlib import Path
 
 import numpy as np
 import yaml
+from numpy.typing import ArrayLike
 
 
 class PriorityError(ValueError):
     """The priority file is missing, malformed, or breaks Eq. 4-2's constraints."""
 
 
-def decayed_reward(gamma, beta, elapsed_s):
+def decayed_reward(gamma: ArrayLike, beta: ArrayLike, elapsed_s: ArrayLike) -> np.ndarray:
     """Eq. 4-2: r_i(t) = gamma_i * beta_i ** t_i, t_i = time from launch to completion [s].
 
     Works element-wise on numpy arrays.
@@ -27,7 +28,7 @@ class Priority:
     beta: float   # decay factor per second, in (0, 1)
 
 
-def load_priorities(path):
+def load_priorities(path: str | Path) -> dict[str, Priority]:
     """Read config/priorities.yaml into {name: Priority}, highest gamma first."""
     try:
         document = yaml.safe_load(Path(path).read_text())

@@ -13,25 +13,31 @@ node; the seed's rule then steps out and back forever. Returning to a node alrea
 the same instruction set proves such a loop, so from there the robot follows the single strongest
 ripple term until the instruction set changes. `guard_activations` counts how often this happens.
 """
+from collections.abc import Sequence
+from typing import ClassVar, Literal
+
 import numpy as np
 
 from task_planner.graph import floyd_warshall
 from task_planner.planner_api import NODE
-from task_planner.robot_state import (neighbouring_nodes, state_at_node, state_transition,
-                                      step_adjacency, steps_to_instructions)
+from task_planner.problem import Problem
+from task_planner.robot_state import (RobotState, neighbouring_nodes, state_at_node,
+                                      state_transition, step_adjacency, steps_to_instructions)
 
 
-def expected_reward(gamma, beta, steps, step_s):
+def expected_reward(gamma: np.ndarray, beta: np.ndarray, steps: np.ndarray, step_s: float) -> float:
     """Eq. 4-4: r_{L+1} = sum_i gamma_i * beta_i ** t_i, t_i = steps from instruction i * step_s."""
     return float(np.sum(gamma * np.power(beta, steps * step_s)))
 
 
-def best_neighbour(candidates, rewards):
+def best_neighbour(candidates: np.ndarray, rewards: Sequence[float]) -> int:
     """Eq. 4-5: the neighbouring node whose candidate step has the highest accumulated reward."""
     return int(candidates[int(np.argmax(rewards))])
 
 
-def value_iteration_step(state, gamma, beta, nodes, step_adj, shortest_steps, step_s):
+def value_iteration_step(state: RobotState, gamma: np.ndarray, beta: np.ndarray, nodes: np.ndarray,
+                         step_adj: np.ndarray, shortest_steps: np.ndarray,
+                         step_s: float) -> tuple[int, RobotState, np.ndarray, list[float]]:
     """Algorithm 4-2: next neighbouring node, the state one step toward it, and all candidates.
 
     Returns (n_hat, next_state, candidates, candidate_rewards).
@@ -44,20 +50,21 @@ def value_iteration_step(state, gamma, beta, nodes, step_adj, shortest_steps, st
     return n_hat, states[list(candidates).index(n_hat)], candidates, rewards
 
 
-def ripple_field(gamma, beta, nodes, shortest_steps, step_s):
+def ripple_field(gamma: np.ndarray, beta: np.ndarray, nodes: np.ndarray, shortest_steps: np.ndarray,
+                 step_s: float) -> np.ndarray:
     """Fig. 4-6: expected reward on each node, sum_i gamma_i * beta_i ** (D[m_i][n] * step_s)."""
     exponents = shortest_steps[nodes, :] * step_s
     return np.sum(gamma[:, None] * np.power(beta[:, None], exponents), axis=0)
 
 
-def step_graph(problem, step_s):
+def step_graph(problem: Problem, step_s: float) -> tuple[np.ndarray, np.ndarray]:
     """(edge lengths in steps of speed * step_s metres, shortest paths in steps) of a problem's
     graph: the discretisation both readings of Algorithm 4-2 plan on."""
     step_adj = step_adjacency(problem.graph.adjacency, problem.speed_mps * step_s)
     return step_adj, floyd_warshall(step_adj)[0]
 
 
-def serve_here(problem, available, node):
+def serve_here(problem: Problem, available: np.ndarray, node: int) -> int | None:
     """The available instruction to serve on `node` first (highest initial reward, then id), or
     None when none waits there (the thesis gives no order)."""
     here = available[problem.node[available] == node]
@@ -69,19 +76,24 @@ def serve_here(problem, available, node):
 class RipplePlanner:
     """Per-node online planner of the seed (Algorithm 4-2) with the loop guard described above."""
 
-    kind = NODE
+    kind: ClassVar[Literal["node"]] = NODE
     name = "Ours(seed/node)"
+    problem: Problem
+    _visited: set[int]
+    _known: frozenset[int] | None
+    _locked: int | None
 
-    def __init__(self, step_s=1.0):
+    def __init__(self, step_s: float = 1.0) -> None:
         self.step_s = step_s  # time step of the edge discretisation [s]
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem = problem
         self.step_adj, self.shortest_steps = step_graph(problem, self.step_s)
         self.guard_activations = 0
         self._visited, self._known, self._locked = set(), None, None
 
-    def decide(self, node, clock, available):
+    def decide(self, node: int, clock: float,
+               available: np.ndarray) -> tuple[Literal["serve", "move"], int]:
         """('serve', index) if an instruction waits on `node`, else ('move', neighbouring node)."""
         p = self.problem
         first = serve_here(p, available, node)
@@ -101,7 +113,7 @@ class RipplePlanner:
             p.node[available], self.step_adj, self.shortest_steps, self.step_s)
         return "move", n_hat
 
-    def _strongest_term(self, node, available):
+    def _strongest_term(self, node: int, available: np.ndarray) -> int:
         p = self.problem
         steps = self.shortest_steps[p.node[available], node] * self.step_s
         return int(available[np.argmax(p.gamma[available] * np.power(p.beta[available], steps))])

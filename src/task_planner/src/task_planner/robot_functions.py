@@ -6,10 +6,13 @@ follow-up's text carries them in a leading "[about NAME] " (about_text), which s
 (subject_of) for the `{about}` placeholder.
 """
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
+
+from task_planner.instruction import Instruction
 
 
 _ABOUT = re.compile(r"\[about ([^\]]+)\] ")
@@ -28,26 +31,26 @@ class RobotFunction:
     duration_s: float  # execution time for self-generated instructions [s]
     say: str           # spoken on start; {target}, {source}, {about}, {place} are filled in
 
-    def speech(self, instruction, place):
+    def speech(self, instruction: Instruction, place: str) -> str:
         """The sentence the robot speaks when it starts this function for `instruction`."""
         return self.say.format(target=instruction.target or "everyone",
                                source=instruction.source or "the household",
                                about=subject_of(instruction) or "the household", place=place)
 
 
-def about_text(person, text):
+def about_text(person: str, text: str) -> str:
     """Text of a chained instruction about `person` (its predecessor's target)."""
     return f"[about {person}] {text}"
 
 
-def subject_of(instruction):
+def subject_of(instruction: Instruction) -> str:
     """Whom an instruction is about: the person of a leading "[about NAME] " in its text (a
     chained report on the person checked), else its source ("tell the nurse I fell")."""
     match = _ABOUT.match(instruction.text or "")
     return match.group(1) if match else instruction.source
 
 
-def load_robot_functions(path):
+def load_robot_functions(path: str | Path) -> dict[int, RobotFunction]:
     """Read config/robot_functions.yaml into {code: RobotFunction}; errors name the bad entry."""
     try:
         document = yaml.safe_load(Path(path).read_text())
@@ -56,7 +59,7 @@ def load_robot_functions(path):
     table = document.get("functions") if isinstance(document, dict) else None
     if not isinstance(table, dict) or not table:
         raise RobotFunctionError(f"{path}: expected a non-empty mapping under 'functions'")
-    functions = {}
+    functions: dict[int, RobotFunction] = {}
     for name, row in table.items():
         try:
             function = RobotFunction(int(row["code"]), str(name), float(row["duration_s"]),
@@ -73,7 +76,8 @@ def load_robot_functions(path):
     return functions
 
 
-def function_for(functions, instruction):
+def function_for(functions: Mapping[int, RobotFunction],
+                 instruction: Instruction) -> RobotFunction:
     """The RobotFunction an instruction asks for; RobotFunctionError names an unknown code."""
     try:
         return functions[instruction.function]

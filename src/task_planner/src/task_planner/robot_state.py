@@ -16,27 +16,27 @@ import numpy as np
 @dataclass(frozen=True)
 class RobotState:
     vector: np.ndarray  # (V,) int: steps to the relevant nodes (see module docstring)
-    node: int = None    # node index when standing on a node, None on an edge
+    node: int | None = None  # node index when standing on a node, None on an edge
 
-    def support(self):
+    def support(self) -> np.ndarray:
         """Nodes the robot's distance is measured from: its node, or the two edge ends."""
         if self.node is not None:
             return np.array([self.node])
         return np.flatnonzero(self.vector)
 
 
-def step_adjacency(adjacency_m, step_m):
+def step_adjacency(adjacency_m: np.ndarray, step_m: float) -> np.ndarray:
     """Edge lengths [m] -> whole steps of `step_m` metres (at least 1 per edge); 0 = no edge."""
     steps = np.where(adjacency_m > 0, np.maximum(1, np.rint(adjacency_m / step_m)), 0)
     return steps.astype(int)
 
 
-def state_at_node(step_adj, node):
+def state_at_node(step_adj: np.ndarray, node: int) -> RobotState:
     """Case 2 result: standing on `node`, the state is row `node` of the step adjacency matrix."""
     return RobotState(step_adj[node].copy(), int(node))
 
 
-def leave_node(step_adj, state, target):
+def leave_node(step_adj: np.ndarray, state: RobotState, target: int) -> RobotState:
     """Case 3: leaving node i toward neighbour j: element i becomes 1, j = A[i][j] - 1, others 0."""
     i = state.node
     if step_adj[i, target] == 0:
@@ -47,7 +47,7 @@ def leave_node(step_adj, state, target):
     return _arrive_if_zero(step_adj, vector, target)
 
 
-def step_along_edge(step_adj, state, target):
+def step_along_edge(step_adj: np.ndarray, state: RobotState, target: int) -> RobotState:
     """Case 1: on the edge, one step toward end `target`; the other non-zero end grows by one."""
     ends = np.flatnonzero(state.vector)
     if target not in ends:
@@ -59,28 +59,29 @@ def step_along_edge(step_adj, state, target):
     return _arrive_if_zero(step_adj, vector, target)
 
 
-def _arrive_if_zero(step_adj, vector, target):
+def _arrive_if_zero(step_adj: np.ndarray, vector: np.ndarray, target: int) -> RobotState:
     """Case 2: the element of `target` reached 0, so the robot is on `target`."""
     if vector[target] == 0:
         return state_at_node(step_adj, target)
     return RobotState(vector, None)
 
 
-def state_transition(step_adj, state, target):
+def state_transition(step_adj: np.ndarray, state: RobotState, target: int) -> RobotState:
     """Algorithm 4-2 line 7: the state after one step toward neighbouring node `target`."""
     if state.node is not None:
         return leave_node(step_adj, state, target)
     return step_along_edge(step_adj, state, target)
 
 
-def neighbouring_nodes(step_adj, state):
+def neighbouring_nodes(step_adj: np.ndarray, state: RobotState) -> np.ndarray:
     """Algorithm 4-2 line 3: the nodes the robot can step toward."""
     if state.node is not None:
         return np.flatnonzero(step_adj[state.node])
     return np.flatnonzero(state.vector)
 
 
-def steps_to_instructions(shortest_steps, state, instruction_nodes):
+def steps_to_instructions(shortest_steps: np.ndarray, state: RobotState,
+                          instruction_nodes: np.ndarray) -> np.ndarray:
     """Algorithm 4-2 line 9: min over the state's support n of (A[m_i][n] + s[n]) for each i."""
     support = state.support()
     via = shortest_steps[np.ix_(instruction_nodes, support)] + state.vector[support][None, :]

@@ -11,9 +11,12 @@ All rollouts of one decision run together as numpy arrays.
 """
 from dataclasses import dataclass
 
+from typing import ClassVar, Literal
+
 import numpy as np
 
 from task_planner.planner_api import NODE
+from task_planner.problem import Problem
 
 _MIN_STEP_S = 1e-9  # guards the reward rate when an instruction takes no time
 
@@ -29,22 +32,23 @@ class RolloutConfig:
 class RolloutPlanner:
     """Per-node online planner: rollouts of the reward-rate rule from the best first targets."""
 
-    kind = NODE
+    kind: ClassVar[Literal["node"]] = NODE
     name = "Ours(rollout)"
 
-    def __init__(self, config=None):
+    def __init__(self, config: RolloutConfig | None = None) -> None:
         self.config = config or RolloutConfig()
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem = problem
 
-    def decide(self, node, clock, available):
+    def decide(self, node: int, clock: float,
+               available: np.ndarray) -> tuple[Literal["serve", "move"], int]:
         target = self.best_first(node, clock, available)
         if self.problem.node[target] == node:
             return "serve", self._first_at_node(node, target, available)
         return "move", int(self.problem.graph.next_hop[node, self.problem.node[target]])
 
-    def _first_at_node(self, node, target, available):
+    def _first_at_node(self, node: int, target: int, available: np.ndarray) -> int:
         """The seed's rule at a node (§4.2.4: highest γ first), kept when `priority_first_at_node`:
         nobody waiting here is passed over for a lower-priority request at the same place, even
         when serving the shorter one first would earn more reward. Ties keep the rollout's choice.
@@ -56,7 +60,7 @@ class RolloutPlanner:
         best = here[p.gamma[here] > p.gamma[target]]
         return int(best[np.argmax(p.gamma[best])]) if len(best) else target
 
-    def best_first(self, node, clock, available):
+    def best_first(self, node: int, clock: float, available: np.ndarray) -> int:
         """The available instruction whose rollout earns the most."""
         p, cfg = self.problem, self.config
         finish = np.maximum(clock + p.travel_s[node, p.node[available]], p.launch[available]) \
@@ -68,34 +72,35 @@ class RolloutPlanner:
         values = self._rollouts(node, clock, available, firsts)
         return int(available[firsts[int(np.argmax(values))]])
 
-    def _rollouts(self, node, clock, available, firsts):
+    def _rollouts(self, node: int, clock: float, available: np.ndarray,
+                  firsts: np.ndarray) -> np.ndarray:
         """Reward of each rollout (one row per first choice), plus the weighted tail."""
         p, cfg = self.problem, self.config
         rows = np.arange(len(firsts))
         nodes, launch = p.node[available], p.launch[available]
         served = np.zeros((len(firsts), len(available)), bool)
         current = np.full(len(firsts), node)
-        clock = np.full(len(firsts), float(clock))
+        clocks = np.full(len(firsts), float(clock))
         total = np.zeros(len(firsts))
         choice = firsts
         for step in range(min(cfg.horizon, len(available))):
-            finish = np.maximum(clock[:, None] + p.travel_s[current][:, nodes], launch) \
+            finish = np.maximum(clocks[:, None] + p.travel_s[current][:, nodes], launch) \
                 + p.duration[available]
             value = _reward(p, available, finish)
             if step:
-                rate = value / np.maximum(finish - clock[:, None], _MIN_STEP_S)
+                rate = value / np.maximum(finish - clocks[:, None], _MIN_STEP_S)
                 rate[served] = -np.inf
                 choice = np.argmax(rate, axis=1)
             total += value[rows, choice]
-            clock, current = finish[rows, choice], nodes[choice]
+            clocks, current = finish[rows, choice], nodes[choice]
             served[rows, choice] = True
-        finish = np.maximum(clock[:, None] + p.travel_s[current][:, nodes], launch) \
+        finish = np.maximum(clocks[:, None] + p.travel_s[current][:, nodes], launch) \
             + p.duration[available]
         tail = np.where(served, 0.0, _reward(p, available, finish)).sum(axis=1)
         return total + cfg.tail_weight * tail
 
 
-def _reward(problem, indices, finish):
+def _reward(problem: Problem, indices: np.ndarray, finish: np.ndarray) -> np.ndarray:
     """Eq. 4-2 for instructions `indices` completed at `finish` (broadcast over rows)."""
     p = problem
     return p.gamma[indices] * np.power(p.beta[indices], finish - p.launch[indices])

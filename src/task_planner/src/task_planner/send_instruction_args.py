@@ -10,6 +10,7 @@ constants for either) and places of `maps/household.graph.yaml` (node ids in fil
 one's own); an unknown name is an argparse error naming it and the choices.
 """
 import argparse
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,17 +37,17 @@ class CodeNames:
 
     kind: str                 # "function", "status", "destination"
     source: str               # where the names come from (for --help)
-    codes: dict = field(default_factory=dict)
+    codes: dict[str, int] = field(default_factory=dict)
     problem: str = ""         # why the names could not be read ("" when they were)
 
-    def describe(self):
+    def describe(self) -> str:
         """`chat (1), encourage (2), ...` in code order, or the problem."""
         if not self.codes:
             return f"no names ({self.problem})" if self.problem else "no names"
         return ", ".join(f"{name} ({code})"
                          for name, code in sorted(self.codes.items(), key=lambda kv: kv[1]))
 
-    def named(self, text):
+    def named(self, text: str) -> tuple[int, str]:
         """argparse type: (code, name) of a known name, (number, "") of a number;
         ArgumentTypeError naming the bad value and the choices otherwise."""
         text = text.strip()
@@ -59,21 +60,21 @@ class CodeNames:
         raise argparse.ArgumentTypeError(f"unknown {self.kind} {text!r}; choose one of "
                                          f"{self.describe()}, or give a number")
 
-    def code(self, text):
+    def code(self, text: str) -> int:
         """argparse type: the code of a name or a number (see `named`)."""
         return self.named(text)[0]
 
 
-def _shown(path):
+def _shown(path: str | Path) -> str:
     """`path` as --help shows it: relative to tamp_resources when inside it."""
-    path = Path(path)
+    shown = Path(path)
     try:
-        return str(path.relative_to(resource()))
+        return str(shown.relative_to(resource()))
     except ValueError:
-        return str(path)
+        return str(shown)
 
 
-def function_names(path=FUNCTIONS_FILE):
+def function_names(path: Path = FUNCTIONS_FILE) -> CodeNames:
     """Robot function names -> codes (config/robot_functions.yaml)."""
     try:
         codes = {f.name: code for code, f in load_robot_functions(path).items()}
@@ -82,7 +83,7 @@ def function_names(path=FUNCTIONS_FILE):
     return CodeNames("function", _shown(path), codes)
 
 
-def status_names(path=KEYWORDS_FILE):
+def status_names(path: Path = KEYWORDS_FILE) -> CodeNames:
     """Human-state names -> status codes (`status_codes` of config/keywords.yaml)."""
     try:
         table = yaml.safe_load(path.read_text())["status_codes"]
@@ -92,7 +93,7 @@ def status_names(path=KEYWORDS_FILE):
     return CodeNames("status", _shown(path), codes)
 
 
-def destination_names(path=GRAPH_FILE):
+def destination_names(path: Path = GRAPH_FILE) -> CodeNames:
     """Place names -> node ids of a semantic graph (task_planner.graph.place_ids)."""
     try:
         codes = place_ids(path)
@@ -101,7 +102,9 @@ def destination_names(path=GRAPH_FILE):
     return CodeNames("destination", _shown(path), codes)
 
 
-def build_parser(functions, statuses, destinations, description="", service="the service"):
+def build_parser(functions: CodeNames, statuses: CodeNames, destinations: CodeNames,
+                 description: str = "",
+                 service: str = "the service") -> argparse.ArgumentParser:
     """The argument parser; `functions`, `statuses`, `destinations` are CodeNames; `service`
     is the submit service named in --wait's help."""
     parser = argparse.ArgumentParser(prog="send_instruction", description=description,
@@ -138,7 +141,8 @@ def build_parser(functions, statuses, destinations, description="", service="the
     return parser
 
 
-def parse_args(argv, description="", service="the service"):
+def parse_args(argv: Sequence[str] | None, description: str = "",
+               service: str = "the service") -> argparse.Namespace:
     """Parsed arguments with --function, --status and --destination as codes; a destination
     given by name is also the default --destination-name."""
     parser = build_parser(function_names(), status_names(), destination_names(), description,
@@ -150,7 +154,7 @@ def parse_args(argv, description="", service="the service"):
     return args
 
 
-def instruction_from_args(args, now):
+def instruction_from_args(args: argparse.Namespace, now: float) -> Instruction:
     """The Instruction to submit, checked here; with --id 0 a provisional id stands in for the
     one the task buffer allocates (task_planner.submission)."""
     provisional = args.id or args.previous_id + 1

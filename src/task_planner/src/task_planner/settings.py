@@ -7,7 +7,10 @@ one) or a value out of its range is a SettingsError naming the file, the key and
 to pass and make the executor's first tick divide by zero.
 """
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypedDict
 
 from supervision import config_file
 
@@ -24,7 +27,7 @@ class Rule:
     high: float = math.inf      # largest value allowed (inclusive)
     unit: str = ""
 
-    def describe(self):
+    def describe(self) -> str:
         what = {"number": "a finite number", "integer": "an integer",
                 "flag": "true or false"}[self.kind]
         if self.low > -math.inf:
@@ -33,7 +36,7 @@ class Rule:
             what += f" and <= {self.high:g}"
         return what + (f" [{self.unit}]" if self.unit else "")
 
-    def accepts(self, value):
+    def accepts(self, value: object) -> bool:
         if self.kind == "flag":
             return isinstance(value, bool)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -45,7 +48,12 @@ class Rule:
         return value > self.low if self.low_open else value >= self.low
 
 
-POSITIVE = dict(low=0.0, low_open=True)
+class _Bound(TypedDict):
+    low: float
+    low_open: bool
+
+
+POSITIVE = _Bound(low=0.0, low_open=True)
 SETTINGS = {
     "speed_mps": Rule("number", unit="m/s", **POSITIVE),
     "step_s": Rule("number", unit="s", **POSITIVE),
@@ -67,7 +75,8 @@ REQUIRED = ("speed_mps", "robot_radius_m")
 BATTERY = tuple(key for key in SETTINGS if key.startswith("battery_"))
 
 
-def check_settings(settings, where, required=REQUIRED):
+def check_settings(settings: object, where: str,
+                   required: Iterable[str] = REQUIRED) -> dict[str, Any]:
     """`settings` (a mapping) checked against SETTINGS; SettingsError "<where>: ..." names the
     first bad key. `required`: keys that must be present (the battery's too when it is used)."""
     if not isinstance(settings, dict):
@@ -84,7 +93,7 @@ def check_settings(settings, where, required=REQUIRED):
     return settings
 
 
-def load_settings(path, required=REQUIRED):
+def load_settings(path: str | Path, required: Iterable[str] = REQUIRED) -> dict[str, Any]:
     """The checked mapping of the YAML settings file at `path` (see check_settings)."""
     settings = config_file.read_yaml(path, SettingsError, "settings file")
     return check_settings(settings, str(path), required)

@@ -20,12 +20,15 @@ instruction, Eq. 4-5 steps out and back forever. The planner is deterministic, s
 state it already decided in with the same instruction set proves such a loop; from there it
 steps along the shortest path to the single strongest ripple term until the set changes.
 """
+from typing import ClassVar, Literal
+
 import numpy as np
 
 from task_planner.planner_api import STEP
+from task_planner.problem import Problem
 from task_planner.ripple_planner import best_neighbour, expected_reward, serve_here, step_graph
-from task_planner.robot_state import (neighbouring_nodes, state_at_node, state_transition,
-                                      steps_to_instructions)
+from task_planner.robot_state import (RobotState, neighbouring_nodes, state_at_node,
+                                      state_transition, steps_to_instructions)
 
 
 class RippleField:
@@ -35,12 +38,13 @@ class RippleField:
     steps. Arriving instructions add their ripple, served ones subtract it.
     """
 
-    def __init__(self, shortest_steps, step_s):
+    def __init__(self, shortest_steps: np.ndarray, step_s: float) -> None:
         self.shortest_steps, self.step_s = shortest_steps, step_s
         self.values = np.zeros(len(shortest_steps))
-        self._terms = {}  # instruction index -> its ripple on every node
+        self._terms: dict[int, np.ndarray] = {}  # instruction index -> its ripple on every node
 
-    def sync(self, indices, gamma, beta, node):
+    def sync(self, indices: np.ndarray, gamma: np.ndarray, beta: np.ndarray,
+             node: np.ndarray) -> None:
         """Hold exactly the instructions `indices` (arrays indexed by instruction index)."""
         wanted = set(int(i) for i in indices)
         for index in set(self._terms) - wanted:
@@ -51,11 +55,12 @@ class RippleField:
             self._terms[index] = term
             self.values += term
 
-    def held(self):
+    def held(self) -> list[int]:
         return sorted(self._terms)
 
 
-def candidate_value(field, state, gamma, beta, nodes):
+def candidate_value(field: RippleField, state: RobotState, gamma: np.ndarray, beta: np.ndarray,
+                    nodes: np.ndarray) -> float:
     """Eq. 4-4 for one candidate state: the memorised node value, or on an edge
     sum_i gamma_i * beta_i ** (min(k + a, l + b) * step_s) over the held instructions."""
     if state.node is not None:
@@ -64,7 +69,9 @@ def candidate_value(field, state, gamma, beta, nodes):
     return expected_reward(gamma, beta, steps, field.step_s)
 
 
-def per_step_decision(field, state, step_adj, gamma, beta, nodes):
+def per_step_decision(field: RippleField, state: RobotState, step_adj: np.ndarray,
+                      gamma: np.ndarray, beta: np.ndarray,
+                      nodes: np.ndarray) -> tuple[int, RobotState, np.ndarray, list[float]]:
     """Algorithm 4-2 lines 5-13 at state s_t: (n_hat, c_n_hat, candidates, candidate values)."""
     candidates = neighbouring_nodes(step_adj, state)
     states = [state_transition(step_adj, state, n) for n in candidates]
@@ -76,24 +83,29 @@ def per_step_decision(field, state, step_adj, gamma, beta, nodes):
 class StepRipplePlanner:
     """The seed's planner deciding at every step of every edge (Algorithm 4-2, §4.2.3)."""
 
-    kind = STEP
+    kind: ClassVar[Literal["step"]] = STEP
     name = "Ours(seed/step)"
+    problem: Problem
+    _visited: set[tuple[int | None, tuple[int, ...]]]
+    _known: frozenset[int] | None
+    _locked: int | None
 
-    def __init__(self, step_s=1.0):
+    def __init__(self, step_s: float = 1.0) -> None:
         self.step_s = step_s  # time step of the edge discretisation [s]
 
-    def reset(self, problem):
+    def reset(self, problem: Problem) -> None:
         self.problem = problem
         self.step_adj, self.shortest_steps = step_graph(problem, self.step_s)
         self.field = RippleField(self.shortest_steps, self.step_s)
         self.guard_activations = 0
         self._visited, self._known, self._locked = set(), None, None
 
-    def start_state(self):
+    def start_state(self) -> RobotState:
         """The robot's state vector on the problem's start node."""
         return state_at_node(self.step_adj, self.problem.start_node)
 
-    def decide(self, state, clock, available):
+    def decide(self, state: RobotState, clock: float,
+               available: np.ndarray) -> tuple[Literal["serve", "step"], int]:
         """('serve', index) if an instruction waits on the robot's node, else ('step', n): one
         step toward neighbouring node n (`state_transition(step_adj, state, n)` is the next
         state)."""
@@ -116,13 +128,13 @@ class StepRipplePlanner:
                                            p.beta[available], p.node[available])
         return "step", n_hat
 
-    def _strongest_term(self, state, available):
+    def _strongest_term(self, state: RobotState, available: np.ndarray) -> int:
         p = self.problem
         steps = steps_to_instructions(self.shortest_steps, state, p.node[available])
         return int(available[np.argmax(p.gamma[available]
                                        * np.power(p.beta[available], steps * self.step_s))])
 
-    def _toward(self, state, index):
+    def _toward(self, state: RobotState, index: int) -> int:
         """The neighbouring node whose candidate state is fewest steps from instruction `index`."""
         target = np.array([self.problem.node[index]])
         candidates = neighbouring_nodes(self.step_adj, state)

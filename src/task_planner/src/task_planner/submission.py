@@ -8,21 +8,26 @@ chain order, a successor's `previous_id` naming its predecessor's provisional id
 predecessor, and stops at the first refusal: a successor of an instruction the buffer did not take
 would only wait for a predecessor that never comes.
 """
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+
+from task_planner.instruction import Instruction
 
 
 @dataclass(frozen=True)
 class Submission:
-    accepted: tuple     # the accepted Instructions with their allocated ids, in chain order
+    accepted: tuple[Instruction, ...]  # the accepted Instructions with their allocated ids, in
+    #                                    chain order
     refusal: str = ""   # why the task planner did not take the next one; "" = all accepted
     not_sent: int = 0   # instructions of the chain not submitted after the refusal
 
     @property
-    def complete(self):
+    def complete(self) -> bool:
         return not self.refusal
 
 
-def submit_chain(instructions, submit):
+def submit_chain(instructions: Sequence[Instruction],
+                 submit: Callable[[Instruction, int], tuple[bool, int, str]]) -> Submission:
     """Submit a chain (provisional ids, see above) in order; returns a Submission.
 
     Args:
@@ -32,7 +37,8 @@ def submit_chain(instructions, submit):
             with the allocated id or the reason of a refusal.
     Raises ValueError for a `previous_id` that names no earlier instruction of the chain.
     """
-    allocated, accepted = {}, []
+    allocated: dict[int, int] = {}
+    accepted: list[Instruction] = []
     for k, instruction in enumerate(instructions):
         provisional = instruction.previous_id
         if provisional and provisional not in allocated:

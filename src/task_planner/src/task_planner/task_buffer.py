@@ -39,12 +39,21 @@ or destination. An open one is FAILED with the reason, so it is never run; its i
 """
 import sqlite3
 from collections import deque
+from collections.abc import Container, Iterable, Iterator
 from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any, overload
 
+from task_planner.executor_commands import Search
 from task_planner.instruction import Instruction, InvalidInstruction
 from task_planner.journal_file import JournalFileError, open_journal
 from task_planner.journal_rows import column_problem
 from task_planner.reward import decayed_reward
+
+
+
+# a journalled search: (instruction_id, target, start_s, end_s, found, [place names])
+JournalledSearch = tuple[int, str, float, float, bool, list[str]]
 
 JOURNAL_FAILED = "not journalled, so not accepted"  # a refusal for a failed write
 
@@ -71,15 +80,15 @@ class BufferConfig:
 
     synchronous: str = "FULL"  # SQLite PRAGMA synchronous: FULL survives power loss in WAL mode
     node_count: int = 0        # graph size for destination checks; 0 = do not check
-    place_names: tuple = ()    # graph place names, index = node id, for destination_name
-                               # checks; () = do not check
+    place_names: tuple[str, ...] = ()  # graph place names, index = node id, for
+                               # destination_name checks; () = do not check
     future_tolerance_s: float = 5.0    # a start_time this far after the receiving clock is
                                        # still accepted (clocks of two machines) [s]
     predecessor_wait_s: float = 300.0  # a successor whose predecessor has not arrived this long
                                        # after it was received fails [s]
     recent_finished: int = 50  # finished records `snapshot` holds besides the open ones
-    functions: tuple = ()      # (code, name) of each robot function, for function checks;
-                               # () = do not check
+    functions: tuple[tuple[int, str], ...] = ()  # (code, name) of each robot function, for
+                               # function checks; () = do not check
 
 
 @dataclass(frozen=True)
@@ -96,14 +105,14 @@ class Record:
     seq: int                # arrival order in the buffer (oldest first)
 
     @property
-    def is_open(self):
+    def is_open(self) -> bool:
         return self.state in OPEN_STATES
 
 
 class TaskBuffer:
     """Instructions journalled in SQLite; `path` may be ':memory:' for a buffer without a file."""
 
-    def __init__(self, path, config=None):
+    def __init__(self, path: str | Path, config: BufferConfig | None = None) -> None:
         self.config = config or BufferConfig()
         if self.config.synchronous not in ("OFF", "NORMAL", "FULL", "EXTRA"):
             raise TaskBufferError(f"synchronous must be OFF, NORMAL, FULL or EXTRA, "
@@ -130,9 +139,10 @@ class TaskBuffer:
         self._build_index()
         self.version = 0  # incremented by every change (for publishing snapshots on change)
 
-    def _build_index(self):
+    def _build_index(self) -> None:
         """The in-memory views of the journal (at start, and after a failed write)."""
-        self.quarantined = []  # (id, reason) of journal rows that do not load
+        self.quarantined: list[tuple[int, str]] = []  # (id, reason) of journal rows that do not
+        #                                               load
         self._records = {row.instruction.id: row for row in self._load()}  # in seq order
         self._open = {i: r for i, r in self._records.items() if r.is_open}   # in seq order
         self._done = {i for i, r in self._records.items() if r.state == DONE}
@@ -154,12 +164,12 @@ class TaskBuffer:
         # open successors whose predecessor had not arrived when last looked at (id -> record)
         self._awaiting = {i: r for i, r in self._open.items() if self._missing_predecessor(r)}
 
-    def close(self):
+    def close(self) -> None:
         self._db.close()
 
     # ---- submit (perception -> task buffer) ----
 
-    def submit(self, instruction, now):
+    def submit(self, instruction: Instruction, now: float) -> Record:
         """Journal `instruction` (committed on return); returns its Record.
 
         Re-submitting an identical instruction returns the stored record unchanged. Raises
@@ -172,12 +182,13 @@ class TaskBuffer:
             raise TaskBufferError(error)
         return record
 
-    def submit_many(self, instructions, now):
+    def submit_many(self, instructions: Iterable[Instruction],
+                    now: float) -> list[tuple[Record | None, str]]:
         """Journal a burst in one transaction (one disk sync); bad ones are refused, not fatal.
 
         Returns [(Record, "")] or [(None, reason)] per instruction, in order.
         """
-        results = []
+        results: list[tuple[Record | None, str]] = []
         try:
             with self._db:
                 self._db.execute("BEGIN")
@@ -198,7 +209,7 @@ class TaskBuffer:
                            f"failed: {error}") for i in instructions]
         return results
 
-    def _insert(self, instruction, now):
+    def _insert(self, instruction: Instruction, now: float) -> Record:
         known = self._records.get(instruction.id)
         if known is not None:
             if known.instruction == instruction:
@@ -220,7 +231,7 @@ class TaskBuffer:
         self.version += 1
         return record
 
-    def _check(self, instruction, now):
+    def _check(self, instruction: Instruction, now: float) -> None:
         problem = self._refusal(instruction)
         if problem:
             raise TaskBufferError(problem)
@@ -241,7 +252,7 @@ class TaskBuffer:
             raise TaskBufferError(f"instruction {instruction.id}: previous_id chain "
                                   f"{' -> '.join(map(str, chain))} returns to itself")
 
-    def _refusal(self, instruction):
+    def _refusal(self, instruction: Instruction) -> str:
         """Why the instruction's function or destination is refused (at the door, and on
         loading the journal), or ""."""
         functions = dict(self.config.functions)
@@ -263,81 +274,87 @@ class TaskBuffer:
 
     # ---- fetch (task buffer -> planner) ----
 
-    def get(self, instruction_id):
+    def get(self, instruction_id: int) -> Record:
         try:
             return self._records[instruction_id]
         except KeyError:
             raise TaskBufferError(f"instruction {instruction_id}: not in the task buffer") from None
 
-    def holds(self, instruction_id):
+    def holds(self, instruction_id: int) -> bool:
         """True when the buffer has journalled the instruction (in any state)."""
         return instruction_id in self._records
 
-    def records(self):
+    def records(self) -> list[Record]:
         """Every record, oldest first (the dict keeps arrival order: seq only grows)."""
         return list(self._records.values())
 
-    def snapshot(self):
+    def snapshot(self) -> list[Record]:
         """The open records and the `recent_finished` most recently finished ones, oldest first
         (by arrival): O(open + recent_finished) however many records the journal holds."""
         recent = [self._records[i] for i in self._recent]
         return sorted(list(self._open.values()) + recent, key=lambda r: r.seq)
 
-    def counts(self):
+    def counts(self) -> tuple[int, ...]:
         """Number of records per state, indexed by the state constants (PENDING .. CANCELLED)."""
         return tuple(self._counts)
 
-    def next_id(self, previous_id=0):
+    def next_id(self, previous_id: int = 0) -> int:
         """The id for a new instruction whose sender lets the buffer choose: one more than every
         id and previous_id ever journalled (and than `previous_id`, the new one's predecessor)."""
         return max(self._max_id, previous_id) + 1
 
-    def open_records(self):
+    def open_records(self) -> list[Record]:
         """The PENDING and ACTIVE records, oldest first."""
         return list(self._open.values())
 
-    def eligible(self, record):
+    def eligible(self, record: Record) -> bool:
         """Table 4-1 `previous_id`: open, and no predecessor or a DONE one."""
         previous = record.instruction.previous_id
         return record.is_open and (previous == 0 or previous in self.done_ids())
 
-    def done_ids(self):
+    def done_ids(self) -> set[int]:
         """Ids of the DONE instructions (a live view kept by the buffer: do not modify)."""
         return self._done
 
-    def active_id(self):
+    def active_id(self) -> int:
         """Id of the ACTIVE instruction; 0 when none is."""
         return self._active
 
-    def total_reward(self):
+    def total_reward(self) -> float:
         """Sum of the Eq. 4-2 rewards earned (kept as instructions finish)."""
         return self._total_reward
 
     # ---- robot state (executor) ----
 
-    def robot_value(self, name, default=None):
+    @overload
+    def robot_value(self, name: str, default: float) -> float: ...
+
+    @overload
+    def robot_value(self, name: str, default: None = None) -> float | None: ...
+
+    def robot_value(self, name: str, default: float | None = None) -> float | None:
         """A robot-state value stored with `store_robot_value`, or `default`."""
         row = self._db.execute("SELECT value FROM robot_state WHERE name=?", (name,)).fetchone()
         return default if row is None else row[0]
 
-    def store_robot_value(self, name, value):
+    def store_robot_value(self, name: str, value: float) -> None:
         """Keep `value` under `name` across restarts (written without a disk sync of its own:
         the next durable commit carries it; a power cut may lose the latest value)."""
         self._lazy_write("INSERT OR REPLACE INTO robot_state VALUES (?, ?)", (name, float(value)))
 
-    def store_search(self, search):
+    def store_search(self, search: Search) -> None:
         """Journal a finished search: Search (task_planner.executor)."""
         self._lazy_write("INSERT INTO searches VALUES (?, ?, ?, ?, ?, ?)",
                          (search.instruction_id, search.target, search.start_s, search.end_s,
                           int(search.found), ",".join(search.places)))
 
-    def searches(self):
+    def searches(self) -> list[JournalledSearch]:
         """Every journalled search (see `journalled_searches`)."""
         return journalled_searches(self._db)
 
     # ---- write back (executor -> task buffer) ----
 
-    def start(self, instruction_id, now):
+    def start(self, instruction_id: int, now: float) -> Record:
         """PENDING -> ACTIVE: the robot function begins. Only one instruction is active."""
         record = self._expect(instruction_id, (PENDING,), "start")
         if not self.eligible(record):
@@ -349,26 +366,27 @@ class TaskBuffer:
         return self._store(_replace(record, state=ACTIVE, started_time=float(now)),
                            durable=False)
 
-    def finish(self, instruction_id, now):
+    def finish(self, instruction_id: int, now: float) -> Record:
         """ACTIVE -> DONE with the Eq. 4-2 reward gamma * beta ** (now - start_time)."""
         record = self._expect(instruction_id, (ACTIVE,), "finish")
         ins = record.instruction
         reward = float(decayed_reward(ins.gamma, ins.beta, max(0.0, now - ins.start_time)))
         return self._store(_replace(_close(record, DONE, now, ""), reward_earned=reward))
 
-    def fail(self, instruction_id, now, reason):
+    def fail(self, instruction_id: int, now: float, reason: str) -> Record:
         """PENDING/ACTIVE -> FAILED with `reason`; open successors fail too."""
         if not reason:
             raise TaskBufferError(f"instruction {instruction_id}: a failure needs a reason")
         record = self._expect(instruction_id, OPEN_STATES, "fail")
         return self._close_chain(record, FAILED, now, reason)
 
-    def cancel(self, instruction_id, now, reason="cancelled by request"):
+    def cancel(self, instruction_id: int, now: float,
+               reason: str = "cancelled by request") -> Record:
         """PENDING/ACTIVE -> CANCELLED; open successors fail naming it."""
         record = self._expect(instruction_id, OPEN_STATES, "cancel")
         return self._close_chain(record, CANCELLED, now, reason)
 
-    def close_elsewhere(self, instruction_id, now, state, reason):
+    def close_elsewhere(self, instruction_id: int, now: float, state: int, reason: str) -> Record:
         """An open instruction another robot of the fleet closed (fleet_link), with `reason`
         naming it: DONE earns this robot nothing (and lets a successor here start); FAILED and
         CANCELLED fail the open successors as `fail` and `cancel` do."""
@@ -382,12 +400,12 @@ class TaskBuffer:
                                   f"{state}")
         return self._close_chain(record, state, now, reason)
 
-    def requeue(self, instruction_id):
+    def requeue(self, instruction_id: int) -> Record:
         """ACTIVE -> PENDING: the function was interrupted before it completed."""
         record = self._expect(instruction_id, (ACTIVE,), "requeue")
         return self._store(_replace(record, state=PENDING, started_time=0.0), durable=False)
 
-    def _close_chain(self, record, state, now, reason):
+    def _close_chain(self, record: Record, state: int, now: float, reason: str) -> Record:
         with self._db:  # one transaction: the instruction and its successors close together
             self._db.execute("BEGIN")
             closed = self._store(_close(record, state, now, reason))
@@ -396,7 +414,7 @@ class TaskBuffer:
                                                            f"{STATE_NAMES[self.get(parent).state]}"))
         return closed
 
-    def fail_missing_predecessors(self, now):
+    def fail_missing_predecessors(self, now: float) -> list[Record]:
         """Fail each open successor still waiting for a predecessor that has not arrived
         `predecessor_wait_s` after the successor was received; returns the failed records."""
         failed = []
@@ -412,11 +430,11 @@ class TaskBuffer:
                     f"{instruction_id})"))
         return failed
 
-    def _missing_predecessor(self, record):
+    def _missing_predecessor(self, record: Record) -> bool:
         previous = record.instruction.previous_id
         return previous != 0 and previous not in self._records
 
-    def _open_successors(self, instruction_id):
+    def _open_successors(self, instruction_id: int) -> list[tuple[Record, int]]:
         """[(open successor, its predecessor id)], breadth first down the chains."""
         found, frontier = [], [instruction_id]
         while frontier:
@@ -427,14 +445,14 @@ class TaskBuffer:
                     frontier.append(r.instruction.id)
         return found
 
-    def _expect(self, instruction_id, states, action):
+    def _expect(self, instruction_id: int, states: Container[int], action: str) -> Record:
         record = self.get(instruction_id)
         if record.state not in states:
             raise TaskBufferError(f"instruction {instruction_id}: cannot {action} an instruction "
                                   f"that is {STATE_NAMES[record.state]}")
         return record
 
-    def _store(self, record, durable=True):
+    def _store(self, record: Record, durable: bool = True) -> Record:
         """Write a state change (autocommit, or part of the caller's open transaction).
 
         `durable=False` commits without a disk sync: for ACTIVE <-> PENDING, which re-opening the
@@ -452,7 +470,7 @@ class TaskBuffer:
         self.version += 1
         return record
 
-    def _lazy_write(self, sql, values):
+    def _lazy_write(self, sql: str, values: tuple[Any, ...]) -> None:
         """Execute and commit `sql` without a disk sync (inside a caller's transaction: as is)."""
         lazy = not self._db.in_transaction and self.config.synchronous != "OFF"
         if lazy:
@@ -463,7 +481,7 @@ class TaskBuffer:
             if lazy:
                 self._db.execute(f"PRAGMA synchronous={self.config.synchronous}")
 
-    def _index(self, record):
+    def _index(self, record: Record) -> None:
         """Keep the in-memory views (all, open, done ids, the active id, recently finished ids,
         counts, reward, largest id) in step with the journal."""
         instruction = record.instruction
@@ -490,15 +508,15 @@ class TaskBuffer:
         if record.state == DONE:
             self._done.add(instruction_id)
 
-    def _load(self):
+    def _load(self) -> Iterator[Record]:
         for row in self._db.execute("SELECT * FROM instructions ORDER BY seq").fetchall():
             instruction, problem = self._loaded(row)
-            if problem:
+            if problem or instruction is None:   # no problem: an instruction
                 self._quarantine(row, problem)
                 continue
             yield Record(instruction, *row[14:21])
 
-    def _loaded(self, row):
+    def _loaded(self, row: tuple[Any, ...]) -> tuple[Instruction | None, str]:
         """(Instruction, "") of a journal row, or (None, why it does not load)."""
         problem = column_problem(row, STATE_NAMES)
         if problem:
@@ -509,7 +527,7 @@ class TaskBuffer:
             return None, str(error)
         return instruction, self._refusal(instruction)
 
-    def _quarantine(self, row, problem):
+    def _quarantine(self, row: tuple[Any, ...], problem: str) -> None:
         """A journal row that does not load (written by an older version, by hand, or damaged)
         is failed with the reason and left out, so it is never run; its id stays used."""
         reason = f"quarantined: journal row {row[0]} is no valid instruction: {problem}"
@@ -520,7 +538,7 @@ class TaskBuffer:
                              "WHERE id=?", (FAILED, received, reason, row[0]))
 
 
-def _instruction_values(row):
+def _instruction_values(row: tuple[Any, ...]) -> list[Any]:
     """Journal column order -> Instruction field order."""
     by_column = dict(zip(("id", "previous_id", "gamma", "beta", "destination", "type",
                           "start_time", "duration", "source", "target", "status", "function",
@@ -528,7 +546,7 @@ def _instruction_values(row):
     return [by_column[name] for name in _INSTRUCTION_FIELDS]
 
 
-def _row(record):
+def _row(record: Record) -> tuple[Any, ...]:
     i = record.instruction
     return (i.id, i.previous_id, i.gamma, i.beta, i.destination, i.type, i.start_time, i.duration,
             i.source, i.target, i.status, i.function, i.destination_name, i.text, record.state,
@@ -536,17 +554,17 @@ def _row(record):
             record.reward_earned, record.reason, record.seq)
 
 
-def _replace(record, **changes):
+def _replace(record: Record, **changes: Any) -> Record:
     values = {f.name: getattr(record, f.name) for f in fields(Record)}
     values.update(changes)
     return Record(**values)
 
 
-def _close(record, state, now, reason):
+def _close(record: Record, state: int, now: float, reason: str) -> Record:
     return _replace(record, state=state, completion_time=float(now), reason=reason)
 
 
-def journalled_searches(db):
+def journalled_searches(db: sqlite3.Connection) -> list[JournalledSearch]:
     """Every search journalled in an open journal connection, oldest first, as (instruction_id,
     target, start_s, end_s, found, [place names]) tuples; none in a journal without the table."""
     try:

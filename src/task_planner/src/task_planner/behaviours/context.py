@@ -4,14 +4,25 @@ behaviour modules read and change one Context; commands for the robot collect in
 """
 import math
 from collections import deque
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import Any
-from collections.abc import Callable
+from typing import Literal
 
 import py_trees
 from py_trees.common import Status
 
-from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING
+from task_planner.battery import BatteryModel
+from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, Command
+from task_planner.fleet_auction import SequentialAuction
+from task_planner.fleet_link import FleetLink
+from task_planner.graph import TopologicalGraph
+from task_planner.instruction import Instruction
+from task_planner.people_belief import PeopleAtPlaces
+from task_planner.planner_api import Planner
+from task_planner.problem import Problem
+from task_planner.reward import Priority
+from task_planner.robot_functions import RobotFunction
+from task_planner.task_buffer import Record, TaskBuffer
 
 
 @dataclass(frozen=True)
@@ -63,10 +74,15 @@ class ExecutorConfig:
 class Charging:
     """The low-battery rule: where to charge, with which function code and priority."""
 
-    battery: Any           # battery.BatteryModel
+    battery: BatteryModel
     place: int             # charging place (graph node)
     function_code: int     # robot function `charge`
-    priority: Any          # reward.Priority of self-generated instructions (Table 5-5)
+    priority: Priority     # of self-generated instructions (Table 5-5)
+
+
+def _no_tree(now: float) -> list[Command]:
+    raise RuntimeError("the executor's behaviour tree is not built: no decide hook "
+                       "(tree.build_tree sets it)")
 
 
 # the events the tree handles: a periodic step, a navigation outcome, new instructions, a cancel
@@ -77,83 +93,140 @@ TICK, ARRIVED, ABORTED, RECEIVED, CANCELLED = "tick", "arrived", "aborted", "rec
 class Context:
     """The executor's collaborators and state, shared by its behaviours."""
 
-    buffer: Any                    # task_buffer.TaskBuffer: the journal of instructions
-    graph: Any                     # graph.Graph: the home's topological graph
-    planner: Any                   # a planner_api node or target planner
-    people: Any                    # people_belief.PeopleAtPlaces: where people were seen
-    functions: dict                # robot function code -> robot_functions.RobotFunction
+    buffer: TaskBuffer             # the journal of instructions
+    graph: TopologicalGraph        # the home's topological graph
+    planner: Planner               # a node or target planner
+    people: PeopleAtPlaces         # where people were seen
+    functions: dict[int, RobotFunction]  # robot function code -> its RobotFunction
     config: ExecutorConfig
     node: int                      # last node reached
     node_planner: bool = True      # the planner decides node by node (else: targets)
     charging: Charging | None = None  # None: a robot without a battery model
-    fleet: Any = None              # fleet_link.FleetLink, or None for a robot on its own
-    allocator: Any = None          # the fleet's auction (fleet_allocation builds it at first
-                                   # use; False: the allocator is per-robot)
+    fleet: FleetLink | None = None  # None for a robot on its own
+    allocator: SequentialAuction | Literal[False] | None = None  # the fleet's auction
+                                   # (fleet_allocation builds it at first use; False: the
+                                   # allocator is per-robot)
     mode: str = IDLE
     goal: int | None = None        # node being driven to while MOVING
     goal_for: int = 0              # instruction id the current move is for
     attempts: int = 0              # navigation attempts on the current goal
-    executing: tuple | None = None  # (instruction id, end time [s]) while EXECUTING
-    verifying: tuple | None = None  # (instruction id, give-up time [s]) while VERIFYING
+    executing: tuple[int, float] | None = None  # (instruction id, end time [s]) while EXECUTING
+    verifying: tuple[int, float] | None = None  # (instruction id, give-up time [s]) while
+                                                # VERIFYING
     looking: list | None = None    # [instruction id (0: patrol), headings left, since, end of
                                    #  the last heading's dwell (None: turning), when that
                                    #  heading was reached, facing someone perception could
                                    #  not tell (None, FACING, FACED)] while LOOKING
-    search: dict = field(default_factory=dict)    # instruction id -> places still to search
-    searched: dict = field(default_factory=dict)  # instruction id -> places already searched
-    search_start: dict = field(default_factory=dict)  # instruction id -> its first miss [s]
-    looked_s: dict = field(default_factory=dict)  # node -> when the robot last looked there [s]
-    swept: dict = field(default_factory=dict)     # node -> (start, end) [s] of the last look
-                                                  # that turned through every heading there
+    search: dict[int, list[int]] = field(default_factory=dict)  # instruction id -> places
+                                                  # still to search
+    searched: dict[int, list[int]] = field(default_factory=dict)  # instruction id -> places
+                                                  # already searched
+    search_start: dict[int, float] = field(default_factory=dict)  # instruction id -> its
+                                                  # first miss [s]
+    looked_s: dict[int, float] = field(default_factory=dict)  # node -> when the robot last
+                                                  # looked there [s]
+    swept: dict[int, tuple[float, float]] = field(default_factory=dict)  # node -> (start, end)
+                                                  # [s] of the last look that turned through
+                                                  # every heading there
     retry_at: float | None = None  # when to retry an aborted goal after asking to pass, or
                                    # to look again whether a corridor is free [s]
     corridor_wait: float | None = None  # since when the robot waits for a corridor [s]
-    deferred: set = field(default_factory=set)  # own instructions waiting for people's
-    lost_claims: set = field(default_factory=set)  # ids another robot held at the claim
-    taken: set = field(default_factory=set)  # ids other robots held at this decision's fetch
-    unclaimed: dict = field(default_factory=dict)  # id -> when the robot the auction gives it
-                                   # to first said it would be free (fleet_allocation.overdue)
-    reported: tuple | None = None  # (mode, node, free from [s]) last reported to the fleet
+    deferred: set[int] = field(default_factory=set)  # own instructions waiting for people's
+    lost_claims: set[int] = field(default_factory=set)  # ids another robot held at the claim
+    taken: set[int] = field(default_factory=set)  # ids other robots held at this decision's
+                                   # fetch
+    unclaimed: dict[int, float] = field(default_factory=dict)  # id -> when the robot the
+                                   # auction gives it to first said it would be free
+                                   # (fleet_allocation.overdue)
+    reported: tuple[str, int, float] | None = None  # (mode, node, free from [s]) last reported
+                                                    # to the fleet
     patrol_goal: int | None = None  # place an idle patrol is driving to
     problem_key: tuple | None = None  # the instructions the cached problem was made from
-    problem: Any = None            # problem.Problem of the open instructions
-    target: tuple | None = None    # (problem, index) a target planner is driving to
+    problem: Problem | None = None  # of the open instructions
+    target: tuple[Problem, int] | None = None    # (problem, index) a target planner is driving to
     saved_wh: float | None = None  # battery level last journalled [Wh]
     in_fleet: bool = False         # rejoined the fleet (at the first event with a time)
-    owed: list = field(default_factory=list)  # commands of an event that raised afterwards
-    log: list = field(default_factory=list)   # (time [s], event text): why each move was made
-    decision_s: deque = field(default_factory=deque)      # wall time of the latest decisions
-    decision_cpu_s: deque = field(default_factory=deque)  # and their thread CPU time [s]
-    decide: Callable | None = None    # (now) -> commands: decide at the robot's node
-    redecide: Callable | None = None  # (now) -> commands: decide again on news (both set by
-                                      # tree.build_tree to task_planner.behaviours.deciding's)
+    owed: list[Command] = field(default_factory=list)  # commands of an event that raised
+                                   # afterwards
+    log: list[tuple[float, str]] = field(default_factory=list)  # (time [s], event text): why
+                                   # each move was made
+    decision_s: deque[float] = field(default_factory=deque)  # wall time of the latest
+                                   # decisions
+    decision_cpu_s: deque[float] = field(default_factory=deque)  # and their thread CPU time [s]
+    # (now) -> commands: decide at the robot's node; decide again on news (both set by
+    # tree.build_tree to task_planner.behaviours.deciding's)
+    decide: Callable[[float], list[Command]] = _no_tree
+    redecide: Callable[[float], list[Command]] = _no_tree
     # the event being handled
     event: str = TICK
     now: float = 0.0
     reason: str = ""               # why navigation gave up (ABORTED)
-    inbox: list = field(default_factory=list)    # instructions to journal (RECEIVED)
-    results: list = field(default_factory=list)  # (record, error) per instruction taken in
-    cancelled: Any = None          # the record to withdraw as it was before the event
-                                   # (CANCELLED; task_buffer.Record)
-    synced: list = field(default_factory=list)   # commands of this event's fleet rejoin
-    out: list = field(default_factory=list)      # commands for the robot
+    inbox: list[Instruction] = field(default_factory=list)  # instructions to journal
+                                   # (RECEIVED)
+    results: list[tuple[Record | None, str]] = field(default_factory=list)  # (record, error)
+                                   # per instruction taken in
+    cancelled: Record | None = None  # the record to withdraw as it was before the event
+                                   # (CANCELLED)
+    synced: list[Command] = field(default_factory=list)   # commands of this event's fleet
+                                   # rejoin
+    out: list[Command] = field(default_factory=list)      # commands for the robot
 
-    def serving(self):
+    def serving(self) -> int:
         """Id of the instruction the robot is moving for, looking for, verifying or executing
         (0 when idle or patrolling)."""
         if self.mode == MOVING:
             return self.goal_for
         if self.mode == LOOKING:
-            return self.looking[0]
+            return int(self.looking_now()[0])
         if self.mode == VERIFYING:
-            return self.verifying[0]
+            return self.verifying_now()[0]
         if self.mode == EXECUTING:
-            return self.executing[0]
+            return self.executing_now()[0]
         return 0
 
-    def corridors_of(self, nodes):
+    # the state of the mode the robot is in; RuntimeError naming the mode when it is unset (the
+    # mode says it is set: a broken invariant, never a robot's ordinary state)
+
+    def executing_now(self) -> tuple[int, float]:
+        """(instruction id, end time [s]) of the function being executed."""
+        if self.executing is None:
+            raise RuntimeError(f"executor in mode {self.mode}: no function is executing")
+        return self.executing
+
+    def verifying_now(self) -> tuple[int, float]:
+        """(instruction id, give-up time [s]) of the target being verified."""
+        if self.verifying is None:
+            raise RuntimeError(f"executor in mode {self.mode}: no target is being verified")
+        return self.verifying
+
+    def looking_now(self) -> list:
+        """The look around under way (`looking`)."""
+        if self.looking is None:
+            raise RuntimeError(f"executor in mode {self.mode}: no look around is under way")
+        return self.looking
+
+    def goal_now(self) -> int:
+        """The node being driven to."""
+        if self.goal is None:
+            raise RuntimeError(f"executor in mode {self.mode}: no navigation goal")
+        return self.goal
+
+    def fleet_now(self) -> FleetLink:
+        """The robot's link to its fleet."""
+        if self.fleet is None:
+            raise RuntimeError("the robot is on its own (fleet is None)")
+        return self.fleet
+
+    def charging_now(self) -> Charging:
+        """The low-battery rule of a robot with a battery model."""
+        if self.charging is None:
+            raise RuntimeError("the robot has no battery model (charging is None)")
+        return self.charging
+
+    def corridors_of(self, nodes: Iterable[int | None]) -> set[str]:
         """The names of the corridors among graph nodes `nodes`."""
-        return {self.graph.names[n] for n in nodes if n in self.config.corridors}
+        return {self.graph.names[n] for n in nodes
+                if n is not None and n in self.config.corridors}
 
 
 class Leaf(py_trees.behaviour.Behaviour):
@@ -161,25 +234,25 @@ class Leaf(py_trees.behaviour.Behaviour):
     failure or running); a leaf that is not for the event or the mode fails, so a selector
     tries the next one."""
 
-    def __init__(self, name, ctx):
+    def __init__(self, name: str, ctx: Context) -> None:
         super().__init__(name)
         self.ctx = ctx
 
-    def update(self):
+    def update(self) -> Status:
         return self.step(self.ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         raise NotImplementedError
 
 
 class Action(Leaf):
     """A leaf that always runs `act(ctx)` (returning commands) and succeeds."""
 
-    def __init__(self, name, ctx, act: Callable):
+    def __init__(self, name: str, ctx: Context, act: Callable[[Context], list[Command]]) -> None:
         super().__init__(name, ctx)
         self.act = act
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         ctx.out += self.act(ctx)
         return Status.SUCCESS
 
@@ -187,15 +260,15 @@ class Action(Leaf):
 class IsEvent(Leaf):
     """Succeeds when the event being handled is `event`."""
 
-    def __init__(self, ctx, event):
+    def __init__(self, ctx: Context, event: str) -> None:
         super().__init__(f"{event}?", ctx)
         self.event = event
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         return Status.SUCCESS if ctx.event == self.event else Status.FAILURE
 
 
-def still_busy(ctx, mode):
+def still_busy(ctx: Context, mode: str) -> Status:
     """RUNNING while the robot is still in `mode`; FAILURE once its step changed the mode, so
     the next leaves of the activity selector (each for its own mode) take their turn in the
     same tick: a look that ended in a move may drive, a robot gone idle decides."""

@@ -7,26 +7,29 @@ decides among the instructions no other robot holds (with the fleet's auction,
 behaviours.fleet_allocation, or its own planner) and claims its choice before it drives.
 """
 import time
+from collections.abc import Container, Sequence
+from typing import cast
 
 import numpy as np
 from py_trees.common import Status
 
-from task_planner.behaviours.context import Leaf
+from task_planner.behaviours.context import Context, Leaf
 from task_planner.behaviours.driving import drive
 from task_planner.behaviours.fleet_allocation import auction_choice, fleet_allocator, report_free
 from task_planner.behaviours.looking import serve_here
 from task_planner.behaviours.patrolling import patrol
 from task_planner.behaviours.searching import served_where
 from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, \
-    Navigate, StopMotion
+    Command, Navigate, StopMotion
 from task_planner.instruction import HUMAN
+from task_planner.planner_api import NodePlanner, TargetPlanner
 from task_planner.problem import Problem
-from task_planner.task_buffer import PENDING
+from task_planner.task_buffer import PENDING, Record
 
 INTRODUCE = "introduce"   # the robot function that meets a stranger (config/robot_functions.yaml)
 
 
-def decide(ctx, now):
+def decide(ctx: Context, now: float) -> list[Command]:
     """Fetch, decode, decide at the robot's node; returns the commands of the decision (and
     tells the fleet where and when the robot will be free then)."""
     commands = decide_here(ctx, now)
@@ -34,8 +37,8 @@ def decide(ctx, now):
     return commands
 
 
-def decide_here(ctx, now):
-    commands = []
+def decide_here(ctx: Context, now: float) -> list[Command]:
+    commands: list[Command] = []
     ctx.lost_claims.clear()
     while True:
         decision = timed_decision(ctx, now)
@@ -60,7 +63,7 @@ def decide_here(ctx, now):
         return commands + drive(ctx, now)
 
 
-def redecide(ctx, now):
+def redecide(ctx: Context, now: float) -> list[Command]:
     """Decide again on news: a patrol gives way at once; an idle robot decides; a driving
     robot may turn back mid-edge, or, when the fleet's auction gives what it drives for to
     another robot, give it back and drive on to the next node (deciding there). A robot
@@ -70,8 +73,8 @@ def redecide(ctx, now):
     return commands
 
 
-def redecide_here(ctx, now):
-    if ctx.mode == LOOKING and ctx.looking[0] == 0:
+def redecide_here(ctx: Context, now: float) -> list[Command]:
+    if ctx.mode == LOOKING and ctx.looking_now()[0] == 0:
         ctx.mode, ctx.looking = IDLE, None
         return [StopMotion()] + decide(ctx, now)
     if ctx.mode == IDLE:
@@ -82,9 +85,9 @@ def redecide_here(ctx, now):
     decision = timed_decision(ctx, now)
     if decision is None:
         if ctx.goal_for and fleet_allocator(ctx) is not None and \
-                ctx.goal_for not in ctx.fleet.local:
+                ctx.goal_for not in ctx.fleet_now().local:
             ctx.log.append((now, f"gave {ctx.goal_for} back to the fleet"))
-            ctx.fleet.release()
+            ctx.fleet_now().release()
             ctx.goal_for = 0
         return []
     problem, index, step = decision
@@ -99,13 +102,13 @@ def redecide_here(ctx, now):
         return []
     # Any other decision goes through the node just left: turn back to it mid-edge.
     ctx.patrol_goal = None
-    ctx.node, ctx.goal = ctx.goal, ctx.node
+    ctx.node, ctx.goal = ctx.goal_now(), ctx.node
     ctx.goal_for, ctx.attempts = int(problem.ids[index]), 1
     ctx.log.append((now, f"turn back to {ctx.graph.names[ctx.goal]} for {ctx.goal_for}"))
     return [Navigate(ctx.goal, ctx.goal_for)]
 
 
-def timed_decision(ctx, now):
+def timed_decision(ctx: Context, now: float) -> tuple[Problem, int, int | None] | None:
     """Fetch, decode and decide at the robot's node, timed (wall and thread CPU time, the
     latter leaving out waiting for a core on a loaded machine): (problem, index, next node),
     or None when nothing is eligible."""
@@ -125,7 +128,7 @@ def timed_decision(ctx, now):
     return decision
 
 
-def fetch_and_decode(ctx, now):
+def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     """Fig. 4-14 fetch + decode: the open instructions as a Problem, and the eligible indices.
 
     A searched instruction's destination is the place being searched. The planner is reset
@@ -139,12 +142,13 @@ def fetch_and_decode(ctx, now):
     if not any(r.instruction.type == HUMAN for r in pending):
         ctx.deferred.clear()
     instructions = tuple(served_where(ctx, r.instruction) for r in pending)
-    if instructions != ctx.problem_key:
+    if instructions != ctx.problem_key or ctx.problem is None:
         ctx.problem = Problem(ctx.graph, instructions, ctx.config.speed_mps, ctx.node)
         ctx.problem_key = instructions
         ctx.planner.reset(ctx.problem)
     done = ctx.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
-    skipped, busy_places = ctx.deferred | waiting_for_a_meeting(ctx, pending), ()
+    skipped = ctx.deferred | waiting_for_a_meeting(ctx, pending)
+    busy_places: Container[int] = ()
     if ctx.fleet:
         taken = ctx.taken = ctx.fleet.taken(now)
         skipped = skipped | ctx.lost_claims | taken
@@ -158,7 +162,7 @@ def fetch_and_decode(ctx, now):
     return ctx.problem, available
 
 
-def waiting_for_a_meeting(ctx, pending):
+def waiting_for_a_meeting(ctx: Context, pending: Sequence[Record]) -> set[int]:
     """Ids of the people's instructions that wait for a meeting while an `introduce` instruction
     is pending: their person has never been seen (not met yet, so the camera cannot tell who
     they are; thesis 000 §3.2.3), or was not where the robot looked (they may have changed
@@ -173,10 +177,11 @@ def waiting_for_a_meeting(ctx, pending):
                                           or ctx.searched.get(r.instruction.id))}
 
 
-def ask_planner(ctx, problem, node, now, available):
+def ask_planner(ctx: Context, problem: Problem, node: int, now: float,
+                available: np.ndarray) -> tuple[int, int | None]:
     """(instruction index, next node), next node None when the decision is to serve here."""
     if ctx.node_planner:  # node planner (the seed's, Algorithm 4-2)
-        action, value = ctx.planner.decide(node, now, available)
+        action, value = cast(NodePlanner, ctx.planner).decide(node, now, available)
         if action == "serve":
             return int(value), None
         return heading(problem, node, value, available), int(value)
@@ -185,14 +190,14 @@ def ask_planner(ctx, problem, node, now, available):
     if kept is not None and kept[0] is problem and kept[1] in available:
         index = kept[1]
     else:
-        index = int(ctx.planner.choose(node, now, available))
+        index = int(cast(TargetPlanner, ctx.planner).choose(node, now, available))
         ctx.target = (problem, index)
     if problem.node[index] == node:
         return index, None
     return index, int(problem.graph.next_hop[node, problem.node[index]])
 
 
-def heading(problem, node, neighbour, available):
+def heading(problem: Problem, node: int, neighbour: int, available: np.ndarray) -> int:
     """The instruction a node planner's move serves: strongest Eq. 4-2 term through it."""
     nodes = problem.node[available]
     through = available[problem.graph.next_hop[node, nodes] == neighbour]
@@ -205,10 +210,10 @@ def heading(problem, node, neighbour, available):
 class Deciding(Leaf):
     """An idle robot asks the planner: serve here, drive on, or patrol."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("decide: serve, drive or patrol", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.mode != IDLE:
             return Status.FAILURE
         ctx.out += decide(ctx, ctx.now)

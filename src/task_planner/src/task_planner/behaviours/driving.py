@@ -5,20 +5,20 @@ arrival ends the move: a patrol looks around its place, anything else decides ag
 from py_trees.common import Status
 
 from task_planner.behaviours.charging import check_battery
-from task_planner.behaviours.context import ARRIVED, Leaf, still_busy
+from task_planner.behaviours.context import ARRIVED, Context, Leaf, still_busy
 from task_planner.behaviours.looking import look_step, start_look
-from task_planner.executor_commands import IDLE, LOOKING, MOVING, Navigate, Wait
+from task_planner.executor_commands import IDLE, LOOKING, MOVING, Command, Navigate, Wait
 
 
-def drive(ctx, now):
+def drive(ctx: Context, now: float) -> list[Command]:
     """Navigate to the goal, once the robot holds the corridor it drives into (in a fleet);
     while another robot is in it, wait and look again, at most corridor_wait_s. A robot
     never waits for the corridor it stands in."""
     here = ctx.corridors_of((ctx.node,)) if ctx.fleet else set()
     needed = ctx.corridors_of((ctx.goal,)) - here if ctx.fleet else set()
-    holder = ctx.fleet.enter(needed, now) if needed else ""
+    holder = ctx.fleet_now().enter(needed, now) if needed else ""
     if here:
-        ctx.fleet.enter(here, now)   # kept while it leaves (unless another robot has it)
+        ctx.fleet_now().enter(here, now)   # kept while it leaves (unless another robot has it)
     if holder:
         since = ctx.corridor_wait if ctx.corridor_wait is not None else now
         if now - since < ctx.config.corridor_wait_s:
@@ -30,16 +30,16 @@ def drive(ctx, now):
         ctx.log.append((now, f"drive on after {now - since:.0f} s: {holder} stays in "
                              f"{', '.join(sorted(needed))}"))
     ctx.corridor_wait = None
-    return [Navigate(ctx.goal, ctx.goal_for)]
+    return [Navigate(ctx.goal_now(), ctx.goal_for)]
 
 
-def arrive(ctx, now):
+def arrive(ctx: Context, now: float) -> list[Command]:
     """The navigation goal was reached (or, while looking around, the heading)."""
     if ctx.mode == LOOKING:
         return look_step(ctx, now)
     if ctx.mode != MOVING:
         raise RuntimeError(f"arrival reported while {ctx.mode}")
-    ctx.node, ctx.mode, ctx.goal = ctx.goal, IDLE, None
+    ctx.node, ctx.mode, ctx.goal = ctx.goal_now(), IDLE, None
     ctx.log.append((now, f"at {ctx.graph.names[ctx.node]}"))
     if ctx.fleet:   # out of a corridor once the robot stands outside it
         ctx.fleet.leave(keep=ctx.corridors_of((ctx.node,)))
@@ -52,10 +52,10 @@ def arrive(ctx, now):
 class Driving(Leaf):
     """While driving: after a wait (asked to pass, corridor taken) send the goal again."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("drive", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.mode != MOVING:
             return Status.FAILURE
         if ctx.retry_at is not None and ctx.now >= ctx.retry_at:
@@ -67,10 +67,10 @@ class Driving(Leaf):
 class Arriving(Leaf):
     """Navigation reached its goal (an ARRIVED event)."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("arrive", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.event != ARRIVED:
             return Status.FAILURE
         ctx.out += arrive(ctx, ctx.now)

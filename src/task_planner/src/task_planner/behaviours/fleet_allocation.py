@@ -15,16 +15,21 @@ instruction that it has not claimed claim_wait_s after it said it would be free 
 robot driving for an instruction the auction now gives to another robot gives it back
 (deciding.redecide); one already executing keeps it (its mode is not re-decided).
 """
+from collections.abc import Sequence
+
 import numpy as np
+
+from task_planner.behaviours.context import Context
 
 from task_planner.behaviours.searching import where
 from task_planner.executor_commands import EXECUTING, MOVING, VERIFYING
 from task_planner.fleet import FleetView, RobotStart
 from task_planner.fleet_auction import SequentialAuction
 from task_planner.fleet_registry import make_allocator
+from task_planner.problem import Problem
 
 
-def fleet_allocator(ctx):
+def fleet_allocator(ctx: Context) -> SequentialAuction | None:
     """The auction this robot decides with, or None (a robot on its own, or a per-robot
     allocator: its own planner on the instructions nobody holds)."""
     if ctx.fleet is None:
@@ -35,26 +40,27 @@ def fleet_allocator(ctx):
     return ctx.allocator or None
 
 
-def free_point(ctx, now):
+def free_point(ctx: Context, now: float) -> tuple[int, float]:
     """(node, time [s]) where and when this robot will be free next."""
     if ctx.mode == EXECUTING:
-        return ctx.node, max(now, ctx.executing[1])
+        return ctx.node, max(now, ctx.executing_now()[1])
     if ctx.mode == VERIFYING:
-        return ctx.node, max(now, ctx.verifying[1])
+        return ctx.node, max(now, ctx.verifying_now()[1])
     if ctx.mode == MOVING:
         record = ctx.buffer.get(ctx.goal_for) if ctx.goal_for else None
         if record is None or not record.is_open:
-            return ctx.goal, now + travel_s(ctx, ctx.node, ctx.goal)
+            goal = ctx.goal_now()
+            return goal, now + travel_s(ctx, ctx.node, goal)
         place = where(ctx, record.instruction)
         return place, now + travel_s(ctx, ctx.node, place) + record.instruction.duration
     return ctx.node, now
 
 
-def travel_s(ctx, start, end):
+def travel_s(ctx: Context, start: int, end: int) -> float:
     return float(ctx.graph.shortest[start, end]) / ctx.config.speed_mps
 
 
-def report_free(ctx, now, fresh=True):
+def report_free(ctx: Context, now: float, fresh: bool = True) -> None:
     """Tell the fleet where and when this robot will be free next (an auction's robots): anew
     when `fresh` (after a decision) or when its mode changed, else the last report again
     (FleetLink.report writes it only to renew it within the lease). A robot free already at
@@ -66,11 +72,12 @@ def report_free(ctx, now, fresh=True):
         node, free_at = free_point(ctx, now)
         if last is not None and last[1] == node and max(last[2], free_at) <= now:
             free_at = last[2]
-        ctx.reported = (ctx.mode, node, free_at)
-    ctx.fleet.report(ctx.reported[1], ctx.reported[2], now)
+        last = ctx.reported = (ctx.mode, node, free_at)
+    ctx.fleet_now().report(last[1], last[2], now)
 
 
-def overdue(ctx, problem, view, plans, now):
+def overdue(ctx: Context, problem: Problem, view: FleetView, plans: Sequence[Sequence[int]],
+            now: float) -> list[int]:
     """The instructions the auction gives another robot that has not claimed them
     claim_wait_s after the time it first said it would be free (it cannot serve them: its
     journal lacks them, or it is stuck): this robot may take them after its own plan."""
@@ -81,7 +88,8 @@ def overdue(ctx, problem, view, plans, now):
             if now - ctx.unclaimed[i] >= ctx.config.claim_wait_s]
 
 
-def auction_choice(ctx, problem, available, now):
+def auction_choice(ctx: Context, problem: Problem, available: np.ndarray,
+                   now: float) -> tuple[int, int | None] | None:
     """(index, next node) of the first instruction of this robot's plan after the fleet's
     auction that it may start now (in `available`; next node None: serve here), or None: the
     auction gives it nothing it may start.
@@ -89,13 +97,16 @@ def auction_choice(ctx, problem, available, now):
     The robot decides at its node, free now; the instructions of `problem` another robot holds
     (or took at a claim this decision) and the robot's own (kept local) are left out."""
     allocator = fleet_allocator(ctx)
-    fleet = ctx.fleet.fleet(now)
-    fleet[ctx.fleet.robot] = (ctx.node, now)   # as it decides (it reports the outcome after)
+    if allocator is None:
+        raise RuntimeError("auction_choice: the robot decides without the fleet's auction")
+    link = ctx.fleet_now()
+    fleet = link.fleet(now)
+    fleet[link.robot] = (ctx.node, now)   # as it decides (it reports the outcome after)
     names = sorted(fleet)
-    skipped = ctx.taken | ctx.lost_claims | ctx.fleet.local   # taken: read by fetch_and_decode
+    skipped = ctx.taken | ctx.lost_claims | link.local   # taken: read by fetch_and_decode
     open_items = np.array([k for k, i in enumerate(problem.ids) if int(i) not in skipped],
                           dtype=int)
-    view = FleetView(names.index(ctx.fleet.robot), [int(fleet[n][0]) for n in names],
+    view = FleetView(names.index(link.robot), [int(fleet[n][0]) for n in names],
                      [max(float(fleet[n][1]), now) for n in names], open_items, {})
     allocator.reset(problem, [RobotStart(node) for node in view.nodes])
     plans = allocator.allocate(view)

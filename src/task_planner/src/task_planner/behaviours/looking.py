@@ -8,17 +8,17 @@ import math
 
 from py_trees.common import Status
 
-from task_planner.behaviours.context import Leaf, still_busy
+from task_planner.behaviours.context import Context, Leaf, still_busy
 from task_planner.behaviours.searching import search_next
 from task_planner.behaviours.serving import execute, fail
-from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Navigate, StopMotion, \
-    Verify, Wait
+from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Command, Navigate, \
+    StopMotion, Verify, Wait
 from task_planner.robot_functions import RobotFunctionError, function_for
 
 FACING, FACED = "facing", "faced"   # a look's turn toward someone perception cannot tell
 
 
-def serve_here(ctx, instruction_id, now):
+def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
     """Verify the target person is here, then execute the robot function (or look, search or
     fail)."""
     instruction = ctx.buffer.get(instruction_id).instruction
@@ -45,7 +45,7 @@ def serve_here(ctx, instruction_id, now):
     return execute(ctx, instruction, function, now)
 
 
-def recent_sweep(ctx, now):
+def recent_sweep(ctx: Context, now: float) -> tuple[float, float] | None:
     """(start, end) [s] of a look all around the robot's place that ended at most
     `look_again_s` ago, else None."""
     swept = ctx.swept.get(ctx.node)
@@ -54,10 +54,10 @@ def recent_sweep(ctx, now):
     return swept
 
 
-def stand_and_look(ctx, now):
+def stand_and_look(ctx: Context, now: float) -> list[Command]:
     """While standing to look for the target person: execute once they are here, else search
     on when the wait is over."""
-    instruction_id, until = ctx.verifying
+    instruction_id, until = ctx.verifying_now()
     record = ctx.buffer.get(instruction_id)
     if ctx.people.is_at(record.instruction.target, ctx.node):
         ctx.mode, ctx.verifying = IDLE, None
@@ -69,11 +69,11 @@ def stand_and_look(ctx, now):
     return search_next(ctx, record.instruction, now)
 
 
-def start_look(ctx, instruction_id, now):
+def start_look(ctx: Context, instruction_id: int, now: float) -> list[Command]:
     """Turn through `look_headings` headings on this node (evenly spaced after the one the
     robot arrived with), perception watching meanwhile."""
     count = max(1, ctx.config.look_headings)
-    yaw = float(ctx.graph.poses[ctx.node][2])
+    yaw = float(ctx.graph.pose(ctx.node)[2])
     headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
     ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None, None, None]
     what = (f"for {ctx.buffer.get(instruction_id).instruction.target}" if instruction_id
@@ -82,25 +82,28 @@ def start_look(ctx, instruction_id, now):
     return [Navigate(ctx.node, instruction_id, yaw=headings[0])]
 
 
-def look_step(ctx, now):
+def look_step(ctx: Context, now: float) -> list[Command]:
     """A heading of the look was reached: dwell on it while perception catches up (the
     camera sees little while turning), then turn to the next one or end the look."""
-    if ctx.config.look_dwell_s > 0 and ctx.looking[3] is None:
-        ctx.looking[3], ctx.looking[4] = now + ctx.config.look_dwell_s, now
-        return [Wait(ctx.looking[3])]
-    ctx.looking[3] = ctx.looking[4] = None
-    if ctx.looking[5] == FACING:
-        ctx.looking[5] = FACED
-    instruction_id, headings = ctx.looking[:2]
+    looking = ctx.looking_now()
+    if ctx.config.look_dwell_s > 0 and looking[3] is None:
+        end = now + ctx.config.look_dwell_s
+        looking[3], looking[4] = end, now
+        return [Wait(end)]
+    looking[3] = looking[4] = None
+    if looking[5] == FACING:
+        looking[5] = FACED
+    instruction_id, headings = looking[:2]
     if headings:
-        ctx.looking[1] = headings[1:]
+        looking[1] = headings[1:]
         return [Navigate(ctx.node, instruction_id, yaw=headings[0])]
     return end_look(ctx, now)
 
 
-def end_look(ctx, now):
+def end_look(ctx: Context, now: float) -> list[Command]:
     """The look is over without finding an instruction's person: search on (or decide)."""
-    instruction_id, since = ctx.looking[0], ctx.looking[2]
+    looking = ctx.looking_now()
+    instruction_id, since = looking[0], looking[2]
     ctx.looked_s[ctx.node] = now
     ctx.swept[ctx.node] = (since, now)
     ctx.mode, ctx.looking = IDLE, None
@@ -113,16 +116,17 @@ def end_look(ctx, now):
     return search_next(ctx, record.instruction, now) + ctx.decide(now)
 
 
-def dwell_over(ctx, now):
+def dwell_over(ctx: Context, now: float) -> bool:
     """The dwell on the heading is over: its time has passed and perception analysed
     `look_frames` frames taken since the heading was reached (when perception reports its
     frames), or the heading was held `look_frames_wait_s`. On a loaded machine perception
     analyses fewer frames per second of simulated time; counting frames keeps the look as
     thorough as on an idle one."""
-    end, reached = ctx.looking[3], ctx.looking[4]
+    looking = ctx.looking_now()
+    end, reached = looking[3], looking[4]
     if end is None or now < end:
         return False
-    if ctx.looking[5] == FACING:
+    if looking[5] == FACING:
         return now - reached >= ctx.config.look_frames_wait_s
     if ctx.config.look_frames <= 0 or not ctx.people.perceiving():
         return True
@@ -130,27 +134,29 @@ def dwell_over(ctx, now):
             or now - reached >= ctx.config.look_frames_wait_s)
 
 
-def face_someone(ctx, now):
+def face_someone(ctx: Context, now: float) -> list[Command]:
     """While looking for an instruction's person: turn to face a person perception saw at this
     place but could not tell (from behind, half hidden by a chair), once per look, and watch
     them for `look_frames_wait_s`: they may be the person looked for, and a turn in place
     that sees them at the edge of the image never shows their shirt."""
-    instruction_id, _, since = ctx.looking[:3]
-    if not instruction_id or ctx.looking[5] is not None or ctx.config.look_frames <= 0:
+    looking = ctx.looking_now()
+    instruction_id, _, since = looking[:3]
+    if not instruction_id or looking[5] is not None or ctx.config.look_frames <= 0:
         return []
     someone = ctx.people.unidentified_at(ctx.node, since)
     if someone is None:
         return []
-    x, y, _ = ctx.graph.poses[ctx.node]
+    x, y, _ = ctx.graph.pose(ctx.node)
     yaw = math.atan2(someone[1] - y, someone[0] - x)
-    ctx.looking[3:] = [None, None, FACING]
+    looking[3:] = [None, None, FACING]
     ctx.log.append((now, f"face someone at {ctx.graph.names[ctx.node]} perception cannot tell"))
     return [Navigate(ctx.node, instruction_id, yaw=yaw)]
 
 
-def look_found(ctx, now):
+def look_found(ctx: Context, now: float) -> list[Command]:
     """While looking for an instruction's person: serve them once perception sees them."""
-    instruction_id, _, since = ctx.looking[:3]
+    looking = ctx.looking_now()
+    instruction_id, _, since = looking[:3]
     if not instruction_id:
         return []
     instruction = ctx.buffer.get(instruction_id).instruction
@@ -165,10 +171,10 @@ def look_found(ctx, now):
 class StandingToLook(Leaf):
     """While standing to look for a person: serve them, or search on when the wait is over."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("stand and look", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.mode != VERIFYING:
             return Status.FAILURE
         ctx.out += stand_and_look(ctx, ctx.now)
@@ -178,10 +184,10 @@ class StandingToLook(Leaf):
 class LookingAround(Leaf):
     """While looking around: serve the person once seen; after a heading's dwell, turn on."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("look around", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.mode != LOOKING:
             return Status.FAILURE
         ctx.out += look_found(ctx, ctx.now)

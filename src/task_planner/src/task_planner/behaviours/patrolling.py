@@ -1,11 +1,12 @@
 """Patrol (ROS-free): an idle robot drives to the stalest, likeliest occupied place and looks
 around it (thesis 000 §4.2.1: the robot wanders and observes the household when unoccupied)."""
 from task_planner.behaviours.looking import start_look
-from task_planner.executor_commands import MOVING, Navigate
+from task_planner.behaviours.context import Context
+from task_planner.executor_commands import MOVING, Command, Navigate
 from task_planner.people_belief import patrol_target
 
 
-def patrol(ctx, now):
+def patrol(ctx: Context, now: float) -> list[Command]:
     """Idle: drive to the stalest, likeliest occupied place and look around it."""
     target = patrol_target(range(ctx.graph.size), ctx.people, ctx.looked_s, now,
                            ctx.config.patrol_interval_s, ctx.graph.shortest[ctx.node],

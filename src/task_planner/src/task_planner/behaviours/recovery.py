@@ -5,14 +5,15 @@ and stops the robot.
 """
 from py_trees.common import Status
 
-from task_planner.behaviours.context import ABORTED, Leaf
+from task_planner.behaviours.context import ABORTED, Context, Leaf
 from task_planner.behaviours.looking import look_step
 from task_planner.behaviours.serving import fail
-from task_planner.executor_commands import IDLE, LOOKING, MOVING, Navigate, Say, StopMotion, Wait
+from task_planner.executor_commands import IDLE, LOOKING, MOVING, Command, Navigate, Say, \
+    StopMotion, Wait
 from task_planner.task_buffer import ACTIVE
 
 
-def recover(ctx, now, reason):
+def recover(ctx: Context, now: float, reason: str) -> list[Command]:
     """Navigation gave up on the goal: ask to pass and retry it, then fail the instruction
     it was for (a turn of a look around is skipped)."""
     if ctx.mode == LOOKING:
@@ -21,12 +22,12 @@ def recover(ctx, now, reason):
         raise RuntimeError(f"abort reported while {ctx.mode}")
     if ctx.attempts < ctx.config.max_goal_attempts:
         ctx.attempts += 1
-        ctx.log.append((now, f"retry {ctx.attempts} to {ctx.graph.names[ctx.goal]}"))
+        ctx.log.append((now, f"retry {ctx.attempts} to {ctx.graph.names[ctx.goal_now()]}"))
         if ctx.config.pass_wait_s > 0:  # perhaps someone stands in the way
             ctx.retry_at = now + ctx.config.pass_wait_s
             return [Say(ctx.config.pass_request), Wait(ctx.retry_at)]
-        return [Navigate(ctx.goal, ctx.goal_for)]
-    goal, ctx.mode, ctx.goal = ctx.goal, IDLE, None
+        return [Navigate(ctx.goal_now(), ctx.goal_for)]
+    goal, ctx.mode, ctx.goal = ctx.goal_now(), IDLE, None
     if not ctx.goal_for and ctx.patrol_goal is not None:  # patrol elsewhere for now
         ctx.looked_s[ctx.patrol_goal], ctx.patrol_goal = now, None
     if ctx.goal_for and ctx.buffer.get(ctx.goal_for).is_open:
@@ -36,7 +37,8 @@ def recover(ctx, now, reason):
     return ctx.decide(now)
 
 
-def fault(ctx, now, reason, fail_it=True, rejoin=False):
+def fault(ctx: Context, now: float, reason: str, fail_it: bool = True,
+          rejoin: bool = False) -> list[Command]:
     """A step of the executor raised: fail the instruction being served with `reason`, stop,
     and go idle. With `fail_it` off (another robot of the fleet holds it now, or the fleet pool
     cannot be reached) it is left open, not failed; with `rejoin` the robot rejoins the fleet at
@@ -48,7 +50,7 @@ def fault(ctx, now, reason, fail_it=True, rejoin=False):
     ctx.corridor_wait = None
     ctx.patrol_goal = ctx.target = None
     ctx.problem_key = ctx.problem = None
-    commands = [StopMotion()]
+    commands: list[Command] = [StopMotion()]
     if rejoin:
         ctx.in_fleet = False
     if not fail_it:
@@ -67,10 +69,10 @@ def fault(ctx, now, reason, fail_it=True, rejoin=False):
 class Recovering(Leaf):
     """Navigation gave up on its goal (an ABORTED event): retry, or fail and decide again."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("recover: ask to pass, retry, fail", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.event != ABORTED:
             return Status.FAILURE
         ctx.out += recover(ctx, ctx.now, ctx.reason)

@@ -4,11 +4,14 @@ the next place to search after a miss, until none is left ("<name> not found").
 """
 from dataclasses import replace
 
+from task_planner.behaviours.context import Context
 from task_planner.behaviours.serving import end_search, fail
+from task_planner.executor_commands import Command
+from task_planner.instruction import Instruction
 from task_planner.people_belief import search_order
 
 
-def where(ctx, instruction):
+def where(ctx: Context, instruction: Instruction) -> int:
     """Where to serve an instruction. Following the belief: where its person was last seen,
     else the next place of their search (planned once, from where the robot is, so the goal
     does not change as the robot moves). Otherwise: the place being searched, else its
@@ -26,7 +29,7 @@ def where(ctx, instruction):
     return queue[0] if queue else instruction.destination
 
 
-def served_where(ctx, instruction):
+def served_where(ctx: Context, instruction: Instruction) -> Instruction:
     """The instruction with the destination it is served at (copied only when that differs:
     a flood of instructions is decoded at every decision)."""
     place = where(ctx, instruction)
@@ -34,7 +37,7 @@ def served_where(ctx, instruction):
         replace(instruction, destination=place)
 
 
-def search_next(ctx, instruction, now):
+def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Command]:
     """Person not here: go on to their next last known place, or fail having searched all."""
     searched = ctx.searched.setdefault(instruction.id, [])
     if not searched:
@@ -45,10 +48,10 @@ def search_next(ctx, instruction, now):
         queue = search_order(instruction.target, ctx.people, ctx.looked_s,
                              range(ctx.graph.size), searched, ctx.graph.shortest[ctx.node])
     else:
-        queue = ctx.search.get(instruction.id)
-        if queue is None:  # first miss, at the instruction's own destination
-            queue = ctx.people.last_known_places(instruction.target)
-        queue = [p for p in queue if p not in searched]
+        left = ctx.search.get(instruction.id)
+        if left is None:  # first miss, at the instruction's own destination
+            left = ctx.people.last_known_places(instruction.target)
+        queue = [p for p in left if p not in searched]
     if queue:
         ctx.search[instruction.id] = queue
         ctx.log.append((now, f"{instruction.target} not at {ctx.graph.names[ctx.node]}; "
@@ -58,3 +61,4 @@ def search_next(ctx, instruction, now):
     end_search(ctx, instruction, now, found=False)
     return fail(ctx, instruction.id, now,
                 f"{instruction.target} not found (searched {looked})")
+

@@ -6,10 +6,12 @@ from py_trees.common import Status
 
 from task_planner import fleet_pool
 from task_planner.behaviours.charging import save_battery
-from task_planner.behaviours.context import Leaf, still_busy
-from task_planner.executor_commands import EXECUTING, IDLE, Execute, Say, Search
+from task_planner.behaviours.context import Context, Leaf, still_busy
+from task_planner.executor_commands import EXECUTING, IDLE, Command, Execute, Say, Search
+from task_planner.instruction import Instruction
+from task_planner.robot_functions import RobotFunction
 
-def close_in_fleet(ctx, instruction_id, now, state):
+def close_in_fleet(ctx: Context, instruction_id: int, now: float, state: int) -> None:
     """Close an instruction in the fleet's pool too (a robot of a fleet)."""
     if ctx.fleet is not None:
         trouble = ctx.fleet.close(instruction_id, now, state)
@@ -17,7 +19,7 @@ def close_in_fleet(ctx, instruction_id, now, state):
             ctx.log.append((now, f"fleet: {trouble}"))
 
 
-def fail(ctx, instruction_id, now, reason):
+def fail(ctx: Context, instruction_id: int, now: float, reason: str) -> list[Command]:
     """Journal the instruction FAILED with `reason`; the robot says it could not complete it."""
     ctx.buffer.fail(instruction_id, now, reason)
     close_in_fleet(ctx, instruction_id, now, fleet_pool.FAILED)
@@ -27,7 +29,7 @@ def fail(ctx, instruction_id, now, reason):
     return [Say(f"Sorry, I could not complete request {instruction_id}.")]
 
 
-def end_search(ctx, instruction, now, found):
+def end_search(ctx: Context, instruction: Instruction, now: float, found: bool) -> None:
     """Keep a finished search (one that missed the person at least once) for the report."""
     places = ctx.searched.get(instruction.id)
     if not places:
@@ -38,7 +40,8 @@ def end_search(ctx, instruction, now, found):
         found, tuple(names + [ctx.graph.names[ctx.node]] if found else names)))
 
 
-def execute(ctx, instruction, function, now):
+def execute(ctx: Context, instruction: Instruction, function: RobotFunction,
+            now: float) -> list[Command]:
     """Start the robot function of `instruction` here (PENDING -> ACTIVE); not when the
     robot's fleet lease ran out meanwhile (another robot may serve it)."""
     instruction_id = instruction.id
@@ -55,10 +58,10 @@ def execute(ctx, instruction, function, now):
             Say(function.speech(instruction, place))]
 
 
-def finish(ctx, now):
+def finish(ctx: Context, now: float) -> None:
     """The executing function's time is up: journal it DONE with its reward (a charge fills
     the battery) and go idle."""
-    instruction_id = ctx.executing[0]
+    instruction_id = ctx.executing_now()[0]
     record = ctx.buffer.finish(instruction_id, now)
     close_in_fleet(ctx, instruction_id, now, fleet_pool.DONE)
     if ctx.charging and record.instruction.function == ctx.charging.function_code:
@@ -70,9 +73,9 @@ def finish(ctx, now):
     ctx.mode, ctx.executing = IDLE, None
 
 
-def give_up_waiting(ctx, now):
+def give_up_waiting(ctx: Context, now: float) -> list[Command]:
     """Fail successors whose predecessor never arrived (BufferConfig.predecessor_wait_s)."""
-    commands = []
+    commands: list[Command] = []
     for record in ctx.buffer.fail_missing_predecessors(now):
         ctx.log.append((now, f"failed {record.instruction.id}: {record.reason}"))
         commands.append(Say(f"Sorry, I could not complete request {record.instruction.id}."))
@@ -82,12 +85,12 @@ def give_up_waiting(ctx, now):
 class Executing(Leaf):
     """While a robot function runs: finish it when its time is up."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: Context) -> None:
         super().__init__("execute", ctx)
 
-    def step(self, ctx):
+    def step(self, ctx: Context) -> Status:
         if ctx.mode != EXECUTING:
             return Status.FAILURE
-        if ctx.now >= ctx.executing[1]:
+        if ctx.now >= ctx.executing_now()[1]:
             finish(ctx, ctx.now)
         return still_busy(ctx, EXECUTING)

@@ -20,6 +20,8 @@ instructions, a cancel, a periodic tick); the leaves' commands collect in Contex
 A fleet sync that stopped the robot (what it drove for is another robot's now) fails the
 arrival or abort it came with.
 """
+from typing import Any
+
 import py_trees
 from py_trees.common import Status
 from py_trees.composites import Selector, Sequence
@@ -27,7 +29,7 @@ from py_trees.composites import Selector, Sequence
 from task_planner.behaviours import deciding
 from task_planner.behaviours.charging import check_battery, drain
 from task_planner.behaviours.context import (ABORTED, ARRIVED, CANCELLED, RECEIVED, TICK, Action,
-                                             IsEvent)
+                                             Context, IsEvent)
 from task_planner.behaviours.deciding import Deciding
 from task_planner.behaviours.driving import Arriving, Driving
 from task_planner.behaviours.dropping import Cancelling
@@ -36,17 +38,18 @@ from task_planner.behaviours.looking import LookingAround, StandingToLook
 from task_planner.behaviours.receiving import TakingIn
 from task_planner.behaviours.recovery import Recovering
 from task_planner.behaviours.serving import Executing, give_up_waiting
+from task_planner.executor_commands import Command
 
 
-def build_tree(ctx):
+def build_tree(ctx: Context) -> Selector:
     """The executor's tree over `ctx` (whose decide/redecide hooks it sets)."""
     ctx.decide = lambda now: deciding.decide(ctx, now)
     ctx.redecide = lambda now: deciding.redecide(ctx, now)
 
-    def spend_battery():
+    def spend_battery() -> Action:
         return Action("spend battery", ctx, lambda c: drain(c, c.now))
 
-    def branch(event, *leaves):
+    def branch(event: str, *leaves: py_trees.behaviour.Behaviour) -> Sequence:
         return Sequence(event, memory=False, children=[IsEvent(ctx, event), *leaves])
 
     activity = Selector("activity", memory=False, children=[
@@ -64,7 +67,7 @@ def build_tree(ctx):
         branch(CANCELLED, spend_battery(), FleetSync(ctx), Cancelling(ctx))])
 
 
-def tick(root, ctx, event, now, **details):
+def tick(root: Selector, ctx: Context, event: str, now: float, **details: Any) -> list[Command]:
     """Handle one event: set it and its details on the context (the others' reset), tick the
     tree once; returns the commands."""
     ctx.event, ctx.now, ctx.out, ctx.synced = event, now, [], []
@@ -77,6 +80,6 @@ def tick(root, ctx, event, now, **details):
     return ctx.out
 
 
-def drawing(root):
+def drawing(root: Selector) -> str:
     """The tree as text with each node's status of the last tick (py_trees' unicode view)."""
     return py_trees.display.unicode_tree(root, show_status=True)

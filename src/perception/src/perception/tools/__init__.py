@@ -1,0 +1,5 @@
+"""The command-line tools of perception: benchmarks, evaluations and mains.
+
+Each module is named as its wrapper (scripts/<name> or nodes/<name>) and has
+`main(argv=None) -> int`; beside them sit the modules only the tools use. Library code never
+imports from here."""
