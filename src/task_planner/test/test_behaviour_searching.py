@@ -47,3 +47,19 @@ def test_searching_all_places_goes_on_to_places_never_looked_at(line_graph, tmp_
     record, = journal(ctx, make_instruction(1, B, function=3, target="Zoe"))
     search_next(ctx, record.instruction, 5.0)
     assert ctx.search[1][0] in (C, D) and B not in ctx.search[1]
+
+
+def test_a_miss_counts_for_every_search_for_that_person(line_graph, tmp_path):
+    """Two instructions for Zoe search at once: a look at B that misses her takes B out of the
+    other one's search too, so the robot does not come back to look there again; a search for
+    someone else keeps B."""
+    ctx = make_context(line_graph, tmp_path, node=B, search_all_places=True, follow_belief=True)
+    first, second, other = journal(ctx, make_instruction(1, B, function=3, target="Zoe"),
+                                   make_instruction(2, B, function=4, target="Zoe"),
+                                   make_instruction(3, B, function=3, target="Yan"))
+    for record in (first, second, other):
+        where(ctx, record.instruction)             # each plans its search
+    assert all(B in ctx.search[i] for i in (1, 2, 3))
+    search_next(ctx, first.instruction, 5.0)
+    assert B not in ctx.search[2] and ctx.searched[2] == [B]
+    assert B in ctx.search[3] and 3 not in ctx.searched

@@ -44,6 +44,7 @@ def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Comm
         ctx.search_start[instruction.id] = now
     searched.append(ctx.node)
     ctx.people.missed(instruction.target, ctx.node)
+    share_miss(ctx, instruction, now)
     if ctx.config.search_all_places:
         queue = search_order(instruction.target, ctx.people, ctx.looked_s,
                              range(ctx.graph.size), searched, ctx.graph.shortest[ctx.node])
@@ -62,3 +63,15 @@ def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Comm
     return fail(ctx, instruction.id, now,
                 f"{instruction.target} not found (searched {looked})")
 
+
+def share_miss(ctx: Context, instruction: Instruction, now: float) -> None:
+    """A look here missed the person for each of their searches under way, not only this
+    instruction's: their other instructions do not come back to look at this place again."""
+    for key, queue in ctx.search.items():
+        if key == instruction.id or ctx.node not in queue or not ctx.buffer.holds(key):
+            continue
+        if ctx.buffer.get(key).instruction.target != instruction.target:
+            continue
+        ctx.search[key] = [p for p in queue if p != ctx.node]
+        ctx.searched.setdefault(key, []).append(ctx.node)
+        ctx.search_start.setdefault(key, now)
