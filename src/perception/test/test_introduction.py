@@ -18,7 +18,7 @@ from perception.answers import (AnswerError, closest_name, parse_age, parse_gend
                                 parse_yes_no)
 from perception.introduction import (AGE, COMPLETE, CONFIRM, FAILED, GENDER, NAME, SUBMITTING,
                                      IntroductionConfig, IntroductionDialogue, NewcomerWatch,
-                                     seen_shirt)
+                                     answered_by_the_stranger, seen_shirt)
 from tamp_resources import resource
 
 CONFIG = resource("config")
@@ -166,6 +166,21 @@ def test_a_stranger_not_met_is_left_alone_for_retry_after(watch):
     assert all(watch.observe(WHITE, "welcome", t, []) is None for t in (11.0, 12.0, 13.0, 309.0))
     again = [watch.observe(WHITE, "welcome", t, []) for t in (310.0, 311.0, 312.0)]
     assert again[:2] == [None, None] and again[2].start_time == 312.0
+
+
+def test_answers_count_as_the_strangers_only_if_they_were_seen_there_lately(watch):
+    """The robot came to meet the stranger seen in the welcome hall at 0-2 s. Answers in a
+    dialogue that began within `seen_within` (60 s) of the last sighting are theirs; at 63 s,
+    or in another place, someone else answered (the stranger had walked off)."""
+    for t in range(3):
+        watch.observe(WHITE, "welcome", float(t), [])
+    stranger = watch.taken(30)
+    config = IntroductionConfig()
+    assert answered_by_the_stranger(stranger, "welcome", 62.0, config)
+    assert not answered_by_the_stranger(stranger, "welcome", 63.0, config)
+    assert not answered_by_the_stranger(stranger, "living_room", 30.0, config)
+    watch.observe(WHITE, "welcome", 70.0, [])      # seen again during the dialogue
+    assert answered_by_the_stranger(stranger, "welcome", 63.0, config)
 
 
 # ---- the dialogue --------------------------------------------------------------------------

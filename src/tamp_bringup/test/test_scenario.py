@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
-from tamp_bringup.scenario import (GIVE_UP_PHRASE, INTRODUCE_TEXT, ScenarioError, Visitor,
-                                   load_scenario, place_of, resident_answer, residents,
-                                   seen_shirt, timeline, visitor_answer, who_answers)
+from tamp_bringup.scenario import (DIALOGUE_END_PHRASES, GIVE_UP_PHRASE, INTRODUCE_TEXT,
+                                   ScenarioError, Visitor, load_scenario, place_of,
+                                   resident_answer, residents, seen_shirt, timeline,
+                                   visitor_answer, who_answers)
 from tamp_resources import resource
 
 ROOT = resource()
@@ -223,4 +224,12 @@ def test_the_person_asked_is_the_one_whose_shirt_the_robot_saw():
     assert who_answers(seen_shirt(text), wearing) == "Frank"
     assert who_answers(None, wearing) == "Carol" and who_answers(None, {}) is None
     assert seen_shirt("remind Bob: time to eat") is None
-    assert GIVE_UP_PHRASE in IntroductionConfig().give_up.lower()
+    said = IntroductionConfig()
+    assert GIVE_UP_PHRASE in said.give_up.lower()
+    # the ends of a dialogue the scenario hears, and no question
+    ends = [said.welcome, said.recalled, said.give_up, said.not_seen]
+    assert all(any(phrase in end.format(name="Frank").lower()
+                   for phrase in DIALOGUE_END_PHRASES) for end in ends)
+    assert not any(phrase in question.lower() for phrase in DIALOGUE_END_PHRASES
+                   for question in (said.name_question, said.gender_question, said.age_question,
+                                    said.thanks, said.confirm_question))

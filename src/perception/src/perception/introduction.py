@@ -62,6 +62,10 @@ class IntroductionConfig:
     confirm_question: str = "Did you say {name}?"
     name_similarity: float = 0.75  # [-] difflib ratio from which a heard name may be a resident's
     give_up: str = "I am sorry, I could not understand you. Let us try again later."
+    seen_within: float = 60.0      # [s] the stranger must have been seen in the place this long
+                                   # before the dialogue began, or during it, for the answers to
+                                   # be theirs (else someone else answered for them)
+    not_seen: str = "I am sorry, I cannot see the person I came to meet. Let us try again later."
 
 
 @dataclass
@@ -188,6 +192,15 @@ class NewcomerWatch:
         """The meeting failed (no answers, trip failed): leave them alone for `retry_after`."""
         stranger.instruction_id, stranger.sightings = 0, 0
         stranger.left_until = now + self.config.retry_after
+
+
+def answered_by_the_stranger(stranger: Stranger, place: str, started: float,
+                             config: IntroductionConfig) -> bool:
+    """Whether the answers of a dialogue that began at `started` [s] in `place` can be the
+    stranger's: they were last seen there at most `config.seen_within` before it began, or
+    during it. §3.2.3 stores the shirt of the person asked; a stranger who walked off before the
+    robot came is not the one who answered (someone else in the room did)."""
+    return stranger.place == place and stranger.last_seen >= started - config.seen_within
 
 
 @dataclass(frozen=True)

@@ -46,7 +46,7 @@ from task_planner.ros_submit import SubmitClient
 
 from perception.conversions import utterance_time
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
-                                     NewcomerWatch, seen_shirt)
+                                     NewcomerWatch, answered_by_the_stranger, seen_shirt)
 
 ENDED = (InstructionState.DONE, InstructionState.FAILED, InstructionState.CANCELLED)
 
@@ -82,7 +82,7 @@ def read_params():
     """Node parameters; KeyError names a missing required one."""
     config = config_from_params(IntroductionConfig, only=(
         "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
-        "retry_after"))
+        "retry_after", "seen_within"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
         "period", "close_linger", "register_timeout", "state_topics"),
@@ -290,6 +290,14 @@ class IntroductionNode:
                            f"#{self.stranger.instruction_id}", met=False)
 
     def _register(self, now):
+        if not answered_by_the_stranger(self.stranger, self.dialogue.place,
+                                        self.dialogue.started, self.params.config):
+            self.say.publish(String(self.params.config.not_seen))
+            self._end(now, f"the stranger of #{self.stranger.instruction_id} was last seen in "
+                           f"{self.stranger.place} at {self.stranger.last_seen:.1f} s, not with "
+                           f"the robot in {self.dialogue.place}: the answers are not theirs",
+                      met=False)
+            return
         if self.dialogue.recalled:
             self._recall(now)
             return

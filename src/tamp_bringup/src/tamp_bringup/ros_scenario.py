@@ -56,7 +56,7 @@ from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
 from tamp_bringup.scenario import (
-    GIVE_UP_PHRASE, INTRODUCE_TEXT, load_scenario, place_of, resident_answer, residents,
+    DIALOGUE_END_PHRASES, INTRODUCE_TEXT, load_scenario, place_of, resident_answer, residents,
     seen_shirt, timeline, visitor_answer, who_answers)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
@@ -112,6 +112,7 @@ class ScenarioNode:
         self.where = {p: place for p, (place, _) in scenario.initial.items()}   # their place
         self.speaking = None               # who is answering the robot's questions now
         self.meeting = None                # the introduce instruction they answer (its id)
+        self.ended = None                  # the introduce instruction whose dialogue ended last
         self.heard = 0                     # sentences of self.said the visitors have heard
         self.sent = {}                     # request index -> when it was sent [s]
         self.held = []                     # (index, request) of visitors not registered yet
@@ -283,11 +284,14 @@ class ScenarioNode:
         registered = {r["visitor"] for r in self.registrations}
         visitors = {v.name: v for v in self.scenario.visitors if v.name not in registered}
         for k, (said_at, text) in enumerate(said):
-            if GIVE_UP_PHRASE in text.lower():
-                self.speaking = None
+            if any(phrase in text.lower() for phrase in DIALOGUE_END_PHRASES):
+                self.speaking, self.ended = None, self.meeting
+                continue
             here = {name: self.wearing[name] for name in list(visitors) + list(self.unmet)
                     if self.where.get(name) in places}
             meeting, seen = self._seen_stranger(state)
+            if meeting is not None and meeting == self.ended:
+                meeting, seen = None, None   # the state still shows the meeting just ended
             if meeting is not None and meeting != self.meeting:
                 self.speaking, self.meeting = None, meeting   # another stranger: whoever
                 #                                               answered the last one is done

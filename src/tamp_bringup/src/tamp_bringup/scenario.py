@@ -153,6 +153,10 @@ def resident_answer(person, said):
 # NewcomerWatch._introduce, IntroductionConfig.give_up): who is being met, and when it ended.
 INTRODUCE_TEXT = "meet the unknown person"
 GIVE_UP_PHRASE = "try again later"
+# what the robot says when an introduction dialogue ends (perception.introduction
+# IntroductionConfig: welcome, recalled, give_up): whoever answered is done
+DIALOGUE_END_PHRASES = ("nice to meet you", "i will know you in these clothes now",
+                        GIVE_UP_PHRASE)
 SEEN_SHIRT = re.compile(r"\((\d+), (\d+), (\d+)\)")
 
 
