@@ -90,4 +90,7 @@ def test_a_request_for_someone_never_seen_waits_while_a_stranger_is_to_be_met(li
     people.seen("Carol", D, 3.0)
     assert waiting_for_a_meeting(ctx, pending) == set()
     ctx.searched[2] = [A]          # Bob was not where the robot looked: maybe in new clothes
+    people.missed("Bob", A)
     assert waiting_for_a_meeting(ctx, pending) == {2}
+    people.seen("Bob", C, 4.0)     # seen since (met in his new clothes): his request goes on
+    assert waiting_for_a_meeting(ctx, pending) == set()

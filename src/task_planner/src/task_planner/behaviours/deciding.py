@@ -165,8 +165,9 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
 def waiting_for_a_meeting(ctx: Context, pending: Sequence[Record]) -> set[int]:
     """Ids of the people's instructions that wait for a meeting while an `introduce` instruction
     is pending: their person has never been seen (not met yet, so the camera cannot tell who
-    they are; thesis 000 §3.2.3), or was not where the robot looked (they may have changed
-    clothes). The stranger the robot is to meet may be them."""
+    they are; thesis 000 §3.2.3), or was not where the robot looked and has not been seen
+    anywhere since (they may have changed clothes). The stranger the robot is to meet may be
+    them; once perception sees them again (met, recalled in new clothes), their request goes on."""
     meeting = any(r.instruction.type != HUMAN
                   and getattr(ctx.functions.get(r.instruction.function), "name", "") == INTRODUCE
                   for r in pending)
@@ -174,7 +175,9 @@ def waiting_for_a_meeting(ctx: Context, pending: Sequence[Record]) -> set[int]:
         return set()
     return {r.instruction.id for r in pending if r.instruction.type == HUMAN
             and r.instruction.target and (not ctx.people.knows(r.instruction.target)
-                                          or ctx.searched.get(r.instruction.id))}
+                                          or (bool(ctx.searched.get(r.instruction.id))
+                                              and ctx.people.now.get(r.instruction.target)
+                                              is None))}
 
 
 def ask_planner(ctx: Context, problem: Problem, node: int, now: float,
