@@ -23,9 +23,19 @@ def test_a_closed_publisher_at_shutdown_is_not_a_fault(monkeypatch):
     assert sup.health.faults == 0
 
 
+def test_a_closed_publisher_while_shutdown_hooks_run_is_not_a_fault(monkeypatch):
+    """The node's own rospy.on_shutdown hooks run before rospy.is_shutdown() turns true."""
+    sup = supervisor()
+    monkeypatch.setattr(rospy, "is_shutdown", lambda: False)
+    monkeypatch.setattr(rospy.core, "is_shutdown_requested", lambda: True)
+    assert sup.wrap("control", closed_publisher)(None) is None
+    assert sup.health.faults == 0
+
+
 def test_the_same_error_while_running_is_a_fault(monkeypatch):
     sup = supervisor()
     monkeypatch.setattr(rospy, "is_shutdown", lambda: False)
+    monkeypatch.setattr(rospy.core, "is_shutdown_requested", lambda: False)
     errors = []
     sup.wrap("control", closed_publisher, on_error=errors.append)(None)
     assert sup.health.faults == 1 and len(errors) == 1

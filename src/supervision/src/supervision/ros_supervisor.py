@@ -125,12 +125,13 @@ class Supervisor:
     def wrap(self, worker, callback, on_error=None):
         """callback(arg) under the guard, for any rospy callback with one argument. A
         rospy.ROSException while the node shuts down (a publisher closed under the callback) is
-        the end of the node, not a fault: it is not reported."""
+        the end of the node, not a fault: it is not reported. That includes the moment the
+        node's own shutdown hooks run, before rospy.is_shutdown() turns true."""
         def quiet_at_shutdown(arg):
             try:
                 return callback(arg)
             except rospy.ROSException:
-                if rospy.is_shutdown():
+                if rospy.is_shutdown() or rospy.core.is_shutdown_requested():
                     return None
                 raise
 
