@@ -9,7 +9,9 @@ from task_planner.behaviours.looking import (LookingAround, StandingToLook, end_
                                              serve_here, start_look)
 from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, VERIFYING, Execute,
                                             Navigate, StopMotion, Verify, Wait)
+from task_planner.instruction import ROBOT
 from task_planner.people_belief import PeopleAtPlaces
+from task_planner.task_buffer import FAILED
 
 
 def test_a_person_seen_here_is_served_at_once(posed_line_graph, tmp_path):
@@ -187,3 +189,45 @@ def test_whoever_that_look_saw_counts_as_here(posed_line_graph, tmp_path):
 def test_a_look_long_ago_is_looked_again(posed_line_graph, tmp_path):
     ctx = swept_b(posed_line_graph, tmp_path, PeopleAtPlaces(), look_again_s=20.0)
     assert serve_here(ctx, 1, 30.0) == [Navigate(B, 1, yaw=math.pi)]
+
+
+def test_a_stranger_seen_here_lately_is_met_at_once(posed_line_graph, tmp_path):
+    """An introduce instruction (function 9, no target) is served on arrival when perception
+    saw someone at the place it cannot tell within stranger_fresh_s."""
+    people = PeopleAtPlaces()
+    people.someone_unidentified(B, 1.0, 2.0, stamp=5.0)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
+                       stranger_fresh_s=10.0)
+    journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
+    assert serve_here(ctx, 1, 12.0)[0] == Execute(1, "introduce", 60.0)
+
+
+def test_a_stranger_not_seen_lately_is_looked_for_then_met(posed_line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.someone_unidentified(B, 1.0, 2.0, stamp=0.0)      # too long ago
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
+                       stranger_fresh_s=10.0)
+    journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
+    assert serve_here(ctx, 1, 20.0) == [Navigate(B, 1, yaw=math.pi / 2)]
+    assert ctx.mode == LOOKING
+    people.someone_unidentified(B, 1.5, 2.5, stamp=21.0)    # seen on the first heading
+    leaf = LookingAround(ctx)
+    ctx.now = 21.5
+    leaf.tick_once()
+    assert ctx.out[:2] == [StopMotion(), Execute(1, "introduce", 60.0)] and ctx.mode == EXECUTING
+
+
+def test_a_look_that_sees_no_stranger_gives_the_meeting_up(posed_line_graph, tmp_path):
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=1,
+                       stranger_fresh_s=10.0)
+    journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
+    assert serve_here(ctx, 1, 20.0) == [Navigate(B, 1, yaw=math.pi)]
+    end_look(ctx, 25.0)
+    record = ctx.buffer.get(1)
+    assert record.state == FAILED and "nobody perception cannot tell" in record.reason
+
+
+def test_without_stranger_fresh_s_a_stranger_is_greeted_on_arrival(posed_line_graph, tmp_path):
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=3)
+    journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
+    assert serve_here(ctx, 1, 20.0)[0] == Execute(1, "introduce", 60.0)

@@ -15,6 +15,7 @@ import yaml
 from task_planner.instruction import Instruction
 
 
+INTRODUCE = "introduce"   # the robot function that meets a stranger (config/robot_functions.yaml)
 _ABOUT = re.compile(r"\[about ([^\]]+)\] ")
 
 

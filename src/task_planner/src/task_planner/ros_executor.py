@@ -92,6 +92,9 @@ class NodeParams:
     look_again: float = 20.0       # a place looked all around this recently is not looked
                                    # around again for another person [s]; 0 = look every time
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
+    stranger_fresh: float = 10.0   # meet a stranger once perception saw someone it cannot tell
+                                   # at the place this recently, else look around for
+                                   # them [s]; 0 = greet on arrival
     search_all_places: bool = True  # search every place (else only the last known ones)
     follow_belief: bool = True     # serve people where perception last saw them (or their
                                    # schedule puts them), not where the request said
@@ -143,7 +146,8 @@ class NodeParams:
         positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease",
                     "corridor_wait", "look_frames_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
-                         "look_dwell", "look_frames", "look_again", "pass_wait", "patrol_interval",
+                         "look_dwell", "look_frames", "look_again", "stranger_fresh", "pass_wait",
+                         "patrol_interval",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions")
         if self.fleet_allocator not in FLEET_ALLOCATORS:
@@ -178,7 +182,8 @@ class ExecutorNode:
                            look_dwell_s=params.look_dwell, look_frames=params.look_frames,
                            look_frames_wait_s=params.look_frames_wait,
                            look_again_s=params.look_again,
-                           fresh_s=params.fresh, search_all_places=params.search_all_places,
+                           fresh_s=params.fresh, stranger_fresh_s=params.stranger_fresh,
+                           search_all_places=params.search_all_places,
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
                            own_yields=params.own_yields,

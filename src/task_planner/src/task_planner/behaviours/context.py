@@ -43,6 +43,10 @@ class ExecutorConfig:
                                   # again: whoever that look saw is here, anyone else is
                                   # searched for elsewhere at once [s] (0: look every time)
     fresh_s: float = math.inf     # a sighting this old counts as "the person is here" [s]
+    stranger_fresh_s: float = 0.0  # an introduce instruction is served once perception saw
+                                  # someone it cannot tell at the place this recently,
+                                  # else the robot looks around for them [s] (0: greet
+                                  # on arrival)
     search_all_places: bool = False  # search every place, not only the last known ones
     follow_belief: bool = False   # serve a person where the robot believes them (else: where
                                   # the instruction says, until a search begins)

@@ -24,9 +24,9 @@ from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VER
 from task_planner.instruction import HUMAN
 from task_planner.planner_api import NodePlanner, TargetPlanner
 from task_planner.problem import Problem
+from task_planner.robot_functions import INTRODUCE
 from task_planner.task_buffer import PENDING, Record
 
-INTRODUCE = "introduce"   # the robot function that meets a stranger (config/robot_functions.yaml)
 
 
 def decide(ctx: Context, now: float) -> list[Command]:

@@ -3,6 +3,9 @@ here, else look around (turns in place while perception watches, each heading he
 stand and look, then search on (thesis 000 §4.2.1: the robot observes the household). A look
 without an instruction (0) is a patrol's. A place looked all around within `look_again_s` is not
 looked around again: whoever that look saw counts as here, anyone else is searched for elsewhere.
+Meeting a stranger (an `introduce` instruction, §3.2.3: "the robot will approach an unknown
+person and greet"), the person looked for is anyone perception saw at the place but cannot tell;
+a look that sees nobody such gives the meeting up (the stranger walked off).
 """
 import math
 
@@ -13,7 +16,8 @@ from task_planner.behaviours.searching import search_next
 from task_planner.behaviours.serving import execute, fail
 from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Command, Navigate, \
     StopMotion, Verify, Wait
-from task_planner.robot_functions import RobotFunctionError, function_for
+from task_planner.instruction import Instruction
+from task_planner.robot_functions import INTRODUCE, RobotFunctionError, function_for
 
 FACING, FACED = "facing", "faced"   # a look's turn toward someone perception cannot tell
 
@@ -28,6 +32,8 @@ def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
         return fail(ctx, instruction_id, now, str(error))
     target = instruction.target
     swept = recent_sweep(ctx, now)
+    if meets_a_stranger(ctx, instruction) and ctx.config.stranger_fresh_s > 0:
+        return meet_here(ctx, instruction, swept, now)
     since = now - ctx.config.fresh_s if swept is None else min(now - ctx.config.fresh_s, swept[0])
     if target and not ctx.people.is_at(target, ctx.node, since):
         if swept is not None:   # looked all around here just now: not here
@@ -43,6 +49,34 @@ def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
             return [Verify(instruction_id, target, until)]
         return search_next(ctx, instruction, now)
     return execute(ctx, instruction, function, now)
+
+
+def meets_a_stranger(ctx: Context, instruction: Instruction) -> bool:
+    """An `introduce` instruction: its person is whoever perception cannot tell at the place."""
+    function = ctx.functions.get(instruction.function)
+    return not instruction.target and function is not None and function.name == INTRODUCE
+
+
+def stranger_here(ctx: Context, since: float) -> bool:
+    """Perception saw someone at the robot's place at or after `since` [s] whom it cannot
+    tell."""
+    return ctx.people.unidentified_at(ctx.node, since) is not None
+
+
+def meet_here(ctx: Context, instruction: Instruction, swept: tuple[float, float] | None,
+              now: float) -> list[Command]:
+    """Greet the stranger once perception saw someone here it cannot tell within
+    `stranger_fresh_s`; else look around for them, or give the meeting up when a look all
+    around just now saw nobody such."""
+    if stranger_here(ctx, now - ctx.config.stranger_fresh_s):
+        return execute(ctx, instruction, function_for(ctx.functions, instruction), now)
+    place = ctx.graph.names[ctx.node]
+    if swept is not None and not stranger_here(ctx, swept[0]):
+        return fail(ctx, instruction.id, now,
+                    f"nobody perception cannot tell in the look around {place}")
+    if ctx.config.look_headings <= 0:
+        return fail(ctx, instruction.id, now, f"nobody perception cannot tell at {place}")
+    return start_look(ctx, instruction.id, now)
 
 
 def recent_sweep(ctx: Context, now: float) -> tuple[float, float] | None:
@@ -76,8 +110,8 @@ def start_look(ctx: Context, instruction_id: int, now: float) -> list[Command]:
     yaw = float(ctx.graph.pose(ctx.node)[2])
     headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
     ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None, None, None]
-    what = (f"for {ctx.buffer.get(instruction_id).instruction.target}" if instruction_id
-            else "(patrol)")
+    target = ctx.buffer.get(instruction_id).instruction.target if instruction_id else ""
+    what = f"for {target or 'the stranger'}" if instruction_id else "(patrol)"
     ctx.log.append((now, f"look around {ctx.graph.names[ctx.node]} {what}"))
     return [Navigate(ctx.node, instruction_id, yaw=headings[0])]
 
@@ -113,6 +147,9 @@ def end_look(ctx: Context, now: float) -> list[Command]:
     record = ctx.buffer.get(instruction_id)
     if not record.is_open:
         return ctx.decide(now)
+    if meets_a_stranger(ctx, record.instruction):
+        return fail(ctx, instruction_id, now, f"nobody perception cannot tell in the look around "
+                                              f"{ctx.graph.names[ctx.node]}") + ctx.decide(now)
     return search_next(ctx, record.instruction, now) + ctx.decide(now)
 
 
@@ -160,7 +197,9 @@ def look_found(ctx: Context, now: float) -> list[Command]:
     if not instruction_id:
         return []
     instruction = ctx.buffer.get(instruction_id).instruction
-    if not ctx.people.is_at(instruction.target, ctx.node, since):
+    found = stranger_here(ctx, since) if meets_a_stranger(ctx, instruction) else \
+        ctx.people.is_at(instruction.target, ctx.node, since)
+    if not found:
         return []
     ctx.mode, ctx.looking = IDLE, None
     ctx.looked_s[ctx.node] = now
