@@ -1,12 +1,14 @@
 """task_planner.behaviours.deciding: the planner's decision, serve here or drive, turn back."""
+from dataclasses import replace
+
 import numpy as np
 from behaviour_factories import A, B, C, D, make_context, journal
 from planner_factories import make_instruction
 from py_trees.common import Status
 
 from task_planner.baselines import PriorityFirst
-from task_planner.behaviours.deciding import (Deciding, decide, heading, redecide,
-                                              waiting_for_a_meeting)
+from task_planner.behaviours.deciding import (Deciding, decide, fetch_and_decode, heading,
+                                              redecide, waiting_for_a_meeting)
 from task_planner.executor_commands import EXECUTING, IDLE, MOVING, Navigate, StopMotion
 from task_planner.instruction import ROBOT
 from task_planner.people_belief import PeopleAtPlaces
@@ -94,3 +96,27 @@ def test_a_request_for_someone_never_seen_waits_while_a_stranger_is_to_be_met(li
     assert waiting_for_a_meeting(ctx, pending) == {2}
     people.seen("Bob", C, 4.0)     # seen since (met in his new clothes): his request goes on
     assert waiting_for_a_meeting(ctx, pending) == set()
+
+
+def test_a_meeting_is_planned_with_the_priority_of_the_request_waiting_for_it(line_graph,
+                                                                              tmp_path):
+    """Carol, never seen, asks with gamma 8: the stranger the robot is to meet may be her, so
+    with meetings_inherit the planner sees the meeting (gamma 1) at Carol's priority, and the
+    journal keeps its own; without it, or with nobody waiting, the meeting keeps its own."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       meetings_inherit=True)
+    journal(
+        ctx, make_instruction(1, C, gamma=8.0, beta=0.98, function=1, source="Carol",
+                              target="Carol"),
+        make_instruction(2, D, gamma=1.0, beta=0.9, function=9, type=ROBOT, source="robot"))
+    problem, available = fetch_and_decode(ctx, 0.0)
+    planned = {i.id: i for i in problem.instructions}
+    assert (planned[2].gamma, planned[2].beta) == (8.0, 0.98) and list(available) == [1]
+    assert ctx.buffer.get(2).instruction.gamma == 1.0
+    ctx.config = replace(ctx.config, meetings_inherit=False)
+    problem, _ = fetch_and_decode(ctx, 1.0)
+    assert {i.id: i.gamma for i in problem.instructions}[2] == 1.0
+    ctx.config = replace(ctx.config, meetings_inherit=True)
+    ctx.people.seen("Carol", C, 2.0)               # seen: her request no longer waits
+    problem, available = fetch_and_decode(ctx, 2.0)
+    assert {i.id: i.gamma for i in problem.instructions}[2] == 1.0 and len(available) == 2

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import yaml
 
-from task_planner.instruction import Instruction
+from task_planner.instruction import HUMAN, Instruction
 
 
 INTRODUCE = "introduce"   # the robot function that meets a stranger (config/robot_functions.yaml)
@@ -86,3 +86,11 @@ def function_for(functions: Mapping[int, RobotFunction],
         known = ", ".join(f"{f.code}={f.name}" for f in functions.values())
         raise RobotFunctionError(f"instruction {instruction.id}: unknown robot function code "
                                  f"{instruction.function} (known: {known})") from None
+
+
+def is_meeting(functions: Mapping[int, RobotFunction], instruction: Instruction) -> bool:
+    """An `introduce` instruction of the robot's own: meeting a stranger, whoever perception
+    cannot tell at its place (it names no target)."""
+    function = functions.get(instruction.function)
+    return (instruction.type != HUMAN and not instruction.target and function is not None
+            and function.name == INTRODUCE)

@@ -101,6 +101,8 @@ class NodeParams:
     pass_wait: float = 4.0         # after an abort ask to pass and wait this long [s]; 0 = no
     patrol: bool = False           # look at stale places while idle
     own_yields: bool = True        # a person's request interrupts the robot's own instruction
+    meetings_inherit: bool = True  # a stranger's meeting is planned with the priority of the
+                                   # strongest request waiting to know who its person is
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
     utc_offset: float = 0.0        # added to ROS time for the time of day of the schedules'
                                    # predicted places [s] (simulated time: the day's start)
@@ -187,6 +189,7 @@ class ExecutorNode:
                            follow_belief=params.follow_belief,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
                            own_yields=params.own_yields,
+                           meetings_inherit=params.meetings_inherit,
                            patrol_interval_s=params.patrol_interval,
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
                            corridor_wait_s=params.corridor_wait,

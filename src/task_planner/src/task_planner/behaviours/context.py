@@ -55,6 +55,8 @@ class ExecutorConfig:
     patrol: bool = False          # look at stale places while idle
     own_yields: bool = False      # a person's request interrupts the robot's own instruction
     own_kept: tuple = ("charge", "introduce")  # own functions that are never interrupted
+    meetings_inherit: bool = False  # a stranger's meeting takes the priority of the strongest
+                                  # person's request waiting for a meeting (planner only)
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]

@@ -7,6 +7,7 @@ decides among the instructions no other robot holds (with the fleet's auction,
 behaviours.fleet_allocation, or its own planner) and claims its choice before it drives.
 """
 import time
+from dataclasses import replace
 from collections.abc import Container, Sequence
 from typing import cast
 
@@ -21,10 +22,10 @@ from task_planner.behaviours.patrolling import patrol
 from task_planner.behaviours.searching import served_where
 from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, \
     Command, Navigate, StopMotion
-from task_planner.instruction import HUMAN
+from task_planner.instruction import HUMAN, Instruction
 from task_planner.planner_api import NodePlanner, TargetPlanner
 from task_planner.problem import Problem
-from task_planner.robot_functions import INTRODUCE
+from task_planner.robot_functions import is_meeting
 from task_planner.task_buffer import PENDING, Record
 
 
@@ -141,13 +142,16 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     pending = [r for r in ctx.buffer.open_records() if r.state == PENDING]
     if not any(r.instruction.type == HUMAN for r in pending):
         ctx.deferred.clear()
+    waiting = waiting_for_a_meeting(ctx, pending)
     instructions = tuple(served_where(ctx, r.instruction) for r in pending)
+    if ctx.config.meetings_inherit and waiting:
+        instructions = meetings_inherit(ctx, pending, instructions, waiting)
     if instructions != ctx.problem_key or ctx.problem is None:
         ctx.problem = Problem(ctx.graph, instructions, ctx.config.speed_mps, ctx.node)
         ctx.problem_key = instructions
         ctx.planner.reset(ctx.problem)
     done = ctx.buffer.done_ids()  # a successor waits for its predecessor (task_buffer)
-    skipped = ctx.deferred | waiting_for_a_meeting(ctx, pending)
+    skipped = ctx.deferred | waiting
     busy_places: Container[int] = ()
     if ctx.fleet:
         taken = ctx.taken = ctx.fleet.taken(now)
@@ -162,15 +166,30 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     return ctx.problem, available
 
 
+def meetings_inherit(ctx: Context, pending: Sequence[Record],
+                     instructions: tuple[Instruction, ...],
+                     waiting: set[int]) -> tuple[Instruction, ...]:
+    """The planner's copies of the `introduce` instructions take the priority (γ, β) of the
+    strongest person's request that waits for a meeting, when it is higher than their own: the
+    stranger may be the person that request is for, so meeting them is worth that much (the
+    journal keeps the meeting's own priority)."""
+    strongest = max((r.instruction for r in pending if r.instruction.id in waiting),
+                    key=lambda instruction: instruction.gamma)
+
+    def inherited(instruction: Instruction) -> Instruction:
+        if is_meeting(ctx.functions, instruction) and instruction.gamma < strongest.gamma:
+            return replace(instruction, gamma=strongest.gamma, beta=strongest.beta)
+        return instruction
+    return tuple(inherited(instruction) for instruction in instructions)
+
+
 def waiting_for_a_meeting(ctx: Context, pending: Sequence[Record]) -> set[int]:
     """Ids of the people's instructions that wait for a meeting while an `introduce` instruction
     is pending: their person has never been seen (not met yet, so the camera cannot tell who
     they are; thesis 000 §3.2.3), or was not where the robot looked and has not been seen
     anywhere since (they may have changed clothes). The stranger the robot is to meet may be
     them; once perception sees them again (met, recalled in new clothes), their request goes on."""
-    meeting = any(r.instruction.type != HUMAN
-                  and getattr(ctx.functions.get(r.instruction.function), "name", "") == INTRODUCE
-                  for r in pending)
+    meeting = any(is_meeting(ctx.functions, r.instruction) for r in pending)
     if not meeting:
         return set()
     return {r.instruction.id for r in pending if r.instruction.type == HUMAN

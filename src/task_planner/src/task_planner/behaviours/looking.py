@@ -17,7 +17,7 @@ from task_planner.behaviours.serving import execute, fail
 from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Command, Navigate, \
     StopMotion, Verify, Wait
 from task_planner.instruction import Instruction
-from task_planner.robot_functions import INTRODUCE, RobotFunctionError, function_for
+from task_planner.robot_functions import RobotFunctionError, function_for, is_meeting
 
 FACING, FACED = "facing", "faced"   # a look's turn toward someone perception cannot tell
 
@@ -32,7 +32,7 @@ def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
         return fail(ctx, instruction_id, now, str(error))
     target = instruction.target
     swept = recent_sweep(ctx, now)
-    if meets_a_stranger(ctx, instruction) and ctx.config.stranger_fresh_s > 0:
+    if is_meeting(ctx.functions, instruction) and ctx.config.stranger_fresh_s > 0:
         return meet_here(ctx, instruction, swept, now)
     since = now - ctx.config.fresh_s if swept is None else min(now - ctx.config.fresh_s, swept[0])
     if target and not ctx.people.is_at(target, ctx.node, since):
@@ -49,12 +49,6 @@ def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
             return [Verify(instruction_id, target, until)]
         return search_next(ctx, instruction, now)
     return execute(ctx, instruction, function, now)
-
-
-def meets_a_stranger(ctx: Context, instruction: Instruction) -> bool:
-    """An `introduce` instruction: its person is whoever perception cannot tell at the place."""
-    function = ctx.functions.get(instruction.function)
-    return not instruction.target and function is not None and function.name == INTRODUCE
 
 
 def stranger_here(ctx: Context, since: float) -> bool:
@@ -147,7 +141,7 @@ def end_look(ctx: Context, now: float) -> list[Command]:
     record = ctx.buffer.get(instruction_id)
     if not record.is_open:
         return ctx.decide(now)
-    if meets_a_stranger(ctx, record.instruction):
+    if is_meeting(ctx.functions, record.instruction):
         return fail(ctx, instruction_id, now, f"nobody perception cannot tell in the look around "
                                               f"{ctx.graph.names[ctx.node]}") + ctx.decide(now)
     return search_next(ctx, record.instruction, now) + ctx.decide(now)
@@ -197,7 +191,7 @@ def look_found(ctx: Context, now: float) -> list[Command]:
     if not instruction_id:
         return []
     instruction = ctx.buffer.get(instruction_id).instruction
-    found = stranger_here(ctx, since) if meets_a_stranger(ctx, instruction) else \
+    found = stranger_here(ctx, since) if is_meeting(ctx.functions, instruction) else \
         ctx.people.is_at(instruction.target, ctx.node, since)
     if not found:
         return []
