@@ -168,6 +168,18 @@ def test_a_stranger_not_met_is_left_alone_for_retry_after(watch):
     assert again[:2] == [None, None] and again[2].start_time == 312.0
 
 
+def test_a_stranger_left_alone_but_seen_elsewhere_is_met_there(watch):
+    """The meeting in the welcome hall failed (they had walked off); seen in the living room,
+    they are met there at once, not after retry_after."""
+    for t in range(3):
+        watch.observe(WHITE, "welcome", float(t), [])
+    watch.not_met(watch.taken(30), now=10.0)
+    assert watch.observe(WHITE, "welcome", 11.0, []) is None
+    again = [watch.observe(WHITE, "living_room", t, []) for t in (12.0, 13.0, 14.0)]
+    assert again[:2] == [None, None]
+    assert again[2].start_time == 14.0 and again[2].destination == PLACES["living_room"]
+
+
 def test_answers_count_as_the_strangers_only_if_they_were_seen_there_lately(watch):
     """The robot came to meet the stranger seen in the welcome hall at 0-2 s. Answers in a
     dialogue that began within `seen_within` (60 s) of the last sighting are theirs; at 63 s,

@@ -80,6 +80,8 @@ class Stranger:
     instruction_id: int = 0    # the introduce instruction given for them (SUBMITTING until the
                                # task buffer allocated its id); 0 = none
     left_until: float = 0.0    # [s] not met again before this (after a failed meeting)
+    left_in: str = ""           # the place they were left alone in: seen elsewhere, they
+                               # walked off, and count again at once
     name: str = ""             # set once registered
 
 
@@ -141,8 +143,8 @@ class NewcomerWatch:
             stranger = self.strangers[-1]
         else:
             stranger.colours, stranger.place, stranger.last_seen = np.array(colours), place, stamp
-            if stamp < stranger.left_until:
-                return None   # left alone: sightings count again after retry_after
+            if stamp < stranger.left_until and place == stranger.left_in:
+                return None   # left alone there: sightings count again after retry_after
             stranger.sightings += 1
         if stranger.name or stranger.instruction_id:
             return None
@@ -189,9 +191,11 @@ class NewcomerWatch:
         stranger.name = name
 
     def not_met(self, stranger: Stranger, now: float) -> None:
-        """The meeting failed (no answers, trip failed): leave them alone for `retry_after`."""
+        """The meeting failed (no answers, trip failed): leave them alone for `retry_after` in
+        the place they were last seen; seen in another place, they walked off before the robot
+        came and are met there."""
         stranger.instruction_id, stranger.sightings = 0, 0
-        stranger.left_until = now + self.config.retry_after
+        stranger.left_until, stranger.left_in = now + self.config.retry_after, stranger.place
 
 
 def answered_by_the_stranger(stranger: Stranger, place: str, started: float,
