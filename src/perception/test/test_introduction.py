@@ -101,20 +101,20 @@ def watch():
 
 def test_a_stranger_seen_three_times_is_met_where_they_were_seen(watch):
     known = list(SHIRTS.values())
-    noisy = [WHITE, WHITE + 6, WHITE - 5]          # camera colour noise: still one stranger
-    made = [watch.observe(c, "living_room" if k < 2 else "welcome", 10.0 + k, known)
-            for k, c in enumerate(noisy)]
-    assert made[:2] == [None, None]
-    meet = made[2]
+    noisy = [WHITE, WHITE + 6, WHITE - 5, WHITE + 2]   # camera colour noise: one stranger,
+    made = [watch.observe(c, "living_room" if k < 1 else "welcome", 10.0 + k, known)
+            for k, c in enumerate(noisy)]                # who walked on to the welcome hall
+    assert made[:3] == [None, None, None]
+    meet = made[3]
     assert (meet.id, meet.type, meet.function, meet.duration, meet.gamma, meet.beta) == \
         (1, ROBOT, 9, 60, 1.0, 0.9)      # id: provisional, the task buffer allocates the real one
     assert (meet.destination, meet.destination_name, meet.target, meet.source) == \
         (3, "welcome", "", "robot")
-    assert meet.start_time == 12.0
+    assert meet.start_time == 13.0
     assert [s.instruction_id for s in watch.open_strangers()] == [SUBMITTING]
     assert watch.taken(57) is watch.strangers[0]    # the id the task buffer allocated
     # further sightings of the same stranger give no second instruction
-    assert watch.observe(WHITE + 3, "welcome", 13.0, known) is None
+    assert watch.observe(WHITE + 3, "welcome", 14.0, known) is None
     assert len(watch.strangers) == 1 and watch.open_strangers()[0].instruction_id == 57
     assert watch.by_instruction(57) is watch.strangers[0]
 
@@ -166,6 +166,29 @@ def test_a_stranger_not_met_is_left_alone_for_retry_after(watch):
     assert all(watch.observe(WHITE, "welcome", t, []) is None for t in (11.0, 12.0, 13.0, 309.0))
     again = [watch.observe(WHITE, "welcome", t, []) for t in (310.0, 311.0, 312.0)]
     assert again[:2] == [None, None] and again[2].start_time == 312.0
+
+
+def test_a_stranger_walking_by_is_met_once_seen_often_enough_in_one_place(watch):
+    """Seen once in each room on the way, then three times in the living room: one instruction,
+    for the living room."""
+    made = [watch.observe(WHITE, place, t, []) for t, place in
+            enumerate(["welcome", "charging_place", "welcome", "living_room", "living_room"])]
+    assert made == [None] * 5
+    made = watch.observe(WHITE, "living_room", 6.0, [])
+    assert made is not None and made.destination == PLACES["living_room"]
+
+
+def test_a_stranger_who_walked_off_before_the_meeting_is_met_where_they_settled(watch):
+    """Seen walking through the welcome hall, met there in vain; they had walked on to the
+    living room, where their later sightings count at once."""
+    for t in range(3):
+        watch.observe(WHITE, "welcome", float(t), [])
+    stranger = watch.taken(30)
+    watch.observe(WHITE, "living_room", 5.0, [])       # seen on, before the meeting failed
+    watch.not_met(stranger, now=10.0)
+    assert stranger.left_in == "welcome"
+    again = [watch.observe(WHITE, "living_room", t, []) for t in (12.0, 13.0, 14.0)]
+    assert again[2] is not None and again[2].destination == PLACES["living_room"]
 
 
 def test_a_stranger_left_alone_but_seen_elsewhere_is_met_there(watch):

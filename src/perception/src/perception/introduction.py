@@ -80,6 +80,8 @@ class Stranger:
     instruction_id: int = 0    # the introduce instruction given for them (SUBMITTING until the
                                # task buffer allocated its id); 0 = none
     left_until: float = 0.0    # [s] not met again before this (after a failed meeting)
+    asked_in: str = ""          # the place of their introduce instruction (where the robot
+                               # meets them)
     left_in: str = ""           # the place they were left alone in: seen elsewhere, they
                                # walked off, and count again at once
     name: str = ""             # set once registered
@@ -142,10 +144,12 @@ class NewcomerWatch:
             self.strangers.append(Stranger(np.array(colours), place, stamp, stamp))
             stranger = self.strangers[-1]
         else:
+            moved = place != stranger.place
             stranger.colours, stranger.place, stranger.last_seen = np.array(colours), place, stamp
             if stamp < stranger.left_until and place == stranger.left_in:
                 return None   # left alone there: sightings count again after retry_after
-            stranger.sightings += 1
+            # seen in another place: walking by, met once seen min_sightings times where they are
+            stranger.sightings = 1 if moved else stranger.sightings + 1
         if stranger.name or stranger.instruction_id:
             return None
         if stranger.sightings < self.config.min_sightings:
@@ -157,6 +161,7 @@ class NewcomerWatch:
             return None
         code, duration = self.function
         stranger.instruction_id, stranger.left_until = SUBMITTING, 0.0
+        stranger.asked_in = stranger.place
         rgb = " ".join(str(tuple(int(c) for c in joint)) for joint in stranger.colours)
         return Instruction(
             id=1, gamma=self.priority.gamma, beta=self.priority.beta,
@@ -192,10 +197,11 @@ class NewcomerWatch:
 
     def not_met(self, stranger: Stranger, now: float) -> None:
         """The meeting failed (no answers, trip failed): leave them alone for `retry_after` in
-        the place they were last seen; seen in another place, they walked off before the robot
-        came and are met there."""
+        the place the robot tried to meet them; seen in another place, they walked off before
+        the robot came and are met there."""
         stranger.instruction_id, stranger.sightings = 0, 0
-        stranger.left_until, stranger.left_in = now + self.config.retry_after, stranger.place
+        stranger.left_until = now + self.config.retry_after
+        stranger.left_in = stranger.asked_in or stranger.place
 
 
 def answered_by_the_stranger(stranger: Stranger, place: str, started: float,

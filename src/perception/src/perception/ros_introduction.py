@@ -261,13 +261,14 @@ class IntroductionNode:
         self.stranger, self._met_id = stranger, stranger.instruction_id
         with self._lock:
             residents = tuple(self._known or ())
-        self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now,
-                                             stranger.place, residents)
+        place = stranger.asked_in or stranger.place   # where the robot serves the meeting
+        self.dialogue = IntroductionDialogue(self.params.config, stranger.colours, now, place,
+                                             residents)
         self._open_until = now
         self.answers_until.publish(Time(rospy.Time(0)))  # answers until the dialogue ends
         self._count("dialogues")
         rospy.loginfo("introduction: meeting the stranger of #%d in %s; waiting for a name",
-                      stranger.instruction_id, stranger.place)
+                      stranger.instruction_id, place)
 
     def _answer(self, msg, now):
         self._count("answers")
