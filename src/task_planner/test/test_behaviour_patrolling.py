@@ -2,8 +2,10 @@
 import math
 
 from behaviour_factories import A, B, C, D, make_context
-from task_planner.behaviours.patrolling import patrol
+from task_planner.behaviours.patrolling import clear_corridor, patrol
 from task_planner.executor_commands import LOOKING, MOVING, Navigate
+from task_planner.fleet_link import FleetLink
+from task_planner.fleet_pool import FleetPool
 from task_planner.people_belief import PeopleAtPlaces
 
 
@@ -28,3 +30,29 @@ def test_the_patrol_looks_around_where_it_stands_and_rests_when_all_is_fresh(
     fresh = make_context(posed_line_graph, tmp_path / "fresh", patrol_interval_s=30.0)
     fresh.looked_s.update({n: 90.0 for n in range(4)})
     assert patrol(fresh, 100.0) == [] and fresh.mode == "idle"
+
+
+def test_in_a_fleet_an_idle_robot_leaves_a_corridor_and_never_patrols_one(posed_line_graph,
+                                                                          tmp_path):
+    """B and C are corridors. A fleet robot idle in C, with every place looked at lately, drives
+    to the nearest place that is none (A and D are 3 m away: the lower node wins); its patrol
+    picks A or D, never the corridors, even though nobody ever looked at them. Alone, a robot
+    stays where it is."""
+    ctx = make_context(posed_line_graph, tmp_path, node=C, corridors=(B, C), patrol=True,
+                       patrol_interval_s=30.0)
+    ctx.fleet = FleetLink(FleetPool(tmp_path / "pool.sqlite"), "a")
+    ctx.looked_s.update({n: 90.0 for n in range(4)})
+    assert patrol(ctx, 100.0) == []
+    assert clear_corridor(ctx, 100.0) == [Navigate(B, 0)]          # on the way to A
+    assert ctx.patrol_goal == A and ctx.mode == MOVING
+    assert ctx.log[-1] == (100.0, "clear the corridor C for A")
+    (tmp_path / "stale").mkdir()
+    stale = make_context(posed_line_graph, tmp_path / "stale", node=C, corridors=(B, C),
+                         patrol=True, patrol_interval_s=30.0)
+    stale.fleet = FleetLink(FleetPool(tmp_path / "stale" / "pool.sqlite"), "a")
+    stale.looked_s.update({A: 0.0, D: 0.0})                        # B, C never looked at
+    patrol(stale, 100.0)
+    assert stale.patrol_goal in (A, D)
+    (tmp_path / "alone").mkdir()
+    alone = make_context(posed_line_graph, tmp_path / "alone", node=C, corridors=(B, C))
+    assert clear_corridor(alone, 100.0) == [] and alone.mode == "idle"

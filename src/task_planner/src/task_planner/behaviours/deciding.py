@@ -18,7 +18,7 @@ from task_planner.behaviours.context import Context, Leaf
 from task_planner.behaviours.driving import drive
 from task_planner.behaviours.fleet_allocation import auction_choice, fleet_allocator, report_free
 from task_planner.behaviours.looking import serve_here
-from task_planner.behaviours.patrolling import patrol
+from task_planner.behaviours.patrolling import clear_corridor, patrol
 from task_planner.behaviours.searching import served_where
 from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, \
     Command, Navigate, StopMotion
@@ -46,7 +46,8 @@ def decide_here(ctx: Context, now: float) -> list[Command]:
         if decision is None:
             if ctx.fleet:
                 ctx.fleet.release()
-            return commands + (patrol(ctx, now) if ctx.config.patrol else [])
+            idle = patrol(ctx, now) if ctx.config.patrol else []
+            return commands + (idle or clear_corridor(ctx, now))
         problem, index, step = decision
         instruction_id = int(problem.ids[index])
         if ctx.fleet and not ctx.fleet.claim(instruction_id, now, int(problem.node[index])):
