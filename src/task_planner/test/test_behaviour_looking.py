@@ -205,6 +205,7 @@ def test_a_stranger_seen_here_lately_is_met_at_once(posed_line_graph, tmp_path):
 def test_a_stranger_not_seen_lately_is_looked_for_then_met(posed_line_graph, tmp_path):
     people = PeopleAtPlaces()
     people.someone_unidentified(B, 1.0, 2.0, stamp=0.0)      # too long ago
+    people.analysed(0.0)                                     # perception reports its frames
     ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
                        stranger_fresh_s=10.0)
     journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
@@ -218,7 +219,9 @@ def test_a_stranger_not_seen_lately_is_looked_for_then_met(posed_line_graph, tmp
 
 
 def test_a_look_that_sees_no_stranger_gives_the_meeting_up(posed_line_graph, tmp_path):
-    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=1,
+    people = PeopleAtPlaces()
+    people.analysed(0.0)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=1,
                        stranger_fresh_s=10.0)
     journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
     assert serve_here(ctx, 1, 20.0) == [Navigate(B, 1, yaw=math.pi)]
@@ -229,5 +232,14 @@ def test_a_look_that_sees_no_stranger_gives_the_meeting_up(posed_line_graph, tmp
 
 def test_without_stranger_fresh_s_a_stranger_is_greeted_on_arrival(posed_line_graph, tmp_path):
     ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=3)
+    journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
+    assert serve_here(ctx, 1, 20.0)[0] == Execute(1, "introduce", 60.0)
+
+
+def test_without_frames_from_perception_a_stranger_is_greeted_on_arrival(posed_line_graph,
+                                                                          tmp_path):
+    """Perception reports no frames to this robot: it cannot look for the stranger."""
+    ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=3,
+                       stranger_fresh_s=10.0)
     journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
     assert serve_here(ctx, 1, 20.0)[0] == Execute(1, "introduce", 60.0)

@@ -61,8 +61,9 @@ def meet_here(ctx: Context, instruction: Instruction, swept: tuple[float, float]
               now: float) -> list[Command]:
     """Greet the stranger once perception saw someone here it cannot tell within
     `stranger_fresh_s`; else look around for them, or give the meeting up when a look all
-    around just now saw nobody such."""
-    if stranger_here(ctx, now - ctx.config.stranger_fresh_s):
+    around just now saw nobody such. Without frames from perception (it reports none to this
+    robot) the robot cannot look for them: it greets on arrival."""
+    if not ctx.people.perceiving() or stranger_here(ctx, now - ctx.config.stranger_fresh_s):
         return execute(ctx, instruction, function_for(ctx.functions, instruction), now)
     place = ctx.graph.names[ctx.node]
     if swept is not None and not stranger_here(ctx, swept[0]):
