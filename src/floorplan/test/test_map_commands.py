@@ -4,7 +4,8 @@ import shutil
 import pytest
 from tamp_resources import resource
 
-from floorplan.map_commands import make_maps_main, plot_map_main
+from floorplan.tools.make_maps import main as make_maps_main
+from floorplan.tools.plot_map import main as plot_map_main
 from floorplan.occupancy_map import load_map
 
 
