@@ -1,5 +1,6 @@
 """Supervisor.wrap: a callback's fault is counted, except a rospy.ROSException raised while the
 node shuts down (a publisher closed under the callback)."""
+import pytest
 import rospy
 
 from supervision.health import Health, HealthConfig
@@ -16,18 +17,14 @@ def closed_publisher(_arg):
     raise rospy.ROSException("topic was closed during publish()")
 
 
-def test_a_closed_publisher_at_shutdown_is_not_a_fault(monkeypatch):
+@pytest.mark.parametrize("is_shutdown, requested", [
+    (True, True),     # rospy shut down
+    (False, True),    # the node's own rospy.on_shutdown hooks run before is_shutdown() turns true
+])
+def test_a_closed_publisher_at_shutdown_is_not_a_fault(monkeypatch, is_shutdown, requested):
     sup = supervisor()
-    monkeypatch.setattr(rospy, "is_shutdown", lambda: True)
-    assert sup.wrap("control", closed_publisher)(None) is None
-    assert sup.health.faults == 0
-
-
-def test_a_closed_publisher_while_shutdown_hooks_run_is_not_a_fault(monkeypatch):
-    """The node's own rospy.on_shutdown hooks run before rospy.is_shutdown() turns true."""
-    sup = supervisor()
-    monkeypatch.setattr(rospy, "is_shutdown", lambda: False)
-    monkeypatch.setattr(rospy.core, "is_shutdown_requested", lambda: True)
+    monkeypatch.setattr(rospy, "is_shutdown", lambda: is_shutdown)
+    monkeypatch.setattr(rospy.core, "is_shutdown_requested", lambda: requested)
     assert sup.wrap("control", closed_publisher)(None) is None
     assert sup.health.faults == 0
 

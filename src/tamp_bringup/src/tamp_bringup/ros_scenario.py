@@ -56,7 +56,7 @@ from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
 from tamp_bringup.scenario import (
-    DIALOGUE_END_PHRASES, INTRODUCE_TEXT, load_scenario, place_of, resident_answer, residents,
+    INTRODUCE_TEXT, ends_dialogue, load_scenario, place_of, resident_answer, residents,
     seen_shirt, timeline, visitor_answer, who_answers)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
@@ -284,7 +284,7 @@ class ScenarioNode:
         registered = {r["visitor"] for r in self.registrations}
         visitors = {v.name: v for v in self.scenario.visitors if v.name not in registered}
         for k, (said_at, text) in enumerate(said):
-            if any(phrase in text.lower() for phrase in DIALOGUE_END_PHRASES):
+            if ends_dialogue(text):
                 self.speaking, self.ended = None, self.meeting
                 continue
             here = {name: self.wearing[name] for name in list(visitors) + list(self.unmet)

@@ -157,6 +157,11 @@ GIVE_UP_PHRASE = "try again later"
 # IntroductionConfig: welcome, recalled, give_up): whoever answered is done
 DIALOGUE_END_PHRASES = ("nice to meet you", "i will know you in these clothes now",
                         GIVE_UP_PHRASE)
+
+
+def ends_dialogue(said):
+    """Whether the robot's sentence `said` ends an introduction dialogue."""
+    return any(phrase in said.lower() for phrase in DIALOGUE_END_PHRASES)
 SEEN_SHIRT = re.compile(r"\((\d+), (\d+), (\d+)\)")
 
 
