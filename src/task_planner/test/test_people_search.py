@@ -49,6 +49,21 @@ def test_search_order_is_last_seen_then_schedule_then_stalest():
     assert search_order("Zoe", people, {}, range(4), [], distance_m=[6, 5, 3, 0]) == [D, C, B, A]
 
 
+def test_search_looks_where_they_were_seen_before_the_stalest_places():
+    people = PeopleAtPlaces()
+    people.seen("David", B, stamp=10.0)      # met in B
+    people.seen("David", C, stamp=20.0)      # then taken for someone in C
+    people.predicted["David"] = A
+    looked = {B: 15.0, C: 30.0}              # D never looked at: the stalest
+    assert search_order("David", people, looked, range(4), searched=[]) == [C, A, B, D]
+    # C looked all around after the sighting there and missed him: C ranks by staleness
+    swept = {C: (25.0, 30.0), B: (12.0, 15.0)}
+    assert search_order("David", people, looked, range(4), [], swept=swept) == [A, B, D, C]
+    # the schedule's place stays second even when looked around since (he may have come)
+    swept[A] = (40.0, 45.0)
+    assert search_order("David", people, looked, range(4), [], swept=swept)[:2] == [A, B]
+
+
 def test_an_older_sighting_does_not_undo_a_missed_look():
     people = PeopleAtPlaces()
     people.seen("Bob", C, stamp=5.0)

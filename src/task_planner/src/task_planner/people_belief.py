@@ -143,12 +143,24 @@ def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],
 
 def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float],
                  places: Iterable[int], searched: Container[int],
-                 distance_m: Sequence[float] | None = None) -> list[int]:
-    """Where to look for `name` next: the place they were last seen (unless a look there has
-    missed them since), then the place their schedule predicts, then every other place, the
-    longest unlooked-at first, the nearest first among equally stale ones (`distance_m[n]`: from
-    the robot [m]); places already searched for this instruction are left out."""
-    first = [people.now.get(name), people.predicted.get(name)]
+                 distance_m: Sequence[float] | None = None,
+                 swept: Mapping[int, tuple[float, float]] | None = None) -> list[int]:
+    """Where to look for `name` next: where the belief and the schedule point first (the place
+    they were last seen, the place their schedule predicts, then the places they were seen
+    before, most recent first), then every other place, the longest unlooked-at first, the
+    nearest first among equally stale ones (`distance_m[n]`: from the robot [m]). A place where
+    they were seen that was looked all around after their last sighting (`swept[n]`: (start,
+    end) [s] of the latest look all around n) missed them: it ranks with the other places.
+    Places already searched for this instruction are left out."""
+    last_seen = people.seen_s.get(name, -math.inf)
+    swept = swept or {}
+
+    def missed_since_seen(node: int | None) -> bool:
+        return node is not None and swept.get(node, (-math.inf,))[0] > last_seen
+
+    seen_at = [people.now.get(name), *people.before.get(name, [])]
+    first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
+    first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
     rest = sorted(places, key=lambda n: (looked_s.get(n, -math.inf),
                                          0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]

@@ -24,7 +24,7 @@ def where(ctx: Context, instruction: Instruction) -> int:
         if key not in ctx.search and ctx.config.search_all_places:
             ctx.search[key] = search_order(target, ctx.people, ctx.looked_s,
                                            range(ctx.graph.size), ctx.searched.get(key, ()),
-                                           ctx.graph.shortest[ctx.node])
+                                           ctx.graph.shortest[ctx.node], ctx.swept)
     queue = ctx.search.get(key)
     return queue[0] if queue else instruction.destination
 
@@ -47,7 +47,8 @@ def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Comm
     share_miss(ctx, instruction, now)
     if ctx.config.search_all_places:
         queue = search_order(instruction.target, ctx.people, ctx.looked_s,
-                             range(ctx.graph.size), searched, ctx.graph.shortest[ctx.node])
+                             range(ctx.graph.size), searched, ctx.graph.shortest[ctx.node],
+                             ctx.swept)
     else:
         left = ctx.search.get(instruction.id)
         if left is None:  # first miss, at the instruction's own destination
