@@ -18,7 +18,7 @@ from perception.answers import (AnswerError, closest_name, parse_age, parse_gend
                                 parse_yes_no)
 from perception.introduction import (AGE, COMPLETE, CONFIRM, FAILED, GENDER, NAME, SUBMITTING,
                                      IntroductionConfig, IntroductionDialogue, NewcomerWatch,
-                                     answered_by_the_stranger, seen_shirt)
+                                     answered_by_the_stranger, seen_shirt, walked_off)
 from tamp_resources import resource
 
 CONFIG = resource("config")
@@ -216,6 +216,26 @@ def test_answers_count_as_the_strangers_only_if_they_were_seen_there_lately(watc
     assert not answered_by_the_stranger(stranger, "living_room", 30.0, config)
     watch.observe(WHITE, "welcome", 70.0, [])      # seen again during the dialogue
     assert answered_by_the_stranger(stranger, "welcome", 63.0, config)
+
+
+def test_a_silent_stranger_out_of_sight_walked_off(watch):
+    """Greeted at 30 s in the welcome hall after sightings at 0-2 s: nothing heard and not seen
+    there since, the stranger walked off once `gone_after` (20 s) passed; seen there during
+    the dialogue, or once an answer came, the robot waits for the answers' timeouts."""
+    for t in range(3):
+        watch.observe(WHITE, "welcome", float(t), [])
+    stranger = watch.taken(30)
+    talk = IntroductionDialogue(IntroductionConfig(), WHITE, started=30.0, place="welcome")
+    assert not walked_off(stranger, talk, 49.0)
+    assert walked_off(stranger, talk, 50.0)
+    assert not walked_off(stranger, IntroductionDialogue(IntroductionConfig(gone_after=0.0),
+                                                         WHITE, 30.0, "welcome"), 90.0)
+    watch.observe(WHITE, "welcome", 35.0, [])       # in sight: may still answer
+    assert not walked_off(stranger, talk, 50.0)
+    watch.observe(WHITE, "living_room", 40.0, [])   # seen elsewhere: gone
+    assert walked_off(stranger, talk, 50.0)
+    talk.hear("Mumble.", "", 45.0)                  # someone answered: not gone
+    assert not walked_off(stranger, talk, 50.0)
 
 
 # ---- the dialogue --------------------------------------------------------------------------

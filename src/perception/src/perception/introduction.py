@@ -66,6 +66,9 @@ class IntroductionConfig:
                                    # before the dialogue began, or during it, for the answers to
                                    # be theirs (else someone else answered for them)
     not_seen: str = "I am sorry, I cannot see the person I came to meet. Let us try again later."
+    gone_after: float = 20.0       # [s] with nothing heard and the stranger not seen in the
+                                   # place since the greeting: they walked off, the meeting
+                                   # ends (0: wait for the answers' timeouts)
 
 
 @dataclass
@@ -213,6 +216,18 @@ def answered_by_the_stranger(stranger: Stranger, place: str, started: float,
     return stranger.place == place and stranger.last_seen >= started - config.seen_within
 
 
+def walked_off(stranger: Stranger, dialogue: "IntroductionDialogue", now: float) -> bool:
+    """Whether the stranger of a dialogue walked off before answering: nothing was heard
+    `gone_after` [s] after the greeting and perception has not seen them in the dialogue's
+    place since it began. An answer takes about 5 s through the speech-to-text node (16 s on
+    a loaded machine), so a silent stranger who is out of sight is not waited for to the
+    end of the robot function's 60 s."""
+    config = dialogue.config
+    return (config.gone_after > 0 and not dialogue.heard and now - dialogue.started
+            >= config.gone_after and not (stranger.place == dialogue.place
+                                          and stranger.last_seen >= dialogue.started))
+
+
 @dataclass(frozen=True)
 class Turn:
     """What the dialogue does after an answer or a tick."""
@@ -237,6 +252,7 @@ class IntroductionDialogue:
         self.recalled = ""    # the resident this stranger turned out to be ("" = a new person)
         self.heard_name = ""  # CONFIRM: the name as heard, taken if the resident's is denied
         self.candidate = ""   # CONFIRM: the resident whose name it may be
+        self.heard = 0        # answers heard, understood or not
 
     @property
     def open(self) -> bool:
@@ -252,6 +268,7 @@ class IntroductionDialogue:
         """One answer from the person; returns the Turn (next question, re-ask or the end)."""
         if not self.open:
             raise RuntimeError(f"dialogue is {self.state}; no answer expected")
+        self.heard += 1
         reader: Callable[[str], Any] = {NAME: parse_name, GENDER: parse_gender, AGE: parse_age,
                   CONFIRM: parse_yes_no}[self.state]
         try:

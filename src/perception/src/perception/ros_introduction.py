@@ -46,7 +46,8 @@ from task_planner.ros_submit import SubmitClient
 
 from perception.conversions import utterance_time
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
-                                     NewcomerWatch, answered_by_the_stranger, seen_shirt)
+                                     NewcomerWatch, answered_by_the_stranger, seen_shirt,
+                                     walked_off)
 
 ENDED = (InstructionState.DONE, InstructionState.FAILED, InstructionState.CANCELLED)
 
@@ -69,7 +70,8 @@ class IntroductionParams:
                                           # per robot of a fleet)
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
                                           # ~min_sightings,
-                                          # ~max_retries, ~answer_timeout, ~retry_after
+                                          # ~max_retries, ~answer_timeout, ~retry_after,
+                                          # ~seen_within, ~gone_after
 
 
 def over_topic(state_topic):
@@ -82,7 +84,7 @@ def read_params():
     """Node parameters; KeyError names a missing required one."""
     config = config_from_params(IntroductionConfig, only=(
         "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
-        "retry_after", "seen_within"))
+        "retry_after", "seen_within", "gone_after"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
         "period", "close_linger", "register_timeout", "state_topics"),
@@ -193,7 +195,10 @@ class IntroductionNode:
             if self.dialogue is not None and self.dialogue.open and msg.ip not in ips:
                 self._answer(msg, now)
         if self.dialogue is not None and self.dialogue.open:
-            self._turn(self.dialogue.tick(now), now)
+            if walked_off(self.stranger, self.dialogue, now):
+                self._gone(now)
+            else:
+                self._turn(self.dialogue.tick(now), now)
         self._publish_open(self._open_until is not None and
                            (self.dialogue is not None and self.dialogue.open
                             or now < self._open_until))
@@ -345,6 +350,14 @@ class IntroductionNode:
     def _call_register(self, human):
         rospy.wait_for_service("human_db/register", self.params.register_timeout)
         return self.register(human=human_to_msg(human), replace=False)
+
+    def _gone(self, now):
+        """The stranger walked off before answering (walked_off): end the meeting."""
+        self.dialogue.abort()
+        self.say.publish(String(self.params.config.not_seen))
+        self._end(now, f"nothing heard from the stranger of #{self.stranger.instruction_id} "
+                       f"{now - self.dialogue.started:.0f} s after the greeting and not seen in "
+                       f"{self.dialogue.place} since: they walked off", met=False)
 
     def _end(self, now, what, met):
         for publisher in self.function_over:
