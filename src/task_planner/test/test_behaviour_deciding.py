@@ -120,3 +120,39 @@ def test_a_meeting_is_planned_with_the_priority_of_the_request_waiting_for_it(li
     ctx.people.seen("Carol", C, 2.0)               # seen: her request no longer waits
     problem, available = fetch_and_decode(ctx, 2.0)
     assert {i.id: i.gamma for i in problem.instructions}[2] == 1.0 and len(available) == 2
+
+
+def test_an_overdue_request_goes_before_newer_ones(line_graph, tmp_path):
+    """Bob asked at 0 s, Carol at 100 s with the same priority: by Eq. 4-2 Bob's request is
+    worth 5 * 0.96 ** 130 = 0.03 at 130 s against Carol's 2.0, so the reward alone serves
+    Carol first. With serve_within_s 120 Bob's request, 130 s old, goes first."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst())
+    journal(ctx, make_instruction(1, A, gamma=5.0, beta=0.96, function=1, start_time=0.0))
+    journal(ctx, make_instruction(2, C, gamma=5.0, beta=0.96, function=1, start_time=100.0),
+            now=100.0)
+    _, available = fetch_and_decode(ctx, 130.0)
+    assert list(available) == [0, 1]                    # the seed's rule: both, by reward
+    ctx.config = replace(ctx.config, serve_within_s=120.0)
+    _, available = fetch_and_decode(ctx, 110.0)
+    assert list(available) == [0, 1]                    # nothing overdue yet
+    problem, available = fetch_and_decode(ctx, 130.0)
+    assert [int(problem.ids[k]) for k in available] == [1]
+
+
+def test_a_meeting_is_overdue_while_an_overdue_request_waits_for_it(line_graph, tmp_path):
+    """Carol, never seen, asked 150 s ago; a newer request of Bob's and a meeting are open:
+    the meeting (Carol may be the stranger) goes before Bob's."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    ctx.people.seen("Bob", C, 1.0)
+    journal(ctx, make_instruction(1, C, function=1, source="Carol", target="Carol",
+                                  start_time=0.0))
+    journal(ctx, make_instruction(2, C, function=1, source="Bob", target="Bob", start_time=140.0),
+            make_instruction(3, D, gamma=1.0, beta=0.9, function=9, type=ROBOT, source="robot",
+                             start_time=145.0), now=145.0)
+    problem, available = fetch_and_decode(ctx, 150.0)
+    assert [int(problem.ids[k]) for k in available] == [3]
+    ctx.buffer.start(3, 150.0)
+    ctx.buffer.finish(3, 151.0)     # met someone else: Carol, never seen, is not searched for
+    problem, available = fetch_and_decode(ctx, 152.0)
+    assert sorted(int(problem.ids[k]) for k in available) == [1, 2]

@@ -103,6 +103,9 @@ class NodeParams:
     own_yields: bool = True        # a person's request interrupts the robot's own instruction
     meetings_inherit: bool = True  # a stranger's meeting is planned with the priority of the
                                    # strongest request waiting to know who its person is
+    serve_within: float = 120.0    # an instruction launched this long ago is served before any
+                                   # newer one [s]; 0 = Eq. 4-2's reward alone decides (the
+                                   # seed: an old request may wait for ever)
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
     utc_offset: float = 0.0        # added to ROS time for the time of day of the schedules'
                                    # predicted places [s] (simulated time: the day's start)
@@ -149,7 +152,7 @@ class NodeParams:
                     "corridor_wait", "look_frames_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
                          "look_dwell", "look_frames", "look_again", "stranger_fresh", "pass_wait",
-                         "patrol_interval",
+                         "patrol_interval", "serve_within",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions")
         if self.fleet_allocator not in FLEET_ALLOCATORS:
@@ -190,6 +193,7 @@ class ExecutorNode:
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
                            own_yields=params.own_yields,
                            meetings_inherit=params.meetings_inherit,
+                           serve_within_s=params.serve_within,
                            patrol_interval_s=params.patrol_interval,
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
                            corridor_wait_s=params.corridor_wait,

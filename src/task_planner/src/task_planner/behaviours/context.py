@@ -57,6 +57,9 @@ class ExecutorConfig:
     own_kept: tuple = ("charge", "introduce")  # own functions that are never interrupted
     meetings_inherit: bool = False  # a stranger's meeting takes the priority of the strongest
                                   # person's request waiting for a meeting (planner only)
+    serve_within_s: float = 0.0   # instructions launched this long ago are served before any
+                                  # newer one (deciding.overdue_first) [s] (0: Eq. 4-2's
+                                  # reward alone decides, as the seed)
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]

@@ -137,7 +137,8 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     only when the instruction set changes, so its per-set memory (the loop guard) holds. An
     own instruction that gave way to a person waits until no person's instruction is open, and
     a person's instruction for someone the robot has never seen waits while it has a stranger
-    to meet (`waiting_for_a_meeting`). In a fleet, an instruction another robot holds is not
+    to meet (`waiting_for_a_meeting`). Overdue instructions go first (`overdue_first`). In a
+    fleet, an instruction another robot holds is not
     eligible.
     """
     pending = [r for r in ctx.buffer.open_records() if r.state == PENDING]
@@ -164,7 +165,37 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
                               or r.instruction.previous_id in done)
                           and r.instruction.id not in skipped
                           and instructions[k].destination not in busy_places], dtype=int)
-    return ctx.problem, available
+    return ctx.problem, overdue_first(ctx, pending, available, waiting, now)
+
+
+def overdue_first(ctx: Context, pending: Sequence[Record], available: np.ndarray,
+                  waiting: set[int], now: float) -> np.ndarray:
+    """The eligible instructions launched at least `serve_within_s` ago, when there are any
+    (with the robot's charging, which never waits), else all eligible ones. Eq. 4-2's reward
+    decays so fast (β 0.94-0.98 per second) that after a few minutes an old request is worth
+    next to nothing against a new one, and a reward-maximising planner would keep passing it
+    over; an overdue one is served before any newer one. A request for someone the robot has
+    never seen is not: perception cannot tell them, and a search would look for them in vain;
+    they are met first, and a meeting counts as overdue while an overdue request waits for it
+    (its stranger may be that request's person)."""
+    limit = ctx.config.serve_within_s
+    if limit <= 0 or not len(available):
+        return available
+
+    def late(record: Record) -> bool:
+        target = record.instruction.target
+        return (now - record.instruction.start_time >= limit
+                and (not target or ctx.people.knows(target)))
+
+    meeting_late = any(now - r.instruction.start_time >= limit
+                       for r in pending if r.instruction.id in waiting)
+    charge = ctx.charging.function_code if ctx.charging is not None else None
+    chosen = [k for k in available
+              if late(pending[k]) or pending[k].instruction.function == charge
+              or (meeting_late and is_meeting(ctx.functions, pending[k].instruction))]
+    if not any(late(pending[k]) or meeting_late for k in chosen):
+        return available
+    return np.array(chosen, dtype=int)
 
 
 def meetings_inherit(ctx: Context, pending: Sequence[Record],
