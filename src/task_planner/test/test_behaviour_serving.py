@@ -29,6 +29,17 @@ def test_finish_writes_back_the_decayed_reward(line_graph, tmp_path):
     assert ctx.mode == IDLE and ctx.log[-1] == (10.0, "done 1: reward 1.046")
 
 
+def test_the_person_served_is_believed_where_they_were_served(line_graph, tmp_path):
+    """Bob was seen at B when his chat began at 0 s, not since (seated, half hidden): at its
+    end he is believed at B, seen then, so his next request at B is served at once."""
+    ctx = make_context(line_graph, tmp_path, node=B)
+    ctx.people.seen("Bob", B, 0.0)
+    record, = journal(ctx, make_instruction(1, B, duration=60, function=1, target="Bob"))
+    execute(ctx, record.instruction, ctx.functions[1], 0.0)
+    finish(ctx, 60.0)
+    assert ctx.people.is_at("Bob", B, since=60.0)
+
+
 def test_the_executing_leaf_runs_until_the_time_is_up(line_graph, tmp_path):
     ctx = make_context(line_graph, tmp_path)
     leaf = Executing(ctx)

@@ -46,7 +46,8 @@ def test_search_order_is_last_seen_then_schedule_then_stalest():
     assert search_order("Bob", people, looked, range(4), searched=[]) == [C, A, D, B]
     assert search_order("Bob", people, looked, range(4), searched=[C]) == [A, D, B]
     # equally stale places: the nearest first (distances from the robot at D)
-    assert search_order("Zoe", people, {}, range(4), [], distance_m=[6, 5, 3, 0]) == [D, C, B, A]
+    assert search_order("Zoe", PeopleAtPlaces(), {}, range(4), [],
+                        distance_m=[6, 5, 3, 0]) == [D, C, B, A]
 
 
 def test_search_looks_where_they_were_seen_before_the_stalest_places():
@@ -62,6 +63,16 @@ def test_search_looks_where_they_were_seen_before_the_stalest_places():
     # the schedule's place stays second even when looked around since (he may have come)
     swept[A] = (40.0, 45.0)
     assert search_order("David", people, looked, range(4), [], swept=swept)[:2] == [A, B]
+
+
+
+def test_a_person_the_belief_says_nothing_of_is_looked_for_where_others_are_expected():
+    """Carol was never seen and her schedule is empty now; Bob's puts him at C: C first (the
+    household gathers there; a stranger seen there is met), then the stalest places."""
+    people = PeopleAtPlaces()
+    people.predicted.update({"Bob": C, "Carol": None})
+    looked = {C: 50.0, D: 10.0}
+    assert search_order("Carol", people, looked, range(4), searched=[]) == [C, A, B, D]
 
 
 def test_an_older_sighting_does_not_undo_a_missed_look():
@@ -127,6 +138,30 @@ def test_search_fails_only_when_every_place_was_looked_at(graph, tmp_path):
     assert not found and sorted(places) == ["A", "B", "C", "D"]
 
 
+def test_a_place_with_someone_perception_could_not_tell_is_looked_at_again(graph, tmp_path):
+    """Zoe is nowhere perception could tell her; at C it saw someone it could not tell (half
+    hidden) during the search. With every place searched, the robot looks at C once more
+    before it gives up; without anybody such, C is looked at once."""
+    def search(people, folder):
+        (tmp_path / folder).mkdir()
+        executor = executor_for(graph, tmp_path / folder, people)
+        visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3,
+                                 target="Zoe")
+        run_executor(executor, [(0.0, visit)], NavigationModel(graph, 0.5, turn_s=1.0))
+        assert executor.buffer.get(1).state == FAILED
+        (_, _, _, _, _, places), = executor.buffer.searches()
+        return places, [text for _, text in executor.state.log if "look again" in text]
+
+    places, said = search(PeopleAtPlaces(), "nobody")
+    assert sorted(places) == ["A", "B", "C", "D"] and not said
+    people = PeopleAtPlaces()
+    people.someone_unidentified(C, 3.0, 0.0, stamp=5.0)   # after the first miss (at 5 s)
+    places, said = search(people, "someone")
+    assert places.count("C") == 2 and places[-1] == "C"
+    assert said == ["Zoe not seen anywhere; look again at C, where someone perception could "
+                    "not tell was"]
+
+
 def test_look_stops_as_soon_as_the_person_is_seen(graph, tmp_path):
     people = PeopleAtPlaces()
     executor = executor_for(graph, tmp_path, people, start=B)
@@ -179,6 +214,8 @@ def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
     chat = make_instruction(2, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Ann")
     people.predicted["Ann"] = C                # her schedule's place comes first
     assert where(executor.state, chat) == C
+    people.predicted["Bob"] = B                # his schedule turns to B: B goes first
+    assert where(executor.state, visit) == B and executor.state.search[1] == [B, D, A, C]
 
 
 def test_look_dwells_on_each_heading_before_it_turns_on(graph, tmp_path):

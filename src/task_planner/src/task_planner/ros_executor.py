@@ -132,6 +132,7 @@ class NodeParams:
     corridors: tuple = ()          # places one robot of the fleet at a time drives through
     corridor_wait: float = 60.0    # wait this long for a corridor, then drive on [s]
     one_robot_per_place: bool = False  # leave a place's instructions to the robot there
+    log_decisions: bool = True     # log the executor's reasons (move, look, search, serve, fail)
     max_open_instructions: int = 2000  # a new instruction beyond this many open ones is refused
                                    # ("the task buffer is full"): each open one costs every
                                    # decision and every state message; 0 = no cap
@@ -217,6 +218,7 @@ class ExecutorNode:
         self.events = deque(maxlen=20)  # (wall time, text): shown on diagnostics for event_hold
         self.sup = None
         self._quarantine_seen = 0   # quarantined rows already announced (_announce_quarantine)
+        self._logged = 0            # executor log entries already written (_log_decisions)
         self.step_s = deque(maxlen=1000)  # wall time of the latest busy executor steps [s]
         self.settings = settings
         self.view_planner = make_planner(params.planner, settings,  # plays the plan forward
@@ -422,6 +424,7 @@ class ExecutorNode:
             for instruction_id in over:
                 self.executor.function_over(instruction_id, now)
             commands += self.executor.tick(now)
+            self._log_decisions()
             busy = (self.executor.buffer.version != version or commands
                     or len(self.executor.decision_s) != decisions)
             if busy:  # journal + decide + write back, without the ROS publishing below
@@ -432,6 +435,15 @@ class ExecutorNode:
             self._publish_view()
             self._publish_tree()
             self._publish_activity()
+
+    def _log_decisions(self):
+        """The executor's new reasons (move, look, search, serve, fail) to the node's log, so a
+        run's launch log tells why the robot went where it went (`~log_decisions`)."""
+        log = self.executor.log
+        if self.params.log_decisions:
+            for stamp, text in log[self._logged:]:
+                rospy.loginfo("task_planner: [%.1f s] %s", stamp, text)
+        self._logged = len(log)
 
     def _receive(self, now):
         inbox, self.inbox = self.inbox, []

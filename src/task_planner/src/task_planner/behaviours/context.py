@@ -132,6 +132,8 @@ class Context:
                                                   # already searched
     search_start: dict[int, float] = field(default_factory=dict)  # instruction id -> its
                                                   # first miss [s]
+    rechecked: dict[int, set[int]] = field(default_factory=dict)  # instruction id -> places
+                                                  # looked at again (searching.look_again_at)
     looked_s: dict[int, float] = field(default_factory=dict)  # node -> when the robot last
                                                   # looked there [s]
     swept: dict[int, tuple[float, float]] = field(default_factory=dict)  # node -> (start, end)

@@ -174,21 +174,16 @@ def overdue_first(ctx: Context, pending: Sequence[Record], available: np.ndarray
     (with the robot's charging, which never waits), else all eligible ones. Eq. 4-2's reward
     decays so fast (β 0.94-0.98 per second) that after a few minutes an old request is worth
     next to nothing against a new one, and a reward-maximising planner would keep passing it
-    over; an overdue one is served before any newer one. A request for someone the robot has
-    never seen is not: perception cannot tell them, and a search would look for them in vain;
-    they are met first, and a meeting counts as overdue while an overdue request waits for it
-    (its stranger may be that request's person)."""
+    over; an overdue one is served before any newer one. A meeting counts as overdue while an
+    overdue request waits for it (its stranger may be that request's person)."""
     limit = ctx.config.serve_within_s
     if limit <= 0 or not len(available):
         return available
 
     def late(record: Record) -> bool:
-        target = record.instruction.target
-        return (now - record.instruction.start_time >= limit
-                and (not target or ctx.people.knows(target)))
+        return now - record.instruction.start_time >= limit
 
-    meeting_late = any(now - r.instruction.start_time >= limit
-                       for r in pending if r.instruction.id in waiting)
+    meeting_late = any(late(r) for r in pending if r.instruction.id in waiting)
     charge = ctx.charging.function_code if ctx.charging is not None else None
     chosen = [k for k in available
               if late(pending[k]) or pending[k].instruction.function == charge

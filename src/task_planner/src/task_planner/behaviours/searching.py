@@ -1,6 +1,7 @@
 """Searching for a person who is not where the robot believed them (ROS-free): where to serve an
 instruction (its destination, the place being searched, or where its person was last seen), and
-the next place to search after a miss, until none is left ("<name> not found").
+the next place to search after a miss; with none left, once more the places where someone
+perception could not tell was seen, then "<name> not found".
 """
 from dataclasses import replace
 
@@ -14,8 +15,9 @@ from task_planner.people_belief import search_order
 def where(ctx: Context, instruction: Instruction) -> int:
     """Where to serve an instruction. Following the belief: where its person was last seen,
     else the next place of their search (planned once, from where the robot is, so the goal
-    does not change as the robot moves). Otherwise: the place being searched, else its
-    destination."""
+    does not change as the robot moves; but the place their schedule puts them in now goes
+    first, as the schedule turns to a new entry). Otherwise: the place being searched, else
+    its destination."""
     target, key = instruction.target, instruction.id
     if ctx.config.follow_belief and target:
         seen = ctx.people.now.get(target)
@@ -25,6 +27,9 @@ def where(ctx: Context, instruction: Instruction) -> int:
             ctx.search[key] = search_order(target, ctx.people, ctx.looked_s,
                                            range(ctx.graph.size), ctx.searched.get(key, ()),
                                            ctx.graph.shortest[ctx.node], ctx.swept)
+        scheduled, queue = ctx.people.predicted.get(target), ctx.search.get(key)
+        if queue and scheduled in queue[1:]:
+            ctx.search[key] = [scheduled, *(n for n in queue if n != scheduled)]
     queue = ctx.search.get(key)
     return queue[0] if queue else instruction.destination
 
@@ -59,6 +64,13 @@ def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Comm
         ctx.log.append((now, f"{instruction.target} not at {ctx.graph.names[ctx.node]}; "
                              f"search {ctx.graph.names[queue[0]]}"))
         return []
+    again = look_again_at(ctx, instruction, now)
+    if again:
+        ctx.search[instruction.id] = again
+        ctx.log.append((now, f"{instruction.target} not seen anywhere; look again at "
+                             f"{ctx.graph.names[again[0]]}, where someone perception could not "
+                             f"tell was"))
+        return []
     looked = ", ".join(ctx.graph.names[n] for n in searched)
     end_search(ctx, instruction, now, found=False)
     return fail(ctx, instruction.id, now,
@@ -76,3 +88,17 @@ def share_miss(ctx: Context, instruction: Instruction, now: float) -> None:
         ctx.search[key] = [p for p in queue if p != ctx.node]
         ctx.searched.setdefault(key, []).append(ctx.node)
         ctx.search_start.setdefault(key, now)
+
+
+def look_again_at(ctx: Context, instruction: Instruction, now: float) -> list[int]:
+    """Every place searched, the person not seen: the places where, since the search began,
+    perception saw someone it could not tell (sitting half hidden, seen from behind), the
+    nearest first, each looked at once more for this instruction: that someone may be the
+    person, and a second look from the same spot often shows the shirt the first missed."""
+    done = ctx.rechecked.setdefault(instruction.id, set())
+    since = ctx.search_start.get(instruction.id, now)
+    places = [n for n in dict.fromkeys(ctx.searched.get(instruction.id, ()))
+              if n not in done and ctx.people.unidentified_at(n, since) is not None]
+    places.sort(key=lambda n: float(ctx.graph.shortest[ctx.node][n]))
+    done.update(places)
+    return places

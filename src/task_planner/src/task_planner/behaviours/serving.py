@@ -25,6 +25,7 @@ def fail(ctx: Context, instruction_id: int, now: float, reason: str) -> list[Com
     close_in_fleet(ctx, instruction_id, now, fleet_pool.FAILED)
     ctx.search.pop(instruction_id, None)
     ctx.searched.pop(instruction_id, None)
+    ctx.rechecked.pop(instruction_id, None)
     ctx.log.append((now, f"failed {instruction_id}: {reason}"))
     return [Say(f"Sorry, I could not complete request {instruction_id}.")]
 
@@ -60,7 +61,9 @@ def execute(ctx: Context, instruction: Instruction, function: RobotFunction,
 
 def finish(ctx: Context, now: float) -> None:
     """The executing function's time is up: journal it DONE with its reward (a charge fills
-    the battery) and go idle."""
+    the battery) and go idle. The person served is believed here, as seen now: the robot
+    talked with them the whole time, though perception may not have told them apart meanwhile
+    (seated at a table, half hidden), and their next request here is served at once."""
     instruction_id = ctx.executing_now()[0]
     record = ctx.buffer.finish(instruction_id, now)
     close_in_fleet(ctx, instruction_id, now, fleet_pool.DONE)
@@ -69,6 +72,9 @@ def finish(ctx: Context, now: float) -> None:
         save_battery(ctx, force=True)
     ctx.search.pop(instruction_id, None)
     ctx.searched.pop(instruction_id, None)
+    ctx.rechecked.pop(instruction_id, None)
+    if record.instruction.target:   # they were with the robot all along: here, seen just now
+        ctx.people.seen(record.instruction.target, ctx.node, now)
     ctx.log.append((now, f"done {instruction_id}: reward {record.reward_earned:.3f}"))
     ctx.mode, ctx.executing = IDLE, None
 
