@@ -68,11 +68,15 @@ def test_search_looks_where_they_were_seen_before_the_stalest_places():
 
 def test_a_person_the_belief_says_nothing_of_is_looked_for_where_others_are_expected():
     """Carol was never seen and her schedule is empty now; Bob's puts him at C: C first (the
-    household gathers there; a stranger seen there is met), then the stalest places."""
+    household gathers there; a stranger seen there is met), then the stalest places. Once
+    she was seen, others' schedules say nothing of her."""
     people = PeopleAtPlaces()
     people.predicted.update({"Bob": C, "Carol": None})
     looked = {C: 50.0, D: 10.0}
     assert search_order("Carol", people, looked, range(4), searched=[]) == [C, A, B, D]
+    people.seen("Carol", B, 60.0)
+    people.missed("Carol", B)                # seen once: the stalest places, as for anyone
+    assert search_order("Carol", people, looked, range(4), searched=[B]) == [A, D, C]
 
 
 def test_an_older_sighting_does_not_undo_a_missed_look():

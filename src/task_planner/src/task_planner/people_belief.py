@@ -147,10 +147,11 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
                  swept: Mapping[int, tuple[float, float]] | None = None) -> list[int]:
     """Where to look for `name` next: where the belief and the schedule point first (the place
     they were last seen, the place their schedule predicts, then the places they were seen
-    before, most recent first), then every other place: first those where anyone's schedule
-    puts someone now (the household gathers there, and a stranger seen there is met: perhaps
-    the person, in new clothes or not met yet), each group the longest unlooked-at first, the
-    nearest first among equally stale ones (`distance_m[n]`: from the robot [m]). A place where
+    before, most recent first), then every other place, the longest unlooked-at first, the
+    nearest first among equally stale ones (`distance_m[n]`: from the robot [m]). For someone
+    never seen (not met yet: perception cannot tell them) the places where anyone's schedule
+    puts someone now come before the others: the household gathers there, and a stranger seen
+    there is met, perhaps the person looked for. A place where
     they were seen that was looked all around after their last sighting (`swept[n]`: (start,
     end) [s] of the latest look all around n) missed them: it ranks with the other places.
     Places already searched for this instruction are left out."""
@@ -163,7 +164,7 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     seen_at = [people.now.get(name), *people.before.get(name, [])]
     first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
     first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
-    scheduled = set(people.predicted.values())
+    scheduled = set() if people.knows(name) else set(people.predicted.values())
     rest = sorted(places, key=lambda n: (n not in scheduled, looked_s.get(n, -math.inf),
                                          0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]
