@@ -164,6 +164,11 @@ def test_a_place_with_someone_perception_could_not_tell_is_looked_at_again(graph
     assert places.count("C") == 2 and places[-1] == "C"
     assert said == ["Zoe not seen anywhere; look again at C, where someone perception could "
                     "not tell was"]
+    people = PeopleAtPlaces()                      # two such places: both looked at again
+    people.someone_unidentified(B, 1.0, 0.0, stamp=5.0)
+    people.someone_unidentified(C, 3.0, 0.0, stamp=5.0)
+    places, said = search(people, "two")
+    assert places == ["B", "A", "C", "D", "C", "B"] and len(said) == 2
 
 
 def test_look_stops_as_soon_as_the_person_is_seen(graph, tmp_path):
