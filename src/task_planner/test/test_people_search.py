@@ -169,6 +169,10 @@ def test_a_place_with_someone_perception_could_not_tell_is_looked_at_again(graph
     people.someone_unidentified(C, 3.0, 0.0, stamp=5.0)
     places, said = search(people, "two")
     assert places == ["B", "A", "C", "D", "C", "B"] and len(said) == 2
+    people = PeopleAtPlaces()                      # seen during the first look (2-5 s) at B
+    people.someone_unidentified(B, 1.0, 0.0, stamp=3.0)
+    places, said = search(people, "first")
+    assert places.count("B") == 2 and len(said) == 1
 
 
 def test_look_stops_as_soon_as_the_person_is_seen(graph, tmp_path):

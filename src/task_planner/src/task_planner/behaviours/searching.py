@@ -91,19 +91,21 @@ def share_miss(ctx: Context, instruction: Instruction, now: float) -> None:
 
 
 def look_again_at(ctx: Context, instruction: Instruction, now: float) -> list[int]:
-    """Every place searched, the person not seen: the places where, since the search began,
-    perception saw someone it could not tell (sitting half hidden, seen from behind), where
-    the person was seen before first, then the nearest, each looked at once more for this
-    instruction (the place just looked at is not): that someone may be the person, and a
-    second look often shows the shirt the first missed. Once chosen, the second looks go on
-    through that list, and the search ends with it."""
+    """Every place searched, the person not seen: the places where, since the search began
+    (from the start of the look that missed them there), perception saw someone it could not
+    tell (sitting half hidden, seen from behind), where the person was seen before first, then
+    the nearest, each looked at once more for this instruction (the place just looked at is
+    not): that someone may be the person, and a second look often shows the shirt the first
+    missed. Once chosen, the second looks go on through that list, and the search ends with
+    it."""
     key = instruction.id
     if key in ctx.rechecked:   # second looks under way: the rest of them
         return [n for n in ctx.search.get(key, ()) if n != ctx.node and n in ctx.rechecked[key]]
-    since = ctx.search_start.get(key, now)
+    start = ctx.search_start.get(key, now)   # the first miss, at the end of its look
     known = ctx.people.last_known_places(instruction.target)
     places = [n for n in dict.fromkeys(ctx.searched.get(key, ()))
-              if n != ctx.node and ctx.people.unidentified_at(n, since) is not None]
+              if n != ctx.node and ctx.people.unidentified_at(
+                  n, min(start, ctx.swept.get(n, (start,))[0])) is not None]
     places.sort(key=lambda n: (n not in known, float(ctx.graph.shortest[ctx.node][n])))
     ctx.rechecked[key] = set(places)
     return places
