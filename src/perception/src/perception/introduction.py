@@ -213,7 +213,12 @@ def answered_by_the_stranger(stranger: Stranger, place: str, started: float,
     stranger's: they were last seen there at most `config.seen_within` before it began, or
     during it. §3.2.3 stores the shirt of the person asked; a stranger who walked off before the
     robot came is not the one who answered (someone else in the room did)."""
-    return stranger.place == place and stranger.last_seen >= started - config.seen_within
+    return seen_there_since(stranger, place, started - config.seen_within)
+
+
+def seen_there_since(stranger: Stranger, place: str, since: float) -> bool:
+    """Whether the stranger's latest sighting was in `place`, at or after `since` [s]."""
+    return stranger.place == place and stranger.last_seen >= since
 
 
 def walked_off(stranger: Stranger, dialogue: "IntroductionDialogue", now: float) -> bool:
@@ -223,9 +228,9 @@ def walked_off(stranger: Stranger, dialogue: "IntroductionDialogue", now: float)
     a loaded machine), so a silent stranger who is out of sight is not waited for to the
     end of the robot function's 60 s."""
     config = dialogue.config
-    return (config.gone_after > 0 and not dialogue.heard and now - dialogue.started
-            >= config.gone_after and not (stranger.place == dialogue.place
-                                          and stranger.last_seen >= dialogue.started))
+    return (config.gone_after > 0 and not dialogue.heard
+            and now - dialogue.started >= config.gone_after
+            and not seen_there_since(stranger, dialogue.place, dialogue.started))
 
 
 @dataclass(frozen=True)

@@ -162,6 +162,8 @@ DIALOGUE_END_PHRASES = ("nice to meet you", "i will know you in these clothes no
 def ends_dialogue(said):
     """Whether the robot's sentence `said` ends an introduction dialogue."""
     return any(phrase in said.lower() for phrase in DIALOGUE_END_PHRASES)
+
+
 SEEN_SHIRT = re.compile(r"\((\d+), (\d+), (\d+)\)")
 
 

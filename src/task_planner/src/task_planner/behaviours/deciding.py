@@ -184,13 +184,13 @@ def overdue_first(ctx: Context, pending: Sequence[Record], available: np.ndarray
         return now - record.instruction.start_time >= limit
 
     meeting_late = any(late(r) for r in pending if r.instruction.id in waiting)
-    charge = ctx.charging.function_code if ctx.charging is not None else None
-    chosen = [k for k in available
-              if late(pending[k]) or pending[k].instruction.function == charge
-              or (meeting_late and is_meeting(ctx.functions, pending[k].instruction))]
-    if not any(late(pending[k]) or meeting_late for k in chosen):
+    overdue = [k for k in available if late(pending[k]) or (
+        meeting_late and is_meeting(ctx.functions, pending[k].instruction))]
+    if not overdue:
         return available
-    return np.array(chosen, dtype=int)
+    charge = ctx.charging.function_code if ctx.charging is not None else None
+    return np.array([k for k in available
+                     if k in overdue or pending[k].instruction.function == charge], dtype=int)
 
 
 def meetings_inherit(ctx: Context, pending: Sequence[Record],
