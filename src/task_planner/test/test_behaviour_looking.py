@@ -195,23 +195,36 @@ def test_a_stranger_seen_here_lately_is_met_at_once(posed_line_graph, tmp_path):
     """An introduce instruction (function 9, no target) is served on arrival when perception
     saw someone at the place it cannot tell within stranger_fresh_s."""
     people = PeopleAtPlaces()
-    people.someone_unidentified(B, 1.0, 2.0, stamp=5.0)
+    people.someone_unidentified(B, 1.0, 2.0, stamp=5.0, shirt=True)
     ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
                        stranger_fresh_s=10.0)
     journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
     assert serve_here(ctx, 1, 12.0)[0] == Execute(1, "introduce", 60.0)
 
 
+def test_someone_half_seen_is_not_greeted_as_the_stranger(posed_line_graph, tmp_path):
+    """Perception saw someone it cannot tell but not their whole shirt (a resident from behind):
+    the introduction node cannot take them for its stranger, so the robot looks around."""
+    people = PeopleAtPlaces()
+    people.someone_unidentified(B, 1.0, 2.0, stamp=5.0)
+    people.analysed(5.0)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
+                       stranger_fresh_s=10.0)
+    journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
+    assert serve_here(ctx, 1, 12.0) == [Navigate(B, 1, yaw=math.pi / 2)]
+    assert ctx.mode == LOOKING
+
+
 def test_a_stranger_not_seen_lately_is_looked_for_then_met(posed_line_graph, tmp_path):
     people = PeopleAtPlaces()
-    people.someone_unidentified(B, 1.0, 2.0, stamp=0.0)      # too long ago
+    people.someone_unidentified(B, 1.0, 2.0, stamp=0.0, shirt=True)   # too long ago
     people.analysed(0.0)                                     # perception reports its frames
     ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
                        stranger_fresh_s=10.0)
     journal(ctx, make_instruction(1, B, duration=60, function=9, type=ROBOT, source="robot"))
     assert serve_here(ctx, 1, 20.0) == [Navigate(B, 1, yaw=math.pi / 2)]
     assert ctx.mode == LOOKING
-    people.someone_unidentified(B, 1.5, 2.5, stamp=21.0)    # seen on the first heading
+    people.someone_unidentified(B, 1.5, 2.5, stamp=21.0, shirt=True)   # on the first heading
     leaf = LookingAround(ctx)
     ctx.now = 21.5
     leaf.tick_once()

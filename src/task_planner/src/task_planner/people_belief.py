@@ -34,27 +34,37 @@ class PeopleAtPlaces:
         self.unidentified: dict[int, tuple[float, float, float]] = {}
         # node -> (stamp [s], x, y [m]) of the latest person perception saw there but could not
         # tell who
+        self.unidentified_shirt: dict[int, tuple[float, float, float]] = {}
+        # the same for those whose whole shirt (joints 1, 2, 5) it saw: someone new, or in
+        # new clothes, whom the introduction node can meet
 
     def take_frame(self, stamp: float, seen: Iterable[tuple[str, int]],
-                   unidentified: Iterable[tuple[int, float, float]]) -> None:
+                   unidentified: Iterable[tuple[int, float, float, bool]]) -> None:
         """One camera frame perception analysed, taken at `stamp` [s]: the people it identified
-        ([(name, node)]) and those it saw at a place but could not tell ([(node, x, y)])."""
+        ([(name, node)]) and those it saw at a place but could not tell
+        ([(node, x, y, whole shirt seen)])."""
         for name, node in seen:
             self.seen(name, node, stamp)
-        for node, x, y in unidentified:
-            self.someone_unidentified(node, x, y, stamp)
+        for node, x, y, shirt in unidentified:
+            self.someone_unidentified(node, x, y, stamp, shirt)
         self.analysed(stamp)
 
-    def someone_unidentified(self, node: int, x: float, y: float, stamp: float) -> None:
+    def someone_unidentified(self, node: int, x: float, y: float, stamp: float,
+                             shirt: bool = False) -> None:
         """Perception saw a person at `node`, at map position (x, y), whose shirt named nobody
-        (seen from behind, half hidden): they may be the one looked for."""
+        (seen from behind, half hidden, or in clothes nobody registered; `shirt`: all three
+        shirt joints seen): they may be the one looked for."""
         if stamp >= self.unidentified.get(node, (-math.inf,))[0]:
             self.unidentified[node] = (stamp, x, y)
+        if shirt and stamp >= self.unidentified_shirt.get(node, (-math.inf,))[0]:
+            self.unidentified_shirt[node] = (stamp, x, y)
 
-    def unidentified_at(self, node: int, since: float) -> tuple[float, float] | None:
+    def unidentified_at(self, node: int, since: float,
+                        shirt: bool = False) -> tuple[float, float] | None:
         """(x, y) of the latest person seen at `node` at or after `since` [s] whom perception
-        could not tell, or None."""
-        stamp, x, y = self.unidentified.get(node, (-math.inf, 0.0, 0.0))
+        could not tell (with `shirt`: whose whole shirt it saw), or None."""
+        sightings = self.unidentified_shirt if shirt else self.unidentified
+        stamp, x, y = sightings.get(node, (-math.inf, 0.0, 0.0))
         return (x, y) if stamp >= since else None
 
     def analysed(self, stamp: float) -> None:

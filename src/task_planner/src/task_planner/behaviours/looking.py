@@ -4,8 +4,9 @@ stand and look, then search on (thesis 000 §4.2.1: the robot observes the house
 without an instruction (0) is a patrol's. A place looked all around within `look_again_s` is not
 looked around again: whoever that look saw counts as here, anyone else is searched for elsewhere.
 Meeting a stranger (an `introduce` instruction, §3.2.3: "the robot will approach an unknown
-person and greet"), the person looked for is anyone perception saw at the place but cannot tell;
-a look that sees nobody such gives the meeting up (the stranger walked off).
+person and greet"), the person looked for is anyone perception saw at the place, whole shirt
+and all, but cannot tell; a look that sees nobody such gives the meeting up (the stranger walked
+off).
 """
 import math
 
@@ -53,8 +54,9 @@ def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
 
 def stranger_here(ctx: Context, since: float) -> bool:
     """Perception saw someone at the robot's place at or after `since` [s] whom it cannot
-    tell."""
-    return ctx.people.unidentified_at(ctx.node, since) is not None
+    tell, and their whole shirt: the introduction node knows its strangers by their shirts, so
+    a half-seen resident is not the stranger to greet (their answers would be refused)."""
+    return ctx.people.unidentified_at(ctx.node, since, shirt=True) is not None
 
 
 def meet_here(ctx: Context, instruction: Instruction, swept: tuple[float, float] | None,
