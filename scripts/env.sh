@@ -14,5 +14,6 @@ export ROS_HOSTNAME=localhost
 export ROS_HOME="${ROS_HOME:-$_tamp_root/.ros}"
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$ROS_HOME/log}"
 export KERAS_BACKEND=torch
+export ROS_LANG_DISABLE=gencpp:geneus:genlisp:gennodejs  # messages in Python only (scripts/setup)
 export TAMP_WS="$_tamp_root"
 unset _tamp_root
