@@ -8,7 +8,7 @@ from py_trees.common import Status
 
 from task_planner.baselines import PriorityFirst
 from task_planner.behaviours.deciding import (Deciding, decide, fetch_and_decode, heading,
-                                              redecide, waiting_for_a_meeting)
+                                              redecide, seen_elsewhere, waiting_for_a_meeting)
 from task_planner.executor_commands import EXECUTING, IDLE, MOVING, Navigate, StopMotion
 from task_planner.instruction import ROBOT
 from task_planner.people_belief import PeopleAtPlaces
@@ -42,6 +42,22 @@ def test_a_new_instruction_can_turn_the_robot_back_mid_edge(line_graph, tmp_path
     journal(ctx, make_instruction(2, A, gamma=9.0, function=1), now=1.0)
     assert redecide(ctx, 1.0) == [Navigate(B, 2)]     # back through the node just left
     assert (ctx.node, ctx.goal, ctx.goal_for) == (C, B, 2)
+
+
+def test_the_person_driven_for_seen_elsewhere_turns_the_robot_back(line_graph, tmp_path):
+    """Driving to serve Bob where he was seen (D), the robot hears that he is at A (a camera
+    frame, or the introduction registering him where it met him): it decides again at once,
+    once."""
+    people = PeopleAtPlaces()
+    people.seen("Bob", D, 0.0)
+    ctx = make_context(line_graph, tmp_path, node=B, people=people, follow_belief=True)
+    journal(ctx, make_instruction(1, D, function=1, target="Bob"))
+    assert decide(ctx, 0.0) == [Navigate(C, 1)] and ctx.serve_at == D
+    assert seen_elsewhere(ctx, 1.0) == []            # still believed at D: drive on
+    people.seen("Bob", A, 2.0)
+    assert seen_elsewhere(ctx, 2.0) == [Navigate(B, 1)]   # back through the node just left
+    assert ctx.log[-2] == (2.0, "Bob seen at A; decide again") and ctx.serve_at == A
+    assert seen_elsewhere(ctx, 3.0) == []            # the same news decides once
 
 
 def test_a_patrol_gives_way_at_once(posed_line_graph, tmp_path):

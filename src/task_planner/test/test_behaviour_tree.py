@@ -15,7 +15,7 @@ def test_the_drawing_shows_every_behaviour_in_priority_order(line_graph, tmp_pat
     ctx = make_context(line_graph, tmp_path)
     text = drawing(build_tree(ctx))
     names = ["fleet: news, closed, lease", "battery low: charge", "predecessors overdue",
-             "execute", "stand and look", "look around", "drive",
+             "person seen elsewhere", "execute", "stand and look", "look around", "drive",
              "decide: serve, drive or patrol", "arrive", "recover: ask to pass, retry, fail",
              "take in, give way, decide again", "cancel"]
     positions = [text.index(name) for name in names]

@@ -118,6 +118,7 @@ class Context:
     mode: str = IDLE
     goal: int | None = None        # node being driven to while MOVING
     goal_for: int = 0              # instruction id the current move is for
+    serve_at: int | None = None    # where the move's instruction is to be served, as decided
     attempts: int = 0              # navigation attempts on the current goal
     executing: tuple[int, float] | None = None  # (instruction id, end time [s]) while EXECUTING
     verifying: tuple[int, float] | None = None  # (instruction id, give-up time [s]) while

@@ -59,7 +59,7 @@ def decide_here(ctx: Context, now: float) -> list[Command]:
                 return commands
             continue  # failed, or the person is searched elsewhere: decide again
         ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = MOVING, step, instruction_id, 1
-        ctx.patrol_goal = None
+        ctx.patrol_goal, ctx.serve_at = None, int(problem.node[index])
         ctx.log.append((now, f"move {ctx.graph.names[ctx.node]} -> "
                              f"{ctx.graph.names[step]} for {instruction_id}"))
         return commands + drive(ctx, now)
@@ -101,13 +101,35 @@ def redecide_here(ctx: Context, now: float) -> list[Command]:
         # the robot claimed (the one before went back to the pool)
         if not ctx.goal_for or ctx.fleet:
             ctx.goal_for, ctx.patrol_goal = int(problem.ids[index]), None
+        if ctx.goal_for == int(problem.ids[index]):
+            ctx.serve_at = int(problem.node[index])
         return []
     # Any other decision goes through the node just left: turn back to it mid-edge.
     ctx.patrol_goal = None
     ctx.node, ctx.goal = ctx.goal_now(), ctx.node
     ctx.goal_for, ctx.attempts = int(problem.ids[index]), 1
+    ctx.serve_at = int(problem.node[index])
     ctx.log.append((now, f"turn back to {ctx.graph.names[ctx.goal]} for {ctx.goal_for}"))
     return [Navigate(ctx.goal, ctx.goal_for)]
+
+
+def seen_elsewhere(ctx: Context, now: float) -> list[Command]:
+    """While driving to serve a person's instruction at one place, perception (or the
+    introduction, which registers where it met them) put that person at another: decide
+    again, which may turn the robot back mid-edge. Without this a robot that had just met the
+    person it was searching for drove on to the next place of the search, and decided only
+    there."""
+    if ctx.mode != MOVING or not ctx.goal_for or ctx.retry_at is not None \
+            or not ctx.buffer.holds(ctx.goal_for):
+        return []
+    record = ctx.buffer.get(ctx.goal_for)
+    target = record.instruction.target
+    seen = ctx.people.now.get(target) if target and record.is_open else None
+    if seen is None or seen == ctx.serve_at or not ctx.config.follow_belief:
+        return []
+    ctx.log.append((now, f"{target} seen at {ctx.graph.names[seen]}; decide again"))
+    ctx.serve_at = seen   # this news once, whatever the decision
+    return ctx.redecide(now)
 
 
 def timed_decision(ctx: Context, now: float) -> tuple[Problem, int, int | None] | None:

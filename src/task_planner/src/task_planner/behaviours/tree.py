@@ -4,7 +4,7 @@ instructions, a cancel, a periodic tick); the leaves' commands collect in Contex
 
     [o] executor                        (selector: the event's branch)
         [-] tick       tick? · fleet sync · fleet news · battery low: charge (spends it first)
-                       · predecessors overdue
+                       · predecessors overdue · person seen elsewhere (decide again)
             [o] activity  (selector: the leaf of the robot's mode steps it; a step that
                            changes the mode hands on to the next leaves in the same tick)
                 --> execute           (finish when its time is up)
@@ -60,6 +60,7 @@ def build_tree(ctx: Context) -> Selector:
                Action("fleet: news, closed, lease", ctx, lambda c: fleet_news(c, c.now)),
                Action("battery low: charge", ctx, lambda c: check_battery(c, c.now)),
                Action("predecessors overdue", ctx, lambda c: give_up_waiting(c, c.now)),
+               Action("person seen elsewhere", ctx, lambda c: deciding.seen_elsewhere(c, c.now)),
                activity),
         branch(ARRIVED, spend_battery(), FleetSync(ctx), Arriving(ctx)),
         branch(ABORTED, spend_battery(), FleetSync(ctx), Recovering(ctx)),
