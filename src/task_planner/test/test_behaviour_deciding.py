@@ -155,6 +155,21 @@ def test_an_overdue_request_goes_before_newer_ones(line_graph, tmp_path):
     assert [int(problem.ids[k]) for k in available] == [1]
 
 
+def test_among_overdue_requests_the_oldest_goes_first_unless_one_is_here(line_graph, tmp_path):
+    """Two requests overdue at 400 s: by reward the newer (at D, launched at 250 s) would go
+    first; the older (at A, launched at 0 s) does, unless the robot stands at D."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    journal(ctx, make_instruction(1, A, gamma=5.0, beta=0.96, function=1, start_time=0.0))
+    journal(ctx, make_instruction(2, D, gamma=5.0, beta=0.96, function=1, start_time=250.0),
+            now=250.0)
+    problem, available = fetch_and_decode(ctx, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [1]
+    ctx.node = D
+    problem, available = fetch_and_decode(ctx, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [2]
+
+
 def test_a_meeting_is_overdue_while_an_overdue_request_waits_for_it(line_graph, tmp_path):
     """Carol, never seen, asked 150 s ago; a newer request of Bob's and a meeting are open:
     the meeting (Carol may be the stranger) goes before Bob's."""

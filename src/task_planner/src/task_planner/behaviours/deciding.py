@@ -6,6 +6,7 @@ mid-edge (§4 "dynamic"). With nothing to decide an idle robot may patrol. In a 
 decides among the instructions no other robot holds (with the fleet's auction,
 behaviours.fleet_allocation, or its own planner) and claims its choice before it drives.
 """
+import math
 import time
 from dataclasses import replace
 from collections.abc import Container, Sequence
@@ -187,32 +188,42 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
                               or r.instruction.previous_id in done)
                           and r.instruction.id not in skipped
                           and instructions[k].destination not in busy_places], dtype=int)
-    return ctx.problem, overdue_first(ctx, pending, available, waiting, now)
+    return ctx.problem, overdue_first(ctx, pending, instructions, available, waiting, now)
 
 
-def overdue_first(ctx: Context, pending: Sequence[Record], available: np.ndarray,
+def overdue_first(ctx: Context, pending: Sequence[Record],
+                  instructions: Sequence[Instruction], available: np.ndarray,
                   waiting: set[int], now: float) -> np.ndarray:
     """The eligible instructions launched at least `serve_within_s` ago, when there are any
     (with the robot's charging, which never waits), else all eligible ones. Eq. 4-2's reward
     decays so fast (β 0.94-0.98 per second) that after a few minutes an old request is worth
     next to nothing against a new one, and a reward-maximising planner would keep passing it
     over; an overdue one is served before any newer one. A meeting counts as overdue while an
-    overdue request waits for it (its stranger may be that request's person)."""
+    overdue request waits for it (its stranger may be that request's person), as old as that
+    request. Among the overdue ones the reward would again serve the newest first: those at
+    the robot's place go first, else those at the place of the oldest (`instructions`: where
+    each is served)."""
     limit = ctx.config.serve_within_s
     if limit <= 0 or not len(available):
         return available
+    waited_since = min((r.instruction.start_time for r in pending
+                        if r.instruction.id in waiting), default=math.inf)
 
-    def late(record: Record) -> bool:
-        return now - record.instruction.start_time >= limit
+    def launched(k: int) -> float:
+        instruction = pending[k].instruction
+        if is_meeting(ctx.functions, instruction):
+            return min(instruction.start_time, waited_since)
+        return instruction.start_time
 
-    meeting_late = any(late(r) for r in pending if r.instruction.id in waiting)
-    overdue = [k for k in available if late(pending[k]) or (
-        meeting_late and is_meeting(ctx.functions, pending[k].instruction))]
+    overdue = [k for k in available if now - launched(k) >= limit]
     if not overdue:
         return available
+    places = [instructions[k].destination for k in overdue]
+    first = ctx.node if ctx.node in places else places[min(range(len(overdue)),
+                                                           key=lambda j: launched(overdue[j]))]
     charge = ctx.charging.function_code if ctx.charging is not None else None
-    return np.array([k for k in available
-                     if k in overdue or pending[k].instruction.function == charge], dtype=int)
+    return np.array([k for k in available if pending[k].instruction.function == charge
+                     or (k in overdue and instructions[k].destination == first)], dtype=int)
 
 
 def meetings_inherit(ctx: Context, pending: Sequence[Record],
