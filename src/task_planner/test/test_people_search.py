@@ -75,8 +75,21 @@ def test_a_person_the_belief_says_nothing_of_is_looked_for_where_others_are_expe
     looked = {C: 50.0, D: 10.0}
     assert search_order("Carol", people, looked, range(4), searched=[]) == [C, A, B, D]
     people.seen("Carol", B, 60.0)
-    people.missed("Carol", B)                # seen once: the stalest places, as for anyone
-    assert search_order("Carol", people, looked, range(4), searched=[B]) == [A, D, C]
+    people.missed("Carol", B)                # seen once: as for anyone; the looks at C and D
+    #                                          came before her sighting and tell nothing
+    assert search_order("Carol", people, looked, range(4), searched=[B]) == [A, C, D]
+
+
+def test_a_look_before_the_last_sighting_does_not_make_a_place_stale():
+    """Alice was last seen in B at 179 s. D was looked at 151 s, before: she may have gone
+    there since, as to A or C; the nearest of them goes first. C, looked at 190 s, after her
+    sighting, comes last."""
+    people = PeopleAtPlaces()
+    people.seen("Alice", B, stamp=179.0)
+    people.missed("Alice", B)
+    looked = {A: 1.0, C: 190.0, D: 151.0}
+    assert search_order("Alice", people, looked, range(4), searched=[B],
+                        distance_m=[5.0, 3.0, 4.0, 1.0]) == [D, A, C]
 
 
 def test_an_older_sighting_does_not_undo_a_missed_look():
@@ -108,11 +121,11 @@ def test_patrol_prefers_stale_occupied_places_and_rests_when_all_are_fresh():
 
 def test_person_moved_unseen_is_found_by_search_and_served_there(graph, tmp_path):
     """Bob was last seen at B and has moved to D: the robot looks around B, then C (never
-    looked at), then finds him at D."""
+    looked at; A was looked at after his sighting), then finds him at D."""
     people = PeopleAtPlaces()
     people.seen("Bob", B, stamp=0.0)
     executor = executor_for(graph, tmp_path, people, fresh_s=1.0)
-    executor.state.looked_s[A] = 0.0
+    executor.state.looked_s[A] = 0.5
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=3, target="Bob")
     assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]
     # A->B 2 s; three 1 s turns at B; B->C 4 s; three turns at C; C->D 6 s

@@ -157,8 +157,10 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
                  swept: Mapping[int, tuple[float, float]] | None = None) -> list[int]:
     """Where to look for `name` next: where the belief and the schedule point first (the place
     they were last seen, the place their schedule predicts, then the places they were seen
-    before, most recent first), then every other place, the longest unlooked-at first, the
-    nearest first among equally stale ones (`distance_m[n]`: from the robot [m]). For someone
+    before, most recent first), then every other place: first those not looked at since the
+    person was last seen (a look before says nothing of where they went since), the nearest
+    first (`distance_m[n]`: from the robot [m]), then those looked at since, the longest
+    unlooked-at first, the nearest first among equally stale ones. For someone
     never seen (not met yet: perception cannot tell them) the places where anyone's schedule
     puts someone now come before the others: the household gathers there, and a stranger seen
     there is met, perhaps the person looked for. A place where
@@ -175,7 +177,12 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
     first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
     scheduled = set() if people.knows(name) else set(people.predicted.values())
-    rest = sorted(places, key=lambda n: (n not in scheduled, looked_s.get(n, -math.inf),
+    def looked_since_seen(node: int) -> float:
+        """When `node` was looked at, if after the last sighting; else -inf."""
+        looked = looked_s.get(node, -math.inf)
+        return looked if looked > last_seen else -math.inf
+
+    rest = sorted(places, key=lambda n: (n not in scheduled, looked_since_seen(n),
                                          0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]
 
