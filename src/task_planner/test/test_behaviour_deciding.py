@@ -60,6 +60,22 @@ def test_the_person_driven_for_seen_elsewhere_turns_the_robot_back(line_graph, t
     assert seen_elsewhere(ctx, 3.0) == []            # the same news decides once
 
 
+def test_a_person_seen_by_turns_in_two_places_decides_again_once_per_leg(line_graph,
+                                                                        tmp_path):
+    """Bob, believed at D, is seen at C (where the robot drives: it drives on) and then at D
+    again while the robot is on the same leg: no second decision on that leg."""
+    people = PeopleAtPlaces()
+    people.seen("Bob", D, 0.0)
+    ctx = make_context(line_graph, tmp_path, node=B, people=people, follow_belief=True)
+    journal(ctx, make_instruction(1, D, function=1, target="Bob"))
+    decide(ctx, 0.0)
+    people.seen("Bob", C, 1.0)
+    assert seen_elsewhere(ctx, 1.0) == [] and ctx.serve_at == C      # drive on to C
+    people.seen("Bob", D, 2.0)
+    logged = len(ctx.log)
+    assert seen_elsewhere(ctx, 2.0) == [] and len(ctx.log) == logged  # same leg: nothing
+
+
 def test_a_patrol_gives_way_at_once(posed_line_graph, tmp_path):
     ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=2)
     ctx.mode, ctx.looking = "looking", [0, [], 0.0, None, None, None]   # looking (patrol)

@@ -4,7 +4,7 @@ import pytest
 from behaviour_factories import A, B, D, robots
 from planner_factories import make_instruction
 
-from task_planner.behaviours.deciding import decide, redecide
+from task_planner.behaviours.deciding import decide, fetch_and_decode, redecide
 from task_planner.behaviours.fleet_allocation import fleet_allocator, free_point
 from task_planner.behaviours.fleet_sync import fleet_news
 from task_planner.behaviours.receiving import take_in
@@ -93,3 +93,13 @@ def test_a_per_robot_allocator_keeps_the_robots_own_planner(line_graph, tmp_path
     assert fleet_allocator(a) is None
     with pytest.raises(ValueError, match="unknown fleet allocator 'nope'"):
         fleet(line_graph, tmp_path, starts=(A,), fleet_allocator="nope")
+
+
+def test_with_the_auction_every_overdue_instruction_stays_eligible(line_graph, tmp_path):
+    """On its own a robot keeps to one place among overdue instructions; in a fleet with the
+    auction it must not: the auction may give it the one that is not at that place."""
+    a, _ = robots(line_graph, tmp_path, serve_within_s=120.0)
+    a.buffer.submit_many([make_instruction(1, D, function=1, start_time=0.0),
+                          make_instruction(2, B, function=1, start_time=50.0)], 50.0)
+    problem, available = fetch_and_decode(a, 200.0)
+    assert sorted(int(problem.ids[k]) for k in available) == [1, 2]

@@ -240,7 +240,7 @@ def test_a_look_that_sees_no_stranger_gives_the_meeting_up(posed_line_graph, tmp
     assert serve_here(ctx, 1, 20.0) == [Navigate(B, 1, yaw=math.pi)]
     end_look(ctx, 25.0)
     record = ctx.buffer.get(1)
-    assert record.state == FAILED and "nobody perception cannot tell" in record.reason
+    assert record.state == FAILED and "nobody unknown seen in a whole shirt" in record.reason
 
 
 def test_without_stranger_fresh_s_a_stranger_is_greeted_on_arrival(posed_line_graph, tmp_path):

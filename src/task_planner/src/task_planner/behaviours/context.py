@@ -119,6 +119,8 @@ class Context:
     goal: int | None = None        # node being driven to while MOVING
     goal_for: int = 0              # instruction id the current move is for
     serve_at: int | None = None    # where the move's instruction is to be served, as decided
+    rethought_on: tuple[int, int | None] | None = None  # (node, goal) of the leg on which
+                                   # seen_elsewhere last decided again
     attempts: int = 0              # navigation attempts on the current goal
     executing: tuple[int, float] | None = None  # (instruction id, end time [s]) while EXECUTING
     verifying: tuple[int, float] | None = None  # (instruction id, give-up time [s]) while

@@ -128,8 +128,11 @@ def seen_elsewhere(ctx: Context, now: float) -> list[Command]:
     seen = ctx.people.now.get(target) if target and record.is_open else None
     if seen is None or seen == ctx.serve_at or not ctx.config.follow_belief:
         return []
+    leg = (ctx.node, ctx.goal)
+    if ctx.rethought_on == leg:   # once per leg: a person seen by turns in two places (in a
+        return []                 # doorway) must not turn the robot back and forth
     ctx.log.append((now, f"{target} seen at {ctx.graph.names[seen]}; decide again"))
-    ctx.serve_at = seen   # this news once, whatever the decision
+    ctx.serve_at, ctx.rethought_on = seen, leg   # this news once, whatever the decision
     return ctx.redecide(now)
 
 
@@ -202,7 +205,9 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     overdue request waits for it (its stranger may be that request's person), as old as that
     request. Among the overdue ones the reward would again serve the newest first: those at
     the robot's place go first, else those at the place of the oldest (`instructions`: where
-    each is served)."""
+    each is served; the charge never sets the place). With the fleet's auction every overdue
+    one stays: the auction gives each to a robot, and a robot kept to one place would leave
+    the one given to it waiting."""
     limit = ctx.config.serve_within_s
     if limit <= 0 or not len(available):
         return available
@@ -215,15 +220,18 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
             return min(instruction.start_time, waited_since)
         return instruction.start_time
 
-    overdue = [k for k in available if now - launched(k) >= limit]
+    charge = ctx.charging.function_code if ctx.charging is not None else None
+    overdue = [k for k in available if now - launched(k) >= limit
+               and pending[k].instruction.function != charge]
     if not overdue:
         return available
     places = [instructions[k].destination for k in overdue]
-    first = ctx.node if ctx.node in places else places[min(range(len(overdue)),
-                                                           key=lambda j: launched(overdue[j]))]
-    charge = ctx.charging.function_code if ctx.charging is not None else None
+    if fleet_allocator(ctx) is None:   # the fleet's auction orders them over its robots
+        first = ctx.node if ctx.node in places else \
+            places[min(range(len(overdue)), key=lambda j: launched(overdue[j]))]
+        overdue = [k for k in overdue if instructions[k].destination == first]
     return np.array([k for k in available if pending[k].instruction.function == charge
-                     or (k in overdue and instructions[k].destination == first)], dtype=int)
+                     or k in overdue], dtype=int)
 
 
 def meetings_inherit(ctx: Context, pending: Sequence[Record],

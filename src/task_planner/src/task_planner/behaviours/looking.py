@@ -61,18 +61,18 @@ def stranger_here(ctx: Context, since: float) -> bool:
 
 def meet_here(ctx: Context, instruction: Instruction, swept: tuple[float, float] | None,
               now: float) -> list[Command]:
-    """Greet the stranger once perception saw someone here it cannot tell within
-    `stranger_fresh_s`; else look around for them, or give the meeting up when a look all
-    around just now saw nobody such. Without frames from perception (it reports none to this
-    robot) the robot cannot look for them: it greets on arrival."""
+    """Greet the stranger once perception saw someone here it cannot tell, whole shirt and
+    all, within `stranger_fresh_s`; else look around for them, or give the meeting up when a
+    look all around just now saw nobody such. Without frames from perception (it reports none
+    to this robot) the robot cannot look for them: it greets on arrival."""
     if not ctx.people.perceiving() or stranger_here(ctx, now - ctx.config.stranger_fresh_s):
         return execute(ctx, instruction, function_for(ctx.functions, instruction), now)
     place = ctx.graph.names[ctx.node]
     if swept is not None and not stranger_here(ctx, swept[0]):
         return fail(ctx, instruction.id, now,
-                    f"nobody perception cannot tell in the look around {place}")
+                    f"nobody unknown seen in a whole shirt in the look around {place}")
     if ctx.config.look_headings <= 0:
-        return fail(ctx, instruction.id, now, f"nobody perception cannot tell at {place}")
+        return fail(ctx, instruction.id, now, f"nobody unknown seen in a whole shirt at {place}")
     return start_look(ctx, instruction.id, now)
 
 
@@ -145,8 +145,9 @@ def end_look(ctx: Context, now: float) -> list[Command]:
     if not record.is_open:
         return ctx.decide(now)
     if is_meeting(ctx.functions, record.instruction):
-        return fail(ctx, instruction_id, now, f"nobody perception cannot tell in the look around "
-                                              f"{ctx.graph.names[ctx.node]}") + ctx.decide(now)
+        place = ctx.graph.names[ctx.node]
+        return fail(ctx, instruction_id, now, f"nobody unknown seen in a whole shirt in the "
+                                              f"look around {place}") + ctx.decide(now)
     return search_next(ctx, record.instruction, now) + ctx.decide(now)
 
 
