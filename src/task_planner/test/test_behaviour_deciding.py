@@ -7,12 +7,15 @@ from planner_factories import make_instruction
 from py_trees.common import Status
 
 from task_planner.baselines import PriorityFirst
+from task_planner.battery import BatteryConfig, BatteryModel
+from task_planner.behaviours.context import Charging
 from task_planner.behaviours.deciding import (Deciding, decide, fetch_and_decode, heading,
                                               redecide, seen_elsewhere, waiting_for_a_meeting)
 from task_planner.executor_commands import EXECUTING, IDLE, MOVING, Navigate, StopMotion
 from task_planner.instruction import ROBOT
 from task_planner.people_belief import PeopleAtPlaces
 from task_planner.problem import Problem
+from task_planner.reward import Priority
 from task_planner.ripple_planner import RipplePlanner
 
 
@@ -184,6 +187,22 @@ def test_among_overdue_requests_the_oldest_goes_first_unless_one_is_here(line_gr
     ctx.node = D
     problem, available = fetch_and_decode(ctx, 400.0)
     assert [int(problem.ids[k]) for k in available] == [2]
+
+
+def test_the_charge_never_sets_the_place_of_overdue_requests(line_graph, tmp_path):
+    """The robot's charge (function 8, at A) pending since 0 s is the oldest; an overdue request
+    at D goes with it, not after it. Overdue alone, the charge goes first."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    ctx.charging = Charging(BatteryModel(BatteryConfig()), A, 8,
+                            Priority("self_generated", 1.0, 0.9))
+    journal(ctx, make_instruction(1, A, function=8, type=ROBOT, source="robot", start_time=0.0),
+            make_instruction(2, C, function=1, start_time=250.0), now=250.0)
+    problem, available = fetch_and_decode(ctx, 300.0)
+    assert [int(problem.ids[k]) for k in available] == [1]          # only the charge is late
+    journal(ctx, make_instruction(3, D, function=1, start_time=100.0), now=300.0)
+    problem, available = fetch_and_decode(ctx, 300.0)
+    assert sorted(int(problem.ids[k]) for k in available) == [1, 3]
 
 
 def test_a_meeting_is_overdue_while_an_overdue_request_waits_for_it(line_graph, tmp_path):

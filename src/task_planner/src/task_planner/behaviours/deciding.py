@@ -221,17 +221,17 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
         return instruction.start_time
 
     charge = ctx.charging.function_code if ctx.charging is not None else None
-    overdue = [k for k in available if now - launched(k) >= limit
-               and pending[k].instruction.function != charge]
-    if not overdue:
-        return available
+    charges = [k for k in available if pending[k].instruction.function == charge]
+    overdue = [k for k in available if now - launched(k) >= limit and k not in charges]
+    if not overdue:   # an overdue charge alone goes first
+        late = [k for k in charges if now - launched(k) >= limit]
+        return np.array(late, dtype=int) if late else available
     places = [instructions[k].destination for k in overdue]
     if fleet_allocator(ctx) is None:   # the fleet's auction orders them over its robots
         first = ctx.node if ctx.node in places else \
             places[min(range(len(overdue)), key=lambda j: launched(overdue[j]))]
         overdue = [k for k in overdue if instructions[k].destination == first]
-    return np.array([k for k in available if pending[k].instruction.function == charge
-                     or k in overdue], dtype=int)
+    return np.array([k for k in available if k in charges or k in overdue], dtype=int)
 
 
 def meetings_inherit(ctx: Context, pending: Sequence[Record],
