@@ -173,15 +173,15 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     def missed_since_seen(node: int | None) -> bool:
         return node is not None and swept.get(node, (-math.inf,))[0] > last_seen
 
-    seen_at = [people.now.get(name), *people.before.get(name, [])]
-    first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
-    first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
-    scheduled = set() if people.knows(name) else set(people.predicted.values())
     def looked_since_seen(node: int) -> float:
         """When `node` was looked at, if after the last sighting; else -inf."""
         looked = looked_s.get(node, -math.inf)
         return looked if looked > last_seen else -math.inf
 
+    seen_at = [people.now.get(name), *people.before.get(name, [])]
+    first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
+    first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
+    scheduled = set() if people.knows(name) else set(people.predicted.values())
     rest = sorted(places, key=lambda n: (n not in scheduled, looked_since_seen(n),
                                          0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]

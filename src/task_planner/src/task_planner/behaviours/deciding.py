@@ -120,13 +120,13 @@ def seen_elsewhere(ctx: Context, now: float) -> list[Command]:
     again, which may turn the robot back mid-edge. Without this a robot that had just met the
     person it was searching for drove on to the next place of the search, and decided only
     there."""
-    if ctx.mode != MOVING or not ctx.goal_for or ctx.retry_at is not None \
-            or not ctx.buffer.holds(ctx.goal_for):
+    if not ctx.config.follow_belief or ctx.mode != MOVING or not ctx.goal_for \
+            or ctx.retry_at is not None or not ctx.buffer.holds(ctx.goal_for):
         return []
     record = ctx.buffer.get(ctx.goal_for)
     target = record.instruction.target
     seen = ctx.people.now.get(target) if target and record.is_open else None
-    if seen is None or seen == ctx.serve_at or not ctx.config.follow_belief:
+    if seen is None or seen == ctx.serve_at:
         return []
     leg = (ctx.node, ctx.goal)
     if ctx.rethought_on == leg:   # once per leg: a person seen by turns in two places (in a
@@ -226,10 +226,10 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     if not overdue:   # an overdue charge alone goes first
         late = [k for k in charges if now - launched(k) >= limit]
         return np.array(late, dtype=int) if late else available
-    places = [instructions[k].destination for k in overdue]
     if fleet_allocator(ctx) is None:   # the fleet's auction orders them over its robots
+        places = {instructions[k].destination for k in overdue}
         first = ctx.node if ctx.node in places else \
-            places[min(range(len(overdue)), key=lambda j: launched(overdue[j]))]
+            instructions[min(overdue, key=launched)].destination
         overdue = [k for k in overdue if instructions[k].destination == first]
     return np.array([k for k in available if k in charges or k in overdue], dtype=int)
 
