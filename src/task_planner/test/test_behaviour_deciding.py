@@ -189,6 +189,23 @@ def test_among_overdue_requests_the_oldest_goes_first_unless_one_is_here(line_gr
     assert [int(problem.ids[k]) for k in available] == [2]
 
 
+def test_an_overdue_call_for_physical_help_goes_before_overdue_chats_here(line_graph, tmp_path):
+    """At 400 s David's call for physical help (gamma 8, at D, launched at 0 s) and Bob's chat
+    (gamma 5, at the robot's place B, launched at 100 s) are both overdue: the stronger class
+    goes first, though the chat is here; of one class, the one here does (test above)."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    journal(ctx, make_instruction(1, D, gamma=8.0, beta=0.98, function=1, start_time=0.0))
+    journal(ctx, make_instruction(2, B, gamma=5.0, beta=0.96, function=1, start_time=100.0),
+            now=100.0)
+    problem, available = fetch_and_decode(ctx, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [1]
+    journal(ctx, make_instruction(3, B, gamma=8.0, beta=0.98, function=1, start_time=200.0),
+            now=200.0)
+    problem, available = fetch_and_decode(ctx, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [3]
+
+
 def test_the_charge_never_sets_the_place_of_overdue_requests(line_graph, tmp_path):
     """The robot's charge (function 8, at A) pending since 0 s is the oldest; an overdue request
     at D goes with it, not after it. Overdue alone, the charge goes first."""

@@ -203,11 +203,13 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     next to nothing against a new one, and a reward-maximising planner would keep passing it
     over; an overdue one is served before any newer one. A meeting counts as overdue while an
     overdue request waits for it (its stranger may be that request's person), as old as that
-    request. Among the overdue ones the reward would again serve the newest first: those at
-    the robot's place go first, else those at the place of the oldest (`instructions`: where
-    each is served; the charge never sets the place). With the fleet's auction every overdue
-    one stays: the auction gives each to a robot, and a robot kept to one place would leave
-    the one given to it waiting."""
+    request. Among the overdue ones the reward would again serve the newest first: those of the
+    highest priority class go first (Table 5-5's γ, a meeting with the priority it inherits:
+    physical help is not kept waiting behind chats at the robot's place), and of them those at
+    the robot's place, else those at the place of the oldest (`instructions`: where each is
+    served, with its planning priority; the charge never sets the place). With the fleet's
+    auction every overdue one stays: the auction gives each to a robot, and a robot kept to
+    one place would leave the one given to it waiting."""
     limit = ctx.config.serve_within_s
     if limit <= 0 or not len(available):
         return available
@@ -227,6 +229,8 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
         late = [k for k in charges if now - launched(k) >= limit]
         return np.array(late, dtype=int) if late else available
     if fleet_allocator(ctx) is None:   # the fleet's auction orders them over its robots
+        strongest = max(instructions[k].gamma for k in overdue)
+        overdue = [k for k in overdue if instructions[k].gamma == strongest]
         places = {instructions[k].destination for k in overdue}
         first = ctx.node if ctx.node in places else \
             instructions[min(overdue, key=launched)].destination
