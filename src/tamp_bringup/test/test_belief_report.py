@@ -50,7 +50,7 @@ def test_section_lists_searches_meetings_and_own_instructions(tmp_path, line_gra
                                 why="first meeting")])
     text = "\n".join(belief_markdown(record, read_journal(path), read_searches(path), t0=2.0))
     assert "| Bob | 0.51 |" in text          # 41 of the 81 samples of [0, 40] from 20 s on
-    assert "| 1 | Bob | 10.0 | 18.5 | B, C | found |" in text
+    assert "| 1 | Bob | 10.0 | 18.5 | B, C | found |  |" in text   # 100000 began before it
     assert "- Frank at 20.0 s (dialogue 14.5 s)" in text
     assert "- Bob in the B at 30.0 s (first meeting, dialogue 6.0 s)" in text
     assert "own instructions: 1 (1 served)" in text

@@ -53,6 +53,14 @@ def read_searches(journal_path):
         return journalled_searches(db)
 
 
+def interruptions(searches, entries):
+    """Per search (in order), the ids of the other instructions whose service began while it
+    went on: the instructions that interrupted it."""
+    return [[e.instruction.id for e in entries
+             if e.instruction.id != i and start < e.started_s < end]
+            for i, _, start, end, _, _ in searches]
+
+
 def history_sources(humans_path):
     """{source: rows} of a human database's history, read without changing the file."""
     uri = f"file:{Path(humans_path).resolve()}?mode=ro"
@@ -79,11 +87,13 @@ def belief_markdown(record, entries, searches, t0, sources=None):
                   + ", ".join(f"{source} {count}" for source, count in sources.items()) + "."]
     lines += ["", "Searches (a person not where the robot believed them):", ""]
     if searches:
-        lines += ["| instruction | person | began [s] | took [s] | places looked at | outcome |",
-                  "|---|---|---|---|---|---|"]
+        lines += ["| instruction | person | began [s] | took [s] | places looked at | outcome | "
+                  "interrupted by |", "|---|---|---|---|---|---|---|"]
         lines += [f"| {i} | {target} | {start - t0:.1f} | {end - start:.1f} | "
-                  f"{', '.join(places)} | {'found' if found else 'not found'} |"
-                  for i, target, start, end, found, places in searches]
+                  f"{', '.join(places)} | {'found' if found else 'not found'} | "
+                  f"{', '.join(map(str, cut))} |"
+                  for (i, target, start, end, found, places), cut
+                  in zip(searches, interruptions(searches, entries))]
     else:
         lines.append("none: every person was where the robot looked first.")
     lines += ["", "People met (registered through the introduction dialogue):", ""]

@@ -3,15 +3,16 @@ each figure beside its goal, from the executor's journal, its searches, the scen
 the improved planner's model schedule on the same arrivals.
 
 Goals: every person's request served; the start of each person's service at most 30 s (median)
-and 120 s (worst) after the start the model gives it; every search over within 60 s; every
-instruction the robot gave itself served before the run ends; belief accuracy from the run
-start at least 0.9 for every resident; the run's reward at least 0.6 of the model's.
+and 120 s (worst) after the start the model gives it; every search that no other instruction
+interrupted over within 60 s; every instruction the robot gave itself served before the run
+ends; belief accuracy from the run start at least 0.9 for every resident; the run's reward at
+least 0.6 of the model's.
 """
 from dataclasses import dataclass
 
 import numpy as np
 
-from tamp_bringup.belief_report import people_accuracy
+from tamp_bringup.belief_report import interruptions, people_accuracy
 from task_planner.instruction import HUMAN, ROBOT
 
 MEDIAN_DELAY_S, WORST_DELAY_S = 30.0, 120.0   # service start after the model's [s]
@@ -53,9 +54,13 @@ def run_goals(record, entries, searches, model, t0):
                   Goal(f"service start after the model's ({model.name}), worst",
                        f"{worst:.0f} s", f"≤ {WORST_DELAY_S:.0f} s", worst <= WORST_DELAY_S)]
     if searches:
-        longest = max(end - start for _, _, start, end, _, _ in searches)
-        goals.append(Goal("longest search (interrupted ones included)", f"{longest:.0f} s",
-                          f"≤ {SEARCH_S:.0f} s", longest <= SEARCH_S))
+        cut = interruptions(searches, entries)
+        whole = [end - start for (_, _, start, end, _, _), ids in zip(searches, cut) if not ids]
+        longest = max(whole, default=0.0)
+        note = f" ({len(searches) - len(whole)} of {len(searches)} interrupted)" \
+            if len(whole) < len(searches) else ""
+        goals.append(Goal("longest search not interrupted by another instruction",
+                          f"{longest:.0f} s{note}", f"≤ {SEARCH_S:.0f} s", longest <= SEARCH_S))
     own = [e for e in entries if e.instruction.type == ROBOT]
     own_served = sum(e.state == "done" for e in own)
     goals.append(Goal("the robot's own instructions served", f"{own_served} of {len(own)}",
