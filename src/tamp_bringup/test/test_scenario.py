@@ -1,12 +1,13 @@
 """Scenario files: requests, the people's initial places and moves from the world, bad input."""
+import math
 
 import numpy as np
 import pytest
 
-from tamp_bringup.scenario import (DIALOGUE_END_PHRASES, GIVE_UP_PHRASE, INTRODUCE_TEXT,
-                                   ScenarioError, Visitor, load_scenario, place_of,
-                                   resident_answer, residents, seen_shirt, timeline,
-                                   visitor_answer, who_answers)
+from tamp_bringup.scenario import (DIALOGUE_END_PHRASES, GIVE_UP_PHRASE, IDENTITY_QUESTION,
+                                   INTRODUCE_TEXT, ScenarioError, Visitor, faced_person,
+                                   identity_answer, load_scenario, place_of, resident_answer,
+                                   residents, seen_shirt, timeline, visitor_answer, who_answers)
 from tamp_resources import resource
 
 ROOT = resource()
@@ -195,6 +196,25 @@ def test_a_resident_in_new_clothes_answers_her_name_and_whether_it_was_heard_rig
     assert resident_answer("Carol", dialogue.confirm_question.format(name="Carol")) == "Yes."
     assert resident_answer("Carol", dialogue.confirm_question.format(name="Alice")) == "No."
     assert resident_answer("Carol", dialogue.recalled.format(name="Carol")) == ""
+
+
+def test_anyone_asked_whether_they_are_someone_answers_yes_or_no():
+    from perception.identity_question import QuestionConfig
+    config = QuestionConfig()
+    assert config.question == IDENTITY_QUESTION   # the scenario answers what the node asks
+    assert identity_answer("Carol", config.question.format(name="Carol")) == "Yes."
+    assert identity_answer("Frank", config.question.format(name="Carol")) == "No."
+    assert identity_answer("Carol", config.thanks.format(name="Carol")) == ""
+    assert identity_answer("Carol", "Carol, how are you feeling right now?") == ""
+    assert identity_answer("Frank", "Thank you, Frank. Are you a man or a woman?") == ""
+
+
+def test_the_person_asked_is_the_one_the_robot_faces():
+    people = {"Bob": (1.0, 1.0), "Carol": (0.0, 1.0), "Frank": (6.0, 0.0)}
+    assert faced_person((0.0, 0.0, math.pi / 2), people) == "Carol"      # facing north
+    assert faced_person((0.0, 0.0, math.pi / 4), people) == "Bob"        # north-east
+    assert faced_person((0.0, 0.0, 0.0), people) == "Bob"   # Frank is east, but 6 m away
+    assert faced_person((0.0, 0.0, 0.0), {"Frank": (6.0, 0.0)}) is None
 
 
 def test_moves_that_change_clothes_carry_the_new_shirt():

@@ -6,8 +6,8 @@ from planner_factories import make_instruction
 from py_trees.common import Status
 
 from task_planner.behaviours.looking import (LookingAround, StandingToLook, end_look, look_step,
-                                             serve_here, start_look)
-from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, VERIFYING, Execute,
+                                             not_answered, serve_here, start_look)
+from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, VERIFYING, Ask, Execute,
                                             Navigate, StopMotion, Verify, Wait)
 from task_planner.instruction import ROBOT
 from task_planner.people_belief import PeopleAtPlaces
@@ -123,6 +123,89 @@ def test_someone_perception_cannot_tell_is_faced_once_and_watched(posed_line_gra
     ctx.now, ctx.out = 7.2, []
     leaf.tick_once()
     assert ctx.out == []
+
+
+def asked_look(posed_line_graph, tmp_path):
+    """A look for Bob at B that faced someone perception cannot tell (faced at 2.0, watched
+    5 s), with ask_wait_s 8."""
+    people = PeopleAtPlaces()
+    people.analysed(0.5)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
+                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0, ask_wait_s=8.0)
+    journal(ctx, make_instruction(1, B, duration=20, function=3, target="Bob"))
+    serve_here(ctx, 1, 1.0)
+    leaf = LookingAround(ctx)
+    people.someone_unidentified(B, 1.0, 1.0, 1.1)
+    ctx.now, ctx.out = 1.2, []
+    leaf.tick_once()
+    look_step(ctx, 2.0)
+    return ctx, people, leaf
+
+
+def test_someone_still_not_told_after_the_watch_is_asked_and_a_yes_serves_them(
+        posed_line_graph, tmp_path):
+    ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
+    people.someone_unidentified(B, 1.0, 1.0, 4.0)  # still not told while watched
+    ctx.now, ctx.out = 7.0, []
+    leaf.tick_once()
+    place = ctx.graph.names[B]
+    assert ctx.out == [Ask(1, "Bob", place), Wait(15.0)] and ctx.looking[5] == "asking"
+    assert ctx.log[-1] == (7.0, f"ask whether the person at {place} is Bob")
+    ctx.now, ctx.out = 14.0, []
+    leaf.tick_once()
+    assert ctx.out == []                           # waiting for the answer
+    people.seen("Bob", B, stamp=14.5)              # "yes": human_db puts Bob here
+    ctx.now = 14.6
+    leaf.tick_once()
+    assert ctx.out[:2] == [StopMotion(), Execute(1, "check_status", 20.0)]
+
+
+def test_without_a_yes_the_look_turns_on_after_the_wait_and_asks_once(posed_line_graph,
+                                                                     tmp_path):
+    ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
+    people.someone_unidentified(B, 1.0, 1.0, 4.0)
+    ctx.now, ctx.out = 7.0, []
+    leaf.tick_once()
+    ctx.now, ctx.out = 15.0, []                    # "no", or nobody answered
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] == "faced"
+    people.someone_unidentified(B, 1.0, 1.0, 15.1)
+    ctx.now, ctx.out = 15.2, []
+    leaf.tick_once()
+    assert ctx.out == []
+
+
+def test_a_no_ends_the_wait_for_a_yes(posed_line_graph, tmp_path):
+    ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
+    people.someone_unidentified(B, 1.0, 1.0, 4.0)
+    ctx.now, ctx.out = 7.0, []
+    leaf.tick_once()                               # asked at 7.0, waits until 15.0
+    place = ctx.graph.names[B]
+    assert not not_answered(ctx, "Carol", place, 9.0)      # not the question asked
+    assert not_answered(ctx, "Bob", place, 9.0)
+    ctx.now, ctx.out = 9.0, []
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] == "faced"
+    assert not not_answered(ctx, "Bob", place, 9.5)        # no longer waiting
+
+
+def test_a_stranger_to_meet_is_asked_nothing(posed_line_graph, tmp_path):
+    """A meeting's look has no target: the greeting asks the stranger's name."""
+    people = PeopleAtPlaces()
+    people.analysed(0.5)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
+                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0, ask_wait_s=8.0,
+                       stranger_fresh_s=10.0)
+    journal(ctx, make_instruction(1, B, function=9, type=ROBOT, source="robot"))
+    serve_here(ctx, 1, 1.0)
+    leaf = LookingAround(ctx)
+    people.someone_unidentified(B, 1.0, 1.0, 1.1)
+    ctx.now, ctx.out = 1.2, []
+    leaf.tick_once()
+    look_step(ctx, 2.0)
+    ctx.now, ctx.out = 7.0, []
+    leaf.tick_once()
+    assert not any(isinstance(command, Ask) for command in ctx.out)
 
 
 def test_the_look_leaf_serves_the_person_once_perception_sees_them(posed_line_graph, tmp_path):

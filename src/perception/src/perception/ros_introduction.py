@@ -19,6 +19,14 @@ completes the dialogue, the latched ~answers_until (std_msgs/Time) gets that ans
 the person is registered: whatever the new person says after it is a request, even while
 ~dialogue_open still lingers (Time 0: no such limit, the open dialogue waits for answers).
 
+Asking who someone is (perception.identity_question): an executor that faced a person it cannot
+tell asks on its ~ask_who (tamp_msgs/AskWho, beside each of ~state_topics) whether they are the
+person it looks for. When no dialogue is open, the node says "Excuse me, are you NAME?", reads a
+yes or a no from the robot's microphone (ip "") and, on a yes, puts NAME at the place with
+/human_db/update (location only, source "asked"); the executor's belief follows from human_db's
+table. The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait).
+The question holds ~dialogue_open like a dialogue.
+
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
 work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
 says it gives up; the stranger is left alone for `retry_after`), and raises
@@ -37,7 +45,7 @@ from std_msgs.msg import Bool, String, Time, UInt32
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
-from tamp_msgs.msg import HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
+from tamp_msgs.msg import AskWho, HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Utterance
 from tamp_msgs.srv import RegisterHuman, UpdateHuman
 from task_planner.reward import load_priorities
@@ -45,6 +53,7 @@ from task_planner.robot_functions import load_robot_functions
 from task_planner.ros_submit import SubmitClient
 
 from perception.conversions import utterance_time
+from perception.identity_question import YES, IdentityQuestion, QuestionConfig
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, answered_by_the_stranger, seen_shirt,
                                      walked_off)
@@ -68,16 +77,18 @@ class IntroductionParams:
                                           # /task_planner/submit
     state_topics: tuple = ("task_planner/state",)  # ~state_topics: the executors' states (one
                                           # per robot of a fleet)
+    question: QuestionConfig = QuestionConfig()  # ~ask_timeout: [s] an "are you NAME?"
+                                          # waits for a yes or a no
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
                                           # ~min_sightings,
                                           # ~max_retries, ~answer_timeout, ~retry_after,
                                           # ~seen_within, ~gone_after
 
 
-def over_topic(state_topic):
-    """The executor's ~function_over topic beside its state topic ("robot1/task_planner/state"
-    -> "robot1/task_planner/function_over")."""
-    return state_topic.rsplit("/", 1)[0] + "/function_over"
+def over_topic(state_topic, name="function_over"):
+    """The executor's ~function_over (or other `name`) topic beside its state topic
+    ("robot1/task_planner/state" -> "robot1/task_planner/function_over")."""
+    return state_topic.rsplit("/", 1)[0] + "/" + name
 
 
 def read_params():
@@ -85,10 +96,11 @@ def read_params():
     config = config_from_params(IntroductionConfig, only=(
         "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
         "retry_after", "seen_within", "gone_after"))
+    question = config_from_params(QuestionConfig, only=("ask_timeout",))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
         "period", "close_linger", "register_timeout", "state_topics"),
-        hint=" (see tamp_bringup's social_household.launch)", config=config)
+        hint=" (see tamp_bringup's social_household.launch)", config=config, question=question)
 
 
 class IntroductionNode:
@@ -97,6 +109,8 @@ class IntroductionNode:
         self._lock = threading.Lock()
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
+        self._asks = collections.deque(maxlen=5)
+        self.question = None      # the IdentityQuestion being asked, if any
         self._states = {}         # state topic -> latest TaskBufferState
         self._known = None        # {name: (shirt (r, g, b) x 3, None = not met; ip)}; None
                                   # until the first table
@@ -105,7 +119,8 @@ class IntroductionNode:
         self._open_until = None   # ~dialogue_open is true until this time [s]; None = closed
         self._published_open = None
         self._counts = {"instructions": 0, "not_submitted": 0, "dialogues": 0, "registered": 0,
-                        "recalled": 0, "not_met": 0,
+                        "recalled": 0, "not_met": 0, "asked": 0, "asked_yes": 0,
+                        "asked_no": 0, "asked_unanswered": 0, "asks_not_taken": 0,
                         "answers": 0, "refused_answers": 0, "bad_observations": 0}
         self._last = ""           # last registration or failure, for diagnostics
         self._timers = []
@@ -131,6 +146,7 @@ class IntroductionNode:
         self.function_over = [rospy.Publisher(over_topic(topic), UInt32, queue_size=5)
                               for topic in p.state_topics]
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
+        self.asked = rospy.Publisher("~asked", AskWho, queue_size=5)
         self.answers_until = rospy.Publisher("~answers_until", Time, queue_size=1, latch=True)
         self.diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
         sup.subscriber("humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
@@ -138,6 +154,8 @@ class IntroductionNode:
         for topic in p.state_topics:
             sup.subscriber(topic, TaskBufferState, lambda msg, t=topic: self._on_state(t, msg),
                            queue_size=1)
+        for topic in p.state_topics:
+            sup.subscriber(over_topic(topic, "ask_who"), AskWho, self._on_ask, queue_size=5)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         self._publish_open(False)
         self.answers_until.publish(Time(rospy.Time(0)))
@@ -174,12 +192,17 @@ class IntroductionNode:
         with self._lock:
             self._utterances.append(msg)
 
+    def _on_ask(self, msg):
+        with self._lock:
+            self._asks.append(msg)
+
     # ---- work ----
 
     def _on_work(self, _event):
         with self._lock:
             frames, self._frames = list(self._frames), collections.deque(maxlen=50)
             utterances, self._utterances = list(self._utterances), collections.deque(maxlen=20)
+            asks, self._asks = list(self._asks), collections.deque(maxlen=5)
             states, known = list(self._states.values()), self._known
         now = rospy.get_time()
         if known is None:
@@ -190,18 +213,79 @@ class IntroductionNode:
             self._look(frame, known)
         if states:
             self._follow(states, now)
+        for msg in asks:
+            self._ask(msg, now)
         ips = {ip for _, ip in known.values() if ip}
         for msg in utterances:
             if self.dialogue is not None and self.dialogue.open and msg.ip not in ips:
                 self._answer(msg, now)
+            elif self.question is not None and self.question.open and not msg.ip:
+                self._answer_question(self.question.hear(msg.text, now), msg)
         if self.dialogue is not None and self.dialogue.open:
             if walked_off(self.stranger, self.dialogue, now):
                 self._gone(now)
             else:
                 self._turn(self.dialogue.tick(now), now)
-        self._publish_open(self._open_until is not None and
-                           (self.dialogue is not None and self.dialogue.open
-                            or now < self._open_until))
+        if self.question is not None and self.question.open:
+            self._answer_question(self.question.tick(now), None)
+        talking = any(d is not None and d.open for d in (self.dialogue, self.question))
+        self._publish_open(self._open_until is not None and (talking or now < self._open_until))
+
+    def _ask(self, msg, now):
+        """An executor asks whether the person it faces is msg.name: say the question, unless
+        a dialogue or another question is open (the robot talks with one person at a time)."""
+        if any(d is not None and d.open for d in (self.dialogue, self.question)):
+            self._count("asks_not_taken")
+            rospy.logwarn("introduction: not asking whether the person at %s is %s: another "
+                          "dialogue is open", msg.place, msg.name)
+            return
+        try:
+            self.question = IdentityQuestion(self.params.question, msg.name, msg.place, now)
+        except ValueError as error:
+            self._count("asks_not_taken")
+            self._last = f"ask_who refused: {error}"
+            rospy.logwarn("introduction: %s", self._last)
+            return
+        self._count("asked")
+        self._open_until = now
+        self.answers_until.publish(Time(rospy.Time(0)))  # answers until the question ends
+        self.say.publish(String(self.question.question()))
+        rospy.loginfo("introduction: asking whether the person at %s is %s", msg.place,
+                      msg.name)
+
+    def _answer_question(self, reply, msg):
+        """The question's reply to an answer (msg) or a tick (msg None): say it; on a yes put
+        the person at the place in human_db."""
+        question = self.question
+        if msg is not None:
+            self._count("answers")
+            rospy.loginfo("introduction: heard %r from the microphone -> %s", msg.text,
+                          reply.state)
+        if reply.say:
+            self.say.publish(String(reply.say))
+        if question.open:
+            return
+        if msg is not None:
+            self.answers_until.publish(Time(rospy.Time.from_sec(utterance_time(msg))))
+        self._count(f"asked_{reply.state}")
+        self._open_until = rospy.get_time() + self.params.close_linger
+        answered = AskWho(name=question.name, place=question.place, answer=reply.state)
+        answered.header.stamp = rospy.Time.now()
+        self.asked.publish(answered)
+        if reply.state != YES:
+            rospy.loginfo("introduction: the person at %s is not %s (%s)", question.place,
+                          question.name, reply.state)
+            return
+        try:
+            rospy.wait_for_service("human_db/update", self.params.register_timeout)
+            result = self.update(name=question.name, location=question.place, source="asked")
+            problem = "" if result.success else result.message
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            problem = str(error)
+        self._last = (f"asked: {question.name} is at {question.place}" if not problem else
+                      f"ask: {question.name} said yes at {question.place}, but human_db "
+                      f"refused the place: {problem}")
+        (rospy.logwarn if problem else rospy.loginfo)("introduction: %s", self._last)
 
     def _look(self, frame, known):
         stamp = frame.header.stamp.to_sec() if not frame.header.stamp.is_zero() \
@@ -393,8 +477,9 @@ class IntroductionNode:
         with self._lock:
             counts, table = dict(self._counts), self._known is not None
         state = self.dialogue.state if self.dialogue is not None and self.dialogue.open \
-            else "idle"
-        failed = self._last and not self._last.startswith(("registered", "recalled"))
+            else f"asking {self.question.name}" if self.question is not None \
+            and self.question.open else "idle"
+        failed = self._last and not self._last.startswith(("registered", "recalled", "asked:"))
         level = DiagnosticStatus.OK if table and not failed else DiagnosticStatus.WARN
         message = (f"no human table on {self.params.humans_topic}" if not table else
                    self._last if failed else "ok")

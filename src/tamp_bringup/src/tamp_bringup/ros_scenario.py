@@ -31,11 +31,15 @@ holds every instruction of the fleet. Their requests are held until human_db lis
 them (/humans/known); each registration (time, name, how long the dialogue took) is recorded.
 A resident whose world move puts on a new shirt answers the robot's name question the same way,
 on the robot's microphone (ip ""), while the robot is in the place the move took them; when
-human_db's table shows their shirt changed, the recall is recorded.
+human_db's table shows their shirt changed, the recall is recorded. Asked "are you NAME?"
+(perception.identity_question), the person a robot faces in its place (ground truth positions
+from sim2d's people labels, for driving the scripted people only) answers yes or no on the
+robot's microphone.
 """
 import dataclasses
 import datetime
 import json
+import math
 import os
 import tempfile
 import threading
@@ -56,8 +60,9 @@ from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
 from tamp_bringup.scenario import (
-    INTRODUCE_TEXT, ends_dialogue, load_scenario, place_of, resident_answer, residents,
-    seen_shirt, timeline, visitor_answer, who_answers)
+    ASKED_WHO, IDENTITY_QUESTION, INTRODUCE_TEXT, ends_dialogue, faced_person, identity_answer,
+    load_scenario, place_of, resident_answer, residents, seen_shirt, timeline, visitor_answer,
+    who_answers)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
@@ -102,7 +107,8 @@ class ScenarioNode:
         self.trajectories = {r: [] for r in self.robots}
         self.activities = {r: [] for r in self.robots}  # robot -> [[t, activity], ...]
         self.said, self.state, self.events = [], None, []
-        self.poses = {}                    # robot -> (stamp, x, y) of its ground truth
+        self.poses = {}                    # robot -> (stamp, x, y, yaw) of its ground truth
+        self.positions = {}                # person -> (x, y) of their ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
         self.table = {}                    # human_db's table: name -> phone ip
         self.shirts = {}                   # human_db's table: name -> shirt (9 values) or None
@@ -127,8 +133,10 @@ class ScenarioNode:
 
     def _on_pose(self, robot, msg):
         with self.lock:
+            q = msg.pose.pose.orientation
             self.poses[robot] = (msg.header.stamp.to_sec(), msg.pose.pose.position.x,
-                                 msg.pose.pose.position.y)
+                                 msg.pose.pose.position.y,
+                                 2.0 * math.atan2(q.z, q.w))   # the base turns about z only
 
     def _on_say(self, msg):
         with self.lock:
@@ -173,7 +181,10 @@ class ScenarioNode:
                 if marker.ns == "people_labels":
                     place = place_of(self.graph_spec, marker.pose.position.x,
                                      marker.pose.position.y)
-                    _changed(self.truth.setdefault(marker.text.split(":")[0], []), now, place)
+                    name = marker.text.split(":")[0]
+                    _changed(self.truth.setdefault(name, []), now, place)
+                    with self.lock:
+                        self.positions[name] = (marker.pose.position.x, marker.pose.position.y)
 
     # ---- the run ----
 
@@ -233,6 +244,10 @@ class ScenarioNode:
             for question, text in visitor.answers.items():
                 self.answers[visitor.name, text] = _wav_samples(synthesise(
                     text, workdir / f"{visitor.name}_{question}.wav"))
+            for name, kind in (("nobody", "no"), (visitor.name, "yes")):
+                text = identity_answer(visitor.name, IDENTITY_QUESTION.format(name=name))
+                self.answers[visitor.name, text] = _wav_samples(synthesise(
+                    text, workdir / f"{visitor.name}_{kind}.wav"))
         for person in people:
             for said, kind in (("your name", "name"), (f"Did you say {person}?", "yes"),
                                ("Did you say nobody?", "no")):
@@ -284,6 +299,8 @@ class ScenarioNode:
         registered = {r["visitor"] for r in self.registrations}
         visitors = {v.name: v for v in self.scenario.visitors if v.name not in registered}
         for k, (said_at, text) in enumerate(said):
+            if self._answer_who(text, poses):
+                continue
             if ends_dialogue(text):
                 self.speaking, self.ended = None, self.meeting
                 continue
@@ -319,6 +336,32 @@ class ScenarioNode:
             where = f"visitor, phone {ip}" if visitor else "on the robot's microphone"
             self._event(msg.header.stamp.to_sec(), f"{person} ({where}) answers \"{answer}\" to "
                         f"\"{text}\" (audio -> STT)")
+
+    def _answer_who(self, text, poses):
+        """"Are you NAME?": the person a robot faces in its place answers yes or no on the
+        robot's microphone. False when the sentence asks no such thing."""
+        if not ASKED_WHO.search(text.lower()):
+            return False
+        with self.lock:
+            positions = dict(self.positions)
+        for pose in poses:
+            place = place_of(self.graph_spec, pose[1], pose[2])
+            person = faced_person(pose[1:], {
+                name: xy for name, xy in positions.items()
+                if place_of(self.graph_spec, *xy) == place})
+            if person is not None:
+                break
+        else:
+            self._event(rospy.get_time(), f"nobody faces the robot to answer \"{text}\"")
+            return True
+        answer = identity_answer(person, text)
+        rate, samples = self.answers[person, answer]
+        msg = AudioUtterance(ip="", sample_rate=rate, samples=samples.tolist())
+        msg.header.stamp = rospy.Time.now()
+        self.audio.publish(msg)
+        self._event(msg.header.stamp.to_sec(), f"{person} (on the robot's microphone) answers "
+                                               f"\"{answer}\" to \"{text}\" (audio -> STT)")
+        return True
 
     @staticmethod
     def _seen_stranger(state):

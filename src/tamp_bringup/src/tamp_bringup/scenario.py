@@ -13,6 +13,7 @@ registered. A resident whose move in the world puts on a new shirt (a schedule e
 "My name is NAME." on the robot's microphone. `ros_scenario.py` plays it; `scenario_report.py`
 writes what happened.
 """
+import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -147,6 +148,35 @@ def resident_answer(person, said):
         return "Yes." if asked_back.group(1).strip() == person.lower() else "No."
     return f"My name is {person}." if dict(QUESTION_PHRASES)["name"] in lowered else ""
 
+
+
+# What the robot asks someone it cannot tell (perception.identity_question.QuestionConfig)
+IDENTITY_QUESTION = "Excuse me, are you {name}?"
+ASKED_WHO = re.compile(r"excuse me, are you ([a-z][a-z'-]*)\?")   # not "are you a man or ..."
+FACING_M = 4.0    # [m] the person the robot asks stands at most this far from it
+
+
+def identity_answer(person, said):
+    """What `person` answers when the robot says `said`: "Yes." to "are you PERSON?", "No." to
+    "are you SOMEONE-ELSE?", "" when the sentence asks no such thing."""
+    asked = ASKED_WHO.search(said.lower())
+    if not asked:
+        return ""
+    return "Yes." if asked.group(1).strip() == person.lower() else "No."
+
+
+def faced_person(robot, positions):
+    """The person the robot at `robot` (x, y, yaw) faces: of `positions` ({name: (x, y)}, the
+    people in its place), the one nearest its heading within FACING_M, or None."""
+    x, y, yaw = robot
+    best = None
+    for name, (px, py) in positions.items():
+        if math.hypot(px - x, py - y) > FACING_M:
+            continue
+        off = abs(math.remainder(math.atan2(py - y, px - x) - yaw, math.tau))
+        if best is None or off < best[0]:
+            best = (off, name)
+    return None if best is None else best[1]
 
 
 # The introduce instruction's text and the dialogue's give-up sentence (perception.introduction:

@@ -22,6 +22,7 @@ from task_planner.behaviours.charging import BATTERY_KEY, save_battery
 from task_planner.behaviours.context import (ABORTED, ARRIVED, CANCELLED, RECEIVED, TICK,
                                              Charging, Context, ExecutorConfig)
 from task_planner.behaviours.fleet_allocation import fleet_allocator
+from task_planner.behaviours.looking import not_answered
 from task_planner.behaviours.receiving import new_id
 from task_planner.behaviours.recovery import fault
 from task_planner.behaviours.tree import build_tree, drawing, tick
@@ -125,6 +126,12 @@ class Executor:
         ctx.executing = (instruction_id, min(ctx.executing[1], now))
         ctx.log.append((now, f"function of {instruction_id} over early"))
         return True
+
+    def not_answered(self, name: str, place: str, now: float) -> bool:
+        """The person asked at `place` whether they are `name` said no, or nobody answered:
+        the look stops waiting for a yes (looking.ask_who). False when the robot is not
+        waiting for that answer."""
+        return not_answered(self.state, name, place, now)
 
     def new_id(self, previous_id: int = 0) -> int:
         """The id for an instruction whose sender lets the robot choose (its fleet's, if any)."""

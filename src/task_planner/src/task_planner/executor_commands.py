@@ -63,5 +63,15 @@ class Say:
     text: str
 
 
+@dataclass(frozen=True)
+class Ask:
+    """Ask the person perception saw at `place` but could not tell whether they are `name`
+    (the introduction node says the question; a yes reaches the belief through human_db)."""
+
+    instruction_id: int
+    name: str
+    place: str
+
+
 # what the executor's events return, for the node or executor_sim to carry out
-Command = Navigate | StopMotion | Wait | Execute | Verify | Say
+Command = Navigate | StopMotion | Wait | Execute | Verify | Say | Ask

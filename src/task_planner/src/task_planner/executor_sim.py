@@ -11,8 +11,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, TypedDict
 
-from task_planner.executor_commands import (Command, Execute, Navigate, Say, StopMotion, Verify,
-                                            Wait)
+from task_planner.executor_commands import (Ask, Command, Execute, Navigate, Say, StopMotion,
+                                            Verify, Wait)
 from task_planner.graph import TopologicalGraph
 from task_planner.instruction import Instruction
 
@@ -111,6 +111,8 @@ def _carry_out(commands: Iterable[Command], clock: float, executor: Executor,
             state["execution_end"] = command.until_s
         elif isinstance(command, Say):
             trace.said.append((clock, command.text))
+        elif isinstance(command, Ask):   # nobody answers in the model: the look goes on
+            trace.said.append((clock, f"Excuse me, are you {command.name}?"))
 
 
 def _start_drive(navigation: NavigationModel, current: _Drive | None, node: int, goal: int,

@@ -31,7 +31,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from std_msgs.msg import String, UInt32
-from tamp_msgs.msg import HumanArray, ObservedHumanArray, TaskBufferState
+from tamp_msgs.msg import AskWho, HumanArray, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Instruction as InstructionMsg
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
@@ -45,7 +45,7 @@ from task_planner.conversions import (buffer_to_msg, instruction_from_msg, peopl
                                       sightings_from_observed)
 from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_ms,
                                    nearest_node)
-from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Verify, Wait
+from task_planner.executor_commands import Ask, Execute, Navigate, Say, StopMotion, Verify, Wait
 from task_planner.fleet_link import FleetLink
 from task_planner.fleet_pool import FleetPool, PoolUnavailable
 from task_planner.fleet_registry import FLEET_ALLOCATORS
@@ -89,6 +89,10 @@ class NodeParams:
     look_frames: int = 3           # and until visual perception analysed this many frames
                                    # taken there (/humans/observed); 0 = the dwell alone
     look_frames_wait: float = 10.0  # but turn on after this long on one heading [s]
+    ask_wait: float = 0.0          # a person faced and watched whom perception still cannot
+                                   # tell is asked on ~ask_who whether they are the one looked
+                                   # for (perception's introduction node says it and writes a
+                                   # yes to human_db); wait this long for it [s]; 0 = never ask
     look_again: float = 20.0       # a place looked all around this recently is not looked
                                    # around again for another person [s]; 0 = look every time
     fresh: float = 5.0             # a sighting this old still counts as "the person is here" [s]
@@ -153,6 +157,7 @@ class NodeParams:
                     "corridor_wait", "look_frames_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
                          "look_dwell", "look_frames", "look_again", "stranger_fresh", "pass_wait",
+                         "ask_wait",
                          "patrol_interval", "serve_within",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions")
@@ -187,6 +192,7 @@ class ExecutorNode:
                            verify_wait_s=params.verify_wait, look_headings=params.look_headings,
                            look_dwell_s=params.look_dwell, look_frames=params.look_frames,
                            look_frames_wait_s=params.look_frames_wait,
+                           ask_wait_s=params.ask_wait,
                            look_again_s=params.look_again,
                            fresh_s=params.fresh, stranger_fresh_s=params.stranger_fresh,
                            search_all_places=params.search_all_places,
@@ -207,6 +213,8 @@ class ExecutorNode:
         self.lock = threading.Lock()  # guards the caches below and the executor
         self.inbox, self.humans, self.observed = [], None, deque(maxlen=OBSERVED_KEPT)
         self.functions_over = []   # ids from ~function_over: functions that ended early
+        self.answers = []          # (name, place) of introduction/asked: a question not answered
+        #                            yes
         # move_base results: a lock-free queue, because actionlib calls done callbacks holding
         # its goal mutex, which _cancel_goal (called under self.lock) takes too
         self.results = queue.SimpleQueue()
@@ -252,6 +260,7 @@ class ExecutorNode:
         """Publishers, subscribers, services and the move_base client; False if it is not up."""
         self.sup = Supervisor("task_planner: executor", hardware_id="task_planner")
         self.say_pub = rospy.Publisher("robot/say", String, queue_size=10)
+        self.ask_pub = rospy.Publisher("~ask_who", AskWho, queue_size=5)
         self.state_pub = rospy.Publisher("~state", TaskBufferState, queue_size=1,
                                          latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
@@ -285,6 +294,7 @@ class ExecutorNode:
         sup.subscriber("humans/known", HumanArray, self._on_humans, queue_size=1)
         sup.subscriber("humans/observed", ObservedHumanArray, self._on_observed, queue_size=10)
         sup.subscriber("~function_over", UInt32, self._on_function_over, queue_size=10)
+        sup.subscriber("introduction/asked", AskWho, self._on_asked, queue_size=5)
         sup.service("~submit", SubmitInstruction, self._submit)
         sup.service("~cancel", CancelInstruction, self._cancel)
         sup.service("~get_buffer", GetTaskBuffer, self._get_buffer)
@@ -303,6 +313,11 @@ class ExecutorNode:
     def _on_function_over(self, msg):
         with self.lock:
             self.functions_over.append(int(msg.data))
+
+    def _on_asked(self, msg):
+        if msg.answer != "yes":   # a yes reaches the belief through human_db's table
+            with self.lock:
+                self.answers.append((msg.name, msg.place))
 
     def _on_humans(self, msg):
         with self.lock:
@@ -423,6 +438,9 @@ class ExecutorNode:
             over, self.functions_over = self.functions_over, []
             for instruction_id in over:
                 self.executor.function_over(instruction_id, now)
+            answers, self.answers = self.answers, []
+            for name, place in answers:
+                self.executor.not_answered(name, place, now)
             commands += self.executor.tick(now)
             self._log_decisions()
             busy = (self.executor.buffer.version != version or commands
@@ -542,6 +560,12 @@ class ExecutorNode:
             elif isinstance(command, Say):
                 self.say_pub.publish(String(command.text))
                 rospy.loginfo("task_planner says: %s", command.text)
+            elif isinstance(command, Ask):
+                msg = AskWho(name=command.name, place=command.place)
+                msg.header.stamp = rospy.Time.now()
+                self.ask_pub.publish(msg)
+                rospy.loginfo("task_planner: asking whether the person at %s is %s",
+                              command.place, command.name)
             elif isinstance(command, Verify):
                 rospy.loginfo("task_planner: looking for %s for instruction %d until %.1f s",
                               command.target, command.instruction_id, command.until_s)

@@ -39,6 +39,9 @@ class ExecutorConfig:
     look_frames_wait_s: float = 10.0  # but turn on after this long on a heading all the same;
                                   # a person seen there whom perception cannot tell is faced
                                   # and watched this long [s]
+    ask_wait_s: float = 0.0       # still unable to tell them after that watch, the robot asks
+                                  # them whether they are the person it looks for and waits
+                                  # this long for a yes to reach its belief [s] (0: never asks)
     look_again_s: float = 0.0     # a place looked all around this recently is not looked around
                                   # again: whoever that look saw is here, anyone else is
                                   # searched for elsewhere at once [s] (0: look every time)

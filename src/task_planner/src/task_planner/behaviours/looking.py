@@ -15,12 +15,13 @@ from py_trees.common import Status
 from task_planner.behaviours.context import Context, Leaf, still_busy
 from task_planner.behaviours.searching import search_next
 from task_planner.behaviours.serving import execute, fail
-from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Command, Navigate, \
+from task_planner.executor_commands import IDLE, LOOKING, VERIFYING, Ask, Command, Navigate, \
     StopMotion, Verify, Wait
 from task_planner.instruction import Instruction
 from task_planner.robot_functions import RobotFunctionError, function_for, is_meeting
 
-FACING, FACED = "facing", "faced"   # a look's turn toward someone perception cannot tell
+FACING, ASKING, FACED = "facing", "asking", "faced"   # a look's turn toward someone
+#                                                      perception cannot tell, then the question
 
 
 def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
@@ -121,14 +122,49 @@ def look_step(ctx: Context, now: float) -> list[Command]:
         end = now + ctx.config.look_dwell_s
         looking[3], looking[4] = end, now
         return [Wait(end)]
+    if looking[5] == FACING and ctx.config.ask_wait_s > 0:
+        question = ask_who(ctx, now)
+        if question:
+            return question
     looking[3] = looking[4] = None
-    if looking[5] == FACING:
+    if looking[5] in (FACING, ASKING):
         looking[5] = FACED
     instruction_id, headings = looking[:2]
     if headings:
         looking[1] = headings[1:]
         return [Navigate(ctx.node, instruction_id, yaw=headings[0])]
     return end_look(ctx, now)
+
+
+def ask_who(ctx: Context, now: float) -> list[Command]:
+    """The person faced is still someone perception cannot tell (a shirt half hidden, a light
+    that shifts its colours, or hidden from the camera while faced): ask them whether they
+    are the person looked for, and wait `ask_wait_s` for a yes to reach the belief
+    (look_found then serves them); after a no, or when nobody answers, the look goes on. A
+    meeting's stranger is asked nothing: the greeting asks their name."""
+    looking = ctx.looking_now()
+    instruction_id = looking[0]
+    target = ctx.buffer.get(instruction_id).instruction.target
+    if not target:
+        return []
+    end = now + ctx.config.ask_wait_s
+    looking[3], looking[4], looking[5] = end, now, ASKING
+    place = ctx.graph.names[ctx.node]
+    ctx.log.append((now, f"ask whether the person at {place} is {target}"))
+    return [Ask(instruction_id, target, place), Wait(end)]
+
+
+def not_answered(ctx: Context, name: str, place: str, now: float) -> bool:
+    """The person asked at `place` whether they are `name` said no, or nobody answered: the
+    look stops waiting for a yes and turns on at the next tick. False when the robot is not
+    waiting for that answer."""
+    looking = ctx.looking
+    if looking is None or looking[5] != ASKING or ctx.graph.names[ctx.node] != place or \
+            ctx.buffer.get(looking[0]).instruction.target != name:
+        return False
+    looking[3] = min(looking[3], now)
+    ctx.log.append((now, f"the person at {place} is not {name}"))
+    return True
 
 
 def end_look(ctx: Context, now: float) -> list[Command]:
@@ -163,6 +199,8 @@ def dwell_over(ctx: Context, now: float) -> bool:
         return False
     if looking[5] == FACING:
         return now - reached >= ctx.config.look_frames_wait_s
+    if looking[5] == ASKING:
+        return True
     if ctx.config.look_frames <= 0 or not ctx.people.perceiving():
         return True
     return (ctx.people.frames_since(reached) >= ctx.config.look_frames

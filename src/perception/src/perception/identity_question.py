@@ -1,0 +1,79 @@
+"""Asking someone the camera cannot tell whether they are the person the robot looks for
+(ROS-free).
+
+Thesis 000 §3.2.3 identifies people by their shirt colours and asks when it cannot: a resident in
+new clothes is met again by name. A person seen with their shirt half hidden by a chair, or under
+a light that shifts its colours, cannot be told either, and looking longer does not help; the
+robot then asks the person it faces, "Excuse me, are you Carol?", and a yes puts that person at
+the robot's place in human_db (the executor's belief follows). A no, an answer it cannot read
+twice or silence until `ask_timeout` leave the belief as it was.
+"""
+from dataclasses import dataclass
+
+from perception.answers import AnswerError, parse_yes_no
+
+ASKED, YES, NO, UNANSWERED = "asked", "yes", "no", "unanswered"
+
+
+@dataclass(frozen=True)
+class QuestionConfig:
+    question: str = "Excuse me, are you {name}?"
+    thanks: str = "Thank you, {name}."
+    mistaken: str = "I am sorry, I took you for someone else."
+    ask_timeout: float = 15.0   # [s] without a yes or a no: nobody answered
+    max_retries: int = 1           # re-asks after an answer that is neither yes nor no
+
+    def __post_init__(self) -> None:
+        if not self.ask_timeout > 0 or self.max_retries < 0:
+            raise ValueError(f"~ask_timeout must be > 0 and max_retries >= 0, got "
+                             f"{self.ask_timeout} and {self.max_retries}")
+
+
+@dataclass(frozen=True)
+class Reply:
+    """What the question does after an answer or a tick."""
+
+    say: str = ""        # sentence for /robot/say ("" = nothing)
+    state: str = ASKED   # the question's state afterwards
+
+
+class IdentityQuestion:
+    """One "are you NAME?" to the person the robot faces at `place`, asked at `asked_at` [s]."""
+
+    def __init__(self, config: QuestionConfig, name: str, place: str, asked_at: float) -> None:
+        if not name.strip() or not place.strip():
+            raise ValueError(f"an identity question needs a name and a place, got "
+                             f"{name!r} at {place!r}")
+        self.config, self.name, self.place = config, name, place
+        self.started = self.asked_at = asked_at
+        self.state, self.retries = ASKED, 0
+
+    @property
+    def open(self) -> bool:
+        return self.state == ASKED
+
+    def question(self) -> str:
+        return self.config.question.format(name=self.name)
+
+    def hear(self, text: str, now: float) -> Reply:
+        """The person's answer -> YES (thanks), NO (an apology) or a re-ask; UNANSWERED after
+        `max_retries` answers that are neither."""
+        if not self.open:
+            raise RuntimeError(f"the question to {self.name} is {self.state}; no answer expected")
+        try:
+            yes = parse_yes_no(text)
+        except AnswerError as error:
+            if self.retries >= self.config.max_retries:
+                self.state = UNANSWERED
+                return Reply(f"Sorry, {error}.", UNANSWERED)
+            self.retries, self.asked_at = self.retries + 1, now
+            return Reply(f"Sorry, {error}. {self.question()}", ASKED)
+        self.state = YES if yes else NO
+        return Reply(self.config.thanks.format(name=self.name) if yes else self.config.mistaken,
+                     self.state)
+
+    def tick(self, now: float) -> Reply:
+        """UNANSWERED once `ask_timeout` passed since the question without an answer."""
+        if self.open and now - self.asked_at >= self.config.ask_timeout:
+            self.state = UNANSWERED
+        return Reply("", self.state)
