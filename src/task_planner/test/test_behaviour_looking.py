@@ -160,19 +160,25 @@ def test_someone_still_not_told_after_the_watch_is_asked_and_a_yes_serves_them(
     assert ctx.out[:2] == [StopMotion(), Execute(1, "check_status", 20.0)]
 
 
-def test_without_a_yes_the_look_turns_on_after_the_wait_and_asks_once(posed_line_graph,
-                                                                     tmp_path):
+def test_without_a_yes_the_look_turns_on_after_the_wait_and_asks_each_person_once(
+        posed_line_graph, tmp_path):
     ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
     people.someone_unidentified(B, 1.0, 1.0, 4.0)
     ctx.now, ctx.out = 7.0, []
     leaf.tick_once()
     ctx.now, ctx.out = 15.0, []                    # "no", or nobody answered
     leaf.tick_once()
-    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] == "faced"
-    people.someone_unidentified(B, 1.0, 1.0, 15.1)
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] is None
+    people.someone_unidentified(B, 1.3, 1.2, 15.1)  # the one asked, seen again
     ctx.now, ctx.out = 15.2, []
     leaf.tick_once()
     assert ctx.out == []
+    x, y, _ = ctx.graph.pose(B)
+    people.someone_unidentified(B, x - 1.0, y, 15.3)  # someone else, due west of B
+    ctx.now, ctx.out = 15.4, []
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] == "facing"
+    assert ctx.faced == [(1.0, 1.0), (x - 1.0, y)]
 
 
 def test_a_no_ends_the_wait_for_a_yes(posed_line_graph, tmp_path):
@@ -185,7 +191,7 @@ def test_a_no_ends_the_wait_for_a_yes(posed_line_graph, tmp_path):
     assert not_answered(ctx, "Bob", place, 9.0)
     ctx.now, ctx.out = 9.0, []
     leaf.tick_once()
-    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] == "faced"
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] is None
     assert not not_answered(ctx, "Bob", place, 9.5)        # no longer waiting
 
 

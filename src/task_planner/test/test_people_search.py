@@ -311,3 +311,17 @@ def test_the_table_gives_sightings_and_the_schedules_predictions():
     assert people.now == {"Bob": B} and people.predicted == {"Bob": None, "Zoe": None}
     people.predict(schedules, 18.6 * 3600)
     assert people.predicted["Bob"] == C
+
+
+def test_the_latest_person_not_told_apart_from_those_already_faced():
+    """unidentified_at gives the latest sighting at a place since a time, or with away_from the
+    latest of someone more than APART_M from each position given (another person)."""
+    people = PeopleAtPlaces()
+    people.someone_unidentified(2, 1.0, 1.0, stamp=1.0)
+    people.someone_unidentified(2, 4.0, 1.0, stamp=2.0)
+    people.someone_unidentified(2, 1.2, 1.1, stamp=3.0)   # the first one again, moved a little
+    assert people.unidentified_at(2, 0.0) == (1.2, 1.1)
+    assert people.unidentified_at(2, 0.0, away_from=[(1.0, 1.0)]) == (4.0, 1.0)
+    assert people.unidentified_at(2, 2.5, away_from=[(1.0, 1.0)]) is None   # seen too early
+    assert people.unidentified_at(2, 0.0, away_from=[(1.0, 1.0), (4.0, 1.5)]) is None
+    assert people.unidentified_at(3, 0.0) is None

@@ -16,6 +16,8 @@ Place = TypeVar("Place")   # a schedule's place: a graph node or a place name
 
 DAY_S = 86400.0   # [s]
 FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
+UNIDENTIFIED_KEPT = 30  # sightings of people perception could not tell kept per place
+APART_M = 1.0      # [m] sightings this close are taken for one person
 
 
 class PeopleAtPlaces:
@@ -31,9 +33,9 @@ class PeopleAtPlaces:
         self.predicted: dict[str, int | None] = {}  # name -> node their schedule puts them at now
         self.frames: deque[float] = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames
                                                  # perception analysed, oldest first
-        self.unidentified: dict[int, tuple[float, float, float]] = {}
-        # node -> (stamp [s], x, y [m]) of the latest person perception saw there but could not
-        # tell who
+        self.unidentified: dict[int, deque[tuple[float, float, float]]] = {}
+        # node -> (stamp [s], x, y [m]) of the latest people perception saw there but could not
+        # tell who, oldest first
         self.unidentified_shirt: dict[int, tuple[float, float, float]] = {}
         # the same for those whose whole shirt (joints 1, 2, 5) it saw: someone new, or in
         # new clothes, whom the introduction node can meet
@@ -54,18 +56,25 @@ class PeopleAtPlaces:
         """Perception saw a person at `node`, at map position (x, y), whose shirt named nobody
         (seen from behind, half hidden, or in clothes nobody registered; `shirt`: all three
         shirt joints seen): they may be the one looked for."""
-        if stamp >= self.unidentified.get(node, (-math.inf,))[0]:
-            self.unidentified[node] = (stamp, x, y)
+        self.unidentified.setdefault(node, deque(maxlen=UNIDENTIFIED_KEPT)).append((stamp, x, y))
         if shirt and stamp >= self.unidentified_shirt.get(node, (-math.inf,))[0]:
             self.unidentified_shirt[node] = (stamp, x, y)
 
-    def unidentified_at(self, node: int, since: float,
-                        shirt: bool = False) -> tuple[float, float] | None:
+    def unidentified_at(self, node: int, since: float, shirt: bool = False,
+                        away_from: Iterable[tuple[float, float]] = ()
+                        ) -> tuple[float, float] | None:
         """(x, y) of the latest person seen at `node` at or after `since` [s] whom perception
-        could not tell (with `shirt`: whose whole shirt it saw), or None."""
-        sightings = self.unidentified_shirt if shirt else self.unidentified
-        stamp, x, y = sightings.get(node, (-math.inf, 0.0, 0.0))
-        return (x, y) if stamp >= since else None
+        could not tell (with `shirt`: whose whole shirt it saw), or None; with `away_from`,
+        the latest more than APART_M from each of those positions (someone else)."""
+        if shirt:
+            stamp, x, y = self.unidentified_shirt.get(node, (-math.inf, 0.0, 0.0))
+            return (x, y) if stamp >= since else None
+        for stamp, x, y in reversed(self.unidentified.get(node, ())):
+            if stamp < since:
+                continue
+            if all(math.hypot(x - ax, y - ay) > APART_M for ax, ay in away_from):
+                return x, y
+        return None
 
     def analysed(self, stamp: float) -> None:
         """Perception finished a camera frame taken at `stamp` [s] (whoever it saw was

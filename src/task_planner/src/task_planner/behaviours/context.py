@@ -131,7 +131,9 @@ class Context:
     looking: list | None = None    # [instruction id (0: patrol), headings left, since, end of
                                    #  the last heading's dwell (None: turning), when that
                                    #  heading was reached, facing someone perception could
-                                   #  not tell (None, FACING, FACED)] while LOOKING
+                                   #  not tell (None, FACING, ASKING, FACED)] while LOOKING
+    faced: list[tuple[float, float]] = field(default_factory=list)  # (x, y) [m] of the people
+                                   # this look faced (each a different person to ask)
     search: dict[int, list[int]] = field(default_factory=dict)  # instruction id -> places
                                                   # still to search
     searched: dict[int, list[int]] = field(default_factory=dict)  # instruction id -> places

@@ -22,6 +22,7 @@ from task_planner.robot_functions import RobotFunctionError, function_for, is_me
 
 FACING, ASKING, FACED = "facing", "asking", "faced"   # a look's turn toward someone
 #                                                      perception cannot tell, then the question
+MAX_FACED = 3   # people one look faces and asks at most (a crowded room, noisy positions)
 
 
 def serve_here(ctx: Context, instruction_id: int, now: float) -> list[Command]:
@@ -108,6 +109,7 @@ def start_look(ctx: Context, instruction_id: int, now: float) -> list[Command]:
     yaw = float(ctx.graph.pose(ctx.node)[2])
     headings = [yaw + 2.0 * math.pi * k / (count + 1) for k in range(1, count + 1)]
     ctx.mode, ctx.looking = LOOKING, [instruction_id, headings[1:], now, None, None, None]
+    ctx.faced = []
     target = ctx.buffer.get(instruction_id).instruction.target if instruction_id else ""
     what = f"for {target or 'the stranger'}" if instruction_id else "(patrol)"
     ctx.log.append((now, f"look around {ctx.graph.names[ctx.node]} {what}"))
@@ -127,7 +129,12 @@ def look_step(ctx: Context, now: float) -> list[Command]:
         if question:
             return question
     looking[3] = looking[4] = None
-    if looking[5] in (FACING, ASKING):
+    if looking[5] == ASKING and len(ctx.faced) < MAX_FACED:
+        looking[5] = None   # not them: someone else here may be, faced before turning on
+        someone_else = face_someone(ctx, now)
+        if someone_else:
+            return someone_else
+    elif looking[5] in (FACING, ASKING):
         looking[5] = FACED
     instruction_id, headings = looking[:2]
     if headings:
@@ -209,16 +216,18 @@ def dwell_over(ctx: Context, now: float) -> bool:
 
 def face_someone(ctx: Context, now: float) -> list[Command]:
     """While looking for an instruction's person: turn to face a person perception saw at this
-    place but could not tell (from behind, half hidden by a chair), once per look, and watch
-    them for `look_frames_wait_s`: they may be the person looked for, and a turn in place
-    that sees them at the edge of the image never shows their shirt."""
+    place but could not tell (from behind, half hidden by a chair), and watch them for
+    `look_frames_wait_s`: they may be the person looked for, and a turn in place that sees
+    them at the edge of the image never shows their shirt. Once per look, or, when the robot
+    asks (ask_who) and hears a no, once per person up to MAX_FACED."""
     looking = ctx.looking_now()
     instruction_id, _, since = looking[:3]
     if not instruction_id or looking[5] is not None or ctx.config.look_frames <= 0:
         return []
-    someone = ctx.people.unidentified_at(ctx.node, since)
+    someone = ctx.people.unidentified_at(ctx.node, since, away_from=ctx.faced)
     if someone is None:
         return []
+    ctx.faced.append(someone)
     x, y, _ = ctx.graph.pose(ctx.node)
     yaw = math.atan2(someone[1] - y, someone[0] - x)
     looking[3:] = [None, None, FACING]
