@@ -3,11 +3,10 @@ figures on the same arrivals, against hand-computed numbers."""
 import pytest
 from bringup_factories import instruction
 
-from tamp_bringup.scenario_report import (MODEL_PLANNERS, arrivals_problem, check_order,
-                                          fleet_figures, fleet_markdown, model_figures,
-                                          read_fleet_journals, read_journal,
-                                          report_markdown, run_curve, summary,
-                                          timeline_rows)
+from tamp_bringup.scenario_report import (GOALS_MODEL, MODEL_PLANNERS, arrivals_problem,
+                                          check_order, fleet_figures, fleet_markdown,
+                                          model_figures, read_fleet_journals, read_journal,
+                                          report_markdown, run_curve, summary, timeline_rows)
 from task_planner.planner_registry import SCENARIO_MODEL, planner_names
 from task_planner.task_buffer import BufferConfig, TaskBuffer
 
@@ -154,6 +153,10 @@ def test_markdown_lists_every_instruction(tmp_path, line_graph):
     assert "phone requests sent: 1 (1 spoken through the STT node)" in text
     assert "served 3, failed 0" in text
     assert "| 1 | Bob | hi | " in text
+    model = {f.name: f for f in figures}[dict(MODEL_PLANNERS)[GOALS_MODEL]]
+    row = next(line for line in text.splitlines() if line.startswith("| 1 | Bob | hi | "))
+    cells = [c.strip() for c in row.split("|")[1:-1]]
+    assert cells[9] == f"{model.starts[1]:.1f}"    # the start the goals' model gives it
     assert "| this run (simulator) | 1.840 | 2, 1, 3 |" in text
     assert "| FCFS (model) | 1.590 | 1, 2, 3 |" in text
     assert "Replay in rviz" not in text

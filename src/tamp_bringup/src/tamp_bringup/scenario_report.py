@@ -363,18 +363,22 @@ def report_markdown(record, entries, figures, run, order_problems, files, sectio
     lines.append(f"| this run (simulator) | {run[1][-1] if run[1] else 0.0:.3f} | "
                  f"{', '.join(map(str, done_order))} |")
     lines += [""] + (fleet_markdown(fleet) if fleet else [])
+    model = next((f for f in figures if f.name == dict(MODEL_PLANNERS)[GOALS_MODEL]), None)
+    model_starts = model.starts if model is not None else {}
     lines += ["## Timeline", "",
               "Times in seconds of simulated time since the scenario start; launch = when the "
               "person spoke (the instruction's `start_time`), start = robot function began, "
-              "end = done/failed.", "",
-              "| id | from | request | place | γ | β | after | launch | start | end | state | "
-              "reward |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              f"model = the start {dict(MODEL_PLANNERS)[GOALS_MODEL]} gives it on the same "
+              "arrivals (the goals' measure), end = done/failed.", "",
+              "| id | from | request | place | γ | β | after | launch | start | model | end | "
+              "state | reward |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for row in timeline_rows(entries, t0):
         state = row["state"] + (f" ({row['reason']})" if row["reason"] else "")
         text = row["text"].replace("|", "/")
         lines.append(f"| {row['id']} | {row['source'] or 'robot'} | {text} | {row['place']} | "
                      f"{row['gamma']:g} | {row['beta']:g} | {row['previous_id'] or ''} | "
-                     f"{_cell(row['launch'])} | {_cell(row['start'])} | {_cell(row['end'])} | "
+                     f"{_cell(row['launch'])} | {_cell(row['start'])} | "
+                     f"{_cell(model_starts.get(row['id']))} | {_cell(row['end'])} | "
                      f"{state} | {row['reward']:.3f} |")
     lines += ["", "Scripted events (the requests as the phones sent them; the people's moves "
               "are the world file's timed moves, unannounced to the robot):", "",
