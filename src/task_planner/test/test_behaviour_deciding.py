@@ -174,9 +174,11 @@ def test_an_overdue_request_goes_before_newer_ones(line_graph, tmp_path):
     assert [int(problem.ids[k]) for k in available] == [1]
 
 
-def test_among_overdue_requests_the_oldest_goes_first_unless_one_is_here(line_graph, tmp_path):
-    """Two requests overdue at 400 s: by reward the newer (at D, launched at 250 s) would go
-    first; the older (at A, launched at 0 s) does, unless the robot stands at D."""
+def test_among_overdue_requests_the_nearer_goes_first_and_of_equals_the_older(line_graph,
+                                                                             tmp_path):
+    """Two requests of one priority overdue at 400 s: by reward the newer (at D, launched at
+    250 s) would go first; from B the older (at A, 2 s away against 10 s) does, from D the one
+    there. From C, where both are 6 s away, the older."""
     ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
                        serve_within_s=120.0)
     journal(ctx, make_instruction(1, A, gamma=5.0, beta=0.96, function=1, start_time=0.0))
@@ -187,21 +189,27 @@ def test_among_overdue_requests_the_oldest_goes_first_unless_one_is_here(line_gr
     ctx.node = D
     problem, available = fetch_and_decode(ctx, 400.0)
     assert [int(problem.ids[k]) for k in available] == [2]
-
-
-def test_an_overdue_call_for_physical_help_goes_before_overdue_chats_here(line_graph, tmp_path):
-    """At 400 s David's call for physical help (gamma 8, at D, launched at 0 s) and Bob's chat
-    (gamma 5, at the robot's place B, launched at 100 s) are both overdue: the stronger class
-    goes first, though the chat is here; of one class, the one here does (test above)."""
-    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
-                       serve_within_s=120.0)
-    journal(ctx, make_instruction(1, D, gamma=8.0, beta=0.98, function=1, start_time=0.0))
-    journal(ctx, make_instruction(2, B, gamma=5.0, beta=0.96, function=1, start_time=100.0),
-            now=100.0)
+    ctx.node = C
     problem, available = fetch_and_decode(ctx, 400.0)
     assert [int(problem.ids[k]) for k in available] == [1]
-    journal(ctx, make_instruction(3, B, gamma=8.0, beta=0.98, function=1, start_time=200.0),
-            now=200.0)
+
+
+def test_overdue_instructions_go_by_priority_per_second_of_the_robots_time(line_graph,
+                                                                          tmp_path):
+    """Smith's rule at 400 s, robot at B (0.5 m/s; B to D is 5 m, 10 s): David's call for
+    physical help at D (gamma 8, 30 s) is worth 8 / (10 + 30) = 0.2 per second, Bob's chat
+    here (gamma 5, 60 s) 5 / 60 = 0.08: the call goes first, though the chat is here. A check
+    here (gamma 3, 10 s), 3 / 10 = 0.3, goes before both."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    journal(ctx, make_instruction(1, D, gamma=8.0, beta=0.98, duration=30, function=1,
+                                  start_time=0.0))
+    journal(ctx, make_instruction(2, B, gamma=5.0, beta=0.96, duration=60, function=1,
+                                  start_time=100.0), now=100.0)
+    problem, available = fetch_and_decode(ctx, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [1]
+    journal(ctx, make_instruction(3, B, gamma=3.0, beta=0.94, duration=10, function=1,
+                                  start_time=200.0), now=200.0)
     problem, available = fetch_and_decode(ctx, 400.0)
     assert [int(problem.ids[k]) for k in available] == [3]
 

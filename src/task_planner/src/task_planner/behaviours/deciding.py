@@ -17,7 +17,8 @@ from py_trees.common import Status
 
 from task_planner.behaviours.context import Context, Leaf
 from task_planner.behaviours.driving import drive
-from task_planner.behaviours.fleet_allocation import auction_choice, fleet_allocator, report_free
+from task_planner.behaviours.fleet_allocation import (auction_choice, fleet_allocator, report_free,
+                                                      travel_s)
 from task_planner.behaviours.looking import serve_here
 from task_planner.behaviours.patrolling import clear_corridor, patrol
 from task_planner.behaviours.searching import served_where
@@ -203,13 +204,16 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     next to nothing against a new one, and a reward-maximising planner would keep passing it
     over; an overdue one is served before any newer one. A meeting counts as overdue while an
     overdue request waits for it (its stranger may be that request's person), as old as that
-    request. Among the overdue ones the reward would again serve the newest first: those of the
-    highest priority class go first (Table 5-5's γ, a meeting with the priority it inherits:
-    physical help is not kept waiting behind chats at the robot's place), and of them those at
-    the robot's place, else those at the place of the oldest (`instructions`: where each is
-    served, with its planning priority; the charge never sets the place). With the fleet's
-    auction every overdue one stays: the auction gives each to a robot, and a robot kept to
-    one place would leave the one given to it waiting."""
+    request. Among the overdue ones, whose rewards have decayed to next to nothing, the reward
+    would again serve the newest first; instead the one with the most priority per second of
+    the robot's time goes first: Table 5-5's γ over the time to drive there and serve it
+    (`instructions`: where each is served, with its planning priority, a meeting's inherited).
+    This is Smith's rule (W. E. Smith, "Various optimizers for single-stage production", 1956),
+    which orders jobs to minimise the weighted sum of their completion times: a call for
+    physical help elsewhere goes before a long chat here, a short reminder here before a chat
+    elsewhere. The charge never competes. With the fleet's auction every overdue one stays: the
+    auction gives each to a robot, and a robot kept to one would leave the one given to it
+    waiting."""
     limit = ctx.config.serve_within_s
     if limit <= 0 or not len(available):
         return available
@@ -229,12 +233,11 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
         late = [k for k in charges if now - launched(k) >= limit]
         return np.array(late, dtype=int) if late else available
     if fleet_allocator(ctx) is None:   # the fleet's auction orders them over its robots
-        strongest = max(instructions[k].gamma for k in overdue)
-        overdue = [k for k in overdue if instructions[k].gamma == strongest]
-        places = {instructions[k].destination for k in overdue}
-        first = ctx.node if ctx.node in places else \
-            instructions[min(overdue, key=launched)].destination
-        overdue = [k for k in overdue if instructions[k].destination == first]
+        def priority_per_s(k: int) -> tuple[float, float]:
+            instruction = instructions[k]
+            cost_s = travel_s(ctx, ctx.node, instruction.destination) + instruction.duration
+            return instruction.gamma / max(cost_s, 1.0), -launched(k)   # ties: the oldest
+        overdue = [max(overdue, key=priority_per_s)]
     return np.array([k for k in available if k in charges or k in overdue], dtype=int)
 
 
