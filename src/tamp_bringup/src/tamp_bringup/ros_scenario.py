@@ -6,13 +6,15 @@ them with its own perception. On simulated time each request is sent as the phon
 (`tamp_msgs/Utterance` on /voice_message: the text and the phone's address, never where the
 speaker is), or, when `spoken`, synthesised with espeak-ng and sent as audio on /audio_utterance
 for the STT node; the world's timed moves are only noted in the record. For grading alone it
-keeps ground truth (the robot's trajectory, the people's true places from sim2d's markers) next
-to what the robot believed (/humans/known), and what the robot said. It ends when every request
-has produced an instruction and the task buffer holds no open instruction (or after the
-scenario's timeout), writing the record JSON (`~record`) read by scenario_report. Exit status 0
-when the scenario finished, 1 on timeout. /task_planner/state shows the open instructions; once
-none of a person is open, the whole buffer (/task_planner/get_buffer) is matched against the
-requests, since the state carries only the most recently finished instructions.
+keeps ground truth (the robot's trajectory, the people's true places and activities from sim2d's
+markers) next to what the robot believed (/humans/known) and what perception read them doing
+(/humans/observed: frames per true activity and activity read), and what the robot said. It
+ends when every request has produced an instruction and the task buffer holds no open
+instruction (or after the scenario's timeout), writing the record JSON (`~record`) read by
+scenario_report. Exit status 0 when the scenario finished, 1 on timeout. /task_planner/state
+shows the open instructions; once none of a person is open, the whole buffer
+(/task_planner/get_buffer) is matched against the requests, since the state carries only the
+most recently finished instructions.
 
 Its subscribers and each pass of its loop run under one supervision.ros_supervisor.Supervisor
 ("tamp_bringup: scenario: supervision" on /diagnostics): a request whose sending raises is
@@ -55,10 +57,12 @@ from std_msgs.msg import String
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
-from tamp_msgs.msg import AudioUtterance, HumanArray, TaskBufferState, Utterance
+from tamp_msgs.msg import (AudioUtterance, HumanArray, ObservedHumanArray, TaskBufferState,
+                           Utterance)
 from tamp_msgs.srv import GetTaskBuffer
 from visualization_msgs.msg import MarkerArray
 
+from tamp_bringup.activity_report import count_frame, parse_label
 from tamp_bringup.scenario import (
     ASKED_WHO, IDENTITY_QUESTION, INTRODUCE_TEXT, ends_dialogue, faced_person, identity_answer,
     load_scenario, place_of, resident_answer, residents, seen_shirt, timeline, visitor_answer,
@@ -110,6 +114,8 @@ class ScenarioNode:
         self.poses = {}                    # robot -> (stamp, x, y, yaw) of its ground truth
         self.positions = {}                # person -> (x, y) of their ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
+        self.doing = {}                    # name -> [[t, activity], ...]: the simulator's
+        self.activity_counts = {}          # true activity -> {activity read: frames}
         self.table = {}                    # human_db's table: name -> phone ip
         self.shirts = {}                   # human_db's table: name -> shirt (9 values) or None
         self.unmet = {}                    # resident to (re)meet -> the shirt human_db had then
@@ -158,12 +164,21 @@ class ScenarioNode:
         with self.lock:
             self.inbox.append((rospy.get_time(), "belief", msg))
 
+    def _on_observed(self, msg):
+        with self.lock:
+            self.inbox.append((rospy.get_time(), "observed", msg))
+
     def _grade(self):
         """Ground truth of the people's places (sim2d's labels) next to what the robot believes
         (human_db's table), for grading only."""
         with self.lock:
             inbox, self.inbox = self.inbox, []
         for now, kind, msg in inbox:
+            if kind == "observed":
+                count_frame(self.activity_counts,
+                            {name: changes[-1][1] for name, changes in self.doing.items()},
+                            [(h.name, h.activity) for h in msg.humans])
+                continue
             if kind == "belief":
                 with self.lock:
                     self.table = {human.name: human.ip for human in msg.humans}
@@ -181,8 +196,9 @@ class ScenarioNode:
                 if marker.ns == "people_labels":
                     place = place_of(self.graph_spec, marker.pose.position.x,
                                      marker.pose.position.y)
-                    name = marker.text.split(":")[0]
+                    name, activity = parse_label(marker.text)
                     _changed(self.truth.setdefault(name, []), now, place)
+                    _changed(self.doing.setdefault(name, []), now, activity)
                     with self.lock:
                         self.positions[name] = (marker.pose.position.x, marker.pose.position.y)
 
@@ -205,6 +221,7 @@ class ScenarioNode:
         sup.subscriber("/task_planner/state", TaskBufferState, self._on_state, queue_size=5)
         sup.subscriber("/sim2d/markers", MarkerArray, self._on_markers, queue_size=2)
         sup.subscriber("/humans/known", HumanArray, self._on_known, queue_size=5)
+        sup.subscriber("/humans/observed", ObservedHumanArray, self._on_observed, queue_size=20)
         self.voice = rospy.Publisher("/voice_message", Utterance, queue_size=10)
         self.audio = rospy.Publisher("/audio_utterance", AudioUtterance, queue_size=2)
         rospy.wait_for_service("/task_planner/get_buffer", timeout)
@@ -553,7 +570,9 @@ class ScenarioNode:
             said=[[t - self.t0, text] for t, text in self.said],
             truth={n: [[t - self.t0, p] for t, p in c] for n, c in self.truth.items()},
             activities={r: [[t - self.t0, a] for t, a in c] for r, c in self.activities.items()},
-            belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()})
+            belief={n: [[t - self.t0, p] for t, p in c] for n, c in self.belief.items()},
+            doing={n: [[t - self.t0, a] for t, a in c] for n, c in self.doing.items()},
+            activity_counts=self.activity_counts)
         if len(self.robots) > 1:
             record["trajectories"] = self.trajectories
         self.record_path.parent.mkdir(parents=True, exist_ok=True)

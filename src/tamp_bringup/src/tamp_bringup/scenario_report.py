@@ -15,7 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
+from perception.activity import load_affordances
+from tamp_resources import resource
 from task_planner.baselines import PlannerTooLarge
+from tamp_bringup.activity_report import activity_markdown
 from tamp_bringup.belief_report import (belief_markdown, history_sources, people_accuracy,
                                         read_searches)
 from tamp_bringup.goals_report import goals_markdown, run_goals
@@ -420,11 +423,13 @@ def write_report(record_path, journal_paths, graph, settings, map_path, graph_pa
     searches = [s for path in journal_paths for s in read_searches(path)]
     sources = history_sources(humans_path) if humans_path else {}
     model = next(f for f in figures if f.name == dict(MODEL_PLANNERS)[GOALS_MODEL])
-    goals = run_goals(record, entries, searches, model, t0)
+    categories = load_affordances(resource("config", "affordances.yaml")).activities
+    goals = run_goals(record, entries, searches, model, t0, categories)
     (out_dir / "REPORT.md").write_text(
         report_markdown(record, entries, figures, run, problems, files,
                         goals_markdown(goals)
                         + belief_markdown(record, entries, searches, t0, sources)
+                        + activity_markdown(record.get("activity_counts", {}), categories)
                         + time_markdown(shares, files["time"]), replay, fleet))
     return dict(summary(entries), order_problems=problems,
                 model={f.name: f.reward for f in figures}, fleet=fleet,
