@@ -5,6 +5,8 @@ from planner_factories import make_instruction
 from task_planner.behaviours.recovery import fault, recover
 from task_planner.behaviours.serving import execute
 from task_planner.executor_commands import IDLE, MOVING, Navigate, Say, StopMotion, Wait
+from task_planner.fleet_link import FleetLink
+from task_planner.fleet_pool import FleetPool
 from task_planner.task_buffer import FAILED, PENDING
 
 
@@ -23,6 +25,36 @@ def test_an_abort_asks_to_pass_waits_and_then_fails_the_instruction(line_graph, 
     assert record.state == FAILED
     assert record.reason == "navigation to B aborted 2 times: blocked"
     assert ctx.mode == IDLE
+
+
+def test_in_a_fleet_the_robot_waits_for_another_standing_at_the_goal(line_graph, tmp_path):
+    """Retries spent, robot b reported at B (the goal): robot a waits and retries while b
+    stays, at most corridor_wait_s (10 s) from its first wait, then fails the instruction."""
+    pool = tmp_path / "pool.sqlite"
+    other = FleetLink(FleetPool(pool), "b")
+    other.report(B, 0.0, 0.0)
+    ctx = make_context(line_graph, tmp_path, pass_wait_s=4.0, max_goal_attempts=1,
+                       corridor_wait_s=10.0)
+    ctx.fleet = FleetLink(FleetPool(pool), "a")
+    journal(ctx, make_instruction(1, C, function=1))
+    moving_for(ctx, 1, B)
+    assert recover(ctx, 1.0, "stuck") == [Wait(5.0)]
+    assert ctx.log[-1] == (1.0, "wait: b is at B; retry then") and ctx.mode == MOVING
+    other.report(B, 0.0, 7.5)                             # b stays, within its lease
+    assert recover(ctx, 8.0, "stuck") == [Wait(12.0)]     # 7 s into the wait
+    other.report(B, 0.0, 10.5)
+    assert recover(ctx, 11.0, "stuck") == []              # 10 s: failed
+    assert ctx.buffer.get(1).state == FAILED
+
+
+def test_in_a_fleet_a_robot_elsewhere_is_not_waited_for(line_graph, tmp_path):
+    pool = tmp_path / "pool.sqlite"
+    FleetLink(FleetPool(pool), "b").report(C, 0.0, 0.0)
+    ctx = make_context(line_graph, tmp_path, max_goal_attempts=1)
+    ctx.fleet = FleetLink(FleetPool(pool), "a")
+    journal(ctx, make_instruction(1, C, function=1))
+    moving_for(ctx, 1, B)
+    assert recover(ctx, 1.0, "stuck") == [] and ctx.buffer.get(1).state == FAILED
 
 
 def test_without_pass_wait_the_goal_is_sent_again_at_once(line_graph, tmp_path):

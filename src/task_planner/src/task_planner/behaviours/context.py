@@ -125,6 +125,8 @@ class Context:
     rethought_on: tuple[int, int | None] | None = None  # (node, goal) of the leg on which
                                    # seen_elsewhere last decided again
     attempts: int = 0              # navigation attempts on the current goal
+    blocked: tuple[int, float] | None = None  # (goal, since [s]) while another robot of the
+                                   # fleet at that goal keeps the path blocked
     executing: tuple[int, float] | None = None  # (instruction id, end time [s]) while EXECUTING
     verifying: tuple[int, float] | None = None  # (instruction id, give-up time [s]) while
                                                 # VERIFYING

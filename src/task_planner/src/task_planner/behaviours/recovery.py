@@ -1,7 +1,8 @@
 """Recovery (ROS-free): after a navigation abort the robot asks to pass, waits and retries the
 goal (`max_goal_attempts` in all), then fails the instruction the move was for and decides again;
-a fault in a step fails the instruction being served (journalled, so a restart never re-runs it)
-and stops the robot.
+in a fleet, while another robot stands at the goal (a room that fits one robot), it waits for it
+to leave, at most `corridor_wait_s`, before it fails anything. A fault in a step fails the
+instruction being served (journalled, so a restart never re-runs it) and stops the robot.
 """
 from py_trees.common import Status
 
@@ -27,6 +28,9 @@ def recover(ctx: Context, now: float, reason: str) -> list[Command]:
             ctx.retry_at = now + ctx.config.pass_wait_s
             return [Say(ctx.config.pass_request), Wait(ctx.retry_at)]
         return [Navigate(ctx.goal_now(), ctx.goal_for)]
+    waiting = wait_for_robot_in_the_way(ctx, now)
+    if waiting:
+        return waiting
     goal, ctx.mode, ctx.goal = ctx.goal_now(), IDLE, None
     if not ctx.goal_for and ctx.patrol_goal is not None:  # patrol elsewhere for now
         ctx.looked_s[ctx.patrol_goal], ctx.patrol_goal = now, None
@@ -35,6 +39,35 @@ def recover(ctx: Context, now: float, reason: str) -> list[Command]:
              f"navigation to {ctx.graph.names[goal]} aborted "
              f"{ctx.config.max_goal_attempts} times: {reason}")
     return ctx.decide(now)
+
+
+def robot_in_the_way(ctx: Context, goal: int, now: float) -> str | None:
+    """Another robot of the fleet that reported itself at `goal` (standing there, or to be free
+    there), or None."""
+    if ctx.fleet is None:
+        return None
+    link = ctx.fleet_now()
+    return next((name for name, (node, _) in sorted(link.fleet(now).items())
+                 if name != link.robot and node == goal), None)
+
+
+def wait_for_robot_in_the_way(ctx: Context, now: float) -> list[Command]:
+    """The retries are spent, but another robot stands at the goal: wait for it to leave and
+    retry, at most `corridor_wait_s` from the first such wait for this goal; [] when no robot
+    is in the way or the wait is over. Two robots of the household fleet in one small room
+    block each other's paths, and a person's request failed that way."""
+    goal = ctx.goal_now()
+    other = robot_in_the_way(ctx, goal, now)
+    if other is None:
+        return []
+    if ctx.blocked is None or ctx.blocked[0] != goal or \
+            now - ctx.blocked[1] > 2 * ctx.config.corridor_wait_s:   # an old wait: a new one
+        ctx.blocked = (goal, now)
+    if now - ctx.blocked[1] >= ctx.config.corridor_wait_s:
+        return []
+    ctx.retry_at = now + max(ctx.config.pass_wait_s, ctx.config.corridor_poll_s)
+    ctx.log.append((now, f"wait: {other} is at {ctx.graph.names[goal]}; retry then"))
+    return [Wait(ctx.retry_at)]
 
 
 def fault(ctx: Context, now: float, reason: str, fail_it: bool = True,
