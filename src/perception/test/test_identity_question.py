@@ -11,6 +11,8 @@ def question(**config):
 
 def test_the_question_names_the_person_looked_for():
     assert question().question() == "Excuse me, are you Carol?"
+    called = IdentityQuestion(QuestionConfig(), "Bob", "dining_room", 0.0, call=True)
+    assert called.question() == "Bob, are you here?"
 
 
 def test_a_yes_thanks_them_and_a_no_apologises():

@@ -4,10 +4,11 @@ import math
 import numpy as np
 import pytest
 
-from tamp_bringup.scenario import (DIALOGUE_END_PHRASES, GIVE_UP_PHRASE, IDENTITY_QUESTION,
-                                   INTRODUCE_TEXT, ScenarioError, Visitor, faced_person,
-                                   identity_answer, load_scenario, place_of, resident_answer,
-                                   residents, seen_shirt, timeline, visitor_answer, who_answers)
+from tamp_bringup.scenario import (CALL, DIALOGUE_END_PHRASES, GIVE_UP_PHRASE,
+                                   IDENTITY_QUESTION, INTRODUCE_TEXT, ScenarioError, Visitor,
+                                   faced_person, identity_answer, load_scenario, place_of,
+                                   resident_answer, residents, seen_shirt, timeline,
+                                   visitor_answer, who_answers)
 from tamp_resources import resource
 
 ROOT = resource()
@@ -207,6 +208,9 @@ def test_anyone_asked_whether_they_are_someone_answers_yes_or_no():
     assert identity_answer("Carol", config.thanks.format(name="Carol")) == ""
     assert identity_answer("Carol", "Carol, how are you feeling right now?") == ""
     assert identity_answer("Frank", "Thank you, Frank. Are you a man or a woman?") == ""
+    assert config.call == CALL
+    assert identity_answer("Bob", config.call.format(name="Bob")) == "Yes."
+    assert identity_answer("Carol", config.call.format(name="Bob")) == ""   # not her name
 
 
 def test_the_person_asked_is_the_one_the_robot_faces():

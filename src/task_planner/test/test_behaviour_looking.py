@@ -207,6 +207,52 @@ def test_a_no_ends_the_wait_for_a_yes(posed_line_graph, tmp_path):
     assert not not_answered(ctx, "Bob", place, 9.5)        # no longer waiting
 
 
+def called_look(posed_line_graph, tmp_path, seen_at):
+    """A one-heading look for Bob at B (Bob last seen at `seen_at` long ago), ask_wait_s 8,
+    at the end of its dwell at 2.6."""
+    people = PeopleAtPlaces()
+    people.seen("Bob", seen_at, stamp=-100.0)
+    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=1,
+                       look_dwell_s=0.6, fresh_s=5.0, ask_wait_s=8.0)
+    journal(ctx, make_instruction(1, C, duration=20, function=3, target="Bob"))
+    ctx.people.seen("Bob", seen_at, stamp=-100.0)
+    start_look(ctx, 1, 1.0)
+    look_step(ctx, 2.0)                            # the heading reached: dwell until 2.6
+    return ctx, people, LookingAround(ctx)
+
+
+def test_a_look_that_misses_the_person_where_expected_calls_them(posed_line_graph, tmp_path):
+    ctx, people, leaf = called_look(posed_line_graph, tmp_path, B)
+    ctx.now, ctx.out = 2.6, []
+    leaf.tick_once()
+    place = ctx.graph.names[B]
+    assert ctx.out == [Ask(1, "Bob", place, call=True), Wait(10.6)]
+    assert ctx.looking[5] == "calling" and ctx.log[-1] == (2.6, f"call Bob at {place}")
+    people.seen("Bob", B, stamp=5.0)               # "yes": human_db puts Bob here
+    ctx.now, ctx.out = 5.1, []
+    leaf.tick_once()
+    assert ctx.out[:2] == [StopMotion(), Execute(1, "check_status", 20.0)]
+
+
+def test_a_call_unanswered_lets_the_search_go_on(posed_line_graph, tmp_path):
+    ctx, _, leaf = called_look(posed_line_graph, tmp_path, B)
+    ctx.now, ctx.out = 2.6, []
+    leaf.tick_once()
+    assert not_answered(ctx, "Bob", ctx.graph.names[B], 6.0)   # nobody said yes
+    ctx.now, ctx.out = 6.0, []
+    leaf.tick_once()
+    assert ctx.looking is None and not any(isinstance(c, Ask) for c in ctx.out)
+    assert ctx.log[-1] == (6.0, "failed 1: Bob not found (searched B)")   # searched on: B was
+    #                                                     the only place he was ever seen
+
+
+def test_nobody_is_called_where_they_are_not_expected(posed_line_graph, tmp_path):
+    ctx, _, leaf = called_look(posed_line_graph, tmp_path, C)   # believed at C, looked for at B
+    ctx.now, ctx.out = 2.6, []
+    leaf.tick_once()
+    assert not any(isinstance(c, Ask) for c in ctx.out) and ctx.searched[1] == [B]
+
+
 def test_a_stranger_to_meet_is_asked_nothing(posed_line_graph, tmp_path):
     """A meeting's look has no target: the greeting asks the stranger's name."""
     people = PeopleAtPlaces()

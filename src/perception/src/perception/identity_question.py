@@ -5,8 +5,9 @@ Thesis 000 §3.2.3 identifies people by their shirt colours and asks when it can
 new clothes is met again by name. A person seen with their shirt half hidden by a chair, or under
 a light that shifts its colours, cannot be told either, and looking longer does not help; the
 robot then asks the person it faces, "Excuse me, are you Carol?", and a yes puts that person at
-the robot's place in human_db (the executor's belief follows). A no, an answer it cannot read
-twice or silence until `ask_timeout` leave the belief as it was.
+the robot's place in human_db (the executor's belief follows). A person the camera does not see
+at all where they are expected (seated behind a table) is called: "Bob, are you here?". A no, an
+answer it cannot read twice or silence until `ask_timeout` leave the belief as it was.
 """
 from dataclasses import dataclass
 
@@ -18,6 +19,7 @@ ASKED, YES, NO, UNANSWERED = "asked", "yes", "no", "unanswered"
 @dataclass(frozen=True)
 class QuestionConfig:
     question: str = "Excuse me, are you {name}?"
+    call: str = "{name}, are you here?"
     thanks: str = "Thank you, {name}."
     mistaken: str = "I am sorry, I took you for someone else."
     ask_timeout: float = 15.0   # [s] without a yes or a no: nobody answered
@@ -38,13 +40,15 @@ class Reply:
 
 
 class IdentityQuestion:
-    """One "are you NAME?" to the person the robot faces at `place`, asked at `asked_at` [s]."""
+    """One "are you NAME?" to the person the robot faces at `place`, asked at `asked_at` [s]
+    (with `call`: "NAME, are you here?" to the place)."""
 
-    def __init__(self, config: QuestionConfig, name: str, place: str, asked_at: float) -> None:
+    def __init__(self, config: QuestionConfig, name: str, place: str, asked_at: float,
+                 call: bool = False) -> None:
         if not name.strip() or not place.strip():
             raise ValueError(f"an identity question needs a name and a place, got "
                              f"{name!r} at {place!r}")
-        self.config, self.name, self.place = config, name, place
+        self.config, self.name, self.place, self.call = config, name, place, call
         self.started = self.asked_at = asked_at
         self.state, self.retries = ASKED, 0
 
@@ -53,7 +57,7 @@ class IdentityQuestion:
         return self.state == ASKED
 
     def question(self) -> str:
-        return self.config.question.format(name=self.name)
+        return (self.config.call if self.call else self.config.question).format(name=self.name)
 
     def hear(self, text: str, now: float) -> Reply:
         """The person's answer -> YES (thanks), NO (an apology) or a re-ask; UNANSWERED after

@@ -21,7 +21,8 @@ the person is registered: whatever the new person says after it is a request, ev
 
 Asking who someone is (perception.identity_question): an executor that faced a person it cannot
 tell asks on its ~ask_who (tamp_msgs/AskWho, beside each of ~state_topics) whether they are the
-person it looks for. When no dialogue is open, the node says "Excuse me, are you NAME?", reads a
+person it looks for (with `call`: calls them, "NAME, are you here?", when the camera saw no sign
+of them where they are expected). When no dialogue is open, the node says the question, reads a
 yes or a no from the robot's microphone (ip "") and, on a yes, puts NAME at the place with
 /human_db/update (location only, source "asked"); the executor's belief follows from human_db's
 table. The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait).
@@ -240,7 +241,8 @@ class IntroductionNode:
                           "dialogue is open", msg.place, msg.name)
             return
         try:
-            self.question = IdentityQuestion(self.params.question, msg.name, msg.place, now)
+            self.question = IdentityQuestion(self.params.question, msg.name, msg.place, now,
+                                             call=msg.call)
         except ValueError as error:
             self._count("asks_not_taken")
             self._last = f"ask_who refused: {error}"
@@ -250,8 +252,8 @@ class IntroductionNode:
         self._open_until = now
         self.answers_until.publish(Time(rospy.Time(0)))  # answers until the question ends
         self.say.publish(String(self.question.question()))
-        rospy.loginfo("introduction: asking whether the person at %s is %s", msg.place,
-                      msg.name)
+        rospy.loginfo("introduction: %s", f"calling {msg.name} at {msg.place}" if msg.call else
+                      f"asking whether the person at {msg.place} is {msg.name}")
 
     def _answer_question(self, reply, msg):
         """The question's reply to an answer (msg) or a tick (msg None): say it; on a yes put

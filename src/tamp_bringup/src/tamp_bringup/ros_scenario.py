@@ -64,9 +64,9 @@ from visualization_msgs.msg import MarkerArray
 
 from tamp_bringup.activity_report import count_frame, parse_label
 from tamp_bringup.scenario import (
-    ASKED_WHO, IDENTITY_QUESTION, INTRODUCE_TEXT, ends_dialogue, faced_person, identity_answer,
-    load_scenario, place_of, resident_answer, residents, seen_shirt, timeline, visitor_answer,
-    who_answers)
+    ASKED_WHO, CALLED, IDENTITY_QUESTION, INTRODUCE_TEXT, ends_dialogue, faced_person,
+    identity_answer, load_scenario, place_of, resident_answer, residents, seen_shirt, timeline,
+    visitor_answer, who_answers)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
 OPEN = (0, 1)  # tamp_msgs/InstructionState PENDING, ACTIVE
@@ -356,20 +356,27 @@ class ScenarioNode:
 
     def _answer_who(self, text, poses):
         """"Are you NAME?": the person a robot faces in its place answers yes or no on the
-        robot's microphone. False when the sentence asks no such thing."""
-        if not ASKED_WHO.search(text.lower()):
+        robot's microphone; "NAME, are you here?": NAME answers yes when in a robot's place.
+        False when the sentence asks no such thing."""
+        called = CALLED.search(text.lower())
+        if not (called or ASKED_WHO.search(text.lower())):
             return False
         with self.lock:
             positions = dict(self.positions)
+        places = {place_of(self.graph_spec, pose[1], pose[2]) for pose in poses}
         for pose in poses:
             place = place_of(self.graph_spec, pose[1], pose[2])
             person = faced_person(pose[1:], {
                 name: xy for name, xy in positions.items()
                 if place_of(self.graph_spec, *xy) == place})
+            if called:
+                person = next((name for name, xy in positions.items()
+                               if name.lower() == called.group(1)
+                               and place_of(self.graph_spec, *xy) in places), None)
             if person is not None:
                 break
         else:
-            self._event(rospy.get_time(), f"nobody faces the robot to answer \"{text}\"")
+            self._event(rospy.get_time(), f"nobody answers \"{text}\"")
             return True
         answer = identity_answer(person, text)
         rate, samples = self.answers[person, answer]

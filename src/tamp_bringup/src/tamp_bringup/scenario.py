@@ -152,14 +152,21 @@ def resident_answer(person, said):
 
 # What the robot asks someone it cannot tell (perception.identity_question.QuestionConfig)
 IDENTITY_QUESTION = "Excuse me, are you {name}?"
+CALL = "{name}, are you here?"
 ASKED_WHO = re.compile(r"excuse me, are you ([a-z][a-z'-]*)\?")   # not "are you a man or ..."
+CALLED = re.compile(r"([a-z][a-z'-]*), are you here\?")
 FACING_M = 4.0    # [m] the person the robot asks stands at most this far from it
 
 
 def identity_answer(person, said):
     """What `person` answers when the robot says `said`: "Yes." to "are you PERSON?", "No." to
-    "are you SOMEONE-ELSE?", "" when the sentence asks no such thing."""
-    asked = ASKED_WHO.search(said.lower())
+    "are you SOMEONE-ELSE?", "Yes." to "PERSON, are you here?" (nothing to someone else's
+    name), "" when the sentence asks no such thing."""
+    lowered = said.lower()
+    called = CALLED.search(lowered)
+    if called:
+        return "Yes." if called.group(1) == person.lower() else ""
+    asked = ASKED_WHO.search(lowered)
     if not asked:
         return ""
     return "Yes." if asked.group(1).strip() == person.lower() else "No."

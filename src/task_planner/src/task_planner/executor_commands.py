@@ -65,12 +65,14 @@ class Say:
 
 @dataclass(frozen=True)
 class Ask:
-    """Ask the person perception saw at `place` but could not tell whether they are `name`
-    (the introduction node says the question; a yes reaches the belief through human_db)."""
+    """Ask the person perception saw at `place` but could not tell whether they are `name`,
+    or with `call` call `name` there (the introduction node says the question; a yes reaches
+    the belief through human_db)."""
 
     instruction_id: int
     name: str
     place: str
+    call: bool = False
 
 
 # what the executor's events return, for the node or executor_sim to carry out

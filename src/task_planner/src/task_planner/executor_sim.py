@@ -112,7 +112,8 @@ def _carry_out(commands: Iterable[Command], clock: float, executor: Executor,
         elif isinstance(command, Say):
             trace.said.append((clock, command.text))
         elif isinstance(command, Ask):   # nobody answers in the model: the look goes on
-            trace.said.append((clock, f"Excuse me, are you {command.name}?"))
+            trace.said.append((clock, f"{command.name}, are you here?" if command.call else
+                               f"Excuse me, are you {command.name}?"))
 
 
 def _start_drive(navigation: NavigationModel, current: _Drive | None, node: int, goal: int,

@@ -561,11 +561,12 @@ class ExecutorNode:
                 self.say_pub.publish(String(command.text))
                 rospy.loginfo("task_planner says: %s", command.text)
             elif isinstance(command, Ask):
-                msg = AskWho(name=command.name, place=command.place)
+                msg = AskWho(name=command.name, place=command.place, call=command.call)
                 msg.header.stamp = rospy.Time.now()
                 self.ask_pub.publish(msg)
-                rospy.loginfo("task_planner: asking whether the person at %s is %s",
-                              command.place, command.name)
+                rospy.loginfo("task_planner: %s", f"calling {command.name} at {command.place}"
+                              if command.call else f"asking whether the person at "
+                              f"{command.place} is {command.name}")
             elif isinstance(command, Verify):
                 rospy.loginfo("task_planner: looking for %s for instruction %d until %.1f s",
                               command.target, command.instruction_id, command.until_s)

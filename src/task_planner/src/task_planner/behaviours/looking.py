@@ -22,6 +22,7 @@ from task_planner.robot_functions import RobotFunctionError, function_for, is_me
 
 FACING, ASKING, FACED = "facing", "asking", "faced"   # a look's turn toward someone
 #                                                      perception cannot tell, then the question
+CALLING, CALLED = "calling", "called"   # the look's end: the person called by name
 MAX_FACED = 3   # people one look faces and asks at most (a crowded room, noisy positions)
 
 
@@ -129,6 +130,9 @@ def look_step(ctx: Context, now: float) -> list[Command]:
         if question:
             return question
     looking[3] = looking[4] = None
+    if looking[5] == CALLING:
+        looking[5] = CALLED
+        return end_look(ctx, now)
     if looking[5] == ASKING and len(ctx.faced) < MAX_FACED:
         looking[5] = None   # not them: someone else here may be, faced before turning on
         someone_else = face_someone(ctx, now)
@@ -173,7 +177,8 @@ def not_answered(ctx: Context, name: str, place: str, now: float) -> bool:
     look stops waiting for a yes and turns on at the next tick. False when the robot is not
     waiting for that answer."""
     looking = ctx.looking
-    if looking is None or looking[5] != ASKING or ctx.graph.names[ctx.node] != place or \
+    if looking is None or looking[5] not in (ASKING, CALLING) or \
+            ctx.graph.names[ctx.node] != place or \
             ctx.buffer.get(looking[0]).instruction.target != name:
         return False
     looking[3] = min(looking[3], now)
@@ -181,8 +186,33 @@ def not_answered(ctx: Context, name: str, place: str, now: float) -> bool:
     return True
 
 
+def call_out(ctx: Context, now: float) -> list[Command]:
+    """The look saw no sign of the person where the robot believed them or their schedule puts
+    them: call them by name ("Bob, are you here?", the Ask's `call`) and wait `ask_wait_s` for
+    a yes (look_found then serves them). A person hidden from the camera, seated behind a table
+    or lying in bed, answers; the robot asks once per look, and only where they are expected,
+    since a call at every place searched would cost each miss the wait."""
+    looking = ctx.looking_now()
+    instruction_id = looking[0]
+    if ctx.config.ask_wait_s <= 0 or not instruction_id or looking[5] in (CALLING, CALLED):
+        return []
+    target = ctx.buffer.get(instruction_id).instruction.target
+    if not target or ctx.node not in (ctx.people.now.get(target),
+                                      ctx.people.predicted.get(target)):
+        return []
+    end = now + ctx.config.ask_wait_s
+    looking[3], looking[4], looking[5] = end, now, CALLING
+    place = ctx.graph.names[ctx.node]
+    ctx.log.append((now, f"call {target} at {place}"))
+    return [Ask(instruction_id, target, place, call=True), Wait(end)]
+
+
 def end_look(ctx: Context, now: float) -> list[Command]:
-    """The look is over without finding an instruction's person: search on (or decide)."""
+    """The look is over without finding an instruction's person: call them where they are
+    expected (call_out), else search on (or decide)."""
+    calling = call_out(ctx, now)
+    if calling:
+        return calling
     looking = ctx.looking_now()
     instruction_id, since = looking[0], looking[2]
     ctx.looked_s[ctx.node] = now
@@ -213,7 +243,7 @@ def dwell_over(ctx: Context, now: float) -> bool:
         return False
     if looking[5] == FACING:
         return now - reached >= ctx.config.look_frames_wait_s
-    if looking[5] == ASKING:
+    if looking[5] in (ASKING, CALLING):
         return True
     if ctx.config.look_frames <= 0 or not ctx.people.perceiving():
         return True
