@@ -181,18 +181,6 @@ def test_without_a_yes_the_look_turns_on_after_the_wait_and_asks_each_person_onc
     assert ctx.faced == [(1.0, 1.0), (x - 1.0, y)]
 
 
-def test_someone_told_apart_while_watched_is_not_asked(posed_line_graph, tmp_path):
-    """The person faced (at 1, 1) was told apart as Carol while watched: the robot asks nobody
-    and looks on, free to face someone else."""
-    ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
-    people.take_frame(4.0, [("Carol", B, 1.2, 0.9)], [])
-    ctx.now, ctx.out = 7.0, []
-    leaf.tick_once()
-    assert not any(isinstance(command, Ask) for command in ctx.out)
-    assert ctx.looking[5] is None
-    assert ctx.log[-1] == (7.0, f"the person faced at {ctx.graph.names[B]} is Carol")
-
-
 def test_a_no_ends_the_wait_for_a_yes(posed_line_graph, tmp_path):
     ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
     people.someone_unidentified(B, 1.0, 1.0, 4.0)

@@ -325,13 +325,3 @@ def test_the_latest_person_not_told_apart_from_those_already_faced():
     assert people.unidentified_at(2, 2.5, away_from=[(1.0, 1.0)]) is None   # seen too early
     assert people.unidentified_at(2, 0.0, away_from=[(1.0, 1.0), (4.0, 1.5)]) is None
     assert people.unidentified_at(3, 0.0) is None
-
-
-def test_who_perception_told_apart_near_a_position():
-    people = PeopleAtPlaces()
-    people.take_frame(5.0, [("Carol", 2, 1.0, 1.0)], [])
-    people.take_frame(6.0, [("Bob", 2, 3.0, 1.0)], [])
-    assert people.told_near(2, 1.3, 1.2, since=4.0) == "Carol"
-    assert people.told_near(2, 1.3, 1.2, since=5.5) is None    # Carol was seen before it
-    assert people.told_near(2, 2.0, 3.0, since=0.0) is None    # nobody within 1 m
-    assert people.now == {"Carol": 2, "Bob": 2}

@@ -36,21 +36,17 @@ class PeopleAtPlaces:
         self.unidentified: dict[int, deque[tuple[float, float, float]]] = {}
         # node -> (stamp [s], x, y [m]) of the latest people perception saw there but could not
         # tell who, oldest first
-        self.identified: dict[int, deque[tuple[float, float, float, str]]] = {}
-        # node -> (stamp [s], x, y [m], name) of the latest people perception identified there
         self.unidentified_shirt: dict[int, tuple[float, float, float]] = {}
         # the same for those whose whole shirt (joints 1, 2, 5) it saw: someone new, or in
         # new clothes, whom the introduction node can meet
 
-    def take_frame(self, stamp: float, seen: Iterable[tuple[str, int, float, float]],
+    def take_frame(self, stamp: float, seen: Iterable[tuple[str, int]],
                    unidentified: Iterable[tuple[int, float, float, bool]]) -> None:
         """One camera frame perception analysed, taken at `stamp` [s]: the people it identified
-        ([(name, node, x, y)]) and those it saw at a place but could not tell
+        ([(name, node)]) and those it saw at a place but could not tell
         ([(node, x, y, whole shirt seen)])."""
-        for name, node, x, y in seen:
+        for name, node in seen:
             self.seen(name, node, stamp)
-            self.identified.setdefault(node, deque(maxlen=UNIDENTIFIED_KEPT)).append(
-                (stamp, x, y, name))
         for node, x, y, shirt in unidentified:
             self.someone_unidentified(node, x, y, stamp, shirt)
         self.analysed(stamp)
@@ -78,14 +74,6 @@ class PeopleAtPlaces:
                 continue
             if all(math.hypot(x - ax, y - ay) > APART_M for ax, ay in away_from):
                 return x, y
-        return None
-
-    def told_near(self, node: int, x: float, y: float, since: float) -> str | None:
-        """The name of someone perception identified at `node` within APART_M of (x, y) at or
-        after `since` [s] (the latest), or None."""
-        for stamp, sx, sy, name in reversed(self.identified.get(node, ())):
-            if stamp >= since and math.hypot(sx - x, sy - y) <= APART_M:
-                return name
         return None
 
     def analysed(self, stamp: float) -> None:

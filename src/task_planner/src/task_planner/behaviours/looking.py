@@ -151,23 +151,16 @@ def ask_who(ctx: Context, now: float) -> list[Command]:
     """The person faced is still someone perception cannot tell (a shirt half hidden, a light
     that shifts its colours, or hidden from the camera while faced): ask them whether they
     are the person looked for, and wait `ask_wait_s` for a yes to reach the belief
-    (look_found then serves them); after a no, or when nobody answers, the look goes on. Not
-    asked: someone perception told apart as another person while they were watched (as after
-    a no), and a meeting's stranger (the greeting asks their name)."""
+    (look_found then serves them); after a no, or when nobody answers, the look goes on. A
+    meeting's stranger is asked nothing: the greeting asks their name."""
     looking = ctx.looking_now()
-    instruction_id, reached = looking[0], looking[4]
+    instruction_id = looking[0]
     target = ctx.buffer.get(instruction_id).instruction.target
     if not target:
         return []
-    place = ctx.graph.names[ctx.node]
-    told = ctx.people.told_near(ctx.node, *ctx.faced[-1], reached) if ctx.faced and \
-        reached is not None else None
-    if told is not None:   # perception told them apart while they were watched: not asked
-        looking[5] = ASKING   # as after a no: someone else here may be the one
-        ctx.log.append((now, f"the person faced at {place} is {told}"))
-        return []
     end = now + ctx.config.ask_wait_s
     looking[3], looking[4], looking[5] = end, now, ASKING
+    place = ctx.graph.names[ctx.node]
     ctx.log.append((now, f"ask whether the person at {place} is {target}"))
     return [Ask(instruction_id, target, place), Wait(end)]
 
