@@ -125,14 +125,15 @@ def test_someone_perception_cannot_tell_is_faced_once_and_watched(posed_line_gra
     assert ctx.out == []
 
 
-def asked_look(posed_line_graph, tmp_path):
-    """A look for Bob at B that faced someone perception cannot tell (faced at 2.0, watched
-    5 s), with ask_wait_s 8."""
+def asked_look(posed_line_graph, tmp_path, instruction=None, **config):
+    """A look for Bob at B (or for `instruction`'s person) that faced someone perception
+    cannot tell (faced at 2.0, watched 5 s), with ask_wait_s 8."""
     people = PeopleAtPlaces()
     people.analysed(0.5)
     ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
-                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0, ask_wait_s=8.0)
-    journal(ctx, make_instruction(1, B, duration=20, function=3, target="Bob"))
+                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0, ask_wait_s=8.0,
+                       **config)
+    journal(ctx, instruction or make_instruction(1, B, duration=20, function=3, target="Bob"))
     serve_here(ctx, 1, 1.0)
     leaf = LookingAround(ctx)
     people.someone_unidentified(B, 1.0, 1.0, 1.1)
@@ -243,18 +244,8 @@ def test_nobody_is_called_where_they_are_not_expected(posed_line_graph, tmp_path
 
 def test_a_stranger_to_meet_is_asked_nothing(posed_line_graph, tmp_path):
     """A meeting's look has no target: the greeting asks the stranger's name."""
-    people = PeopleAtPlaces()
-    people.analysed(0.5)
-    ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
-                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0, ask_wait_s=8.0,
-                       stranger_fresh_s=10.0)
-    journal(ctx, make_instruction(1, B, function=9, type=ROBOT, source="robot"))
-    serve_here(ctx, 1, 1.0)
-    leaf = LookingAround(ctx)
-    people.someone_unidentified(B, 1.0, 1.0, 1.1)
-    ctx.now, ctx.out = 1.2, []
-    leaf.tick_once()
-    look_step(ctx, 2.0)
+    meeting = make_instruction(1, B, function=9, type=ROBOT, source="robot")
+    ctx, _, leaf = asked_look(posed_line_graph, tmp_path, meeting, stranger_fresh_s=10.0)
     ctx.now, ctx.out = 7.0, []
     leaf.tick_once()
     assert not any(isinstance(command, Ask) for command in ctx.out)
