@@ -6,8 +6,8 @@ import pytest
 
 from tamp_bringup.scenario import (CALL, DIALOGUE_END_PHRASES, GIVE_UP_PHRASE,
                                    IDENTITY_QUESTION, INTRODUCE_TEXT, ScenarioError, Visitor,
-                                   faced_person, identity_answer, load_scenario, place_of,
-                                   resident_answer, residents, seen_shirt, timeline,
+                                   faced_person, identity_answer, load_scenario, person_asked,
+                                   place_of, resident_answer, residents, seen_shirt, timeline,
                                    visitor_answer, who_answers)
 from tamp_resources import resource
 
@@ -219,6 +219,16 @@ def test_the_person_asked_is_the_one_the_robot_faces():
     assert faced_person((0.0, 0.0, math.pi / 4), people) == "Bob"        # north-east
     assert faced_person((0.0, 0.0, 0.0), people) == "Bob"   # Frank is east, but 6 m away
     assert faced_person((0.0, 0.0, 0.0), {"Frank": (6.0, 0.0)}) is None
+
+
+def test_who_answers_an_identity_question_or_a_call():
+    people = {"Bob": (1.0, 1.0), "Carol": (0.0, 1.0), "Frank": (3.0, 1.0)}
+    place = lambda x, y: "west" if x < 2.0 else "east"   # noqa: E731
+    robot = [(0.0, 0.0, math.pi / 2)]                     # in the west, facing north
+    assert person_asked("Excuse me, are you Bob?", robot, people, place) == "Carol"
+    assert person_asked("Bob, are you here?", robot, people, place) == "Bob"
+    assert person_asked("Frank, are you here?", robot, people, place) is None   # east
+    assert person_asked("Excuse me, are you Bob?", [], people, place) is None
 
 
 def test_moves_that_change_clothes_carry_the_new_shirt():

@@ -86,9 +86,9 @@ class IntroductionParams:
                                           # ~seen_within, ~gone_after
 
 
-def over_topic(state_topic, name="function_over"):
-    """The executor's ~function_over (or other `name`) topic beside its state topic
-    ("robot1/task_planner/state" -> "robot1/task_planner/function_over")."""
+def beside_state(state_topic, name):
+    """The executor's topic `name` beside its state topic ("robot1/task_planner/state",
+    "function_over" -> "robot1/task_planner/function_over")."""
     return state_topic.rsplit("/", 1)[0] + "/" + name
 
 
@@ -144,8 +144,8 @@ class IntroductionNode:
         self.submit = SubmitClient(p.register_timeout)
         self.say = rospy.Publisher("robot/say", String, queue_size=5)
         # a dialogue that is over ends the introduce function at once, on every robot's executor
-        self.function_over = [rospy.Publisher(over_topic(topic), UInt32, queue_size=5)
-                              for topic in p.state_topics]
+        self.function_over = [rospy.Publisher(beside_state(topic, "function_over"), UInt32,
+                                              queue_size=5) for topic in p.state_topics]
         self.dialogue_open = rospy.Publisher("~dialogue_open", Bool, queue_size=1, latch=True)
         self.asked = rospy.Publisher("~asked", AskWho, queue_size=5)
         self.answers_until = rospy.Publisher("~answers_until", Time, queue_size=1, latch=True)
@@ -156,7 +156,7 @@ class IntroductionNode:
             sup.subscriber(topic, TaskBufferState, lambda msg, t=topic: self._on_state(t, msg),
                            queue_size=1)
         for topic in p.state_topics:
-            sup.subscriber(over_topic(topic, "ask_who"), AskWho, self._on_ask, queue_size=5)
+            sup.subscriber(beside_state(topic, "ask_who"), AskWho, self._on_ask, queue_size=5)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
         self._publish_open(False)
         self.answers_until.publish(Time(rospy.Time(0)))

@@ -64,8 +64,8 @@ from visualization_msgs.msg import MarkerArray
 
 from tamp_bringup.activity_report import count_frame, parse_label
 from tamp_bringup.scenario import (
-    ASKED_WHO, CALLED, IDENTITY_QUESTION, INTRODUCE_TEXT, ends_dialogue, faced_person,
-    identity_answer, load_scenario, place_of, resident_answer, residents, seen_shirt, timeline,
+    ASKED_WHO, CALLED, IDENTITY_QUESTION, INTRODUCE_TEXT, ends_dialogue, identity_answer,
+    load_scenario, person_asked, place_of, resident_answer, residents, seen_shirt, timeline,
     visitor_answer, who_answers)
 
 LOOP_HZ = 20  # [Hz of simulated time] passes of the run loop
@@ -115,6 +115,7 @@ class ScenarioNode:
         self.positions = {}                # person -> (x, y) of their ground truth
         self.truth, self.belief = {}, {}   # name -> [[t, place], ...] when the place changed
         self.doing = {}                    # name -> [[t, activity], ...]: the simulator's
+        self.doing_now = {}                # name -> their activity now (the last of doing)
         self.activity_counts = {}          # true activity -> {activity read: frames}
         self.table = {}                    # human_db's table: name -> phone ip
         self.shirts = {}                   # human_db's table: name -> shirt (9 values) or None
@@ -175,8 +176,7 @@ class ScenarioNode:
             inbox, self.inbox = self.inbox, []
         for now, kind, msg in inbox:
             if kind == "observed":
-                count_frame(self.activity_counts,
-                            {name: changes[-1][1] for name, changes in self.doing.items()},
+                count_frame(self.activity_counts, self.doing_now,
                             [(h.name, h.activity) for h in msg.humans])
                 continue
             if kind == "belief":
@@ -199,6 +199,7 @@ class ScenarioNode:
                     name, activity = parse_label(marker.text)
                     _changed(self.truth.setdefault(name, []), now, place)
                     _changed(self.doing.setdefault(name, []), now, activity)
+                    self.doing_now[name] = activity
                     with self.lock:
                         self.positions[name] = (marker.pose.position.x, marker.pose.position.y)
 
@@ -358,24 +359,13 @@ class ScenarioNode:
         """"Are you NAME?": the person a robot faces in its place answers yes or no on the
         robot's microphone; "NAME, are you here?": NAME answers yes when in a robot's place.
         False when the sentence asks no such thing."""
-        called = CALLED.search(text.lower())
-        if not (called or ASKED_WHO.search(text.lower())):
+        if not (CALLED.search(text.lower()) or ASKED_WHO.search(text.lower())):
             return False
         with self.lock:
             positions = dict(self.positions)
-        places = {place_of(self.graph_spec, pose[1], pose[2]) for pose in poses}
-        for pose in poses:
-            place = place_of(self.graph_spec, pose[1], pose[2])
-            person = faced_person(pose[1:], {
-                name: xy for name, xy in positions.items()
-                if place_of(self.graph_spec, *xy) == place})
-            if called:
-                person = next((name for name, xy in positions.items()
-                               if name.lower() == called.group(1)
-                               and place_of(self.graph_spec, *xy) in places), None)
-            if person is not None:
-                break
-        else:
+        person = person_asked(text, [pose[1:] for pose in poses], positions,
+                              lambda x, y: place_of(self.graph_spec, x, y))
+        if person is None:
             self._event(rospy.get_time(), f"nobody answers \"{text}\"")
             return True
         answer = identity_answer(person, text)

@@ -186,6 +186,24 @@ def faced_person(robot, positions):
     return None if best is None else best[1]
 
 
+def person_asked(said, robots, people, place):
+    """Who answers the robot's identity question `said`: to "NAME, are you here?" NAME when in
+    a robot's place, to "Excuse me, are you NAME?" the person a robot faces in its place
+    (faced_person); None when nobody does. `robots`: their (x, y, yaw), `people`: {name:
+    (x, y)}, `place`: (x, y) -> place name."""
+    called = CALLED.search(said.lower())
+    places = [place(x, y) for x, y, _ in robots]
+    if called:
+        return next((name for name, xy in people.items()
+                     if name.lower() == called.group(1) and place(*xy) in places), None)
+    for robot, here in zip(robots, places):
+        person = faced_person(robot, {name: xy for name, xy in people.items()
+                                      if place(*xy) == here})
+        if person is not None:
+            return person
+    return None
+
+
 # The introduce instruction's text and the dialogue's give-up sentence (perception.introduction:
 # NewcomerWatch._introduce, IntroductionConfig.give_up): who is being met, and when it ended.
 INTRODUCE_TEXT = "meet the unknown person"

@@ -158,11 +158,19 @@ def ask_who(ctx: Context, now: float) -> list[Command]:
     target = ctx.buffer.get(instruction_id).instruction.target
     if not target:
         return []
+    return put_question(ctx, target, ASKING, now)
+
+
+def put_question(ctx: Context, target: str, phase: str, now: float) -> list[Command]:
+    """Ask about `target` at the robot's place (`phase` ASKING: the person faced, CALLING: the
+    place) and hold the look `ask_wait_s` for a yes."""
+    looking = ctx.looking_now()
     end = now + ctx.config.ask_wait_s
-    looking[3], looking[4], looking[5] = end, now, ASKING
+    looking[3], looking[4], looking[5] = end, now, phase
     place = ctx.graph.names[ctx.node]
-    ctx.log.append((now, f"ask whether the person at {place} is {target}"))
-    return [Ask(instruction_id, target, place), Wait(end)]
+    ctx.log.append((now, f"call {target} at {place}" if phase == CALLING else
+                    f"ask whether the person at {place} is {target}"))
+    return [Ask(looking[0], target, place, call=phase == CALLING), Wait(end)]
 
 
 def not_answered(ctx: Context, name: str, place: str, now: float) -> bool:
@@ -193,11 +201,7 @@ def call_out(ctx: Context, now: float) -> list[Command]:
     if not target or ctx.node not in (ctx.people.now.get(target),
                                       ctx.people.predicted.get(target)):
         return []
-    end = now + ctx.config.ask_wait_s
-    looking[3], looking[4], looking[5] = end, now, CALLING
-    place = ctx.graph.names[ctx.node]
-    ctx.log.append((now, f"call {target} at {place}"))
-    return [Ask(instruction_id, target, place, call=True), Wait(end)]
+    return put_question(ctx, target, CALLING, now)
 
 
 def end_look(ctx: Context, now: float) -> list[Command]:
