@@ -247,6 +247,7 @@ def test_follower_config_file(tmp_path):
     no_guard = load_follower_config(ROOT / "config" / "semnav_follower_no_guard.yaml")
     assert not no_guard.guard.enabled and no_guard.postprocess == PostprocessConfig()
     assert shipped.doors.width == 1.4 and no_guard.doors.width == 0.0
+    assert shipped.ask.enabled and not no_guard.ask.enabled    # the seed drives on what it read
     assert shipped.one_hot_class and not no_guard.one_hot_class     # the seed feeds the softmax
     assert (shipped.splitting, no_guard.splitting) == ("spoken", "seed")
     no_doors = load_follower_config(ROOT / "config" / "semnav_follower_no_doors.yaml")

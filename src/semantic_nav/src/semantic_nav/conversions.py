@@ -20,11 +20,13 @@ def twist(v, w):
     return msg
 
 
-def feedback_msg(feedback):
+def feedback_msg(feedback, question=""):
+    """follow_session.Feedback (and the question the robot waits on an answer to) ->
+    FollowDirectionsFeedback."""
     return FollowDirectionsFeedback(index=feedback.index, current=feedback.text,
                                     instruction_class=feedback.instruction_class,
                                     class_confidence=feedback.confidence,
-                                    corners=feedback.corners)
+                                    corners=feedback.corners, question=question)
 
 
 def result_msg(outcome_or_error, completed=0):

@@ -6,6 +6,11 @@ ends the sentence too (`step_failed`, `FollowSession.fail`): aborted, with the r
 in one spoken sentence. A sentence that ends by itself is announced as well: completed ("I have
 arrived."), or not finished in time (the reason); one stopped from outside (preempted, replaced)
 is not.
+
+When the follower is not sure of what it read (asking_back.unsure_reasons: a low Z_w
+confidence, a misheard or unknown word), the session starts by asking: `question` is said, the
+robot stands still, and `answer` takes the person's reply. A yes starts the drive (its time limit
+from then); a no or no answer within AskConfig.answer_timeout ends the sentence without moving.
 """
 import math
 from dataclasses import dataclass
@@ -14,6 +19,7 @@ import numpy as np
 
 from supervision.health import fault_text
 
+from semantic_nav.asking_back import NO, YES, AskConfig, question, unsure_reasons
 from semantic_nav.follower import DirectionFollower, FollowerCommand, UnknownInstructionError
 from semantic_nav.instruction_layer import UnfollowableInstruction, check_followable
 from semantic_nav.laser_layer import LaserModel
@@ -21,6 +27,9 @@ from semantic_nav.splitting import InstructionError
 
 SUCCEEDED, ABORTED = "succeeded", "aborted"
 ARRIVED = "I have arrived."   # said when a sentence is completed
+DECLINED = "All right, I am staying here. Please tell me the directions again."
+UNANSWERED = "I heard no answer, so I am staying here."
+STOPPED = "All right, I have stopped."
 
 
 @dataclass
@@ -86,12 +95,43 @@ class FollowSession:
         self.started, self.max_duration = now, max_duration
         self.index = 0
         self.outcome: Outcome | None = None
+        self.ask = getattr(getattr(follower, "config", None), "ask", None) or \
+            AskConfig(enabled=False)
+        self.unsure = unsure_reasons(getattr(follower, "confidences", []),
+                                     getattr(follower, "corrections", []),
+                                     getattr(follower, "unknown_words", []), self.ask)
+        # what the robot asks before it drives ("" = it drives at once)
+        self.question = question(self.classes, getattr(follower, "countings", None)) \
+            if self.unsure else ""
+        self.asking = bool(self.question)
+
+    def wait(self, now: float) -> Feedback:
+        """A control period spent waiting on the answer to the question (the robot stands
+        still); sets self.outcome when none came within AskConfig.answer_timeout."""
+        if now - self.started > self.ask.answer_timeout:
+            self.outcome = Outcome(ABORTED, 0, f"not followed: no answer to {self.question!r} "
+                                   f"in {self.ask.answer_timeout:.0f} s", UNANSWERED)
+        return self.feedback()
+
+    def answer(self, reply: str, now: float) -> None:
+        """The person's reply to the question (asking_back.YES / NO): a yes starts the drive
+        (the time limit counts from now), a no ends the sentence without moving."""
+        if not self.asking:
+            raise RuntimeError("FollowSession.answer without a question asked")
+        if reply == YES:
+            self.asking, self.started = False, now
+        elif reply == NO:
+            self.outcome = Outcome(ABORTED, 0, f"not followed: the answer to {self.question!r} "
+                                   "was no", DECLINED)
+        else:
+            raise ValueError(f"an answer is {YES!r} or {NO!r}, got {reply!r}")
 
     def feedback(self, command: FollowerCommand | None = None) -> Feedback:
         index = min(self.index, len(self.classes) - 1)
         predicted = command.predicted_class if command is not None else self.classes[index]
-        z_w = getattr(self.follower, "z_w", None)     # DirectionFollower: softmax per part
-        confidence = float(np.max(z_w[index])) if z_w is not None and index < len(z_w) \
+        # DirectionFollower: Z_w's largest probability per part (before any one-hot)
+        confidences = getattr(self.follower, "confidences", None)
+        confidence = float(confidences[index]) if confidences and index < len(confidences) \
             else math.nan
         text = self.parts[index] if index < len(self.parts) else ""
         corners = getattr(command, "corners", None)
@@ -100,7 +140,10 @@ class FollowSession:
 
     def step(self, ranges: np.ndarray, laser: LaserModel,
              now: float) -> tuple[float, float, Feedback]:
-        """One control step -> (v, w); sets self.outcome when the sentence is done or too long."""
+        """One control step -> (v, w); sets self.outcome when the sentence is done or too long.
+        Not while a question waits on its answer (`wait`)."""
+        if self.asking:
+            raise RuntimeError("FollowSession.step while asking: the robot waits on a yes")
         if now - self.started > self.max_duration:
             self.outcome = Outcome(ABORTED, self.index,
                                    f"not finished after {self.max_duration:.0f} s",
@@ -116,9 +159,10 @@ class FollowSession:
             return 0.0, 0.0, self.feedback(command)
         return float(command.v), float(command.w), self.feedback(command)
 
-    def stop(self, reason: str) -> Outcome:
-        """Ended from outside (preempted, replaced, shut down) -> Outcome."""
-        self.outcome = Outcome(ABORTED, self.index, reason)
+    def stop(self, reason: str, spoken: str = "") -> Outcome:
+        """Ended from outside (preempted, replaced, shut down, a person's no) -> Outcome;
+        `spoken`: what to say ("" = nothing)."""
+        self.outcome = Outcome(ABORTED, self.index, reason, spoken)
         return self.outcome
 
     def fail(self, error: BaseException) -> Outcome:

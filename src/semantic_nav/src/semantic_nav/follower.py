@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
+from semantic_nav.asking_back import AskConfig
 from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_action,
                                           scan_points, steer_around)
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
@@ -102,6 +103,7 @@ class FollowerConfig:
     postprocess: PostprocessConfig = field(default_factory=PostprocessConfig)
     guard: GuardConfig = field(default_factory=GuardConfig)   # beyond the seed
     doors: DoorConfig = field(default_factory=DoorConfig)     # beyond the seed
+    ask: AskConfig = field(default_factory=AskConfig)         # beyond the seed: asking back
 
 
 Section = TypeVar("Section", bound="DataclassInstance")
@@ -136,7 +138,8 @@ def load_follower_config(path: str | os.PathLike[str]) -> FollowerConfig:
     where = str(path)
     if not isinstance(data, dict):
         raise config_file.ConfigError(f"{where}: expected a mapping of follower settings")
-    sections = {"postprocess": PostprocessConfig, "guard": GuardConfig, "doors": DoorConfig}
+    sections = {"postprocess": PostprocessConfig, "guard": GuardConfig, "doors": DoorConfig,
+                "ask": AskConfig}
     top = {k: v for k, v in data.items() if k not in sections}
     config = _section(FollowerConfig, top, where)
     for key in ("laser_config", "phrase_vocabulary"):   # relative to the file, like the
@@ -224,6 +227,7 @@ class DirectionFollower:
         self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
         self.instructions: list[str] = []
         self.z_w: list[NDArray[np.float64]] = []
+        self.confidences: list[float] = []   # Z_w's largest probability per simple instruction
         self.classes: list[int] = []
         self.countings: list[str] = []
         # the class LSTM_fused gets now (z_w, or a pass / turn class)
@@ -316,6 +320,7 @@ class DirectionFollower:
         self.corrections = corrections
         self.instructions = parts
         self.classes = [CLASS_IDS[int(np.argmax(z))] for z in z_w]
+        self.confidences = [float(np.max(z)) for z in z_w]
         self.countings = [counting_mode(part, label) if self.config.side_counting
                           else COUNT_CORNERS for part, label in zip(parts, self.classes)]
         self.z_w = [class_one_hot(z) for z in z_w] if self.config.one_hot_class else z_w

@@ -7,7 +7,10 @@ preemption, when no scan arrives for ~scan_timeout, when a sentence ends and on 
 the follower must not try (a corner beyond the third, not English, no known word) is refused
 before the robot moves, and the reason is said on /robot/say; so is the end of a sentence that
 ends by itself ("I have arrived.", or why it was not finished in ~max_duration), from
-/voice_message or the action alike (follow_session).
+/voice_message or the action alike (follow_session). A sentence the follower is not sure of is
+asked back first (asking_back): the robot says what it understood on /robot/say and stands still
+until a yes on /voice_message; a no or silence ends it, any other utterance replaces it. A no
+while the robot drives stops it.
 
 Every timer, subscriber and action server callback runs under one
 supervision.ros_supervisor.Supervisor ("semantic_nav: semantic_nav: supervision"): a fault in
@@ -28,11 +31,12 @@ from std_msgs.msg import String
 from tamp_msgs.msg import FollowDirectionsAction, Utterance
 from visualization_msgs.msg import Marker
 
+from semantic_nav.asking_back import NO, YES, read_answer
 from semantic_nav.collision_guard import format_guard_actions
 from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg,
                                       scan_to_core, twist)
-from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
-                                         Outcome, step_failed)
+from semantic_nav.follow_session import (ABORTED, STOPPED, SUCCEEDED, FollowSession,
+                                         InstructionRefused, Outcome, step_failed)
 from semantic_nav.instruction_layer import read_transcript
 from semantic_nav.misheard import read_as
 from supervision.health import fault_text
@@ -199,6 +203,25 @@ class FollowerNode:
         corrections = read_as(self.follower.corrections)
         rospy.loginfo("semantic_nav: following %r (%s): classes %s%s", sentence, source,
                       self.session.classes, f"; read {corrections}" if corrections else "")
+        if self.session.asking:
+            self._stop_robot()
+            self.say_pub.publish(String(data=self.session.question))
+            rospy.loginfo("semantic_nav: not sure (%s): asked %r", "; ".join(self.session.unsure),
+                          self.session.question)
+
+    def _on_reply(self, reply, now):
+        """A yes or no on /voice_message: the answer to the question asked; a no while the
+        robot drives stops it; a yes with nothing asked changes nothing."""
+        if self.session is not None and self.session.asking:
+            rospy.loginfo("semantic_nav: answer %r to %r", reply, self.session.question)
+            self.session.answer(reply, now)
+            if self.session.outcome is not None:
+                self._finish(self.session.outcome)
+        elif self.session is not None and reply == NO:
+            self._finish(self.session.stop("stopped: the person said no", STOPPED))
+        else:
+            rospy.loginfo("semantic_nav: %r heard with no question asked: nothing to do",
+                          reply)
 
     def _take_inputs(self):
         with self.lock:
@@ -216,8 +239,15 @@ class FollowerNode:
         elif preempted and self.session is not None and self.source == "action":
             self._finish(self.session.stop("preempted"))
         if voice is not None:
-            self._begin(voice, "/voice_message", now)
+            reply = read_answer(voice)
+            if reply in (YES, NO):
+                self._on_reply(reply, now)
+            else:
+                self._begin(voice, "/voice_message", now)
         if self.session is None:
+            return
+        if self.session.asking:        # stands still until the answer or its time limit
+            self._wait_for_answer(now)
             return
         if scan is None or now - stamp > self.params.scan_timeout:
             self._stop_robot()
@@ -225,6 +255,15 @@ class FollowerNode:
                                    math.inf if stamp is None else now - stamp)
             return
         self._control(scan, pose, now)
+
+    def _wait_for_answer(self, now):
+        feedback = self.session.wait(now)
+        if self.session.outcome is not None:
+            self._finish(self.session.outcome)
+            return
+        self._stop_robot()
+        if self.source == "action":
+            self.server.publish_feedback(feedback_msg(feedback, self.session.question))
 
     def _control(self, scan, pose, now):
         ranges, laser = scan_to_core(scan)
@@ -252,6 +291,8 @@ class FollowerNode:
         status = DiagnosticStatus(name="semantic_nav", hardware_id="direction_follower")
         if age > self.params.scan_timeout:
             status.level, status.message = DiagnosticStatus.ERROR, f"no scan for {age:.1f} s"
+        elif self.session is not None and self.session.asking:
+            status.level, status.message = DiagnosticStatus.OK, "asking"
         elif self.session is not None:
             status.level, status.message = DiagnosticStatus.OK, "following"
         else:
@@ -260,6 +301,8 @@ class FollowerNode:
         status.values = [KeyValue("scan_age_s", f"{age:.2f}"),
                          KeyValue("sentence", session.sentence if session else ""),
                          KeyValue("index", str(session.index) if session else ""),
+                         KeyValue("question", session.question if session and session.asking
+                                  else ""),
                          KeyValue("last_result", self.last_result),
                          KeyValue("guard", format_guard_actions(self.follower.guard_actions)),
                          KeyValue("doorway_beams", str(len(self.follower.doorway_points)))]
