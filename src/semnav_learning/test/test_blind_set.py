@@ -5,7 +5,7 @@ import pytest
 from tamp_resources import resource
 
 from semnav_learning.blind_set import (BlindSetError, format_blind_score, load_blind_set,
-                                       score_blind_set, wrong_side)
+                                       score_blind_set, turned_back, wrong_side)
 
 
 def write(tmp_path, text):
@@ -50,6 +50,14 @@ def test_wrong_side_is_a_turn_read_to_the_other_side():
     assert not wrong_side((1,), (3,)) and not wrong_side((2, 1), (2, 4))
 
 
+def test_a_turn_around_read_for_a_straight_or_first_turn_is_counted():
+    assert turned_back([(1,)], [4]) and turned_back([(2, 1)], [2, 4])
+    assert turned_back([(10,), (1, 3)], [4, 3])
+    assert not turned_back([(4, 1)], [4, 1])           # a turn around was meant
+    assert not turned_back([(5,)], [4])                # no class 1-3 direction meant
+    assert not turned_back([(1,)], [1]) and not turned_back([(1,)], None)
+
+
 def test_scoring_accepts_either_reading_and_counts_refusals_as_misses(tmp_path):
     entries = load_blind_set(write(tmp_path, """
 entries:
@@ -71,6 +79,7 @@ entries:
     assert [r[0].text for r in score.wrong_sides] == ["two corners on, go left"]
     assert score.per_group() == {10: [1, 1], 5: [1, 1], 1: [0, 1], 6: [0, 1]}
     lines = format_blind_score(score)
-    assert lines[0] == "blind set: 2/4 = 50.00% read as meant; 1 to the wrong side"
+    assert lines[0] == ("blind set: 2/4 = 50.00% read as meant; 1 to the wrong side; 0 class 1-3 "
+                        "directions read as a turn around")
     assert "'blorp': meant 1, read refused (no known word)" in lines[2]
     assert lines[3].endswith("read 5 3  WRONG SIDE")

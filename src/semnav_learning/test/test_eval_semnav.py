@@ -6,9 +6,10 @@ import json
 import pytest
 import yaml
 
-from semnav_learning.evaluation import EpisodeSpec, load_plan
+from semnav_learning.evaluation import EpisodeOutcome, EpisodeSpec, load_plan
 from semnav_learning.evaluation_run import (EvaluationRun, EvaluationRunError,
-                                            first_of_each_class, spoken_specs)
+                                            first_of_each_class, spoken_specs, with_stayed)
+from semnav_learning.spoken import Heard, Reading
 from semnav_learning.tools.eval_semnav import argument_parser, main
 from semnav_l_floor import write_l_floor
 from tamp_resources import resource, workspace
@@ -139,3 +140,21 @@ def test_a_plan_is_drawn_from_the_phrases_given(tmp_path):
     (tmp_path / "plan.json").unlink()
     with pytest.raises(SystemExit, match=r"phrases .*phrases.yaml: .*missing .*class4"):
         main(argv=argv)
+
+
+def test_episodes_the_robot_stayed_in_are_not_reached_at_their_start():
+    specs = [EpisodeSpec("f.yaml", (float(k), 0.0, 0.0), (1,), "go on", False) for k in range(3)]
+    asked = Reading(False, "I understood: turn around. Shall I go? Please say yes or no.", "no")
+    heard = [Heard("en:175", "go on", "go on", ()),
+             Heard("en:175", "go on", "go home", (), reading=asked,
+                   again=Heard("en:140", "go on", "go home", (), reading=asked)),
+             Heard("en:175", "go on", "go on", (), reading=Reading(True))]
+    driven = [EpisodeOutcome(specs[0], True, "reached", 9.0, 90, [1]),
+              EpisodeOutcome(specs[2], False, "timeout", 60.0, 600, [1])]
+    outcomes = with_stayed(specs, heard, driven)
+    assert [o.spec for o in outcomes] == specs
+    assert outcomes[0] is driven[0] and outcomes[2] is driven[1]
+    assert not outcomes[1].success and outcomes[1].path == [[1.0, 0.0, 0.0]]
+    assert outcomes[1].reason == ("stayed: answered no to 'I understood: turn around. Shall I "
+                                  "go? Please say yes or no.'")
+

@@ -4,14 +4,18 @@ their own, with the class sequence they mean, scored against the instruction lay
 A blind set is a test only: nothing is trained on it and no model, phrase or threshold is chosen
 by it. An entry is right when the classes read from it equal its `classes` or its `or` reading;
 a turn read to the other side than meant (at the same position) is a wrong-side reading, the
-error that sends a robot the wrong way.
+error that sends a robot the wrong way; so is a turn around read where a class 1-3 direction
+(straight on, the first right or left) was meant and no turn around (`turned_back`).
 """
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
 
-from semantic_nav.instruction_classes import BY_ID, CLASS_IDS
+from semantic_nav.instruction_classes import BACK, BY_ID, CLASS_IDS, STRAIGHT, TURN, ids
+
+BACK_ID = ids(motion=BACK)[0]                                    # class 4, turn around
+FIRST_MOVES = ids(motion=STRAIGHT) + ids(motion=TURN, at=None)   # classes 1, 2, 3
 
 COUNT_MODES = ("corner", "side")
 
@@ -75,6 +79,13 @@ def wrong_side(expected, read):
     return False
 
 
+def turned_back(readings, read):
+    """True when `read` holds a turn around though a meant reading has a class 1-3 part and
+    none a turn around."""
+    return (read is not None and BACK_ID in read and all(BACK_ID not in r for r in readings)
+            and any(c in FIRST_MOVES for r in readings for c in r))
+
+
 @dataclass
 class BlindScore:
     """Per entry: (entry, classes read or None, reason it was refused or "")."""
@@ -93,6 +104,10 @@ class BlindScore:
     def wrong_sides(self):
         return [r for r in self.results
                 if r[1] is not None and all(wrong_side(reading, r[1]) for reading in r[0].readings)]
+
+    @property
+    def turned_back(self):
+        return [r for r in self.results if turned_back(r[0].readings, r[1])]
 
     @property
     def misses(self):
@@ -127,7 +142,8 @@ def format_blind_score(score):
     """The lines classify_instruction --blind prints."""
     n = len(score.results)
     lines = [f"blind set: {len(score.right)}/{n} = {score.accuracy:.2%} read as meant; "
-             f"{len(score.wrong_sides)} to the wrong side"]
+             f"{len(score.wrong_sides)} to the wrong side; {len(score.turned_back)} class 1-3 "
+             f"directions read as a turn around"]
     groups = score.per_group()
     lines.append("per class: " + ", ".join(f"{k}: {h}/{t}" for k, (h, t) in groups.items()))
     for entry, read, reason in score.misses:

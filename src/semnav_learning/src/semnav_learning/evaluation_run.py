@@ -16,13 +16,13 @@ from floorplan.occupancy_map import load_map
 from semantic_nav.instruction_classes import CLASS_IDS, COUNTING_IDS
 from semnav_learning.episodes import chain_goals
 from semnav_learning.eval_plot import plot_episodes
-from semnav_learning.evaluation import (EvaluationConfig, PolicySpec, breakdown,
+from semnav_learning.evaluation import (EpisodeOutcome, EvaluationConfig, PolicySpec, breakdown,
                                         counting_breakdown, evaluate, failure_places,
                                         format_table, load_plan, outcome_record,
                                         plan_chain_episodes, plan_episodes, success_table)
 from semnav_learning.phrase_sets import PhraseSetError, load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
-from semnav_learning.spoken import DEFAULT_VOICES, speak_specs, spoken_report
+from semnav_learning.spoken import STAYED, DEFAULT_VOICES, speak_specs, spoken_report
 from tamp_resources import resource, workspace
 
 TEST_FLOORS = ("office_ring", "office_comb")   # never used in training
@@ -83,7 +83,7 @@ def report(outcomes, seconds, title, oracles):
     table = format_table(rows, total, title)
     extra = {**breakdown(outcomes), "by_counting": counting_breakdown(outcomes, oracles),
              "failure_places": failure_places(outcomes, oracles)}
-    step = float(np.median([o.step_seconds for o in outcomes])) * 1e3
+    step = float(np.median([o.step_seconds for o in outcomes if o.steps] or [0.0])) * 1e3
     print(table)
     print(f"by phrasing: {extra['by_phrasing']}; reasons: {extra['reasons']}")
     if extra["by_counting"]:
@@ -164,9 +164,10 @@ def first_of_each_class(specs, count, skip=0):
             for s in [s for s in specs if s.labels[-1] == label][skip:skip + count]]
 
 
-def spoken_specs(specs, voices, stt_config):
-    """speak_specs with a progress bar and Whisper as `stt_config` (a YAML file) sets it; a bad
-    voice or STT config, missing espeak-ng / sox or Whisper model raises EvaluationRunError."""
+def spoken_specs(specs, voices, stt_config, follower=None):
+    """speak_specs with a progress bar and Whisper as `stt_config` (a YAML file) sets it, the
+    robot asking back with `follower` (None: it drives every transcript); a bad voice or STT
+    config, missing espeak-ng / sox or Whisper model raises EvaluationRunError."""
     from perception.speech_synthesis import SynthesisUnavailable, voice_of
     from perception.stt import ModelMissing, SpeechToText, load_stt_config
     try:
@@ -175,9 +176,34 @@ def spoken_specs(specs, voices, stt_config):
         stt = SpeechToText(load_stt_config(stt_config))
         with tqdm(total=len(specs), unit="sentence", desc="speak + transcribe",
                   file=sys.stderr) as bar:
-            return speak_specs(specs, voices, stt, progress=bar.update)
+            return speak_specs(specs, voices, stt, progress=bar.update, follower=follower)
     except (OSError, ValueError, SynthesisUnavailable, ModelMissing) as error:
         raise EvaluationRunError(f"spoken: {error}") from error
+
+
+def asking_follower(run, config):
+    """The follower that takes spoken directions as the node does, asking back when unsure
+    (config's `ask`), or None: the model's follower with asking back off, or the expert."""
+    from semantic_nav.follower import DirectionFollower, FollowerConfig
+    if run.policy != "model" or not (config or FollowerConfig()).ask.enabled:
+        return None
+    return DirectionFollower.from_files(run.model, None, config)
+
+
+def with_stayed(specs, heard, driven):
+    """Outcomes of every spec: those driven (`driven`, in order) and, where the robot did not
+    drive (Heard.drives false), an episode not reached, the robot at its start."""
+    driven = iter(driven)
+    outcomes = []
+    for spec, said in zip(specs, heard):
+        if said.drives:
+            outcomes.append(next(driven))
+            continue
+        last = said.again or said
+        why = last.reading.refused or f"answered {last.reading.answer} to {last.reading.question!r}"
+        outcomes.append(EpisodeOutcome(spec, False, f"{STAYED}: {why}", 0.0, 0, [],
+                                       [list(spec.start)]))
+    return outcomes
 
 
 def follower_config(path):
@@ -224,12 +250,16 @@ def evaluate_run(run, command):
         specs = first_of_each_class(specs, run.first or len(specs), run.skip)
     heard = None
     if run.spoken is not None:
-        specs, heard = spoken_specs(specs, run.spoken or list(DEFAULT_VOICES), run.stt_config)
+        specs, heard = spoken_specs(specs, run.spoken or list(DEFAULT_VOICES), run.stt_config,
+                                    asking_follower(run, config))
     name = run.name or f"{run.policy}_{run.laser}"
     floor_names = ", ".join(Path(f).stem for f in floors)
     template = laser_templates()[run.laser]
     policy_spec = PolicySpec(kind=run.policy, model_path=run.model, config=config)
-    outcomes, seconds = drive(specs, policy_spec, template, run.workers, name)
+    driven = [spec for k, spec in enumerate(specs) if heard is None or heard[k].drives]
+    outcomes, seconds = drive(driven, policy_spec, template, run.workers, name)
+    if heard is not None:      # the robot stayed where asking back ended without a yes
+        outcomes = with_stayed(specs, heard, outcomes)
     # the model's file as the follower finds it: run.model, else $SEMNAV_MODEL, else the default
     model = run.model or os.environ.get("SEMNAV_MODEL") or "models/semantic_nav/default.keras"
     title = (f"**{name}** ({run.policy}{' ' + model if run.policy == 'model' else ''}, "
