@@ -1,5 +1,6 @@
-"""A fault in the node's control step, run as its Supervisor runs it (no roscore: the node is
-built without its ROS API; actionlib's SimpleActionServer and the publishers are stubbed)."""
+"""The node's control step run as its Supervisor runs it: a fault in it, a direction announced,
+a direction asked back (no roscore: the node is built without its ROS API; actionlib's
+SimpleActionServer and the publishers are stubbed)."""
 import threading
 import types
 
@@ -9,6 +10,8 @@ from actionlib_msgs.msg import GoalStatus
 from sensor_msgs.msg import LaserScan
 from supervision.health import ERROR, Health
 
+from semantic_nav.asking_back import AskConfig
+from semantic_nav.follow_session import DECLINED, STOPPED
 from semantic_nav.follower import FollowerCommand
 from semantic_nav.splitting import split_instruction
 from semantic_nav.ros_follower import FollowerNode, NodeParams
@@ -235,3 +238,45 @@ def test_a_voice_message_direction_that_ends_is_announced(node):
     tick(node)
     assert last_cmd(node) == (0.0, 0.0) and node.session is None
     assert [m.data for m in node.say_pub.sent] == ["I have arrived."]
+
+
+class MisheardFollower(Follower):
+    """Reads "lift" as "left" (a misheard word): the node asks back before it drives."""
+
+    config = types.SimpleNamespace(ask=AskConfig())
+
+    def start(self, sentence):
+        classes = super().start(sentence)
+        self.corrections = [("lift", "left")] if "lift" in sentence else []
+        self.confidences, self.countings, self.unknown_words = [0.99, 0.99], [], []
+        return classes
+
+
+def test_an_unsure_direction_waits_for_a_yes_and_a_no_stops_a_drive(node):
+    node.follower = MisheardFollower()
+    node.server.send("asked", "go to the end, then turn lift", node.goal_callback)
+    tick(node)
+    question = ("I understood: go straight to the end, then take the first left. Shall I go? "
+                "Please say yes or no.")
+    assert [m.data for m in node.say_pub.sent] == [question]
+    assert last_cmd(node) == (0.0, 0.0) and node.session.asking
+    assert node.server.feedback[-1][1].question == question
+    with node.lock:
+        node.voice = "No."
+    tick(node)
+    assert node.server.ends["asked"][0][0] == GoalStatus.ABORTED
+    assert node.say_pub.sent[-1].data == DECLINED and node.session is None
+
+    node.server.send("yes", "go to the end, then turn lift", node.goal_callback)
+    tick(node)
+    with node.lock:
+        node.voice = "yes please"
+    tick(node)
+    assert last_cmd(node) == pytest.approx((0.3, 0.1)) and not node.session.asking
+    with node.lock:
+        node.voice = "stop"                 # a no while it drives stops the robot
+    tick(node)
+    assert last_cmd(node) == (0.0, 0.0) and node.session is None
+    assert node.server.ends["yes"][0][0] == GoalStatus.ABORTED
+    assert node.say_pub.sent[-1].data == STOPPED
+

@@ -31,7 +31,7 @@ from std_msgs.msg import String
 from tamp_msgs.msg import FollowDirectionsAction, Utterance
 from visualization_msgs.msg import Marker
 
-from semantic_nav.asking_back import NO, YES, read_answer
+from semantic_nav.asking_back import NO, read_answer
 from semantic_nav.collision_guard import format_guard_actions
 from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg,
                                       scan_to_core, twist)
@@ -240,7 +240,7 @@ class FollowerNode:
             self._finish(self.session.stop("preempted"))
         if voice is not None:
             reply = read_answer(voice)
-            if reply in (YES, NO):
+            if reply is not None:       # a yes or a no, not a direction
                 self._on_reply(reply, now)
             else:
                 self._begin(voice, "/voice_message", now)
