@@ -29,7 +29,8 @@ def test_an_abort_asks_to_pass_waits_and_then_fails_the_instruction(line_graph, 
 
 def test_in_a_fleet_the_robot_waits_for_another_standing_at_the_goal(line_graph, tmp_path):
     """Retries spent, robot b reported at B (the goal): robot a waits and retries while b
-    stays, at most corridor_wait_s (10 s) from its first wait, then fails the instruction."""
+    stays, at most corridor_wait_s (10 s) from its first wait, then gives the instruction back
+    to the fleet."""
     pool = tmp_path / "pool.sqlite"
     other = FleetLink(FleetPool(pool), "b")
     other.report(B, 0.0, 0.0)
@@ -43,18 +44,36 @@ def test_in_a_fleet_the_robot_waits_for_another_standing_at_the_goal(line_graph,
     other.report(B, 0.0, 7.5)                             # b stays, within its lease
     assert recover(ctx, 8.0, "stuck") == [Wait(12.0)]     # 7 s into the wait
     other.report(B, 0.0, 10.5)
-    assert recover(ctx, 11.0, "stuck") == []              # 10 s: failed
-    assert ctx.buffer.get(1).state == FAILED
+    assert recover(ctx, 11.0, "stuck") == []              # 10 s: given back, nothing else
+    assert ctx.buffer.get(1).state == PENDING and ctx.left_to_others(11.0) == {1}
+    assert ctx.log[-1] == (11.0, "give 1 back to the fleet (1 of 2): navigation to B aborted "
+                                 "1 times: stuck")
 
 
-def test_in_a_fleet_a_robot_elsewhere_is_not_waited_for(line_graph, tmp_path):
+def test_in_a_fleet_an_unreachable_place_goes_back_to_the_pool_then_fails(line_graph,
+                                                                          tmp_path):
+    """No robot at the goal: the instruction goes back to the pool (another robot may reach
+    its place), left to the others for corridor_wait_s, at most max_handbacks (2) times; the
+    third time it fails. The robot's own instructions (kept local) fail at once."""
     pool = tmp_path / "pool.sqlite"
     FleetLink(FleetPool(pool), "b").report(C, 0.0, 0.0)
-    ctx = make_context(line_graph, tmp_path, max_goal_attempts=1)
+    ctx = make_context(line_graph, tmp_path, max_goal_attempts=1, corridor_wait_s=30.0)
     ctx.fleet = FleetLink(FleetPool(pool), "a")
     journal(ctx, make_instruction(1, C, function=1))
+    for k, now in enumerate((1.0, 40.0)):
+        moving_for(ctx, 1, B)
+        assert recover(ctx, now, "stuck") == []
+        assert ctx.buffer.get(1).state == PENDING and ctx.given_back[1] == (now, k + 1)
+        assert ctx.left_to_others(now + 29.0) == {1} and ctx.left_to_others(now + 30.0) == set()
     moving_for(ctx, 1, B)
-    assert recover(ctx, 1.0, "stuck") == [] and ctx.buffer.get(1).state == FAILED
+    recover(ctx, 80.0, "stuck")
+    assert ctx.buffer.get(1).state == FAILED
+    assert ctx.buffer.get(1).reason == "navigation to B aborted 1 times: stuck"
+    journal(ctx, make_instruction(2, C, function=1))
+    ctx.fleet.keep_local(2)
+    moving_for(ctx, 2, B)
+    recover(ctx, 81.0, "stuck")
+    assert ctx.buffer.get(2).state == FAILED and 2 not in ctx.given_back
 
 
 def test_without_pass_wait_the_goal_is_sent_again_at_once(line_graph, tmp_path):

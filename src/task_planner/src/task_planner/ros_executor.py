@@ -135,6 +135,8 @@ class NodeParams:
                                    # [s of ROS time]; another robot may then serve it
     corridors: tuple = ()          # places one robot of the fleet at a time drives through
     corridor_wait: float = 60.0    # wait this long for a corridor, then drive on [s]
+    max_handbacks: int = 2         # an instruction of the fleet's pool whose place the robot
+                                   # cannot reach goes back to the pool this many times
     one_robot_per_place: bool = False  # leave a place's instructions to the robot there
     log_decisions: bool = True     # log the executor's reasons (move, look, search, serve, fail)
     max_open_instructions: int = 2000  # a new instruction beyond this many open ones is refused
@@ -160,7 +162,7 @@ class NodeParams:
                          "ask_wait",
                          "patrol_interval", "serve_within",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
-                         "max_open_instructions")
+                         "max_open_instructions", "max_handbacks")
         if self.fleet_allocator not in FLEET_ALLOCATORS:
             raise ValueError(f"parameter ~fleet_allocator: unknown fleet allocator "
                              f"'{self.fleet_allocator}' (choose one of "
@@ -204,6 +206,7 @@ class ExecutorNode:
                            patrol_interval_s=params.patrol_interval,
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
                            corridor_wait_s=params.corridor_wait,
+                           max_handbacks=params.max_handbacks,
                            one_robot_per_place=params.one_robot_per_place,
                            max_open=params.max_open_instructions,
                            fleet_allocator=params.fleet_allocator),

@@ -67,7 +67,11 @@ class ExecutorConfig:
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]
     corridors: tuple = ()         # graph nodes one robot of a fleet at a time drives through
-    corridor_wait_s: float = 60.0  # wait this long for a corridor, then drive on [s]
+    corridor_wait_s: float = 60.0  # wait this long for a corridor, then drive on [s]; an
+                                  # instruction given back to the fleet is left to the others
+                                  # this long
+    max_handbacks: int = 2        # in a fleet, an instruction whose place the robot cannot
+                                  # reach goes back to the pool this many times, then fails
     corridor_poll_s: float = 1.0  # look again whether the corridor is free this often [s]
     one_robot_per_place: bool = False  # in a fleet, leave the instructions at a place to the
                                   # robot that holds one there (small rooms fit one robot)
@@ -154,6 +158,8 @@ class Context:
     corridor_wait: float | None = None  # since when the robot waits for a corridor [s]
     deferred: set[int] = field(default_factory=set)  # own instructions waiting for people's
     lost_claims: set[int] = field(default_factory=set)  # ids another robot held at the claim
+    given_back: dict[int, tuple[float, int]] = field(default_factory=dict)  # id -> (when [s],
+                                   # times) the robot gave it back, its place out of reach
     taken: set[int] = field(default_factory=set)  # ids other robots held at this decision's
                                    # fetch
     unclaimed: dict[int, float] = field(default_factory=dict)  # id -> when the robot the
@@ -231,6 +237,11 @@ class Context:
         if self.goal is None:
             raise RuntimeError(f"executor in mode {self.mode}: no navigation goal")
         return self.goal
+
+    def left_to_others(self, now: float) -> set[int]:
+        """Ids the robot gave back to its fleet within corridor_wait_s: not for it now."""
+        return {i for i, (when, _) in self.given_back.items()
+                if now - when < self.config.corridor_wait_s}
 
     def fleet_now(self) -> FleetLink:
         """The robot's link to its fleet."""

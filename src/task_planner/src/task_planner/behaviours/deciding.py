@@ -165,8 +165,8 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     own instruction that gave way to a person waits until no person's instruction is open, and
     a person's instruction for someone the robot has never seen waits while it has a stranger
     to meet (`waiting_for_a_meeting`). Overdue instructions go first (`overdue_first`). In a
-    fleet, an instruction another robot holds is not
-    eligible.
+    fleet, an instruction another robot holds is not eligible, nor one this robot gave back
+    (recovery.give_back) within corridor_wait_s.
     """
     pending = [r for r in ctx.buffer.open_records() if r.state == PENDING]
     if not any(r.instruction.type == HUMAN for r in pending):
@@ -184,7 +184,7 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     busy_places: Container[int] = ()
     if ctx.fleet:
         taken = ctx.taken = ctx.fleet.taken(now)
-        skipped = skipped | ctx.lost_claims | taken
+        skipped = skipped | ctx.lost_claims | taken | ctx.left_to_others(now)
         if ctx.config.one_robot_per_place:
             busy_places = ctx.fleet.busy_places(now)
     available = np.array([k for k, r in enumerate(pending)

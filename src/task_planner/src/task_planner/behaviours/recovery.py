@@ -1,8 +1,10 @@
 """Recovery (ROS-free): after a navigation abort the robot asks to pass, waits and retries the
-goal (`max_goal_attempts` in all), then fails the instruction the move was for and decides again;
-in a fleet, while another robot stands at the goal (a room that fits one robot), it waits for it
-to leave, at most `corridor_wait_s`, before it fails anything. A fault in a step fails the
-instruction being served (journalled, so a restart never re-runs it) and stops the robot.
+goal (`max_goal_attempts` in all), then fails the instruction the move was for and decides again.
+In a fleet, while another robot stands at the goal (a room that fits one robot), it waits for it
+to leave, at most `corridor_wait_s`; then it gives an instruction of the pool back to the fleet
+(another robot may reach its place, or this one after `corridor_wait_s`), at most
+`max_handbacks` times, before it fails it. A fault in a step fails the instruction being served
+(journalled, so a restart never re-runs it) and stops the robot.
 """
 from py_trees.common import Status
 
@@ -35,10 +37,31 @@ def recover(ctx: Context, now: float, reason: str) -> list[Command]:
     if not ctx.goal_for and ctx.patrol_goal is not None:  # patrol elsewhere for now
         ctx.looked_s[ctx.patrol_goal], ctx.patrol_goal = now, None
     if ctx.goal_for and ctx.buffer.get(ctx.goal_for).is_open:
-        fail(ctx, ctx.goal_for, now,
-             f"navigation to {ctx.graph.names[goal]} aborted "
-             f"{ctx.config.max_goal_attempts} times: {reason}")
+        why = (f"navigation to {ctx.graph.names[goal]} aborted "
+               f"{ctx.config.max_goal_attempts} times: {reason}")
+        if not give_back(ctx, ctx.goal_for, now, why):
+            fail(ctx, ctx.goal_for, now, why)
     return ctx.decide(now)
+
+
+def give_back(ctx: Context, instruction_id: int, now: float, why: str) -> bool:
+    """In a fleet, give an instruction of the pool whose place the robot cannot reach back to
+    the fleet, at most `max_handbacks` times -> True; False (it fails instead) alone, for the
+    robot's own instructions, or when the hand-backs are spent. A robot blocked on its way by
+    another one lost people's requests that the other robot, or itself a minute later, could
+    have served."""
+    if ctx.fleet is None or instruction_id in ctx.fleet.local:
+        return False
+    _, times = ctx.given_back.get(instruction_id, (now, 0))
+    if times >= ctx.config.max_handbacks:
+        return False
+    ctx.given_back[instruction_id] = (now, times + 1)
+    ctx.fleet.release()
+    if ctx.buffer.get(instruction_id).state == ACTIVE:
+        ctx.buffer.requeue(instruction_id)
+    ctx.log.append((now, f"give {instruction_id} back to the fleet ({times + 1} of "
+                         f"{ctx.config.max_handbacks}): {why}"))
+    return True
 
 
 def robot_in_the_way(ctx: Context, goal: int, now: float) -> str | None:
