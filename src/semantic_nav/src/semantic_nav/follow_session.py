@@ -114,17 +114,19 @@ class FollowSession:
         return self.feedback()
 
     def answer(self, reply: str, now: float) -> None:
-        """The person's reply to the question (asking_back.YES / NO): a yes starts the drive
-        (the time limit counts from now), a no ends the sentence without moving."""
+        """A yes or a no heard (asking_back.YES / NO). To the question: a yes starts the drive
+        (the time limit counts from now), a no ends the sentence without moving. While the
+        robot drives: a no stops it, a yes changes nothing."""
+        if reply not in (YES, NO):
+            raise ValueError(f"an answer is {YES!r} or {NO!r}, got {reply!r}")
         if not self.asking:
-            raise RuntimeError("FollowSession.answer without a question asked")
-        if reply == YES:
+            if reply == NO:
+                self.stop("stopped: the person said no", STOPPED)
+        elif reply == YES:
             self.asking, self.started = False, now
-        elif reply == NO:
+        else:
             self.outcome = Outcome(ABORTED, 0, f"not followed: the answer to {self.question!r} "
                                    "was no", DECLINED)
-        else:
-            raise ValueError(f"an answer is {YES!r} or {NO!r}, got {reply!r}")
 
     def feedback(self, command: FollowerCommand | None = None) -> Feedback:
         index = min(self.index, len(self.classes) - 1)

@@ -31,12 +31,12 @@ from std_msgs.msg import String
 from tamp_msgs.msg import FollowDirectionsAction, Utterance
 from visualization_msgs.msg import Marker
 
-from semantic_nav.asking_back import NO, read_answer
+from semantic_nav.asking_back import read_answer
 from semantic_nav.collision_guard import format_guard_actions
 from semantic_nav.conversions import (doorway_marker, feedback_msg, path_marker, result_msg,
                                       scan_to_core, twist)
-from semantic_nav.follow_session import (ABORTED, STOPPED, SUCCEEDED, FollowSession,
-                                         InstructionRefused, Outcome, step_failed)
+from semantic_nav.follow_session import (ABORTED, SUCCEEDED, FollowSession, InstructionRefused,
+                                         Outcome, step_failed)
 from semantic_nav.instruction_layer import read_transcript
 from semantic_nav.misheard import read_as
 from supervision.health import fault_text
@@ -210,18 +210,16 @@ class FollowerNode:
                           self.session.question)
 
     def _on_reply(self, reply, now):
-        """A yes or no on /voice_message: the answer to the question asked; a no while the
-        robot drives stops it; a yes with nothing asked changes nothing."""
-        if self.session is not None and self.session.asking:
-            rospy.loginfo("semantic_nav: answer %r to %r", reply, self.session.question)
-            self.session.answer(reply, now)
-            if self.session.outcome is not None:
-                self._finish(self.session.outcome)
-        elif self.session is not None and reply == NO:
-            self._finish(self.session.stop("stopped: the person said no", STOPPED))
-        else:
-            rospy.loginfo("semantic_nav: %r heard with no question asked: nothing to do",
-                          reply)
+        """A yes or no on /voice_message, for the sentence being asked about or followed
+        (FollowSession.answer)."""
+        if self.session is None:
+            rospy.loginfo("semantic_nav: %r heard with no direction: nothing to do", reply)
+            return
+        rospy.loginfo("semantic_nav: %r heard (%s)", reply,
+                      f"to {self.session.question!r}" if self.session.asking else "driving")
+        self.session.answer(reply, now)
+        if self.session.outcome is not None:
+            self._finish(self.session.outcome)
 
     def _take_inputs(self):
         with self.lock:

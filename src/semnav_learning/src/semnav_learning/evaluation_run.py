@@ -22,7 +22,7 @@ from semnav_learning.evaluation import (EpisodeOutcome, EvaluationConfig, Policy
                                         plan_chain_episodes, plan_episodes, success_table)
 from semnav_learning.phrase_sets import PhraseSetError, load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
-from semnav_learning.spoken import STAYED, DEFAULT_VOICES, speak_specs, spoken_report
+from semnav_learning.spoken import DEFAULT_VOICES, STAYED, speak_specs, spoken_report
 from tamp_resources import resource, workspace
 
 TEST_FLOORS = ("office_ring", "office_comb")   # never used in training
