@@ -87,6 +87,23 @@ def test_forearm_length_takes_the_longer_arm():
     assert forearm_length(sk) == pytest.approx(70.0)
 
 
+def test_an_object_far_behind_the_hands_is_not_near_them():
+    """A fridge box touching the hand in the image, 1.3 m beyond the hands in depth, is not in
+    O_h (hand_depth_gap 0.6 m); 0.5 m beyond it is; with the gap off, or without depths, the
+    image alone decides (Algorithm 3-2)."""
+    sk = profile_worker()
+    depth = np.full(NUM_KEYPOINTS, 1.5)
+    fridge = SeenObject("refrigerator", 1.0, 130, 260, 40, 40, depth=2.8)
+    cup = SeenObject("cup", 1.0, 132, 240, 10, 10, depth=2.0)
+    near, _, _ = hand_object_eyesight_sets(sk, [fridge, cup], ActivityConfig(), depth)
+    assert [o.label for o in near] == ["cup"]
+    near, _, _ = hand_object_eyesight_sets(sk, [fridge, cup], ActivityConfig(hand_depth_gap=0.0),
+                                           depth)
+    assert [o.label for o in near] == ["refrigerator", "cup"]
+    near, _, _ = hand_object_eyesight_sets(sk, [fridge, cup], ActivityConfig())
+    assert [o.label for o in near] == ["refrigerator", "cup"]
+
+
 def test_algorithm_3_2_range_factor_boundary():
     """Near the hand means d_hand < alpha_hand x forearm (50 px): 49 px in, 51 px out."""
     sk = profile_worker()

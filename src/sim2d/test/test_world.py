@@ -406,3 +406,29 @@ def test_a_person_changes_clothes_where_the_entry_takes_her(tmp_path, room_map):
     data["people"][0]["schedule"][0]["shirt_colour"] = [300, 0, 0]
     with pytest.raises(WorldError, match=r"schedule\[0\].*shirt_colour must be"):
         load_world_config(write_world(tmp_path, data), LASER_DIR)
+
+
+def test_a_seated_person_holds_things_on_the_table_in_front_not_under_it(tmp_path, room_map):
+    """Bob sits at a 0.75 m table holding a cup: his wrists and the cup are above its top
+    (skeleton.HAND_ABOVE_SURFACE); without the table they are at lap height."""
+    from sim2d.skeleton import HAND_ABOVE_SURFACE, L_WRIST, R_WRIST, person_keypoints
+    data = world_dict(room_map)
+    bob = data["people"][0]
+    bob.update(pose=[3.0, 3.0, 0.0], posture="sitting", holding="cup", schedule=[])
+    data["objects"].append({"name": "table", "label": "dining table", "pose": [3.75, 3.0, 0.0],
+                            "elevation": 0.0, "size": [0.8, 0.8, 0.75]})
+    world = World(load_world_config(write_world(tmp_path, data), LASER_DIR), cache_dir=None)
+    world.step(0.1)
+    person = world.people[0]
+    assert world.surface_under_hands(person) == pytest.approx(0.75)
+    keypoints, hold = person_keypoints("sitting", person.pose, holding=True,
+                                       surface=world.surface_under_hands(person))
+    assert keypoints[[R_WRIST, L_WRIST], 2] == pytest.approx([0.75 + HAND_ABOVE_SURFACE] * 2)
+    cup = world.objects["cup"]
+    assert cup.elevation + cup.size[2] / 2.0 == pytest.approx(hold[2])
+    lap, _ = person_keypoints("sitting", person.pose, holding=True)
+    assert lap[R_WRIST, 2] < 0.75
+    data["objects"].pop()                         # no table: nothing under the hands
+    world = World(load_world_config(write_world(tmp_path, data), LASER_DIR), cache_dir=None)
+    world.step(0.1)
+    assert world.surface_under_hands(world.people[0]) is None

@@ -59,6 +59,9 @@ class ActivityConfig:
     #                                    distance, near phase, ends at 2.1 m)
     partner_facing_angle: float = 0.785  # [rad] partner's body within this of the person (45 deg:
     #                                      Kendon's L-shaped F-formation)
+    hand_depth_gap: float = 0.6        # [m] an object whose depth is this much beyond or before
+    #                                    the hands' is not near them, whatever the image says
+    #                                    (0: image distance only, as the seed)
 
 
 @dataclass
@@ -88,6 +91,7 @@ class SeenObject:
     cy: float
     width: float = 0.0   # [px] box size; 0 = a point at the centre
     height: float = 0.0
+    depth: float = math.nan   # [m] at the box (NaN: unknown)
 
     def box_points(self) -> NDArray[np.float64]:
         """A BOX_GRID x BOX_GRID grid over the box, (n, 2) [px]; the centre for a point."""
@@ -195,14 +199,30 @@ def faces_camera(skeleton: Skeleton) -> bool:
     return lo < skeleton[NOSE, 0] < hi
 
 
+def hand_depth(skeleton: Skeleton, depth: ArrayLike | None) -> float:
+    """Median depth [m] of the detected hands (NaN when none has one)."""
+    if depth is None:
+        return math.nan
+    d = np.asarray(depth, dtype=float)[present(skeleton, HANDS)]
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else math.nan
+
+
 def hand_object_eyesight_sets(
-        skeleton: Skeleton, objects: Iterable[SeenObject],
-        config: ActivityConfig) -> tuple[list[SeenObject], list[SeenObject], bool]:
+        skeleton: Skeleton, objects: Iterable[SeenObject], config: ActivityConfig,
+        depth: ArrayLike | None = None) -> tuple[list[SeenObject], list[SeenObject], bool]:
     """Algorithm 3-2: objects near the hands O_h, in the eyesight O_e, and E_h,e.
+
+    Beyond the seed (`config.hand_depth_gap`): with the joints' and the objects' depths, an
+    object near a hand in the image but `hand_depth_gap` farther or nearer than the hands is
+    behind or before them (a fridge across the room), not in them; and a person looking at
+    their hands looks at what is at the hands' depth, not at what lies that far behind them in
+    the image.
 
     Args:
         skeleton: (18, 2) keypoints [px], NaN rows for missing joints.
         objects: [SeenObject].
+        depth: (18,) joint depths [m] (None: the image alone decides).
     Returns:
         (O_h, O_e, E_h,e) as ([SeenObject], [SeenObject], bool).
     """
@@ -211,14 +231,17 @@ def hand_object_eyesight_sets(
     looking = watching and any(
         abs(_min_angle(skeleton, skeleton[h])) < config.eyesight_angle for h in hands)
     reach = config.range_factor * forearm_length(skeleton)
+    hands_at = hand_depth(skeleton, depth) if config.hand_depth_gap > 0 else math.nan
     near: list[SeenObject] = []
     seen: list[SeenObject] = []
     for obj in objects:
         shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
         d_hand = min((shape.distance_to(skeleton[h]) for h in hands), default=math.inf)
-        if d_hand < reach:
+        apart = abs(obj.depth - hands_at) > config.hand_depth_gap   # False when either is NaN
+        if d_hand < reach and not apart:
             near.append(obj)
-        if watching and abs(_min_angle(skeleton, shape.box_points())) < config.eyesight_angle:
+        if watching and abs(_min_angle(skeleton, shape.box_points())) < config.eyesight_angle \
+                and not (looking and apart):
             seen.append(obj)
     return near, seen, looking
 
@@ -380,7 +403,7 @@ def recognise_activity(skeleton: Skeleton, objects: Sequence[SeenObject], table:
         depth: (18,) joint depths [m] of the person (None: no chat partners from skeletons).
         others: [BodyView] the other people of the frame.
     """
-    near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config)
+    near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config, depth)
     if config.partners_from_skeletons and depth is not None and others:
         seen = seen + partner_objects(chat_partners(skeleton, depth, others, config), seen)
     posture = posture_from_skeleton(skeleton, config)

@@ -28,6 +28,7 @@ from task_planner.reward import load_priorities
 from task_planner.ros_submit import SubmitClient
 
 from perception.activity import ActivityConfig, load_affordances
+from perception.activity_track import ActivityTrackConfig, ActivityTracks
 from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.requests import keyword_config_from_dict
 from perception.self_instructions import (
@@ -61,6 +62,11 @@ class VisualParams:
                                           # /task_planner/submit per instruction [s]
     utc_offset: float = 0.0               # ~utc_offset [s] for schedule times of day
     slow_latency: float = 0.1             # ~slow_latency [s]: diagnostics WARN above this
+    activity_window: float = 8.0          # ~activity_window [s]: an identified person's
+                                          # activity fused over this many seconds of frames
+                                          # (activity_track; 0: framewise, the seed)
+    activity_min_probability: float = 0.2  # ~activity_min_probability: mean P(a) over the
+                                           # window for a detailed activity
 
 
 def read_params():
@@ -107,6 +113,8 @@ class VisualNode:
                                   repeat_after=float(p.repeat_after)),
             functions, priority, self.graph.place_ids(), codes)
         self.config = ActivityConfig()
+        self.tracks = ActivityTracks(ActivityTrackConfig(
+            float(p.activity_window), float(p.activity_min_probability)))
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.identify = rospy.ServiceProxy("human_db/identify", IdentifyHuman)
@@ -175,10 +183,15 @@ class VisualNode:
         results = analyse_frame(frame, self.table, self.config, self._cameras(), self.graph)
         self._warn_unknown_classes(frame.objects)
         out = ObservedHumanArray(header=msg.header)
+        stamp = msg.header.stamp.to_sec() if not msg.header.stamp.is_zero() else rospy.get_time()
         for result in results:
             for problem in result.problems:
                 rospy.logwarn_throttle(10.0, "visual: %s", problem)
             name = self._identify(result)
+            if name:
+                act = result.activity
+                act.activity = self.tracks.update(name, stamp, result.place, act.activity,
+                                                  act.probabilities, act.posture)
             out.humans.append(observed_to_msg(result, name))
             if name:
                 self._record(name, result, msg.header.stamp)

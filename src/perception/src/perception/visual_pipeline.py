@@ -84,7 +84,8 @@ def objects_for(skeleton: Skeleton, objects: Iterable[ObjectBox]) -> list[SeenOb
             obj.x <= neck[0] <= obj.x + obj.width and obj.y <= neck[1] <= obj.y + obj.height)
         if not own:
             keep.append(SeenObject(obj.label, float(obj.confidence), obj.x + obj.width / 2.0,
-                                   obj.y + obj.height / 2.0, float(obj.width), float(obj.height)))
+                                   obj.y + obj.height / 2.0, float(obj.width), float(obj.height),
+                                   float(obj.depth)))
     return keep
 
 

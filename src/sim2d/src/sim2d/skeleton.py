@@ -1,8 +1,9 @@
 """3D COCO-18 body keypoints (OpenPose order, thesis 000 Fig. 3-4) for a posture and activity.
 
 Person frame: x forward, y left, z up [m]; the feet stand at the origin. Arms hang for an idle
-person; a person holding something has both wrists at the held point in front of the chest; the
-head (nose, eyes, ears) turns toward what the person looks at (the held object by default).
+person; a person holding something has both wrists at the held point in front of the chest (on
+the top of a table or desk in front of a seated person: hands rest on it, not under it); the head
+(nose, eyes, ears) turns toward what the person looks at (the held object by default).
 """
 import math
 from collections.abc import Sequence
@@ -35,6 +36,7 @@ HEAD_PIVOT = 0.12       # [m] head rotation centre above the neck
 HOLD_REACH = 0.32       # [m] held point in front of the chest
 HOLD_DROP = 0.35        # [m] held point below the shoulders
 HAND_SPREAD = 0.08      # [m] half distance between the hands holding something
+HAND_ABOVE_SURFACE = 0.06  # [m] held point above the top of the furniture under the hands
 MAX_HEAD_YAW = 1.3      # [rad]
 MAX_HEAD_PITCH = 0.9    # [rad]
 
@@ -57,9 +59,13 @@ def hold_point(points: Points) -> Points:
     return shoulders + np.array([HOLD_REACH, 0.0, -HOLD_DROP])
 
 
-def hold_in_hands(points: Points) -> Points:
-    """Move both arms so the wrists meet at the hold point; returns the hold point."""
+def hold_in_hands(points: Points, surface: float | None = None) -> Points:
+    """Move both arms so the wrists meet at the hold point; returns the hold point. `surface`:
+    the top [m] of the furniture under the hands (a table at which the person sits): the hold
+    point is raised onto it."""
     target = hold_point(points)
+    if surface is not None:
+        target[2] = max(target[2], surface + HAND_ABOVE_SURFACE)
     for shoulder, elbow, wrist, side in ((R_SHOULDER, R_ELBOW, R_WRIST, -1.0),
                                          (L_SHOULDER, L_ELBOW, L_WRIST, 1.0)):
         hand = target + np.array([0.0, side * HAND_SPREAD, 0.0])
@@ -100,11 +106,12 @@ def to_person(point: Sequence[float] | np.ndarray, pose: Sequence[float]) -> Poi
 
 
 def person_keypoints(posture: str, pose: Sequence[float], holding: bool = False,
-                     look_target: Sequence[float] | np.ndarray | None = None
-                     ) -> tuple[Points, Points | None]:
-    """Map-frame keypoints (18, 3) and the map-frame hold point (None if not holding)."""
+                     look_target: Sequence[float] | np.ndarray | None = None,
+                     surface: float | None = None) -> tuple[Points, Points | None]:
+    """Map-frame keypoints (18, 3) and the map-frame hold point (None if not holding);
+    `surface`: the top [m] of the furniture under the held point (hold_in_hands)."""
     points = posture_keypoints(posture)
-    hold = hold_in_hands(points) if holding and posture != "lying" else None
+    hold = hold_in_hands(points, surface) if holding and posture != "lying" else None
     if look_target is not None:
         turn_head(points, to_person(look_target, pose))
     elif hold is not None:

@@ -22,13 +22,16 @@ from sim2d.laser import LaserSensor
 from sim2d.laser_batch import batch_key, scan_many
 from floorplan.occupancy_map import load_map
 from sim2d.odometry import Odometry
+from sim2d.people import Person
 from sim2d.raycast import GridGeometry, RangeTable, RangeTableConfig, distance_transform
-from sim2d.skeleton import person_keypoints
+from sim2d.skeleton import L_SHOULDER, R_SHOULDER, person_keypoints
 from sim2d.world_config import (LaserMount, RobotConfig, WorldConfig, WorldError,
                                 load_world_config)
 
 CACHE_DIR = Path(os.environ.get("SIM2D_CACHE", Path.home() / ".cache" / "sim2d"))
 TABLE_MARGIN = 0.05     # [m] extra clearance given up so the table covers every reachable pose
+SURFACE_MARGIN = 0.15   # [m] a held point this far off a table's edge still rests on the table
+SURFACE_BELOW_SHOULDERS = 0.1   # [m] furniture higher than the shoulders less this is no surface
 
 
 class CommandError(ValueError):
@@ -53,6 +56,13 @@ class SimObject:
 
     def centre(self) -> npt.NDArray[np.float64]:
         return np.array([self.pose[0], self.pose[1], self.elevation + self.size[2] / 2.0])
+
+    def covers(self, x: float, y: float, margin: float = 0.0) -> bool:
+        """Whether map point (x, y) lies over the object's footprint grown by `margin` [m]."""
+        c, s = math.cos(self.pose[2]), math.sin(self.pose[2])
+        dx, dy = x - self.pose[0], y - self.pose[1]
+        return (abs(c * dx + s * dy) <= self.size[0] / 2.0 + margin
+                and abs(-s * dx + c * dy) <= self.size[1] / 2.0 + margin)
 
     def corners(self) -> npt.NDArray[np.float64]:
         """The 8 corners (8, 3) of the object's box in the map frame."""
@@ -258,12 +268,29 @@ class World:
                 if obj.held_by == person.name:
                     obj.held_by = ""
             if person.holding and person.holding in self.objects:
-                _, hold = person_keypoints(person.posture, person.pose, holding=True)
+                _, hold = person_keypoints(person.posture, person.pose, holding=True,
+                                           surface=self.surface_under_hands(person))
                 if hold is not None:
                     obj = self.objects[person.holding]
                     obj.pose = (hold[0], hold[1], person.pose[2])
                     obj.elevation = hold[2] - obj.size[2] / 2.0
                     obj.held_by = person.name
+
+    def surface_under_hands(self, person: Person) -> float | None:
+        """The top [m] of the furniture a person's held point would otherwise be under (a table
+        or desk in front of a seated person, lower than the shoulders), or None: the hands rest
+        on it (skeleton.hold_in_hands)."""
+        if not person.holding:
+            return None
+        keypoints, hold = person_keypoints(person.posture, person.pose, holding=True)
+        if hold is None:
+            return None
+        shoulders = float(keypoints[[R_SHOULDER, L_SHOULDER], 2].mean())
+        tops = [o.elevation + o.size[2] for o in self.objects.values()
+                if not o.held_by and o.name != person.holding
+                and hold[2] < o.elevation + o.size[2] < shoulders - SURFACE_BELOW_SHOULDERS
+                and o.covers(hold[0], hold[1], SURFACE_MARGIN)]
+        return max(tops) if tops else None
 
     def _obstacle_circles(self, exclude: Robot | None) -> list[tuple[float, float, float]]:
         circles = [(p.pose[0], p.pose[1], p.radius) for p in self.people]
@@ -342,7 +369,8 @@ class World:
                 continue
             look = self.objects[person.looking_at].centre() if person.looking_at else None
             keypoints, _ = person_keypoints(person.posture, person.pose,
-                                            holding=bool(person.holding), look_target=look)
+                                            holding=bool(person.holding), look_target=look,
+                                            surface=self.surface_under_hands(person))
             lighting = self.config.lighting_at(*person.pose[:2])
             hidden = list(hidden_face(keypoints, pose))
             behind = (hidden_by_boxes(keypoints, camera.eye(pose), blockers) if blockers

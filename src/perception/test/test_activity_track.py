@@ -1,0 +1,47 @@
+"""An identified person's activity fused over their recent frames (activity_track)."""
+from perception.activity_track import ActivityTrackConfig, ActivityTracks
+
+DRINK = {"drink": 0.66, "store": 0.34}
+
+
+def test_a_cup_seen_in_one_frame_of_three_reads_drink_in_every_frame_after_it():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=8.0, min_probability=0.2))
+    read = []
+    for k in range(9):
+        scored = k % 3 == 0
+        read.append(tracks.update("Carol", 0.2 * k, "dining_room",
+                                  "drink" if scored else "sitting",
+                                  DRINK if scored else {}, "sitting"))
+    assert read == ["drink"] * 9           # mean P(drink) at least 0.66 / 3 = 0.22 >= 0.2
+
+
+def test_too_rare_a_score_falls_back_to_the_posture_most_frames_read():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=8.0, min_probability=0.2))
+    for k in range(7):
+        activity = tracks.update("Bob", float(k), "office", "sitting", {}, "sitting")
+    assert activity == "sitting"
+    activity = tracks.update("Bob", 7.0, "office", "read", {"read": 1.0}, "unknown")
+    assert activity == "sitting"           # 1.0 over 8 frames = 0.125 < 0.2
+    assert tracks.update("Bob", 7.2, "office", "read", {"read": 1.0}, "unknown") == "read"
+
+
+def test_old_frames_leave_the_window_and_a_new_place_starts_a_new_one():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0))
+    tracks.update("Alice", 0.0, "office", "work", {"work": 1.0}, "sitting")
+    assert tracks.update("Alice", 1.0, "office", "sitting", {}, "sitting") == "work"
+    assert tracks.update("Alice", 2.5, "office", "sitting", {}, "sitting") == "sitting"
+    tracks.update("Alice", 3.0, "office", "work", {"work": 1.0}, "sitting")
+    assert tracks.update("Alice", 3.2, "bedroom", "lying", {}, "lying") == "lying"
+    assert tracks.update("Alice", 3.4, "bedroom", "unknown", {}, "unknown") == "lying"
+
+
+def test_people_are_fused_apart_and_nothing_known_is_unknown():
+    tracks = ActivityTracks()
+    tracks.update("Alice", 0.0, "office", "work", {"work": 1.0}, "sitting")
+    assert tracks.update("Bob", 0.2, "office", "unknown", {}, "unknown") == "unknown"
+
+
+def test_window_zero_is_the_seeds_framewise_reading():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=0.0))
+    tracks.update("Carol", 0.0, "dining_room", "drink", DRINK, "sitting")
+    assert tracks.update("Carol", 0.2, "dining_room", "sitting", {}, "sitting") == "sitting"
