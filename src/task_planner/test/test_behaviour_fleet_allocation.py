@@ -103,3 +103,16 @@ def test_with_the_auction_every_overdue_instruction_stays_eligible(line_graph, t
                           make_instruction(2, B, function=1, start_time=50.0)], 50.0)
     problem, available = fetch_and_decode(a, 200.0)
     assert sorted(int(problem.ids[k]) for k in available) == [1, 2]
+
+
+def test_with_auction_waiting_an_idle_robot_drives_to_its_waiting_place(line_graph, tmp_path):
+    """a on A and b on D, both free with nothing to do: the graph's 2-median is {B, D}
+    (fleet_waiting), so a drives to B, without looking around there, and b stays on D."""
+    from task_planner.behaviours.driving import arrive
+    from task_planner.executor_commands import Navigate
+    a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
+    fleet_news(b, 0.0)                                   # b reports: free on D now
+    assert decide(a, 0.0) == [Navigate(B, 0)]
+    assert a.mode == MOVING and a.log[-1] == (0.0, "wait at B")
+    assert decide(b, 0.1) == [] and b.mode == IDLE
+    assert arrive(a, 2.0) == [] and (a.node, a.mode) == (B, IDLE)

@@ -23,5 +23,6 @@ def test_a_number_that_cannot_work_is_named(name, value, bound):
 
 def test_an_unknown_fleet_allocator_is_named_with_the_choices():
     with pytest.raises(ValueError, match=r"parameter ~fleet_allocator: unknown fleet allocator "
-                                         r"'auktion' \(choose one of seed, rollout, auction\)"):
+                                         r"'auktion' \(choose one of seed, rollout, auction, "
+                                         r"auction_waiting\)"):
         NodeParams(fleet_allocator="auktion").check()

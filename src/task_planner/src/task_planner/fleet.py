@@ -146,6 +146,13 @@ class Allocator(Protocol):
     def decide(self, view: FleetView, available: np.ndarray) -> tuple[str, int | None]: ...
 
 
+def idle_step(allocator: Allocator, view: FleetView) -> int | None:
+    """The neighbour an allocator sends a waiting robot to (its optional `idle(view)`), or None:
+    the robot stays where it is."""
+    idle = getattr(allocator, "idle", None)
+    return None if idle is None else idle(view)
+
+
 def run_fleet(problem: Problem, starts: Sequence[RobotStart], allocator: Allocator) -> FleetRun:
     """Run `allocator` online on `problem` with robots at `starts`; returns a FleetRun.
 
@@ -153,7 +160,8 @@ def run_fleet(problem: Problem, starts: Sequence[RobotStart], allocator: Allocat
     now (launched, unclaimed, predecessor completed). The allocator answers ("serve", i) for one
     on the robot's node, ("move", neighbour), ("target", i) (drive there and serve it; claimed at
     once) or ("wait", None) (decide again after the next event: a launch, a completion, another
-    robot becoming free).
+    robot becoming free). A robot that waits, or has nothing it could start, first drives the
+    edge `idle_step` names, if any (towards its waiting place).
     """
     check_starts(problem, starts)
     p = problem
@@ -165,24 +173,14 @@ def run_fleet(problem: Problem, starts: Sequence[RobotStart], allocator: Allocat
         r = min(range(len(robots)), key=lambda k: (robots[k].clock, robots[k].yielded, k))
         robot = robots[r]
         available = _available(p, pending, done, robot.clock)
-        if not len(available):
-            robot.clock = _next_event(p, pending, done, robots, robot.clock)
-            continue
         view = FleetView(r, [b.node for b in robots], [b.clock for b in robots],
                          _known(p, pending, robot.clock), done)
-        started = time.perf_counter()
-        action, value = allocator.decide(view, available)
-        run.decision_calls.append(time.perf_counter() - started)
+        action, value = _ask(allocator, view, available, run)
         if action == "wait":
-            later = _next_event(p, pending, done, robots, robot.clock, strict=True)
-            if later is not None:
-                robot.clock = later
-            elif any(b.clock == robot.clock and not b.yielded
-                     for k, b in enumerate(robots) if k != r):
-                robot.yielded = True          # let the others at this time decide first
+            if not len(available):
+                robot.clock = _next_event(p, pending, done, robots, robot.clock)
             else:
-                raise RuntimeError(f"allocator: robot {r} waits while instructions are "
-                                   f"available and nothing else can happen")
+                _wait(p, pending, done, robots, r)
             continue
         for b in robots:
             b.yielded = False
@@ -210,6 +208,34 @@ def run_fleet(problem: Problem, starts: Sequence[RobotStart], allocator: Allocat
         done[index] = robot.clock
         run.orders[r].append(index)
     return run
+
+
+def _ask(allocator: Allocator, view: FleetView, available: np.ndarray,
+         run: FleetRun) -> tuple[str, int | None]:
+    """The allocator's answer for the deciding robot (timed), a move towards its waiting place
+    instead of a wait, or a wait when it could start nothing."""
+    action, value = "wait", None
+    if len(available):
+        started = time.perf_counter()
+        action, value = allocator.decide(view, available)
+        run.decision_calls.append(time.perf_counter() - started)
+    step = idle_step(allocator, view) if action == "wait" else None
+    return ("move", step) if step is not None else (action, value)
+
+
+def _wait(p: Problem, pending: set[int], done: Mapping[int, float], robots: list["_Robot"],
+          r: int) -> None:
+    """Robot r waits although it could start something: until the next event, or after the
+    others at its time decided."""
+    robot = robots[r]
+    later = _next_event(p, pending, done, robots, robot.clock, strict=True)
+    if later is not None:
+        robot.clock = later
+    elif any(b.clock == robot.clock and not b.yielded for k, b in enumerate(robots) if k != r):
+        robot.yielded = True          # let the others at this time decide first
+    else:
+        raise RuntimeError(f"allocator: robot {r} waits while instructions are "
+                           f"available and nothing else can happen")
 
 
 @dataclass

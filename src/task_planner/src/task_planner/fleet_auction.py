@@ -11,6 +11,10 @@ once its predecessor is done, claimed or allocated, and starts after that predec
 completion. The free robot then heads for the first instruction of its plan one edge at a time
 (as an executor drives, node by node); the other plans are provisional, and the auction is re-run
 at every node and completion, so a new instruction can turn a robot on its way.
+
+Beyond the auction (`AuctionConfig.wait_at_medians`): a robot that is free with nothing planned
+drives to a waiting place (fleet_waiting: the k-median of the graph, k the fleet's robots), so a
+new instruction finds a robot near it.
 """
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -18,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from task_planner.fleet import FleetView, RobotStart, service_end
+from task_planner.fleet_waiting import waiting_place_of, waiting_places
 from task_planner.problem import Problem
 from task_planner.reward import decayed_reward
 
@@ -29,6 +34,8 @@ _MIN_STEP_S = 1e-9   # guards the reward rate of an instruction that takes no ti
 class AuctionConfig:
     insertion_limit: int = 15   # open instructions up to which bids try every insertion point;
     #                             above it, bids append (the auction stays O(n^2 k) per decision)
+    wait_at_medians: bool = False  # a free robot with nothing planned waits at one of the
+    #                                graph's k-median places (False: where it finished)
 
 
 class SequentialAuction:
@@ -39,9 +46,27 @@ class SequentialAuction:
 
     def __init__(self, config: AuctionConfig | None = None) -> None:
         self.config = config or AuctionConfig()
+        self.places: tuple[int, ...] = ()
 
     def reset(self, problem: Problem, starts: Sequence[RobotStart]) -> None:
         self.problem = problem
+        self.places = (waiting_places(problem.travel_s, len(starts))
+                       if self.config.wait_at_medians else ())
+
+    def idle(self, view: FleetView) -> int | None:
+        """The neighbour robot `view.robot` drives to while it waits (towards its waiting place,
+        fleet_waiting), or None: it stays. The robots with nothing planned share the waiting
+        places."""
+        if not self.places:
+            return None
+        plans = self.allocate(view)
+        idle = [r for r, plan in enumerate(plans) if not plan]
+        place = waiting_place_of(view.robot, view.nodes, idle, self.places,
+                                 self.problem.travel_s)
+        node = view.nodes[view.robot]
+        if place is None or place == node:
+            return None
+        return int(self.problem.graph.next_hop[node, place])
 
     def decide(self, view: FleetView, available: np.ndarray) -> tuple[str, int | None]:
         """Towards the first instruction of this robot's plan; wait while it needs a

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from task_planner.fleet import Allocator, PerRobotPlanners
-from task_planner.fleet_auction import SequentialAuction
+from task_planner.fleet_auction import AuctionConfig, SequentialAuction
 from task_planner.planner_registry import (IMPROVED, SEED_FAITHFUL, PlannerSettings,
                                            make_planner)
 
@@ -34,6 +34,10 @@ FLEET_ALLOCATORS = {entry.name: entry for entry in (
                    "sequential single-item auction of the open instructions over all robots "
                    "(best insertion), re-run at every decision", lambda settings:
                    SequentialAuction()),
+    AllocatorEntry("auction_waiting", IMPROVED,
+                   "the auction; a robot free with nothing planned waits at one of the graph's "
+                   "k-median places (fleet_waiting)", lambda settings:
+                   SequentialAuction(AuctionConfig(wait_at_medians=True))),
 )}
 
 

@@ -18,7 +18,7 @@ from py_trees.common import Status
 from task_planner.behaviours.context import Context, Leaf
 from task_planner.behaviours.driving import drive
 from task_planner.behaviours.fleet_allocation import (auction_choice, fleet_allocator, report_free,
-                                                      travel_s)
+                                                      travel_s, wait_at_place)
 from task_planner.behaviours.looking import serve_here
 from task_planner.behaviours.patrolling import clear_corridor, patrol
 from task_planner.behaviours.searching import served_where
@@ -48,7 +48,7 @@ def decide_here(ctx: Context, now: float) -> list[Command]:
         if decision is None:
             if ctx.fleet:
                 ctx.fleet.release()
-            idle = patrol(ctx, now) if ctx.config.patrol else []
+            idle = patrol(ctx, now) if ctx.config.patrol else wait_at_place(ctx, now)
             return commands + (idle or clear_corridor(ctx, now))
         problem, index, step = decision
         instruction_id = int(problem.ids[index])

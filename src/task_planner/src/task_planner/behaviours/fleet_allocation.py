@@ -13,7 +13,9 @@ the first instruction of its own plan that it may start, or waits when its plan 
 others' plans are provisional: each robot re-runs the auction at its own decisions (a robot given an
 instruction that it has not claimed claim_wait_s after it said it would be free is passed over). A
 robot driving for an instruction the auction now gives to another robot gives it back
-(deciding.redecide); one already executing keeps it (its mode is not re-decided).
+(deciding.redecide); one already executing keeps it (its mode is not re-decided). With the patrol
+off and the allocator `auction_waiting`, a robot that is given nothing drives to its waiting place
+(`wait_at_place`), as the auction's `idle` sends it in scripts/bench_fleet.
 """
 from collections.abc import Sequence
 
@@ -22,9 +24,11 @@ import numpy as np
 from task_planner.behaviours.context import Context
 
 from task_planner.behaviours.searching import where
-from task_planner.executor_commands import EXECUTING, MOVING, VERIFYING
+from task_planner.behaviours.patrolling import drive_idle, fleet_corridors
+from task_planner.executor_commands import EXECUTING, MOVING, VERIFYING, Command
 from task_planner.fleet import FleetView, RobotStart
 from task_planner.fleet_auction import SequentialAuction
+from task_planner.fleet_waiting import waiting_place_of, waiting_places
 from task_planner.fleet_registry import make_allocator
 from task_planner.problem import Problem
 
@@ -117,3 +121,27 @@ def auction_choice(ctx: Context, problem: Problem, available: np.ndarray,
         return None
     place = int(problem.node[index])
     return index, None if place == ctx.node else int(problem.graph.next_hop[ctx.node, place])
+
+
+def wait_at_place(ctx: Context, now: float) -> list[Command]:
+    """A robot of the fleet's auction with nothing to do drives to its waiting place: the
+    robots free now (by their reports) share the k-median places of the graph, k the live
+    robots, corridors left out (fleet_waiting); [] when it is there, or decides alone."""
+    allocator = fleet_allocator(ctx)
+    if allocator is None or not allocator.config.wait_at_medians:
+        return []
+    link = ctx.fleet_now()
+    fleet = link.fleet(now)
+    fleet[link.robot] = (ctx.node, now)
+    names = sorted(fleet)
+    corridors = fleet_corridors(ctx)
+    places = waiting_places(ctx.graph.shortest, len(names),
+                            candidates=[n for n in range(ctx.graph.size) if n not in corridors])
+    nodes = [int(fleet[n][0]) for n in names]
+    idle = [r for r, n in enumerate(names) if float(fleet[n][1]) <= now]
+    place = waiting_place_of(names.index(link.robot), nodes, idle, places, ctx.graph.shortest)
+    if place is None or place == ctx.node:
+        return []
+    commands = drive_idle(ctx, place, f"wait at {ctx.graph.names[place]}", now)
+    ctx.patrol_goal = None    # no look around on arrival: decide again at each node
+    return commands

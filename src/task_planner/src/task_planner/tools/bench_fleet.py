@@ -25,6 +25,7 @@ from task_planner.tools.benchmark import BenchConfig, random_instructions
 from task_planner.fleet import RobotStart, run_fleet
 from task_planner.fleet_exact import fleet_exact_optimum
 from task_planner.fleet_registry import FLEET_ALLOCATORS, make_allocator
+from task_planner.fleet_waiting import online_ceiling
 from task_planner.graph import load_graph
 from task_planner.problem import Problem
 from task_planner.reward import load_priorities
@@ -104,6 +105,10 @@ def exact_part(graph, priorities, config, sets, count, seeds, out=print):
                 progress.step(f"seed {seed}, {mode}: optimum {best:.3f} in {solve_s[-1]:.2f} s")
     for line in ratio_table(table):
         out("  " + line)
+    ceiling = online_ceiling(problem.travel_s, 2, [(q.gamma, q.beta) for q in priorities],
+                             range(config.duration_min_s, config.duration_max_s + 1))
+    out(f"  online ceiling (fleet_waiting.online_ceiling; launches one at a time, robots idle): "
+        f"{ceiling:.3f} of an optimum with a robot waiting at every destination")
     out(f"  exact optimum solve time: p50 {np.median(solve_s):.2f} s, max {max(solve_s):.2f} s")
     return table
 
