@@ -45,3 +45,12 @@ def test_window_zero_is_the_seeds_framewise_reading():
     tracks = ActivityTracks(ActivityTrackConfig(window_s=0.0))
     tracks.update("Carol", 0.0, "dining_room", "drink", DRINK, "sitting")
     assert tracks.update("Carol", 0.2, "dining_room", "sitting", {}, "sitting") == "sitting"
+
+
+def test_a_window_or_threshold_that_cannot_work_is_named():
+    import pytest
+    with pytest.raises(ValueError, match=r"activity_window must be a finite time >= 0 \[s\]; "
+                                         r"got -1.0"):
+        ActivityTrackConfig(window_s=-1.0)
+    with pytest.raises(ValueError, match=r"activity_min_probability must be in \[0, 1\]; got 2"):
+        ActivityTrackConfig(min_probability=2)

@@ -10,6 +10,7 @@ another place starts a new window (they moved, so they may do something else).
 
 `window_s` 0 is the seed's framewise reading.
 """
+import math
 from collections import Counter, deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -21,6 +22,14 @@ from perception.activity import POSTURES, UNKNOWN_POSTURE
 class ActivityTrackConfig:
     window_s: float = 8.0          # [s] frames of a person this recent are fused (0: framewise)
     min_probability: float = 0.2   # [-] mean P(a) over the window for a detailed activity
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.window_s) and self.window_s >= 0):
+            raise ValueError(f"activity_window must be a finite time >= 0 [s]; "
+                             f"got {self.window_s}")
+        if not 0.0 <= self.min_probability <= 1.0:
+            raise ValueError(f"activity_min_probability must be in [0, 1]; "
+                             f"got {self.min_probability}")
 
 
 @dataclass
