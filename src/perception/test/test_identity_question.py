@@ -44,3 +44,23 @@ def test_silence_leaves_it_unanswered_after_the_timeout():
 def test_a_question_needs_a_name_and_a_place():
     with pytest.raises(ValueError, match="name and a place"):
         IdentityQuestion(QuestionConfig(), "", "dining_room", 0.0)
+
+
+def test_the_shirt_of_the_one_stranger_seen_at_the_place_is_named():
+    """Carol in magenta pyjamas seen in the bedroom: a yes to "are you Carol?" there takes that
+    shirt; a second stranger there (Frank's white shirt), nobody, or an old sighting does not."""
+    import numpy as np
+    import pytest
+    from perception.identity_question import RecentStrangers
+    magenta = np.array([[200, 30, 200], [186, 26, 188], [190, 28, 192]])
+    white = np.array([[236, 236, 230], [222, 222, 216], [226, 226, 220]])
+    recent = RecentStrangers(window_s=10.0)
+    recent.add(100.0, "bedroom", magenta + 5)
+    recent.add(101.0, "bedroom", magenta)
+    assert (recent.one_at("bedroom", 102.0) == magenta).all()
+    assert recent.one_at("office", 102.0) is None
+    assert recent.one_at("bedroom", 112.0) is None                  # older than the window
+    recent.add(101.5, "bedroom", white)
+    assert recent.one_at("bedroom", 102.0) is None                  # two strangers: no guess
+    with pytest.raises(ValueError, match=r"~recall_window must be > 0 \[s\]; got 0"):
+        RecentStrangers(window_s=0)

@@ -8,8 +8,18 @@ robot then asks the person it faces, "Excuse me, are you Carol?", and a yes puts
 the robot's place in human_db (the executor's belief follows). A person the camera does not see
 at all where they are expected (seated behind a table) is called: "Bob, are you here?". A no, an
 answer it cannot read twice or silence until `ask_timeout` leave the belief as it was.
+
+A yes to "are you Carol?" from a person the camera saw as a stranger means Carol's clothes
+changed (§3.2.3: the system "needs to update once the human changes his/her clothes"): when the
+camera saw exactly one stranger at that place in the last seconds (`RecentStrangers`), their
+shirt becomes Carol's. Two strangers there, or none seen whole, leave the shirt as it was: the
+robot never guesses whose shirt it saw.
 """
-from dataclasses import dataclass
+from collections import deque
+from dataclasses import dataclass, field
+
+import numpy as np
+from human_db.colour import mean_shirt_distance
 
 from perception.answers import AnswerError, parse_yes_no
 
@@ -81,3 +91,31 @@ class IdentityQuestion:
         if self.open and now - self.asked_at >= self.config.ask_timeout:
             self.state = UNANSWERED
         return Reply("", self.state)
+
+
+@dataclass
+class RecentStrangers:
+    """Shirts of the unidentified people the camera saw whole, per place, over the last
+    `window_s` seconds; `one_at` names the shirt when they were one person there."""
+
+    window_s: float = 10.0      # [s] sightings this recent count
+    threshold: float = 200.0    # mean Eq. 3-10 distance below which two shirts are one person
+    seen: deque = field(default_factory=lambda: deque(maxlen=500))
+
+    def __post_init__(self) -> None:
+        if not self.window_s > 0:
+            raise ValueError(f"~recall_window must be > 0 [s]; got {self.window_s}")
+
+    def add(self, stamp: float, place: str, colours: np.ndarray) -> None:
+        self.seen.append((stamp, place, np.asarray(colours)))
+
+    def one_at(self, place: str, now: float) -> np.ndarray | None:
+        """The latest shirt seen at `place` within the window when every recent sighting there
+        is that shirt (within `threshold`); None when nobody or more than one person was seen."""
+        here = [c for t, p, c in self.seen if p == place and now - self.window_s <= t <= now]
+        if not here:
+            return None
+        latest = here[-1]
+        if any(mean_shirt_distance(latest, c) >= self.threshold for c in here):
+            return None
+        return latest

@@ -114,7 +114,7 @@ class NewcomerWatch:
         self.identification = IdentificationConfig(config.threshold, config.ambiguity_margin)
         self.strangers: list[Stranger] = []    # in the order first seen
 
-    def _matching(self, colours: np.ndarray) -> Stranger | None:
+    def matching(self, colours: np.ndarray) -> Stranger | None:
         """The stranger whose shirt is closest to `colours` within the threshold, or None."""
         best: Stranger | None = None
         best_distance = self.config.threshold
@@ -142,7 +142,7 @@ class NewcomerWatch:
             return None
         if identifies(colours, list(known), self.identification):
             return None   # identified since visual perception asked human_db
-        stranger = self._matching(colours)
+        stranger = self.matching(colours)
         if stranger is None:
             self.strangers.append(Stranger(np.array(colours), place, stamp, stamp))
             stranger = self.strangers[-1]

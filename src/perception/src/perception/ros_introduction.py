@@ -24,9 +24,12 @@ tell asks on its ~ask_who (tamp_msgs/AskWho, beside each of ~state_topics) wheth
 person it looks for (with `call`: calls them, "NAME, are you here?", when the camera saw no sign
 of them where they are expected). When no dialogue is open, the node says the question, reads a
 yes or a no from the robot's microphone (ip "") and, on a yes, puts NAME at the place with
-/human_db/update (location only, source "asked"); the executor's belief follows from human_db's
-table. The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait).
-The question holds ~dialogue_open like a dialogue.
+/human_db/update (location only, source "asked"; when the camera saw exactly one stranger there in
+the last ~recall_window seconds, also that stranger's shirt, source "recall": NAME changed
+clothes, identity_question.RecentStrangers, and the meeting asked for that stranger is
+cancelled with each executor's ~cancel); the executor's belief follows from human_db's table.
+The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait). The
+question holds ~dialogue_open like a dialogue.
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
 work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
@@ -48,13 +51,13 @@ from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AskWho, HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
 from tamp_msgs.msg import Utterance
-from tamp_msgs.srv import RegisterHuman, UpdateHuman
+from tamp_msgs.srv import CancelInstruction, RegisterHuman, UpdateHuman
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
 from task_planner.ros_submit import SubmitClient
 
 from perception.conversions import utterance_time
-from perception.identity_question import YES, IdentityQuestion, QuestionConfig
+from perception.identity_question import YES, IdentityQuestion, QuestionConfig, RecentStrangers
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, answered_by_the_stranger, seen_shirt,
                                      walked_off)
@@ -80,6 +83,8 @@ class IntroductionParams:
                                           # per robot of a fleet)
     question: QuestionConfig = QuestionConfig()  # ~ask_timeout: [s] an "are you NAME?"
                                           # waits for a yes or a no
+    recall_window: float = 10.0           # ~recall_window [s]: a yes takes the shirt of the
+                                          # one stranger seen at the place this recently
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
                                           # ~min_sightings,
                                           # ~max_retries, ~answer_timeout, ~retry_after,
@@ -138,6 +143,7 @@ class IntroductionNode:
         self.watch = NewcomerWatch(
             p.config, (function.code, function.duration_s),
             self._priority(p), load_graph(p.graph).place_ids())
+        self.recent = RecentStrangers(float(p.recall_window), p.config.threshold)
         self.register = rospy.ServiceProxy("human_db/register", RegisterHuman)
         self.update = rospy.ServiceProxy("human_db/update", UpdateHuman)
         # acknowledged: a lost or refused introduce instruction must not block later meetings
@@ -278,16 +284,44 @@ class IntroductionNode:
             rospy.loginfo("introduction: the person at %s is not %s (%s)", question.place,
                           question.name, reply.state)
             return
+        shirt = self.recent.one_at(question.place, rospy.get_time())
+        fields = ({} if shirt is None else
+                  {"set_shirt_color": True, "shirt_color": [int(c) for c in shirt.reshape(-1)]})
         try:
             rospy.wait_for_service("human_db/update", self.params.register_timeout)
-            result = self.update(name=question.name, location=question.place, source="asked")
+            result = self.update(name=question.name, location=question.place,
+                                 source="asked" if shirt is None else "recall", **fields)
             problem = "" if result.success else result.message
         except (rospy.ServiceException, rospy.ROSException) as error:
             problem = str(error)
-        self._last = (f"asked: {question.name} is at {question.place}" if not problem else
+        if not problem and shirt is not None:
+            self._count("recalled")
+            self._known_now(shirt, question.name)
+        self._last = (f"asked: {question.name} is at {question.place}"
+                      + ("" if shirt is None else ", in new clothes (shirt registered)")
+                      if not problem else
                       f"ask: {question.name} said yes at {question.place}, but human_db "
-                      f"refused the place: {problem}")
+                      f"refused the update: {problem}")
         (rospy.logwarn if problem else rospy.loginfo)("introduction: %s", self._last)
+
+    def _known_now(self, shirt, name):
+        """The stranger in `shirt` is `name`: never met as a stranger, and the meeting asked
+        for them is cancelled on every executor (one that does not hold it refuses)."""
+        stranger = self.watch.matching(shirt)
+        if stranger is None:
+            return
+        self.watch.registered(stranger, name)
+        if not stranger.instruction_id:
+            return
+        for topic in self.params.state_topics:
+            try:
+                rospy.ServiceProxy(beside_state(topic, "cancel"), CancelInstruction)(
+                    id=stranger.instruction_id)
+            except (rospy.ServiceException, rospy.ROSException) as error:
+                rospy.logwarn("introduction: meeting #%d not cancelled on %s: %s",
+                              stranger.instruction_id, topic, error)
+        rospy.loginfo("introduction: #%d needs no meeting: the stranger is %s",
+                      stranger.instruction_id, name)
 
     def _look(self, frame, known):
         stamp = frame.header.stamp.to_sec() if not frame.header.stamp.is_zero() \
@@ -302,6 +336,8 @@ class IntroductionNode:
                 self._count("bad_observations")
                 rospy.logwarn_throttle(10.0, "introduction: observation refused: %s", error)
                 continue
+            if colours is not None and person.location:
+                self.recent.add(stamp, person.location, colours)
             instruction = self.watch.observe(colours, person.location, stamp, shirts)
             if instruction is not None:
                 self._submit(instruction, stamp)
