@@ -369,6 +369,10 @@ class ScenarioNode:
             self._event(rospy.get_time(), f"nobody answers \"{text}\"")
             return True
         answer = identity_answer(person, text)
+        if person in self.unmet and person.lower() in text.lower():   # asked their own name:
+            # the yes may register the shirt of a resident to be (re)met
+            self.dialogues.setdefault(person, dict(start=rospy.get_time(), answers=[]))[
+                "answers"].append([text, answer])
         rate, samples = self.answers[person, answer]
         msg = AudioUtterance(ip="", sample_rate=rate, samples=samples.tolist())
         msg.header.stamp = rospy.Time.now()
