@@ -174,6 +174,28 @@ def test_an_overdue_request_goes_before_newer_ones(line_graph, tmp_path):
     assert [int(problem.ids[k]) for k in available] == [1]
 
 
+def test_the_robots_own_overdue_instruction_never_goes_before_a_persons_request(line_graph,
+                                                                              tmp_path):
+    """The robot's music recommendation (function 6), 200 s old, is overdue; Frank's request
+    of 190 s is not, and still goes first: the robot serves itself only when no person needs
+    it. Alone, the overdue recommendation is served."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    journal(ctx, make_instruction(1, A, gamma=1.0, beta=0.9, function=6, type=ROBOT,
+                                  source="robot", start_time=0.0))
+    journal(ctx, make_instruction(2, C, gamma=3.0, beta=0.94, function=6, start_time=190.0),
+            now=190.0)
+    problem, available = fetch_and_decode(ctx, 200.0)
+    assert sorted(int(problem.ids[k]) for k in available) == [1, 2]
+    (tmp_path / "alone").mkdir()
+    alone = make_context(line_graph, tmp_path / "alone", node=B, planner=PriorityFirst(),
+                         serve_within_s=120.0)
+    journal(alone, make_instruction(1, A, gamma=1.0, beta=0.9, function=6, type=ROBOT,
+                                    source="robot", start_time=0.0))
+    problem, available = fetch_and_decode(alone, 200.0)
+    assert [int(problem.ids[k]) for k in available] == [1]
+
+
 def test_among_overdue_requests_the_nearer_goes_first_and_of_equals_the_older(line_graph,
                                                                              tmp_path):
     """Two requests of one priority overdue at 400 s: by reward the newer (at D, launched at

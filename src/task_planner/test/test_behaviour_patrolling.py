@@ -59,11 +59,11 @@ def test_in_a_fleet_an_idle_robot_leaves_a_corridor_and_never_patrols_one(posed_
 
 
 def test_the_patrol_passes_over_places_people_only_pass_through(posed_line_graph, tmp_path):
-    """B is a passage (`patrol_skips`): at the start of a day, nothing looked at and nobody
+    """B is a passage (`pass_through`): at the start of a day, nothing looked at and nobody
     expected anywhere, the robot on B does not look around there but heads for the nearest
     place people stay (A and C are equally near: the lower node); once Carol is expected on B,
     the patrol looks there."""
-    ctx = make_context(posed_line_graph, tmp_path, node=B, patrol_skips=(B,),
+    ctx = make_context(posed_line_graph, tmp_path, node=B, pass_through=(B,),
                        patrol_interval_s=30.0)
     patrol(ctx, 0.0)
     assert ctx.patrol_goal == A and ctx.mode == MOVING
@@ -71,6 +71,6 @@ def test_the_patrol_passes_over_places_people_only_pass_through(posed_line_graph
     people = PeopleAtPlaces()
     people.predicted["Carol"] = B
     expected = make_context(posed_line_graph, tmp_path / "expected", node=B, people=people,
-                            patrol_skips=(B,), patrol_interval_s=30.0, look_headings=1)
+                            pass_through=(B,), patrol_interval_s=30.0, look_headings=1)
     patrol(expected, 0.0)
     assert expected.mode == LOOKING

@@ -50,6 +50,17 @@ def test_search_order_is_last_seen_then_schedule_then_stalest():
                         distance_m=[6, 5, 3, 0]) == [D, C, B, A]
 
 
+def test_places_people_only_pass_through_are_searched_last_unless_pointed_at():
+    """D is a passage: Zoe, never seen, is looked for in it after every other place even though
+    it is the nearest; Bob, last seen in D, is looked for there first."""
+    assert search_order("Zoe", PeopleAtPlaces(), {}, range(4), [],
+                        distance_m=[6, 5, 3, 0], last=(D,)) == [C, B, A, D]
+    people = PeopleAtPlaces()
+    people.seen("Bob", D, stamp=5.0)
+    assert search_order("Bob", people, {}, range(4), [], distance_m=[6, 5, 3, 0],
+                        last=(D,))[0] == D
+
+
 def test_search_looks_where_they_were_seen_before_the_stalest_places():
     people = PeopleAtPlaces()
     people.seen("David", B, stamp=10.0)      # met in B

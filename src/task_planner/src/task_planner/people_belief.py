@@ -163,7 +163,8 @@ def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],
 def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float],
                  places: Iterable[int], searched: Container[int],
                  distance_m: Sequence[float] | None = None,
-                 swept: Mapping[int, tuple[float, float]] | None = None) -> list[int]:
+                 swept: Mapping[int, tuple[float, float]] | None = None,
+                 last: Container[int] = ()) -> list[int]:
     """Where to look for `name` next: where the belief and the schedule point first (the place
     they were last seen, the place their schedule predicts, then the places they were seen
     before, most recent first), then every other place: first those not looked at since the
@@ -175,7 +176,9 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     there is met, perhaps the person looked for. A place where
     they were seen that was looked all around after their last sighting (`swept[n]`: (start,
     end) [s] of the latest look all around n) missed them: it ranks with the other places.
-    Places already searched for this instruction are left out."""
+    Places people only pass through (`last`: an alley, the robot's dock) come after every other
+    place unless the belief or the schedule points there. Places already searched for this
+    instruction are left out."""
     last_seen = people.seen_s.get(name, -math.inf)
     swept = swept or {}
 
@@ -191,7 +194,7 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
     first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
     scheduled = set() if people.knows(name) else set(people.predicted.values())
-    rest = sorted(places, key=lambda n: (n not in scheduled, looked_since_seen(n),
+    rest = sorted(places, key=lambda n: (n in last, n not in scheduled, looked_since_seen(n),
                                          0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]
 

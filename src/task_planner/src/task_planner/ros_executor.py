@@ -111,8 +111,8 @@ class NodeParams:
                                    # newer one [s]; 0 = Eq. 4-2's reward alone decides (the
                                    # seed: an old request may wait for ever)
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
-    patrol_skips: tuple = ()       # places people only pass through: patrolled only while the
-                                   # belief or a schedule puts someone there
+    pass_through: tuple = ()       # places people only pass through: patrolled only while the
+                                   # belief or a schedule puts someone there, searched last
     utc_offset: float = 0.0        # added to ROS time for the time of day of the schedules'
                                    # predicted places [s] (simulated time: the day's start)
     marker_period: float = 0.5     # least time between two /task_planner/markers updates [s]
@@ -206,7 +206,7 @@ class ExecutorNode:
                            meetings_inherit=params.meetings_inherit,
                            serve_within_s=params.serve_within,
                            patrol_interval_s=params.patrol_interval,
-                           patrol_skips=tuple(self.graph.index(n) for n in params.patrol_skips),
+                           pass_through=tuple(self.graph.index(n) for n in params.pass_through),
                            corridors=tuple(self.graph.index(name) for name in params.corridors),
                            corridor_wait_s=params.corridor_wait,
                            max_handbacks=params.max_handbacks,

@@ -66,9 +66,9 @@ class ExecutorConfig:
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]
-    patrol_skips: tuple = ()      # graph nodes people only pass through (an alley, the dock):
+    pass_through: tuple = ()      # graph nodes people only pass through (an alley, the dock):
                                   # patrolled only while the belief or a schedule puts someone
-                                  # there
+                                  # there, searched after every other place
     corridors: tuple = ()         # graph nodes one robot of a fleet at a time drives through
     corridor_wait_s: float = 60.0  # wait this long for a corridor, then drive on [s]; an
                                   # instruction given back to the fleet is left to the others

@@ -211,7 +211,9 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     This is Smith's rule (W. E. Smith, "Various optimizers for single-stage production", 1956),
     which orders jobs to minimise the weighted sum of their completion times: a call for
     physical help elsewhere goes before a long chat here, a short reminder here before a chat
-    elsewhere. The charge never competes. With the fleet's auction every overdue one stays: the
+    elsewhere. The charge never competes. While a person's request is eligible the robot's own
+    instructions are not overdue, meetings excepted (§4.2.1: the robot serves itself only when
+    no person needs it; `own_yields`). With the fleet's auction every overdue one stays: the
     auction gives each to a robot, and a robot kept to one would leave the one given to it
     waiting."""
     limit = ctx.config.serve_within_s
@@ -229,6 +231,10 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     charge = ctx.charging.function_code if ctx.charging is not None else None
     charges = [k for k in available if pending[k].instruction.function == charge]
     overdue = [k for k in available if now - launched(k) >= limit and k not in charges]
+    if any(pending[k].instruction.type == HUMAN for k in available):
+        # the robot's own (a reminder, a recommendation) never go before a person's request
+        overdue = [k for k in overdue if pending[k].instruction.type == HUMAN
+                   or is_meeting(ctx.functions, pending[k].instruction)]
     if not overdue:   # an overdue charge alone goes first
         late = [k for k in charges if now - launched(k) >= limit]
         return np.array(late, dtype=int) if late else available

@@ -9,11 +9,11 @@ from task_planner.people_belief import patrol_target
 
 def patrol(ctx: Context, now: float) -> list[Command]:
     """Idle: drive to the stalest, likeliest occupied place and look around it (in a fleet, a
-    place that is no corridor; a place people only pass through, `patrol_skips`, only while
+    place that is no corridor; a place people only pass through, `pass_through`, only while
     someone is expected there)."""
     corridors = fleet_corridors(ctx)
     places = [n for n in range(ctx.graph.size) if n not in corridors
-              and (n not in ctx.config.patrol_skips or ctx.people.expected_at(n))]
+              and (n not in ctx.config.pass_through or ctx.people.expected_at(n))]
     target = patrol_target(places, ctx.people,
                            ctx.looked_s, now, ctx.config.patrol_interval_s,
                            ctx.graph.shortest[ctx.node], ctx.config.never_looked_s)

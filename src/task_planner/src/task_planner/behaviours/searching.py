@@ -26,7 +26,8 @@ def where(ctx: Context, instruction: Instruction) -> int:
         if key not in ctx.search and ctx.config.search_all_places:
             ctx.search[key] = search_order(target, ctx.people, ctx.looked_s,
                                            range(ctx.graph.size), ctx.searched.get(key, ()),
-                                           ctx.graph.shortest[ctx.node], ctx.swept)
+                                           ctx.graph.shortest[ctx.node], ctx.swept,
+                                           ctx.config.pass_through)
         scheduled, queue = ctx.people.predicted.get(target), ctx.search.get(key)
         if queue and scheduled in queue[1:]:
             ctx.search[key] = [scheduled, *(n for n in queue if n != scheduled)]
@@ -53,7 +54,7 @@ def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Comm
     if ctx.config.search_all_places:
         queue = search_order(instruction.target, ctx.people, ctx.looked_s,
                              range(ctx.graph.size), searched, ctx.graph.shortest[ctx.node],
-                             ctx.swept)
+                             ctx.swept, ctx.config.pass_through)
     else:
         left = ctx.search.get(instruction.id)
         if left is None:  # first miss, at the instruction's own destination
