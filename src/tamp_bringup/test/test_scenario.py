@@ -78,6 +78,17 @@ def test_requests_are_sorted_and_the_timeout_read(tmp_path):
     assert [(r.person, r.ip, r.spoken) for r in scenario.requests] == [
         ("Alice", "192.168.1.101", True), ("Bob", "192.168.1.102", False)]
     assert (scenario.timeout_s, scenario.planner) == (50.0, "seed")
+    assert not scenario.finish_own
+
+
+def test_finish_own_is_read_and_must_be_a_boolean(tmp_path):
+    request = '  - {time: 3, person: Alice, text: "a"}\n'
+    (tmp_path / "yes").mkdir()
+    assert load_scenario(write_with_frank(tmp_path / "yes", request,
+                                          "finish_own: true\n")).finish_own
+    (tmp_path / "bad").mkdir()
+    with pytest.raises(ScenarioError, match="finish_own must be true or false, got 'yes'"):
+        load_scenario(write_with_frank(tmp_path / "bad", request, "finish_own: 'yes'\n"))
 
 
 @pytest.mark.parametrize("requests, message", [

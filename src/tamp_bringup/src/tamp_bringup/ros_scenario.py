@@ -131,6 +131,8 @@ class ScenarioNode:
         self.held = []                     # (index, request) of visitors not registered yet
         self.registrations = []            # dict(time, visitor, name, dialogue_s, answers)
         self.dialogues = {}                # visitor name -> dict(start, answers) while met
+        self.own_waited = None             # finish_own: ids of the robot's own instructions
+        #                                    open when the requests were first all served
         self.graph_spec = yaml.safe_load(Path(scenario.graph).read_text())
         self.inbox = []                    # (time, "truth" | "belief", message) to grade
         self.faults = set()                # reasons of the faults already recorded as events
@@ -463,7 +465,28 @@ class ScenarioNode:
 
     def _finished(self):
         """Every request answered by an instruction from its person, every person's instruction
-        closed and nothing active (the robot's own pending instructions do not hold the run)."""
+        closed and nothing active; with the scenario's `finish_own`, also the robot's own
+        instructions open at the moment that first held closed (`_own_closed`); else the
+        robot's own pending instructions do not hold the run."""
+        if not self._requests_served():
+            self.own_waited = None   # an instruction reopened (a search): the requests again
+            return False
+        return not self.scenario.finish_own or self._own_closed()
+
+    def _own_closed(self):
+        """Whether the robot's own instructions open when the requests were first all served
+        are closed (those it gives itself later are not waited for)."""
+        with self.lock:
+            state = self.state
+        records = self._every_instruction(state) if state is not None else None
+        if records is None:
+            return False
+        if self.own_waited is None:
+            self.own_waited = {r.instruction.id for r in records
+                               if r.instruction.type != HUMAN and r.state in OPEN}
+        return not any(r.instruction.id in self.own_waited and r.state in OPEN for r in records)
+
+    def _requests_served(self):
         with self.lock:
             state = self.state
         if state is None or any(r.state == ACTIVE or (r.state in OPEN and
@@ -539,8 +562,14 @@ class ScenarioNode:
             if finished:
                 break
             if now > last_request + self.scenario.timeout_s:
-                rospy.logerr("scenario: timed out %.0f s after the last request",
-                             self.scenario.timeout_s)
+                if self.own_waited is not None:   # served every request; own ones still open
+                    rospy.logwarn("scenario: every request served; the robot's own "
+                                  "instructions still open %.0f s after the last request",
+                                  self.scenario.timeout_s)
+                    finished = True
+                else:
+                    rospy.logerr("scenario: timed out %.0f s after the last request",
+                                 self.scenario.timeout_s)
                 break
             rate.sleep()
         self._write(start_place, finished, time.monotonic() - wall_start)

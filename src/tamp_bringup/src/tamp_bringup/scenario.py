@@ -10,8 +10,10 @@ the household: the robot meets them (thesis 000 §3.2.3, perception's introducti
 answer its questions through the speech path; their requests are sent only once they are
 registered. A resident whose move in the world puts on a new shirt (a schedule entry's
 `shirt_colour`) is a stranger to the robot's camera until it asks their name again; they answer
-"My name is NAME." on the robot's microphone. `ros_scenario.py` plays it; `scenario_report.py`
-writes what happened.
+"My name is NAME." on the robot's microphone. The run ends when every request is served; with
+`finish_own: true` also once the robot's own instructions open at that moment are closed (new
+ones it gives itself after are not waited for), within `timeout_s`. `ros_scenario.py` plays
+it; `scenario_report.py` writes what happened.
 """
 import math
 import re
@@ -34,7 +36,7 @@ GENDERS = ("female", "male")
 
 
 TOP_KEYS = ("name", "world", "household", "graph", "planner", "timeout_s", "day_start",
-            "visitors", "requests")
+            "finish_own", "visitors", "requests")
 REQUEST_KEYS = ("time", "person", "text", "spoken")
 VISITOR_KEYS = ("name", "gender", "age", "ip", "answers")
 
@@ -91,6 +93,8 @@ class Scenario:
     visitors: tuple = ()  # Visitor
     day_start_s: float = 0.0  # time of day at simulated time 0 [s since midnight] (schedules)
     shirts: dict = None  # person -> the shirt they wear at t = 0 ((r, g, b) x 3), from the world
+    finish_own: bool = False  # the run also waits for the robot's own instructions open when
+    #                           the last request is served
 
 
 def place_of(graph_spec, x, y):
@@ -329,10 +333,14 @@ def load_scenario(path):
         raise ScenarioError(f"{path}: planner: unknown planner {planner!r} (known: "
                             f"{', '.join(PLANNERS)})")
     day_start_s = clock_seconds(spec.get("day_start", "00:00"), f"{path}: day_start")
+    finish_own = spec.get("finish_own", False)
+    if not isinstance(finish_own, bool):
+        raise ScenarioError(f"{path}: finish_own must be true or false, got {finish_own!r}")
     return Scenario(name=str(spec.get("name", path.stem)), world=world_path, graph=graph_path,
                     requests=tuple(sorted(requests, key=lambda r: r.time_s)), moves=moves,
                     initial=initial, timeout_s=float(timeout_s), planner=planner,
-                    visitors=visitors, day_start_s=day_start_s, shirts=shirts)
+                    visitors=visitors, day_start_s=day_start_s, shirts=shirts,
+                    finish_own=finish_own)
 
 
 def _named_file(spec, key, path):
