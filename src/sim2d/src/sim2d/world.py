@@ -120,6 +120,8 @@ class World:
         self.lazy_tables = lazy_tables or cache_dir is None
         self._tables: dict[tuple[float, float], RangeTable] = {}
         self._held: dict[str, tuple] = {}   # person name -> (pose, posture, holding) last applied
+        self._surfaces: dict[str, tuple] = {}   # person name -> ((pose, posture, holding),
+        #                                         surface_under_hands then)
         self.people = copy.deepcopy(config.people)   # the world's own, moving copies
         self.objects = {o.name: SimObject(o.name, o.label, tuple(o.pose), o.elevation, o.size)
                         for o in config.objects}
@@ -269,7 +271,7 @@ class World:
                     obj.held_by = ""
             if person.holding and person.holding in self.objects:
                 _, hold = person_keypoints(person.posture, person.pose, holding=True,
-                                           surface=self.surface_under_hands(person))
+                                           surface=self._surface(person))
                 if hold is not None:
                     obj = self.objects[person.holding]
                     obj.pose = (hold[0], hold[1], person.pose[2])
@@ -291,6 +293,15 @@ class World:
                 and hold[2] < o.elevation + o.size[2] < shoulders - SURFACE_BELOW_SHOULDERS
                 and o.covers(hold[0], hold[1], SURFACE_MARGIN)]
         return max(tops) if tops else None
+
+    def _surface(self, person: Person) -> float | None:
+        """surface_under_hands, computed again only when the person moved, sat or lay down, or
+        took something else in hand (every camera frame asks for every person)."""
+        key = (person.pose, person.posture, person.holding)
+        cached = self._surfaces.get(person.name)
+        if cached is None or cached[0] != key:
+            cached = self._surfaces[person.name] = (key, self.surface_under_hands(person))
+        return cached[1]
 
     def _obstacle_circles(self, exclude: Robot | None) -> list[tuple[float, float, float]]:
         circles = [(p.pose[0], p.pose[1], p.radius) for p in self.people]
@@ -370,7 +381,7 @@ class World:
             look = self.objects[person.looking_at].centre() if person.looking_at else None
             keypoints, _ = person_keypoints(person.posture, person.pose,
                                             holding=bool(person.holding), look_target=look,
-                                            surface=self.surface_under_hands(person))
+                                            surface=self._surface(person))
             lighting = self.config.lighting_at(*person.pose[:2])
             hidden = list(hidden_face(keypoints, pose))
             behind = (hidden_by_boxes(keypoints, camera.eye(pose), blockers) if blockers
