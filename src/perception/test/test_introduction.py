@@ -148,6 +148,18 @@ def test_each_stranger_gets_an_instruction_and_registered_people_are_never_met_a
     assert watch.observe(WHITE, "welcome", 5.0, []) is None
 
 
+def test_a_stranger_who_says_who_they_are_needs_no_meeting(watch):
+    """A yes to "are you Carol?" from the stranger in magenta: registered as Carol, and the id
+    of the meeting asked for them comes back to be cancelled; a shirt no stranger wears: 0."""
+    magenta = np.array([[200, 30, 200], [186, 26, 188], [190, 28, 192]])
+    for t in range(3):
+        if watch.observe(magenta, "living_room", t, []) is not None:
+            watch.taken(21)
+    assert watch.known_as(magenta + 4, "Carol") == 21
+    assert watch.open_strangers() == [] and watch.by_instruction(21).name == "Carol"
+    assert watch.known_as(WHITE, "Frank") == 0
+
+
 def test_an_introduce_instruction_not_taken_leaves_the_stranger_alone(watch):
     for t in range(3):
         meet = watch.observe(WHITE, "welcome", float(t), [])

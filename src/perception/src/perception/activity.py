@@ -199,15 +199,6 @@ def faces_camera(skeleton: Skeleton) -> bool:
     return lo < skeleton[NOSE, 0] < hi
 
 
-def hand_depth(skeleton: Skeleton, depth: ArrayLike | None) -> float:
-    """Median depth [m] of the detected hands (NaN when none has one)."""
-    if depth is None:
-        return math.nan
-    d = np.asarray(depth, dtype=float)[present(skeleton, HANDS)]
-    d = d[np.isfinite(d)]
-    return float(np.median(d)) if d.size else math.nan
-
-
 def hand_object_eyesight_sets(
         skeleton: Skeleton, objects: Iterable[SeenObject], config: ActivityConfig,
         depth: ArrayLike | None = None) -> tuple[list[SeenObject], list[SeenObject], bool]:
@@ -231,13 +222,15 @@ def hand_object_eyesight_sets(
     looking = watching and any(
         abs(_min_angle(skeleton, skeleton[h])) < config.eyesight_angle for h in hands)
     reach = config.range_factor * forearm_length(skeleton)
-    hands_at = hand_depth(skeleton, depth) if config.hand_depth_gap > 0 else math.nan
+    hands_at = (joints_depth(skeleton, depth, HANDS)
+                if depth is not None and config.hand_depth_gap > 0 else None)
     near: list[SeenObject] = []
     seen: list[SeenObject] = []
     for obj in objects:
         shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
         d_hand = min((shape.distance_to(skeleton[h]) for h in hands), default=math.inf)
-        apart = abs(obj.depth - hands_at) > config.hand_depth_gap   # False when either is NaN
+        apart = (hands_at is not None   # False, too, for an object without a depth (NaN)
+                 and abs(obj.depth - hands_at) > config.hand_depth_gap)
         if d_hand < reach and not apart:
             near.append(obj)
         if watching and abs(_min_angle(skeleton, shape.box_points())) < config.eyesight_angle \
@@ -277,12 +270,17 @@ def metres_per_pixel(skeleton: Skeleton, config: ActivityConfig) -> float | None
     return config.torso_length / torso if torso > 0.0 else None
 
 
-def body_depth_of(skeleton: Skeleton, depth: ArrayLike) -> float | None:
-    """Median depth [m] of the detected torso joints (neck, shoulders, hips), or None."""
-    joints = present(skeleton, (NECK,) + SHOULDERS + HIPS)
-    d = np.asarray(depth, dtype=float)[joints] if joints else np.zeros(0)
+def joints_depth(skeleton: Skeleton, depth: ArrayLike, joints: Sequence[int]) -> float | None:
+    """Median depth [m] of those of `joints` that were detected with a depth, or None."""
+    seen = present(skeleton, joints)
+    d = np.asarray(depth, dtype=float)[seen] if seen else np.zeros(0)
     d = d[np.isfinite(d)]
     return float(np.median(d)) if d.size else None
+
+
+def body_depth_of(skeleton: Skeleton, depth: ArrayLike) -> float | None:
+    """Median depth [m] of the detected torso joints (neck, shoulders, hips), or None."""
+    return joints_depth(skeleton, depth, (NECK,) + SHOULDERS + HIPS)
 
 
 def body_heading(skeleton: Skeleton, depth: ArrayLike,

@@ -82,6 +82,3 @@ class ActivityTracks:
             frames.popleft()
         frames.append(_Frame(stamp, dict(probabilities), posture))
         return fuse(frames, self.config)
-
-    def forget(self, name: str) -> None:
-        self._tracks.pop(name, None)

@@ -198,6 +198,16 @@ class NewcomerWatch:
         """The stranger is now `name` in human_db: never introduced again."""
         stranger.name = name
 
+    def known_as(self, colours: np.ndarray, name: str) -> int:
+        """The stranger in shirt `colours` said they are `name` (a clothes change): registered
+        as them -> the id of the meeting asked for them, now needless (0: none, or no such
+        stranger)."""
+        stranger = self.matching(colours)
+        if stranger is None:
+            return 0
+        self.registered(stranger, name)
+        return stranger.instruction_id
+
     def not_met(self, stranger: Stranger, now: float) -> None:
         """The meeting failed (no answers, trip failed): leave them alone for `retry_after` in
         the place the robot tried to meet them; seen in another place, they walked off before

@@ -305,23 +305,18 @@ class IntroductionNode:
         (rospy.logwarn if problem else rospy.loginfo)("introduction: %s", self._last)
 
     def _known_now(self, shirt, name):
-        """The stranger in `shirt` is `name`: never met as a stranger, and the meeting asked
-        for them is cancelled on every executor (one that does not hold it refuses)."""
-        stranger = self.watch.matching(shirt)
-        if stranger is None:
-            return
-        self.watch.registered(stranger, name)
-        if not stranger.instruction_id:
+        """The stranger in `shirt` is `name` (NewcomerWatch.known_as): the meeting asked for
+        them is cancelled on every executor (one that does not hold it refuses)."""
+        meeting = self.watch.known_as(shirt, name)
+        if not meeting:
             return
         for topic in self.params.state_topics:
             try:
-                rospy.ServiceProxy(beside_state(topic, "cancel"), CancelInstruction)(
-                    id=stranger.instruction_id)
+                rospy.ServiceProxy(beside_state(topic, "cancel"), CancelInstruction)(id=meeting)
             except (rospy.ServiceException, rospy.ROSException) as error:
-                rospy.logwarn("introduction: meeting #%d not cancelled on %s: %s",
-                              stranger.instruction_id, topic, error)
-        rospy.loginfo("introduction: #%d needs no meeting: the stranger is %s",
-                      stranger.instruction_id, name)
+                rospy.logwarn("introduction: meeting #%d not cancelled on %s: %s", meeting,
+                              topic, error)
+        rospy.loginfo("introduction: #%d needs no meeting: the stranger is %s", meeting, name)
 
     def _look(self, frame, known):
         stamp = frame.header.stamp.to_sec() if not frame.header.stamp.is_zero() \
