@@ -46,20 +46,23 @@ class SequentialAuction:
 
     def __init__(self, config: AuctionConfig | None = None) -> None:
         self.config = config or AuctionConfig()
-        self.places: tuple[int, ...] = ()
+        self.robots = 0
+        self.places: tuple[int, ...] | None = None   # waiting places, found at the first idle
+        self._last: tuple[FleetView, list[list[int]]] | None = None   # allocate's last answer
 
     def reset(self, problem: Problem, starts: Sequence[RobotStart]) -> None:
-        self.problem = problem
-        self.places = (waiting_places(problem.travel_s, len(starts))
-                       if self.config.wait_at_medians else ())
+        self.problem, self.robots = problem, len(starts)
+        self.places, self._last = None, None
 
     def idle(self, view: FleetView) -> int | None:
         """The neighbour robot `view.robot` drives to while it waits (towards its waiting place,
         fleet_waiting), or None: it stays. The robots with nothing planned share the waiting
         places."""
-        if not self.places:
+        if not self.config.wait_at_medians:
             return None
-        plans = self.allocate(view)
+        if self.places is None:
+            self.places = waiting_places(self.problem.travel_s, self.robots)
+        plans = self._plans(view)
         idle = [r for r, plan in enumerate(plans) if not plan]
         place = waiting_place_of(view.robot, view.nodes, idle, self.places,
                                  self.problem.travel_s)
@@ -74,7 +77,7 @@ class SequentialAuction:
         Plans whose chains wait on each other across robots (the bids see only planned times)
         are broken by serving the first startable instruction of its own plan, else the one that
         earns it most."""
-        plans = self.allocate(view)
+        plans = self._plans(view)
         mine = plans[view.robot]
         startable = set(available.tolist())
         if mine and mine[0] in startable:
@@ -94,6 +97,12 @@ class SequentialAuction:
         if node == place:
             return "serve", index
         return "move", int(self.problem.graph.next_hop[node, place])
+
+    def _plans(self, view: FleetView) -> list[list[int]]:
+        """allocate(view), once per view: `idle` asks again for the view `decide` just had."""
+        if self._last is None or self._last[0] is not view:
+            self._last = (view, self.allocate(view))
+        return self._last[1]
 
     def allocate(self, view: FleetView) -> list[list[int]]:
         """Every robot's plan (instruction indices in order) after the auction."""

@@ -161,6 +161,8 @@ class Context:
     corridor_wait: float | None = None  # since when the robot waits for a corridor [s]
     deferred: set[int] = field(default_factory=set)  # own instructions waiting for people's
     lost_claims: set[int] = field(default_factory=set)  # ids another robot held at the claim
+    waiting_places: dict[int, tuple[int, ...]] = field(default_factory=dict)  # fleet size ->
+                                   # its k-median places (fleet_allocation.wait_at_place)
     given_back: dict[int, tuple[float, int]] = field(default_factory=dict)  # id -> (when [s],
                                    # times) the robot gave it back, its place out of reach
     taken: set[int] = field(default_factory=set)  # ids other robots held at this decision's

@@ -104,9 +104,7 @@ def auction_choice(ctx: Context, problem: Problem, available: np.ndarray,
     if allocator is None:
         raise RuntimeError("auction_choice: the robot decides without the fleet's auction")
     link = ctx.fleet_now()
-    fleet = link.fleet(now)
-    fleet[link.robot] = (ctx.node, now)   # as it decides (it reports the outcome after)
-    names = sorted(fleet)
+    names, fleet = fleet_positions(ctx, now)
     skipped = ctx.taken | ctx.lost_claims | link.local   # taken: read by fetch_and_decode
     open_items = np.array([k for k, i in enumerate(problem.ids) if int(i) not in skipped],
                           dtype=int)
@@ -123,23 +121,33 @@ def auction_choice(ctx: Context, problem: Problem, available: np.ndarray,
     return index, None if place == ctx.node else int(problem.graph.next_hop[ctx.node, place])
 
 
-def wait_at_place(ctx: Context, now: float) -> list[Command]:
-    """A robot of the fleet's auction with nothing to do drives to its waiting place: the
-    robots free now (by their reports) share the k-median places of the graph, k the live
-    robots, corridors left out (fleet_waiting); [] when it is there, or decides alone."""
-    allocator = fleet_allocator(ctx)
-    if allocator is None or not allocator.config.wait_at_medians:
-        return []
+def fleet_positions(ctx: Context, now: float) -> tuple[list[str], dict]:
+    """(robot names in order, {name: (node, free from [s])}) of every live robot by their
+    reports, this robot where it stands, free now (as it decides; it reports after)."""
     link = ctx.fleet_now()
     fleet = link.fleet(now)
     fleet[link.robot] = (ctx.node, now)
-    names = sorted(fleet)
-    corridors = fleet_corridors(ctx)
-    places = waiting_places(ctx.graph.shortest, len(names),
-                            candidates=[n for n in range(ctx.graph.size) if n not in corridors])
+    return sorted(fleet), fleet
+
+
+def wait_at_place(ctx: Context, now: float) -> list[Command]:
+    """A robot of the fleet's auction with nothing to do drives to its waiting place: the
+    robots free now (by their reports) share the k-median places of the graph, k the live
+    robots, corridors left out (fleet_waiting; found once per k); [] when it is there, or
+    decides alone."""
+    allocator = fleet_allocator(ctx)
+    if allocator is None or not allocator.config.wait_at_medians:
+        return []
+    names, fleet = fleet_positions(ctx, now)
+    if len(names) not in ctx.waiting_places:
+        corridors = fleet_corridors(ctx)
+        ctx.waiting_places[len(names)] = waiting_places(
+            ctx.graph.shortest, len(names),
+            candidates=[n for n in range(ctx.graph.size) if n not in corridors])
     nodes = [int(fleet[n][0]) for n in names]
     idle = [r for r, n in enumerate(names) if float(fleet[n][1]) <= now]
-    place = waiting_place_of(names.index(link.robot), nodes, idle, places, ctx.graph.shortest)
+    place = waiting_place_of(names.index(ctx.fleet_now().robot), nodes, idle,
+                             ctx.waiting_places[len(names)], ctx.graph.shortest)
     if place is None or place == ctx.node:
         return []
     commands = drive_idle(ctx, place, f"wait at {ctx.graph.names[place]}", now)

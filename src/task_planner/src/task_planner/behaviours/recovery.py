@@ -47,9 +47,9 @@ def recover(ctx: Context, now: float, reason: str) -> list[Command]:
 def give_back(ctx: Context, instruction_id: int, now: float, why: str) -> bool:
     """In a fleet, give an instruction of the pool whose place the robot cannot reach back to
     the fleet, at most `max_handbacks` times -> True; False (it fails instead) alone, for the
-    robot's own instructions, or when the hand-backs are spent. A robot blocked on its way by
-    another one lost people's requests that the other robot, or itself a minute later, could
-    have served."""
+    robot's own instructions, or when the hand-backs are spent. A request whose place another
+    robot blocks is then served by the other robot, or by this one a minute later, instead of
+    failing."""
     if ctx.fleet is None or instruction_id in ctx.fleet.local:
         return False
     _, times = ctx.given_back.get(instruction_id, (now, 0))
