@@ -9,10 +9,11 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-import numpy as np
-from perception.visual_pipeline import FrameView, ObjectBox, PersonView
+from perception.visual_pipeline import FrameView
 from sim2d.world import World
 from sim2d.world_config import WorldError
+
+from tamp_bringup.sim_activity_set import object_box, person_view
 
 STEP_S = 0.5    # [s] people are moved along their schedules in steps this long
 
@@ -29,16 +30,10 @@ class Viewing:
 
 def frame_view(camera_frame) -> tuple[FrameView, list[str]]:
     """sim2d CameraFrame -> (FrameView, the true name of each PersonView)."""
-    view = FrameView(camera_frame.width, camera_frame.height)
-    for o in camera_frame.objects:
-        view.objects.append(ObjectBox(o.label, o.confidence, o.x, o.y, o.width, o.height,
-                                      o.depth))
-    names = []
-    for s in camera_frame.skeletons:
-        view.people.append(PersonView(np.column_stack([s.x, s.y]), s.confidence, s.depth,
-                                      s.joint_colours))
-        names.append(s.truth)
-    return view, names
+    view = FrameView(camera_frame.width, camera_frame.height,
+                     [object_box(o) for o in camera_frame.objects],
+                     [person_view(s) for s in camera_frame.skeletons])
+    return view, [s.truth for s in camera_frame.skeletons]
 
 
 def ring(centre: Sequence[float], distances: Sequence[float], bearings: int) -> Iterator[tuple]:

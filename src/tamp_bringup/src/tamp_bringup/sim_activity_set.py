@@ -133,6 +133,18 @@ def conversation(scene, camera, distance, bearing, facing, robot_pose):
     return pose, keypoints, partner
 
 
+def person_view(skeleton):
+    """sim2d SkeletonDetection -> perception PersonView."""
+    return PersonView(np.column_stack([skeleton.x, skeleton.y]), skeleton.confidence,
+                      skeleton.depth, skeleton.joint_colours)
+
+
+def object_box(detection):
+    """sim2d ObjectDetection -> perception ObjectBox."""
+    return ObjectBox(detection.label, detection.confidence, detection.x, detection.y,
+                     detection.width, detection.height, detection.depth)
+
+
 def _add_person(frame, camera, name, keypoints, shirt, robot_pose):
     """Append one person's skeleton and 'person' box unless the detector misses them."""
     if camera.missed():
@@ -140,11 +152,8 @@ def _add_person(frame, camera, name, keypoints, shirt, robot_pose):
     skeleton, box = camera.detect_person(name, keypoints, shirt, robot_pose,
                                          hidden=hidden_face(keypoints, robot_pose))
     if skeleton is not None:
-        frame.people.append(PersonView(np.column_stack([skeleton.x, skeleton.y]),
-                                       skeleton.confidence, skeleton.depth,
-                                       skeleton.joint_colours))
-        frame.objects.append(ObjectBox("person", box.confidence, box.x, box.y, box.width,
-                                       box.height, box.depth))
+        frame.people.append(person_view(skeleton))
+        frame.objects.append(object_box(box))
 
 
 def scene_frame(scene, camera, distance, bearing, facing, robot_pose=(0.0, 0.0, 0.0)):
@@ -170,9 +179,7 @@ def scene_frame(scene, camera, distance, bearing, facing, robot_pose=(0.0, 0.0, 
         _add_person(frame, camera, "partner", partner, PARTNER_SHIRT, robot_pose)
     candidates = [(o.name, o.label, o.corners(), o.centre()) for o in objects
                   if not camera.missed()]
-    for det in camera.detect_objects(candidates, robot_pose):
-        frame.objects.append(ObjectBox(det.label, det.confidence, det.x, det.y, det.width,
-                                       det.height, det.depth))
+    frame.objects += [object_box(det) for det in camera.detect_objects(candidates, robot_pose)]
     return frame
 
 
