@@ -4,7 +4,8 @@ from human_factories import make_human
 
 from human_db.errors import InvalidHuman
 from human_db.model import ScheduleEntry
-from human_db.schedule import check_schedule, entry_in_force, same_label, time_of_day
+from human_db.schedule import (check_schedule, entry_in_force, expected_instead,
+                               same_label, time_of_day)
 
 H = 3600.0  # [s]
 WORK = ScheduleEntry(9 * H, 12 * H, "office", "work")
@@ -85,3 +86,21 @@ def test_overlapping_entries_are_refused_touching_ones_are_not():
         make_human(schedules=(SLEEP, ScheduleEntry(6 * H, 7 * H, "dining_room", "eat")))
     ok = make_human(schedules=(SLEEP, ScheduleEntry(6.5 * H, 7 * H, "dining_room", "eat")))
     assert [e.start for e in ok.schedules] == [6.5 * H, 22.5 * H]   # sorted by start
+
+
+def test_a_match_the_schedules_contradict_names_who_is_expected_instead():
+    """Alice works in the office 13:00-17:30, Carol naps in the bedroom 14:00-15:00 (the
+    household's schedules): a sighting in the bedroom at 14:30 that the colours give to Alice
+    is doubted in favour of Carol; in the office, or before Carol's nap, it stands."""
+    alice = make_human("Alice", schedules=(ScheduleEntry(13 * H, 17.5 * H, "office", "work"),))
+    carol = make_human("Carol", schedules=(ScheduleEntry(14 * H, 15 * H, "bedroom", "sleep"),))
+    bob = make_human("Bob", schedules=(ScheduleEntry(14 * H, 15 * H, "", "read"),))
+    people = [alice, bob, carol]
+    assert expected_instead("Alice", "bedroom", 14.5 * H, people) == "Carol"
+    assert expected_instead("Alice", "office", 14.5 * H, people) == ""     # where she should be
+    assert expected_instead("Alice", "bedroom", 13.5 * H, people) == ""    # nobody expected
+    assert expected_instead("Carol", "office", 14.5 * H, people) == "Alice"
+    # Bob's entry names no place: neither doubts nor is doubted; nor is an unknown name or place
+    assert expected_instead("Bob", "bedroom", 14.5 * H, people) == ""
+    assert expected_instead("Frank", "bedroom", 14.5 * H, people) == ""
+    assert expected_instead("Alice", "", 14.5 * H, people) == ""

@@ -55,3 +55,30 @@ def check_schedule(human: Human, seconds_since_midnight: float, location: str | 
         location_differs=bool(entry.place and location and not same_label(entry.place, location)),
         activity_differs=bool(entry.activity and activity
                               and not same_label(entry.activity, activity)))
+
+
+def expected_instead(name: str, place: str, seconds_since_midnight: float,
+                     humans: Iterable[Human]) -> str:
+    """Who the schedules expect at `place` now instead of `name`, or "" when nothing doubts a
+    sighting there that the shirt colours give to `name`.
+
+    Thesis 000 §3.2.3 learns a person's colours once and "needs to update once the human changes
+    his/her clothes": a resident in new clothes may then fall within the threshold of someone
+    else's shirt (magenta pyjamas under tungsten light near a red shirt). When `name`'s
+    schedule puts them at another place now and another resident's puts that resident here,
+    the sighting is doubted and the robot asks rather than guess (the first such resident in
+    `humans`' order is named)."""
+    humans = list(humans)
+    matched = next((h for h in humans if h.name == name), None)
+    if matched is None or not place:
+        return ""
+    own = entry_in_force(matched.schedules, seconds_since_midnight)
+    if own is None or not own.place or same_label(own.place, place):
+        return ""
+    for human in humans:
+        if human.name == name:
+            continue
+        entry = entry_in_force(human.schedules, seconds_since_midnight)
+        if entry is not None and entry.place and same_label(entry.place, place):
+            return human.name
+    return ""

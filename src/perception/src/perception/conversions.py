@@ -52,11 +52,11 @@ def frame_from_msg(msg):
     return frame
 
 
-def observed_to_msg(result, name):
-    """PersonResult (+ identity) -> tamp_msgs/ObservedHuman."""
+def observed_to_msg(result, name, doubted_as=""):
+    """PersonResult (+ identity, or the doubted one) -> tamp_msgs/ObservedHuman."""
     act = result.activity
-    msg = ObservedHuman(name=name, activity=act.activity, posture=act.posture,
-                        location=result.place, near_hands=list(act.near_hands),
+    msg = ObservedHuman(name=name, doubted_as=doubted_as, activity=act.activity,
+                        posture=act.posture, location=result.place, near_hands=list(act.near_hands),
                         in_eyesight=list(act.in_eyesight), looking_at_hands=act.looking_at_hands)
     if result.shirt is not None:
         msg.shirt_color = result.shirt.reshape(-1).tolist()

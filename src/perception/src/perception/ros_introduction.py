@@ -321,10 +321,12 @@ class IntroductionNode:
     def _look(self, frame, known):
         stamp = frame.header.stamp.to_sec() if not frame.header.stamp.is_zero() \
             else rospy.get_time()
-        shirts = [colours for colours, _ in known.values() if colours is not None]
         for person in frame.humans:
             if person.name:
                 continue
+            # a doubted match is a stranger unless it matches someone else (registered since)
+            shirts = [colours for name, (colours, _) in known.items()
+                      if colours is not None and name != person.doubted_as]
             try:
                 colours = seen_shirt(person.shirt_color)
             except HumanDbError as error:

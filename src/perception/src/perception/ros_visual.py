@@ -16,7 +16,7 @@ import rospy
 import tf2_ros
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import human_from_msg
-from human_db.schedule import check_schedule, time_of_day
+from human_db.schedule import check_schedule, expected_instead, time_of_day
 from floorplan.semantic_graph import load_graph
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
@@ -67,6 +67,10 @@ class VisualParams:
                                           # (activity_track; 0: framewise, the seed)
     activity_min_probability: float = 0.2  # ~activity_min_probability: mean P(a) over the
                                            # window for a detailed activity
+    sure_distance: float = 80.0           # ~sure_distance: a colour match this far (mean
+                                          # Eq. 3-10) or farther that the schedules contradict
+                                          # is doubted: published as a stranger, the robot asks
+                                          # (human_db.schedule.expected_instead); 0: never
 
 
 def read_params():
@@ -90,7 +94,7 @@ class VisualNode:
         self._latencies = []
         self._unknown_classes = set()   # object classes already warned about (once each)
         self._counts = {"frames": 0, "people": 0, "bad_frames": 0, "identified": 0,
-                        "instructions": 0, "not_taken": 0}
+                        "doubted": 0, "instructions": 0, "not_taken": 0}
         self._timers = []
         self._analysing = None   # the frame the work timer is analysing (for a fault's reason)
         self._last_bad_frame = ""   # why the last refused frame was refused
@@ -187,12 +191,12 @@ class VisualNode:
         for result in results:
             for problem in result.problems:
                 rospy.logwarn_throttle(10.0, "visual: %s", problem)
-            name = self._identify(result)
+            name, doubted_as = self._identify(result, stamp)
             if name:
                 act = result.activity
                 act.activity = self.tracks.update(name, stamp, result.place, act.activity,
                                                   act.probabilities, act.posture)
-            out.humans.append(observed_to_msg(result, name))
+            out.humans.append(observed_to_msg(result, name, doubted_as))
             if name:
                 self._record(name, result, msg.header.stamp)
         self.observed.publish(out)
@@ -213,15 +217,33 @@ class VisualNode:
             self._counts["bad_frames"] += 1
             self._last_bad_frame = reason
 
-    def _identify(self, result):
+    def _identify(self, result, stamp):
+        """(name, "") of an identified person, ("", name) of a doubted match, else ("", "")."""
         if result.shirt is None:
-            return ""
+            return "", ""
         try:
             reply = self.identify(shirt_color=result.shirt.reshape(-1).tolist())
         except (rospy.ServiceException, rospy.ROSException) as error:
             rospy.logwarn_throttle(10.0, "visual: /human_db/identify failed: %s", error)
-            return ""
-        return reply.name if reply.found else ""
+            return "", ""
+        if not reply.found:
+            return "", ""
+        sure = self.params.sure_distance
+        if sure <= 0 or reply.distance < sure:
+            return reply.name, ""
+        with self._lock:
+            humans = list(self._humans.values())
+        instead = expected_instead(reply.name, result.place,
+                                   time_of_day(stamp, self.params.utc_offset), humans)
+        if not instead:
+            return reply.name, ""
+        rospy.loginfo_throttle(30.0, "visual: a shirt %.0f from %s's in the %s, where the "
+                               "schedules expect %s and not %s: not taken for %s",
+                               reply.distance, reply.name, result.place, instead, reply.name,
+                               reply.name)
+        with self._lock:
+            self._counts["doubted"] += 1
+        return "", reply.name
 
     def _record(self, name, result, stamp):
         activity = result.activity.activity
