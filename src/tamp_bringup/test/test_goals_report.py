@@ -1,8 +1,13 @@
 """tamp_bringup.goals_report: each figure of a run beside its goal, on hand-computed numbers."""
+import dataclasses
+
 from test_scenario_report import SETTINGS, journal
 
-from tamp_bringup.goals_report import goals_markdown, run_goals, service_delays
-from tamp_bringup.scenario_report import arrivals_problem, model_figures, read_journal
+from tamp_bringup.goals_report import (goals_markdown, needless_meetings, run_goals,
+                                       service_delays)
+from tamp_bringup.scenario_report import (JournalEntry, arrivals_problem, model_figures,
+                                          read_journal)
+from task_planner.instruction import ROBOT
 
 
 def figures_and_entries(tmp_path, line_graph):
@@ -46,3 +51,30 @@ def test_each_figure_beside_its_goal(tmp_path, line_graph):
     assert lines[0] == "## Goals"
     assert "| longest search not interrupted by another instruction | 70 s (1 of 2 interrupted) " \
         "| ≤ 60 s | **no** |" in lines
+
+
+def test_a_meeting_cancelled_as_its_stranger_says_who_they_are_is_not_counted(tmp_path,
+                                                                                line_graph):
+    """The introduction node cancels the meeting of a stranger who said yes to "are you
+    Carol?" while registering Carol's shirt: not an unserved instruction of the robot's."""
+    figures, entries = figures_and_entries(tmp_path, line_graph)
+    meeting = dataclasses.replace(entries[0].instruction, id=7, type=ROBOT, source="robot",
+                                  destination_name="B",
+                                  text="meet the unknown person in B (shirt (1, 2, 3))")
+    cancelled = JournalEntry(meeting, "cancelled", 1.0, 0.0, 4.0, 0.0, "cancelled by request")
+    unserved = dataclasses.replace(cancelled, instruction=dataclasses.replace(meeting, id=8),
+                                   completion_s=40.0)
+    recall = dict(time=4.5, person="Carol", place="B", dialogue_s=3.0, why="new clothes")
+    record = dict(sim_s=60.0, registrations=[], recalls=[recall])
+    assert needless_meetings([cancelled, unserved], [recall]) == [cancelled]
+    assert needless_meetings([cancelled], [dict(recall, place="A")]) == []
+    goals = {g.figure: g for g in run_goals(record, entries + [cancelled], [],
+                                            figures["FCFS (model)"], 0.0)}
+    own = goals["the robot's own instructions served"]
+    assert (own.value, own.met) == ("0 of 0 (1 meeting(s) needless: the stranger said who "
+                                    "they are)", True)
+    goals = {g.figure: g for g in run_goals(record, entries + [cancelled, unserved], [],
+                                            figures["FCFS (model)"], 0.0)}
+    own = goals["the robot's own instructions served"]
+    assert (own.value, own.met) == ("0 of 1 (1 meeting(s) needless: the stranger said who "
+                                    "they are)", False)

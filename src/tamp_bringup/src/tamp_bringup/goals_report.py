@@ -5,7 +5,7 @@ the improved planner's model schedule on the same arrivals.
 Goals: every person's request served; the start of each person's service at most 30 s (median)
 and 120 s (worst) after the start the model gives it; every search that no other instruction
 interrupted over within 60 s; every instruction the robot gave itself served before the run
-ends; belief accuracy from the run start at least 0.9 for every resident; the run's reward at
+ends (a meeting cancelled as its stranger said who they are is needless, not unserved); belief accuracy from the run start at least 0.9 for every resident; the run's reward at
 least 0.6 of the model's; activity recognition in the loop at least 0.7 in every category seen.
 """
 from dataclasses import dataclass
@@ -21,6 +21,8 @@ SEARCH_S = 60.0                                # longest search [s]
 BELIEF = 0.9                                   # belief accuracy of each resident
 REWARD_SHARE = 0.6                             # run reward / model reward
 ACTIVITY = 0.7                                 # activity read right, per category
+MEETING_TEXT = "meet the unknown person"       # perception.introduction's meeting instructions
+RECALL_MATCH_S = 5.0                           # [s] a meeting cancelled this near a recall
 
 
 @dataclass(frozen=True)
@@ -39,6 +41,16 @@ def service_delays(entries, model_starts, t0):
     return {e.instruction.id: e.started_s - t0 - model_starts[e.instruction.id]
             for e in entries if e.instruction.type == HUMAN and e.started_s > 0
             and e.instruction.id in model_starts}
+
+
+def needless_meetings(own, recalls, within_s=RECALL_MATCH_S):
+    """The meetings of `own` (the robot's journal entries) cancelled because the stranger said
+    yes to "are you NAME?": the introduction node cancels the meeting as it registers NAME's
+    shirt (a recall of the record at the meeting's place within `within_s` of the cancel)."""
+    return [e for e in own
+            if e.state == "cancelled" and e.instruction.text.startswith(MEETING_TEXT)
+            and any(r["place"] == e.instruction.destination_name
+                    and abs(r["time"] - e.completion_s) <= within_s for r in recalls)]
 
 
 def run_goals(record, entries, searches, model, t0, categories=()):
@@ -65,8 +77,12 @@ def run_goals(record, entries, searches, model, t0, categories=()):
         goals.append(Goal("longest search not interrupted by another instruction",
                           f"{longest:.0f} s{note}", f"≤ {SEARCH_S:.0f} s", longest <= SEARCH_S))
     own = [e for e in entries if e.instruction.type == ROBOT]
+    needless = needless_meetings(own, record.get("recalls", []))
+    own = [e for e in own if e not in needless]
     own_served = sum(e.state == "done" for e in own)
-    goals.append(Goal("the robot's own instructions served", f"{own_served} of {len(own)}",
+    note = f" ({len(needless)} meeting(s) needless: the stranger said who they are)" \
+        if needless else ""
+    goals.append(Goal("the robot's own instructions served", f"{own_served} of {len(own)}{note}",
                       "all", own_served == len(own)))
     visitors = {r["name"] for r in record.get("registrations", [])}
     residents = {name: value for name, value in people_accuracy(record).items()
