@@ -5,8 +5,9 @@ the improved planner's model schedule on the same arrivals.
 Goals: every person's request served; the start of each person's service at most 30 s (median)
 and 120 s (worst) after the start the model gives it; every search that no other instruction
 interrupted over within 60 s; every instruction the robot gave itself served before the run
-ends (a meeting cancelled as its stranger said who they are is needless, not unserved); belief accuracy from the run start at least 0.9 for every resident; the run's reward at
-least 0.6 of the model's; activity recognition in the loop at least 0.7 in every category seen.
+ends (a meeting cancelled as its stranger said who they are is needless, not unserved); belief
+accuracy from the run start at least 0.9 for every resident; the run's reward at least 0.6 of
+the model's; activity recognition in the loop at least 0.7 in every category seen.
 """
 from dataclasses import dataclass
 
