@@ -2,13 +2,14 @@
 from dataclasses import replace
 
 import numpy as np
+import pytest
 from behaviour_factories import A, B, C, D, make_context, journal
 from planner_factories import make_instruction
 from py_trees.common import Status
 
 from task_planner.baselines import PriorityFirst
 from task_planner.battery import BatteryConfig, BatteryModel
-from task_planner.behaviours.context import Charging
+from task_planner.behaviours.context import Charging, ExecutorConfig
 from task_planner.behaviours.deciding import (Deciding, decide, fetch_and_decode, heading,
                                               redecide, seen_elsewhere, waiting_for_a_meeting)
 from task_planner.executor_commands import EXECUTING, IDLE, MOVING, Navigate, StopMotion
@@ -196,13 +197,13 @@ def test_the_robots_own_overdue_instruction_never_goes_before_a_persons_request(
     assert [int(problem.ids[k]) for k in available] == [1]
 
 
-def test_among_overdue_requests_the_nearer_goes_first_and_of_equals_the_older(line_graph,
-                                                                             tmp_path):
+def test_by_smiths_rule_the_nearer_overdue_request_goes_first_and_of_equals_the_older(
+        line_graph, tmp_path):
     """Two requests of one priority overdue at 400 s: by reward the newer (at D, launched at
-    250 s) would go first; from B the older (at A, 2 s away against 10 s) does, from D the one
-    there. From C, where both are 6 s away, the older."""
+    250 s) would go first; by Smith's rule from B the older (at A, 2 s away against 10 s) does,
+    from D the one there. From C, where both are 6 s away, the older."""
     ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
-                       serve_within_s=120.0)
+                       serve_within_s=120.0, overdue_order="smith")
     journal(ctx, make_instruction(1, A, gamma=5.0, beta=0.96, function=1, start_time=0.0))
     journal(ctx, make_instruction(2, D, gamma=5.0, beta=0.96, function=1, start_time=250.0),
             now=250.0)
@@ -223,7 +224,7 @@ def test_overdue_instructions_go_by_priority_per_second_of_the_robots_time(line_
     here (gamma 5, 60 s) 5 / 60 = 0.08: the call goes first, though the chat is here. A check
     here (gamma 3, 10 s), 3 / 10 = 0.3, goes before both."""
     ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
-                       serve_within_s=120.0)
+                       serve_within_s=120.0, overdue_order="smith")
     journal(ctx, make_instruction(1, D, gamma=8.0, beta=0.98, duration=30, function=1,
                                   start_time=0.0))
     journal(ctx, make_instruction(2, B, gamma=5.0, beta=0.96, duration=60, function=1,
@@ -234,6 +235,38 @@ def test_overdue_instructions_go_by_priority_per_second_of_the_robots_time(line_
                                   start_time=200.0), now=200.0)
     problem, available = fetch_and_decode(ctx, 400.0)
     assert [int(problem.ids[k]) for k in available] == [3]
+
+
+def test_the_oldest_overdue_request_goes_first_so_a_long_chat_is_not_passed_over(line_graph,
+                                                                                tmp_path):
+    """The default order (Jackson's rule): Bob's chat here (gamma 5, 60 s), launched at 0 s,
+    goes before a call for physical help at D (gamma 8, 30 s, 100 s) and a check here (gamma 3,
+    10 s, 200 s), which Smith's rule would serve first; of two launched together, the one with
+    the more priority per second."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
+                       serve_within_s=120.0)
+    journal(ctx, make_instruction(1, B, gamma=5.0, beta=0.96, duration=60, function=1,
+                                  start_time=0.0))
+    journal(ctx, make_instruction(2, D, gamma=8.0, beta=0.98, duration=30, function=1,
+                                  start_time=100.0), now=100.0)
+    journal(ctx, make_instruction(3, B, gamma=3.0, beta=0.94, duration=10, function=1,
+                                  start_time=200.0), now=200.0)
+    problem, available = fetch_and_decode(ctx, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [1]
+    (tmp_path / "together").mkdir()
+    together = make_context(line_graph, tmp_path / "together", node=B, planner=PriorityFirst(),
+                            serve_within_s=120.0)
+    journal(together, make_instruction(1, B, gamma=5.0, beta=0.96, duration=60, function=1,
+                                       start_time=0.0),
+            make_instruction(2, B, gamma=3.0, beta=0.94, duration=10, function=1,
+                             start_time=0.0))
+    problem, available = fetch_and_decode(together, 400.0)
+    assert [int(problem.ids[k]) for k in available] == [2]     # 3 / 10 against 5 / 60
+
+
+def test_an_unknown_overdue_order_is_refused_with_the_choices():
+    with pytest.raises(ValueError, match="overdue_order must be one of .*oldest.*smith"):
+        ExecutorConfig(overdue_order="fifo")
 
 
 def test_the_charge_never_sets_the_place_of_overdue_requests(line_graph, tmp_path):

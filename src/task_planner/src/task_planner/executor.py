@@ -20,7 +20,8 @@ import numpy as np
 from task_planner.behaviours.accounting import activity
 from task_planner.behaviours.charging import BATTERY_KEY, save_battery
 from task_planner.behaviours.context import (ABORTED, ARRIVED, CANCELLED, RECEIVED, TICK,
-                                             Charging, Context, ExecutorConfig)
+                                             OVERDUE_ORDERS, Charging, Context,
+                                             ExecutorConfig)
 from task_planner.behaviours.fleet_allocation import fleet_allocator
 from task_planner.behaviours.looking import not_answered
 from task_planner.behaviours.receiving import new_id
@@ -35,7 +36,8 @@ from task_planner.planner_api import NODE, STEP, Planner, kind_of
 from task_planner.robot_functions import RobotFunction
 from task_planner.task_buffer import Record, TaskBuffer
 
-__all__ = ["Charging", "Executor", "ExecutorConfig", "latency_ms", "nearest_node"]
+__all__ = ["OVERDUE_ORDERS", "Charging", "Executor", "ExecutorConfig", "latency_ms",
+           "nearest_node"]
 
 
 def latency_ms(samples_s: Sequence[float]) -> tuple[float, float, float]:

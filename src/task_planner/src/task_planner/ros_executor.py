@@ -43,8 +43,8 @@ from tamp_msgs.srv import (CancelInstruction, CancelInstructionResponse, GetTask
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.conversions import (buffer_to_msg, instruction_from_msg, people_from_msg,
                                       sightings_from_observed)
-from task_planner.executor import (Charging, Executor, ExecutorConfig, latency_ms,
-                                   nearest_node)
+from task_planner.executor import (OVERDUE_ORDERS, Charging, Executor, ExecutorConfig,
+                                   latency_ms, nearest_node)
 from task_planner.executor_commands import Ask, Execute, Navigate, Say, StopMotion, Verify, Wait
 from task_planner.fleet_link import FleetLink
 from task_planner.fleet_pool import FleetPool, PoolUnavailable
@@ -110,6 +110,8 @@ class NodeParams:
     serve_within: float = 120.0    # an instruction launched this long ago is served before any
                                    # newer one [s]; 0 = Eq. 4-2's reward alone decides (the
                                    # seed: an old request may wait for ever)
+    overdue_order: str = "oldest"  # among the overdue ones: "oldest" first (the least maximum
+                                   # lateness) or "smith" (the most priority per second)
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
     pass_through: tuple = ()       # places people only pass through: patrolled only while the
                                    # belief or a schedule puts someone there, searched last
@@ -165,6 +167,9 @@ class NodeParams:
                          "patrol_interval", "serve_within",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions", "max_handbacks")
+        if self.overdue_order not in OVERDUE_ORDERS:
+            raise ValueError(f"parameter ~overdue_order: '{self.overdue_order}' (choose one of "
+                             f"{', '.join(OVERDUE_ORDERS)})")
         if self.fleet_allocator not in FLEET_ALLOCATORS:
             raise ValueError(f"parameter ~fleet_allocator: unknown fleet allocator "
                              f"'{self.fleet_allocator}' (choose one of "
@@ -205,6 +210,7 @@ class ExecutorNode:
                            own_yields=params.own_yields,
                            meetings_inherit=params.meetings_inherit,
                            serve_within_s=params.serve_within,
+                           overdue_order=params.overdue_order,
                            patrol_interval_s=params.patrol_interval,
                            pass_through=tuple(self.graph.index(n) for n in params.pass_through),
                            corridors=tuple(self.graph.index(name) for name in params.corridors),

@@ -25,6 +25,9 @@ from task_planner.robot_functions import RobotFunction
 from task_planner.task_buffer import Record, TaskBuffer
 
 
+OVERDUE_ORDERS = ("oldest", "smith")   # deciding.overdue_first
+
+
 @dataclass(frozen=True)
 class ExecutorConfig:
     speed_mps: float = 0.5        # robot speed along graph edges, for the planners [m/s]
@@ -63,6 +66,9 @@ class ExecutorConfig:
     serve_within_s: float = 0.0   # instructions launched this long ago are served before any
                                   # newer one (deciding.overdue_first) [s] (0: Eq. 4-2's
                                   # reward alone decides, as the seed)
+    overdue_order: str = "oldest"  # among overdue instructions: "oldest" first (the least
+                                  # maximum lateness) or "smith" (most priority per second of
+                                  # the robot's time: the least weighted completion time)
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]
@@ -87,6 +93,11 @@ class ExecutorConfig:
     claim_wait_s: float = 5.0     # an instruction the auction gives another robot that has
                                   # not claimed it this long after it said it would be free is
                                   # this robot's to take [s]
+
+    def __post_init__(self) -> None:
+        if self.overdue_order not in OVERDUE_ORDERS:
+            raise ValueError(f"overdue_order must be one of {OVERDUE_ORDERS}, got "
+                             f"{self.overdue_order!r}")
 
 
 @dataclass(frozen=True)
