@@ -116,3 +116,21 @@ def test_with_auction_waiting_an_idle_robot_drives_to_its_waiting_place(line_gra
     assert a.mode == MOVING and a.log[-1] == (0.0, "wait at B")
     assert decide(b, 0.1) == [] and b.mode == IDLE
     assert arrive(a, 2.0) == [] and (a.node, a.mode) == (B, IDLE)
+
+
+def test_with_auction_waiting_a_robot_hearing_from_no_other_waits_a_renew_period(line_graph,
+                                                                                 tmp_path):
+    """Started together, a sees only itself until b's first report: it stays on A instead of
+    deciding alone at once. Once b reports from D, a drives to its place of the 2-median, B.
+    Hearing from nobody a whole renew period (b gone), a decides alone: the 1-median of
+    A-B-C-D (1, 2 and 3 m), B (8 m to all, as C; the first)."""
+    from task_planner.executor_commands import Navigate
+    a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
+    assert decide(a, 0.0) == [] and a.mode == IDLE
+    fleet_news(b, 0.5)                                   # b's first report: free on D
+    assert decide(a, 1.0) == [Navigate(B, 0)] and a.alone_since is None
+    (tmp_path / "alone").mkdir()
+    alone, _ = robots(line_graph, tmp_path / "alone", fleet_allocator="auction_waiting")
+    period = alone.fleet.renew_period_s
+    assert decide(alone, 0.0) == [] and decide(alone, period - 0.1) == []
+    assert decide(alone, period) == [Navigate(B, 0)] and alone.log[-1] == (period, "wait at B")

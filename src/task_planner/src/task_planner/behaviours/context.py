@@ -174,6 +174,7 @@ class Context:
     lost_claims: set[int] = field(default_factory=set)  # ids another robot held at the claim
     waiting_places: dict[int, tuple[int, ...]] = field(default_factory=dict)  # fleet size ->
                                    # its k-median places (fleet_allocation.wait_at_place)
+    alone_since: float | None = None  # since when no other robot of the fleet reported [s]
     given_back: dict[int, tuple[float, int]] = field(default_factory=dict)  # id -> (when [s],
                                    # times) the robot gave it back, its place out of reach
     taken: set[int] = field(default_factory=set)  # ids other robots held at this decision's

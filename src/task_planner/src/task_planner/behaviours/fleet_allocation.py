@@ -133,12 +133,20 @@ def fleet_positions(ctx: Context, now: float) -> tuple[list[str], dict]:
 def wait_at_place(ctx: Context, now: float) -> list[Command]:
     """A robot of the fleet's auction with nothing to do drives to its waiting place: the
     robots free now (by their reports) share the k-median places of the graph, k the live
-    robots, corridors left out (fleet_waiting; found once per k); [] when it is there, or
-    decides alone."""
+    robots, corridors left out (fleet_waiting; found once per k); [] when it is there. A robot
+    that hears from no other waits one renew period of the fleet link before it decides alone:
+    robots started together each see only themselves until the others' first reports, and
+    would all drive to the graph's median."""
     allocator = fleet_allocator(ctx)
     if allocator is None or not allocator.config.wait_at_medians:
         return []
     names, fleet = fleet_positions(ctx, now)
+    if len(names) > 1:
+        ctx.alone_since = None
+    else:
+        ctx.alone_since = now if ctx.alone_since is None else ctx.alone_since
+        if now - ctx.alone_since < ctx.fleet_now().renew_period_s:
+            return []
     if len(names) not in ctx.waiting_places:
         corridors = fleet_corridors(ctx)
         ctx.waiting_places[len(names)] = waiting_places(
