@@ -1,7 +1,7 @@
 """task_planner.behaviours.fleet_allocation: two robots deciding with the fleet's auction; claims
 move cleanly, nothing is held twice, and a robot executing keeps its instruction."""
 import pytest
-from behaviour_factories import A, B, D, robots
+from behaviour_factories import A, B, C, D, robots
 from planner_factories import make_instruction
 
 from task_planner.behaviours.deciding import decide, fetch_and_decode, redecide
@@ -134,3 +134,30 @@ def test_with_auction_waiting_a_robot_hearing_from_no_other_waits_a_renew_period
     period = alone.fleet.renew_period_s
     assert decide(alone, 0.0) == [] and decide(alone, period - 0.1) == []
     assert decide(alone, period) == [Navigate(B, 0)] and alone.log[-1] == (period, "wait at B")
+
+
+def test_with_auction_waiting_a_robot_keeps_its_waiting_place_while_the_fleet_size_holds(
+        line_graph, tmp_path):
+    """a on C, b on D: matched to the 2-median {B, D} by least travel, a takes B (2 m) and b D.
+    b's next report puts it on A (a report older than b's move, say): a new matching would send
+    a to D (3 + 1 m against 2 + 6 m), but a keeps B until it serves again."""
+    from task_planner.executor_commands import Navigate
+    a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
+    a.node = C
+    fleet_news(b, 0.0)
+    assert decide(a, 0.0) == [Navigate(B, 0)] and a.waiting_for == (2, B)
+    b.node = A
+    fleet_news(b, 1.0)
+    a.mode = IDLE
+    assert decide(a, 1.0) == [Navigate(B, 0)] and a.waiting_for == (2, B)
+
+
+def test_a_robot_driving_to_its_waiting_place_reports_that_place(line_graph, tmp_path):
+    """a on A drives to its waiting place B; had it stood at C, it would report B all the same:
+    the other robots match on where it will wait, not on the next node of its way."""
+    a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
+    fleet_news(b, 0.0)
+    decide(a, 0.0)
+    assert a.mode == MOVING and free_point(a, 0.0) == (B, 2.0)    # 1 m at 0.5 m/s
+    a.node = C
+    assert free_point(a, 1.0) == (B, 5.0)

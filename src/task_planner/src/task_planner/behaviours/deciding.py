@@ -51,6 +51,7 @@ def decide_here(ctx: Context, now: float) -> list[Command]:
             idle = patrol(ctx, now) if ctx.config.patrol else wait_at_place(ctx, now)
             return commands + (idle or clear_corridor(ctx, now))
         problem, index, step = decision
+        ctx.waiting_for = None   # idle again, the robot chooses its waiting place afresh
         instruction_id = int(problem.ids[index])
         if ctx.fleet and not ctx.fleet.claim(instruction_id, now, int(problem.node[index])):
             ctx.lost_claims.add(instruction_id)

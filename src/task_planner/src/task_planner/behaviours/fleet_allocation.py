@@ -52,8 +52,8 @@ def free_point(ctx: Context, now: float) -> tuple[int, float]:
         return ctx.node, max(now, ctx.verifying_now()[1])
     if ctx.mode == MOVING:
         record = ctx.buffer.get(ctx.goal_for) if ctx.goal_for else None
-        if record is None or not record.is_open:
-            goal = ctx.goal_now()
+        if record is None or not record.is_open:   # driving idle: to its waiting place, if any
+            goal = ctx.waiting_for[1] if ctx.waiting_for is not None else ctx.goal_now()
             return goal, now + travel_s(ctx, ctx.node, goal)
         place = where(ctx, record.instruction)
         return place, now + travel_s(ctx, ctx.node, place) + record.instruction.duration
@@ -131,31 +131,43 @@ def fleet_positions(ctx: Context, now: float) -> tuple[list[str], dict]:
 
 
 def wait_at_place(ctx: Context, now: float) -> list[Command]:
-    """A robot of the fleet's auction with nothing to do drives to its waiting place: the
-    robots free now (by their reports) share the k-median places of the graph, k the live
-    robots, corridors left out (fleet_waiting; found once per k); [] when it is there. A robot
-    that hears from no other waits one renew period of the fleet link before it decides alone:
-    robots started together each see only themselves until the others' first reports, and
-    would all drive to the graph's median."""
+    """A robot of the fleet's auction with nothing to do drives to its waiting place: the live
+    robots, each where its last report to the pool says it will be free (this robot too, so
+    every robot matches on the same table), are matched by least travel to the k-median places
+    of the graph, k the live robots, corridors left out (fleet_waiting; found once per k); []
+    when it is there. The place is kept until the robot serves again or the fleet size changes:
+    matched again on the way, on reports of different ages, two robots could pick one place. A
+    robot that hears from no other waits one renew period of the fleet link before it decides
+    alone: robots started together each see only themselves until the others' first reports."""
     allocator = fleet_allocator(ctx)
     if allocator is None or not allocator.config.wait_at_medians:
         return []
-    names, fleet = fleet_positions(ctx, now)
+    link = ctx.fleet_now()
+    fleet = link.fleet(now)
+    fleet.setdefault(link.robot, (ctx.node, now))   # not reported yet: where it stands
+    names = sorted(fleet)
     if len(names) > 1:
         ctx.alone_since = None
     else:
         ctx.alone_since = now if ctx.alone_since is None else ctx.alone_since
-        if now - ctx.alone_since < ctx.fleet_now().renew_period_s:
+        if now - ctx.alone_since < link.renew_period_s:
             return []
     if len(names) not in ctx.waiting_places:
         corridors = fleet_corridors(ctx)
         ctx.waiting_places[len(names)] = waiting_places(
             ctx.graph.shortest, len(names),
             candidates=[n for n in range(ctx.graph.size) if n not in corridors])
-    nodes = [int(fleet[n][0]) for n in names]
-    idle = [r for r, n in enumerate(names) if float(fleet[n][1]) <= now]
-    place = waiting_place_of(names.index(ctx.fleet_now().robot), nodes, idle,
-                             ctx.waiting_places[len(names)], ctx.graph.shortest)
+    if ctx.waiting_for is not None and ctx.waiting_for[0] == len(names):
+        place = ctx.waiting_for[1]
+    else:
+        # every robot is matched, a busy one where it will be free: robots deciding at nearly
+        # one time each see the other free a moment later, and an idle-only match would send
+        # both to the place nearest them
+        nodes = [int(fleet[n][0]) for n in names]
+        place = waiting_place_of(names.index(link.robot), nodes,
+                                 list(range(len(names))), ctx.waiting_places[len(names)],
+                                 ctx.graph.shortest)
+        ctx.waiting_for = None if place is None else (len(names), place)
     if place is None or place == ctx.node:
         return []
     commands = drive_idle(ctx, place, f"wait at {ctx.graph.names[place]}", now)
