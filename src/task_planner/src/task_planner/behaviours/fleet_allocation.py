@@ -157,6 +157,7 @@ def wait_at_place(ctx: Context, now: float) -> list[Command]:
         ctx.waiting_places[len(names)] = waiting_places(
             ctx.graph.shortest, len(names),
             candidates=[n for n in range(ctx.graph.size) if n not in corridors])
+    place: int | None
     if ctx.waiting_for is not None and ctx.waiting_for[0] == len(names):
         place = ctx.waiting_for[1]
     else:
