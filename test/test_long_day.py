@@ -42,6 +42,7 @@ def test_the_long_day_registers_everyone_and_carols_change_of_clothes(tmp_path):
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     rows = shirt_rows(tmp_path / "run" / HUMANS_DB)
     # every resident's colours came from a meeting during the run (none were imported)
+    assert {source for _, _, _, source in rows} <= {"register", "recall"}, rows
     met = {name for name, _, _, source in rows if source in ("register", "recall")}
     assert set(residents(scenario)) <= met, f"not registered by the robot: {rows}"
     for move in changes:

@@ -4,8 +4,8 @@ from human_factories import make_human
 
 from human_db.errors import InvalidHuman
 from human_db.model import ScheduleEntry
-from human_db.schedule import (check_schedule, entry_in_force, expected_instead,
-                               same_label, time_of_day)
+from human_db.schedule import (check_schedule, doubted_match, entry_in_force,
+                               expected_instead, same_label, time_of_day)
 
 H = 3600.0  # [s]
 WORK = ScheduleEntry(9 * H, 12 * H, "office", "work")
@@ -104,3 +104,18 @@ def test_a_match_the_schedules_contradict_names_who_is_expected_instead():
     assert expected_instead("Bob", "bedroom", 14.5 * H, people) == ""
     assert expected_instead("Frank", "bedroom", 14.5 * H, people) == ""
     assert expected_instead("Alice", "", 14.5 * H, people) == ""
+
+
+
+def test_only_a_weak_match_is_doubted():
+    """Alice's shirt 120 from the sighting in the bedroom at 14:30, where Carol naps: doubted
+    from a sure distance of 80, not from 150; a close one (60) or sure distance 0 never is."""
+    alice = make_human("Alice", schedules=(ScheduleEntry(13 * H, 17.5 * H, "office", "work"),))
+    carol = make_human("Carol", schedules=(ScheduleEntry(14 * H, 15 * H, "bedroom", "sleep"),))
+    people = [alice, carol]
+    assert doubted_match("Alice", 120.0, 80.0, "bedroom", 14.5 * H, people) == "Carol"
+    assert doubted_match("Alice", 80.0, 80.0, "bedroom", 14.5 * H, people) == "Carol"
+    assert doubted_match("Alice", 120.0, 150.0, "bedroom", 14.5 * H, people) == ""
+    assert doubted_match("Alice", 60.0, 80.0, "bedroom", 14.5 * H, people) == ""
+    assert doubted_match("Alice", 120.0, 0.0, "bedroom", 14.5 * H, people) == ""
+    assert doubted_match("Alice", 120.0, 80.0, "office", 14.5 * H, people) == ""

@@ -18,7 +18,8 @@ from perception.answers import (AnswerError, closest_name, parse_age, parse_gend
                                 parse_yes_no)
 from perception.introduction import (AGE, COMPLETE, CONFIRM, FAILED, GENDER, NAME, SUBMITTING,
                                      IntroductionConfig, IntroductionDialogue, NewcomerWatch,
-                                     answered_by_the_stranger, seen_shirt, walked_off)
+                                     answered_by_the_stranger, seen_shirt, shirts_known,
+                                     walked_off)
 from tamp_resources import resource
 
 CONFIG = resource("config")
@@ -386,3 +387,21 @@ def test_a_sighting_two_registered_shirts_fit_alike_is_met_not_guessed(watch):
     red = np.array([[200, 30, 40]] * 3)
     assert all(watch.observe(np.array([[202, 32, 42]] * 3), "welcome", float(t), [navy, red])
                is None for t in range(3))
+
+
+
+def test_a_doubted_sighting_is_checked_against_everyone_else_s_shirt(watch):
+    """Visual perception doubted a sighting closest to Alice's red shirt: it is checked against
+    the other registered shirts only, so it is a stranger to meet unless it matches one of
+    them (Carol's pyjamas registered since). Not met yet, Bob has no shirt to check."""
+    red, pyjamas = np.array([[196, 38, 45]] * 3), np.array([[200, 30, 200]] * 3)
+    known = {"Alice": (red, "192.168.1.101"), "Bob": (None, ""), "Carol": (pyjamas, "")}
+    assert [s.tolist() for s in shirts_known(known)] == [red.tolist(), pyjamas.tolist()]
+    assert [s.tolist() for s in shirts_known(known, "Alice")] == [pyjamas.tolist()]
+    magenta = np.array([[186, 24, 132]] * 3)     # the pyjamas under tungsten light
+    assert watch.observe(magenta, "living_room", 1.0, shirts_known(known, "Alice")) is None
+    assert not watch.strangers                    # Carol, in the shirt she registered
+    del known["Carol"]
+    met = [watch.observe(magenta, "living_room", float(t), shirts_known(known, "Alice"))
+           for t in range(1, 4)]
+    assert len(watch.strangers) == 1 and met[-1] is not None   # met after min_sightings

@@ -66,8 +66,12 @@ def test_a_meeting_cancelled_as_its_stranger_says_who_they_are_is_not_counted(tm
                                    completion_s=40.0)
     recall = dict(time=4.5, person="Carol", place="B", dialogue_s=3.0, why="new clothes")
     record = dict(sim_s=60.0, registrations=[], recalls=[recall])
-    assert needless_meetings([cancelled, unserved], [recall]) == [cancelled]
-    assert needless_meetings([cancelled], [dict(recall, place="A")]) == []
+    assert needless_meetings([cancelled, unserved], [recall], 0.0) == [cancelled]
+    assert needless_meetings([cancelled], [dict(recall, place="A")], 0.0) == []
+    # the record's times count from the run start t0, the journal's do not
+    later = dataclasses.replace(cancelled, completion_s=40.0)
+    assert needless_meetings([later], [dict(recall, time=10.5)], 30.0) == [later]
+    assert needless_meetings([later], [dict(recall, time=40.5)], 30.0) == []
     goals = {g.figure: g for g in run_goals(record, entries + [cancelled], [],
                                             figures["FCFS (model)"], 0.0)}
     own = goals["the robot's own instructions served"]

@@ -145,11 +145,11 @@ def test_with_auction_waiting_a_robot_keeps_its_waiting_place_while_the_fleet_si
     a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
     a.node = C
     fleet_news(b, 0.0)
-    assert decide(a, 0.0) == [Navigate(B, 0)] and a.waiting_for == (2, B)
+    assert decide(a, 0.0) == [Navigate(B, 0)] and a.waiting_for == (("a", "b"), B)
     b.node = A
     fleet_news(b, 1.0)
     a.mode = IDLE
-    assert decide(a, 1.0) == [Navigate(B, 0)] and a.waiting_for == (2, B)
+    assert decide(a, 1.0) == [Navigate(B, 0)] and a.waiting_for == (("a", "b"), B)
 
 
 def test_a_robot_driving_to_its_waiting_place_reports_that_place(line_graph, tmp_path):
@@ -161,3 +161,21 @@ def test_a_robot_driving_to_its_waiting_place_reports_that_place(line_graph, tmp
     assert a.mode == MOVING and free_point(a, 0.0) == (B, 2.0)    # 1 m at 0.5 m/s
     a.node = C
     assert free_point(a, 1.0) == (B, 5.0)
+
+
+
+def test_a_kept_waiting_place_another_robot_reports_itself_at_is_matched_afresh(line_graph,
+                                                                                tmp_path):
+    """a keeps B; b then reports itself free at B: a matches again on the pool's table, where
+    both will be at B, and keeps B as the first name; b, matching on the same table, takes D
+    (the other place of the 2-median)."""
+    from task_planner.executor_commands import Navigate
+    a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
+    fleet_news(b, 0.0)
+    assert decide(a, 0.0) == [Navigate(B, 0)]
+    b.node = B
+    b.fleet.report(B, 1.0, 1.0)
+    a.mode = IDLE
+    assert decide(a, 1.0) == [Navigate(B, 0)] and a.waiting_for == (("a", "b"), B)
+    b.mode = IDLE
+    assert decide(b, 1.0) == [Navigate(C, 0)] and b.waiting_for == (("a", "b"), D)

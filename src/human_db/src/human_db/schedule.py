@@ -82,3 +82,13 @@ def expected_instead(name: str, place: str, seconds_since_midnight: float,
         if entry is not None and entry.place and same_label(entry.place, place):
             return human.name
     return ""
+
+
+def doubted_match(name: str, distance: float, sure_distance: float, place: str,
+                  seconds_since_midnight: float, humans: Iterable[Human]) -> str:
+    """Who the schedules expect instead of `name` when a colour match `distance` (mean Eq. 3-10)
+    from `name`'s shirt is `sure_distance` or farther and `expected_instead` doubts it; "" when
+    the match stands (a close one always does; `sure_distance` <= 0: every match stands)."""
+    if sure_distance <= 0 or distance < sure_distance:
+        return ""
+    return expected_instead(name, place, seconds_since_midnight, humans)

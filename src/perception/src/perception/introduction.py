@@ -97,6 +97,16 @@ def seen_shirt(values: Iterable[float]) -> NDArray[np.int64] | None:
     return None if not colours.any() else colours
 
 
+def shirts_known(known: Mapping[str, tuple[np.ndarray | None, str]],
+                 doubted_as: str = "") -> list[np.ndarray]:
+    """The registered shirts an unidentified sighting is checked against ({name: (shirt or
+    None, phone IP)}): a sighting visual perception doubted (`doubted_as`, the person whose
+    shirt it was closest to) is a stranger unless it matches someone else, such as the person
+    registered in those clothes since."""
+    return [colours for name, (colours, _) in known.items()
+            if colours is not None and name != doubted_as]
+
+
 class NewcomerWatch:
     """Unidentified people -> `introduce` instructions, one per stranger.
 

@@ -60,7 +60,7 @@ from perception.conversions import utterance_time
 from perception.identity_question import YES, IdentityQuestion, QuestionConfig, RecentStrangers
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, answered_by_the_stranger, seen_shirt,
-                                     walked_off)
+                                     shirts_known, walked_off)
 
 ENDED = (InstructionState.DONE, InstructionState.FAILED, InstructionState.CANCELLED)
 
@@ -324,9 +324,7 @@ class IntroductionNode:
         for person in frame.humans:
             if person.name:
                 continue
-            # a doubted match is a stranger unless it matches someone else (registered since)
-            shirts = [colours for name, (colours, _) in known.items()
-                      if colours is not None and name != person.doubted_as]
+            shirts = shirts_known(known, person.doubted_as)
             try:
                 colours = seen_shirt(person.shirt_color)
             except HumanDbError as error:

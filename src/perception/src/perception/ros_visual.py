@@ -16,7 +16,7 @@ import rospy
 import tf2_ros
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from human_db.conversions import human_from_msg
-from human_db.schedule import check_schedule, expected_instead, time_of_day
+from human_db.schedule import check_schedule, doubted_match, time_of_day
 from floorplan.semantic_graph import load_graph
 from supervision.health import fault_text
 from supervision.ros_params import config_from_params
@@ -228,13 +228,10 @@ class VisualNode:
             return "", ""
         if not reply.found:
             return "", ""
-        sure = self.params.sure_distance
-        if sure <= 0 or reply.distance < sure:
-            return reply.name, ""
         with self._lock:
             humans = list(self._humans.values())
-        instead = expected_instead(reply.name, result.place,
-                                   time_of_day(stamp, self.params.utc_offset), humans)
+        instead = doubted_match(reply.name, reply.distance, self.params.sure_distance,
+                                result.place, time_of_day(stamp, self.params.utc_offset), humans)
         if not instead:
             return reply.name, ""
         rospy.loginfo_throttle(30.0, "visual: a shirt %.0f from %s's in the %s, where the "

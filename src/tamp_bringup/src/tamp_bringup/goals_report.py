@@ -44,14 +44,15 @@ def service_delays(entries, model_starts, t0):
             and e.instruction.id in model_starts}
 
 
-def needless_meetings(own, recalls, within_s=RECALL_MATCH_S):
+def needless_meetings(own, recalls, t0, within_s=RECALL_MATCH_S):
     """The meetings of `own` (the robot's journal entries) cancelled because the stranger said
     yes to "are you NAME?": the introduction node cancels the meeting as it registers NAME's
-    shirt (a recall of the record at the meeting's place within `within_s` of the cancel)."""
+    shirt (a recall of the record, stamped from the run start `t0`, at the meeting's place
+    within `within_s` of the cancel)."""
     return [e for e in own
             if e.state == "cancelled" and e.instruction.text.startswith(MEETING_TEXT)
             and any(r["place"] == e.instruction.destination_name
-                    and abs(r["time"] - e.completion_s) <= within_s for r in recalls)]
+                    and abs(r["time"] - (e.completion_s - t0)) <= within_s for r in recalls)]
 
 
 def run_goals(record, entries, searches, model, t0, categories=()):
@@ -78,7 +79,7 @@ def run_goals(record, entries, searches, model, t0, categories=()):
         goals.append(Goal("longest search not interrupted by another instruction",
                           f"{longest:.0f} s{note}", f"≤ {SEARCH_S:.0f} s", longest <= SEARCH_S))
     own = [e for e in entries if e.instruction.type == ROBOT]
-    needless = needless_meetings(own, record.get("recalls", []))
+    needless = needless_meetings(own, record.get("recalls", []), t0)
     own = [e for e in own if e not in needless]
     own_served = sum(e.state == "done" for e in own)
     note = f" ({len(needless)} meeting(s) needless: the stranger said who they are)" \

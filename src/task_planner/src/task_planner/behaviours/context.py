@@ -175,8 +175,9 @@ class Context:
     waiting_places: dict[int, tuple[int, ...]] = field(default_factory=dict)  # fleet size ->
                                    # its k-median places (fleet_allocation.wait_at_place)
     alone_since: float | None = None  # since when no other robot of the fleet reported [s]
-    waiting_for: tuple[int, int] | None = None  # (fleet size, place) of the waiting place the
-                                   # idle robot drives to; kept while the fleet size holds
+    waiting_for: tuple[tuple[str, ...], int] | None = None  # (the fleet's robots, place) of
+                                   # the waiting place the idle robot drives to
+                                   # (fleet_allocation.wait_at_place)
     given_back: dict[int, tuple[float, int]] = field(default_factory=dict)  # id -> (when [s],
                                    # times) the robot gave it back, its place out of reach
     taken: set[int] = field(default_factory=set)  # ids other robots held at this decision's

@@ -51,11 +51,11 @@ def decide_here(ctx: Context, now: float) -> list[Command]:
             idle = patrol(ctx, now) if ctx.config.patrol else wait_at_place(ctx, now)
             return commands + (idle or clear_corridor(ctx, now))
         problem, index, step = decision
-        ctx.waiting_for = None   # idle again, the robot chooses its waiting place afresh
         instruction_id = int(problem.ids[index])
         if ctx.fleet and not ctx.fleet.claim(instruction_id, now, int(problem.node[index])):
             ctx.lost_claims.add(instruction_id)
             continue  # another robot took it first: choose among the rest
+        ctx.waiting_for = None   # serving: idle again, it chooses its waiting place afresh
         if step is None:
             commands += serve_here(ctx, instruction_id, now)
             if ctx.mode in (EXECUTING, VERIFYING, LOOKING):
@@ -99,6 +99,7 @@ def redecide_here(ctx: Context, now: float) -> list[Command]:
     if ctx.fleet and not ctx.fleet.claim(int(problem.ids[index]), now,
                                          int(problem.node[index])):
         return []  # another robot took it first: drive on, the next event decides again
+    ctx.waiting_for = None   # serving: idle again, it chooses its waiting place afresh
     if step == ctx.goal:
         # a patrol's move now serves the instruction; in a fleet the move serves the one
         # the robot claimed (the one before went back to the pool)

@@ -4,8 +4,9 @@ own planner alone.
 
 Every robot reports where it will be free next and from when (`report_free`, after each decision and
 at a tick that finds its mode changed): idle where it stands, now; executing, at its place when its
-function ends; driving for an instruction, at that instruction's place once served; driving on its
-own (a patrol, a given-back claim), at the node it drives to. At a decision (arrival, completion,
+function ends; driving for an instruction, at that instruction's place once served; driving to its
+waiting place, there; driving on its own otherwise (a patrol, a given-back claim), at the node it
+drives to. At a decision (arrival, completion,
 news) the robot builds the fleet's view from these reports (every live robot, itself included, in
 name order: ties go to the first name), auctions the instructions no other robot holds over all of
 them (those another robot holds are left out: its report says when it is free of them), and serves
@@ -53,7 +54,8 @@ def free_point(ctx: Context, now: float) -> tuple[int, float]:
     if ctx.mode == MOVING:
         record = ctx.buffer.get(ctx.goal_for) if ctx.goal_for else None
         if record is None or not record.is_open:   # driving idle: to its waiting place, if any
-            goal = ctx.waiting_for[1] if ctx.waiting_for is not None else ctx.goal_now()
+            waiting = ctx.waiting_for is not None and ctx.patrol_goal is None
+            goal = ctx.waiting_for[1] if waiting else ctx.goal_now()   # type: ignore[index]
             return goal, now + travel_s(ctx, ctx.node, goal)
         place = where(ctx, record.instruction)
         return place, now + travel_s(ctx, ctx.node, place) + record.instruction.duration
@@ -135,8 +137,9 @@ def wait_at_place(ctx: Context, now: float) -> list[Command]:
     robots, each where its last report to the pool says it will be free (this robot too, so
     every robot matches on the same table), are matched by least travel to the k-median places
     of the graph, k the live robots, corridors left out (fleet_waiting; found once per k); []
-    when it is there. The place is kept until the robot serves again or the fleet size changes:
-    matched again on the way, on reports of different ages, two robots could pick one place. A
+    when it is there. The place is kept until the robot serves again, the fleet changes, its
+    drive there is given up (recovery.recover) or another robot reports itself there: matched
+    again on the way, on reports of different ages, two robots could pick one place. A
     robot that hears from no other waits one renew period of the fleet link before it decides
     alone: robots started together each see only themselves until the others' first reports."""
     allocator = fleet_allocator(ctx)
@@ -151,6 +154,7 @@ def wait_at_place(ctx: Context, now: float) -> list[Command]:
     else:
         ctx.alone_since = now if ctx.alone_since is None else ctx.alone_since
         if now - ctx.alone_since < link.renew_period_s:
+            ctx.waiting_for = None
             return []
     if len(names) not in ctx.waiting_places:
         corridors = fleet_corridors(ctx)
@@ -158,8 +162,10 @@ def wait_at_place(ctx: Context, now: float) -> list[Command]:
             ctx.graph.shortest, len(names),
             candidates=[n for n in range(ctx.graph.size) if n not in corridors])
     place: int | None
-    if ctx.waiting_for is not None and ctx.waiting_for[0] == len(names):
-        place = ctx.waiting_for[1]
+    kept = ctx.waiting_for
+    taken = {int(fleet[n][0]) for n in names if n != link.robot}   # where the others will be
+    if kept is not None and kept[0] == tuple(names) and kept[1] not in taken:
+        place = kept[1]
     else:
         # every robot is matched, a busy one where it will be free: robots deciding at nearly
         # one time each see the other free a moment later, and an idle-only match would send
@@ -168,7 +174,7 @@ def wait_at_place(ctx: Context, now: float) -> list[Command]:
         place = waiting_place_of(names.index(link.robot), nodes,
                                  list(range(len(names))), ctx.waiting_places[len(names)],
                                  ctx.graph.shortest)
-        ctx.waiting_for = None if place is None else (len(names), place)
+        ctx.waiting_for = None if place is None else (tuple(names), place)
     if place is None or place == ctx.node:
         return []
     commands = drive_idle(ctx, place, f"wait at {ctx.graph.names[place]}", now)

@@ -78,6 +78,8 @@ def waits(requests, order, graph, functions):
     for t, instruction_id, _ in trace.executed:
         started.setdefault(instruction_id, t)
     waited = [started[r.id] - r.start_time for r in requests if r.id in started]
+    if not waited:
+        return Waits(float("nan"), float("nan"), reward, 0, len(requests))
     return Waits(statistics.median(waited), max(waited), reward, len(started), len(requests))
 
 
