@@ -239,12 +239,12 @@ def test_overdue_instructions_go_by_priority_per_second_of_the_robots_time(line_
 
 def test_the_oldest_overdue_request_goes_first_so_a_long_chat_is_not_passed_over(line_graph,
                                                                                 tmp_path):
-    """The default order (Jackson's rule): Bob's chat here (gamma 5, 60 s), launched at 0 s,
+    """Oldest first (Jackson's rule): Bob's chat here (gamma 5, 60 s), launched at 0 s,
     goes before a call for physical help at D (gamma 8, 30 s, 100 s) and a check here (gamma 3,
     10 s, 200 s), which Smith's rule would serve first; of two launched together, the one with
     the more priority per second."""
     ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
-                       serve_within_s=120.0)
+                       serve_within_s=120.0, overdue_order="oldest")
     journal(ctx, make_instruction(1, B, gamma=5.0, beta=0.96, duration=60, function=1,
                                   start_time=0.0))
     journal(ctx, make_instruction(2, D, gamma=8.0, beta=0.98, duration=30, function=1,
@@ -255,7 +255,7 @@ def test_the_oldest_overdue_request_goes_first_so_a_long_chat_is_not_passed_over
     assert [int(problem.ids[k]) for k in available] == [1]
     (tmp_path / "together").mkdir()
     together = make_context(line_graph, tmp_path / "together", node=B, planner=PriorityFirst(),
-                            serve_within_s=120.0)
+                            serve_within_s=120.0, overdue_order="oldest")
     journal(together, make_instruction(1, B, gamma=5.0, beta=0.96, duration=60, function=1,
                                        start_time=0.0),
             make_instruction(2, B, gamma=3.0, beta=0.94, duration=10, function=1,
@@ -265,7 +265,7 @@ def test_the_oldest_overdue_request_goes_first_so_a_long_chat_is_not_passed_over
 
 
 def test_an_unknown_overdue_order_is_refused_with_the_choices():
-    with pytest.raises(ValueError, match="overdue_order must be one of .*oldest.*smith"):
+    with pytest.raises(ValueError, match="overdue_order must be one of .*smith.*oldest"):
         ExecutorConfig(overdue_order="fifo")
 
 

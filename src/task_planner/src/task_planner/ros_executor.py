@@ -110,8 +110,8 @@ class NodeParams:
     serve_within: float = 120.0    # an instruction launched this long ago is served before any
                                    # newer one [s]; 0 = Eq. 4-2's reward alone decides (the
                                    # seed: an old request may wait for ever)
-    overdue_order: str = "oldest"  # among the overdue ones: "oldest" first (the least maximum
-                                   # lateness) or "smith" (the most priority per second)
+    overdue_order: str = "smith"   # among the overdue ones: "smith" (the most priority per
+                                   # second) or "oldest" first (the least maximum lateness)
     patrol_interval: float = 60.0  # a place looked at this recently is not patrolled [s]
     pass_through: tuple = ()       # places people only pass through: patrolled only while the
                                    # belief or a schedule puts someone there, searched last

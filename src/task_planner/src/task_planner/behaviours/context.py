@@ -25,7 +25,7 @@ from task_planner.robot_functions import RobotFunction
 from task_planner.task_buffer import Record, TaskBuffer
 
 
-OVERDUE_ORDERS = ("oldest", "smith")   # deciding.overdue_first
+OVERDUE_ORDERS = ("smith", "oldest")   # deciding.overdue_first
 
 
 @dataclass(frozen=True)
@@ -66,9 +66,9 @@ class ExecutorConfig:
     serve_within_s: float = 0.0   # instructions launched this long ago are served before any
                                   # newer one (deciding.overdue_first) [s] (0: Eq. 4-2's
                                   # reward alone decides, as the seed)
-    overdue_order: str = "oldest"  # among overdue instructions: "oldest" first (the least
-                                  # maximum lateness) or "smith" (most priority per second of
-                                  # the robot's time: the least weighted completion time)
+    overdue_order: str = "smith"  # among overdue instructions: "smith" (most priority per
+                                  # second of the robot's time: the least weighted completion
+                                  # time) or "oldest" first (the least maximum lateness)
     yield_notice: str = "Excuse me, I am needed elsewhere. I will be back."
     patrol_interval_s: float = 60.0  # a place looked at this recently is not patrolled [s]
     never_looked_s: float = 600.0  # how stale the patrol takes a place never looked at [s]

@@ -207,21 +207,20 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
     over; an overdue one is served before any newer one. A meeting counts as overdue while an
     overdue request waits for it (its stranger may be that request's person), as old as that
     request. Among the overdue ones, whose rewards have decayed to next to nothing, the reward
-    would again serve the newest first; instead, with `overdue_order` "oldest" (the default),
-    the one launched first goes first (the most priority per second breaks ties): Jackson's
-    rule (J. R. Jackson, "Scheduling a production line to minimize maximum tardiness", 1955),
-    which orders jobs with equal allowances to minimise the largest lateness, so no request is
-    passed over for ever. With "smith" the one with the most priority per second of the robot's
-    time goes first: Table 5-5's γ over the time to drive there and serve it (`instructions`:
-    where each is served, with its planning priority, a meeting's inherited). This is Smith's
-    rule (W. E. Smith, "Various optimizers for single-stage production", 1956), which minimises
-    the weighted sum of completion times (a call for physical help elsewhere goes before a long
-    chat here) but lets a long chat wait while shorter ones keep coming
-    (`scripts/bench_overdue` measures both). The charge never competes. While a person's
-    request is eligible the robot's own instructions are not overdue, meetings excepted
-    (§4.2.1: the robot serves itself only when no person needs it; `own_yields`). With the
-    fleet's auction every overdue one stays: the auction gives each to a robot, and a robot
-    kept to one would leave the one given to it waiting."""
+    would again serve the newest first; instead, with `overdue_order` "smith" (the default), the
+    one with the most priority per second of the robot's time goes first: Table 5-5's γ over
+    the time to drive there and serve it (`instructions`: where each is served, with its
+    planning priority, a meeting's inherited). This is Smith's rule (W. E. Smith, "Various
+    optimizers for single-stage production", 1956), which minimises the weighted sum of
+    completion times (a call for physical help elsewhere goes before a long chat here) but lets
+    a long chat wait while shorter ones keep coming. With "oldest" the one launched first goes
+    first (the most priority per second breaks ties): Jackson's rule (J. R. Jackson,
+    "Scheduling a production line to minimize maximum tardiness", 1955), the least largest
+    lateness for equal allowances (`scripts/bench_overdue` measures both). The charge never
+    competes. While a person's request is eligible the robot's own instructions are not
+    overdue, meetings excepted (§4.2.1: the robot serves itself only when no person needs it;
+    `own_yields`). With the fleet's auction every overdue one stays: the auction gives each to a
+    robot, and a robot kept to one would leave the one given to it waiting."""
     limit = ctx.config.serve_within_s
     if limit <= 0 or not len(available):
         return available
@@ -249,10 +248,10 @@ def overdue_first(ctx: Context, pending: Sequence[Record],
             instruction = instructions[k]
             cost_s = travel_s(ctx, ctx.node, instruction.destination) + instruction.duration
             return instruction.gamma / max(cost_s, 1.0), -launched(k)   # ties: the oldest
-        if ctx.config.overdue_order == "smith":
-            overdue = [max(overdue, key=priority_per_s)]
-        else:
+        if ctx.config.overdue_order == "oldest":
             overdue = [min(overdue, key=lambda k: (launched(k), -priority_per_s(k)[0]))]
+        else:
+            overdue = [max(overdue, key=priority_per_s)]
     return np.array([k for k in available if k in charges or k in overdue], dtype=int)
 
 
