@@ -239,20 +239,23 @@ def test_overdue_instructions_go_by_priority_per_second_of_the_robots_time(line_
 
 def test_the_oldest_overdue_request_goes_first_so_a_long_chat_is_not_passed_over(line_graph,
                                                                                 tmp_path):
-    """Oldest first (Jackson's rule): Bob's chat here (gamma 5, 60 s), launched at 0 s,
-    goes before a call for physical help at D (gamma 8, 30 s, 100 s) and a check here (gamma 3,
-    10 s, 200 s), which Smith's rule would serve first; of two launched together, the one with
-    the more priority per second."""
+    """Oldest first (Jackson's rule), the set of the test above launched in another order:
+    Bob's chat here (gamma 5, 60 s) at 0 s goes before the call for physical help at D (100 s)
+    and the check here (200 s), which Smith's rule serves first; of two launched together, the
+    one with the more priority per second."""
     ctx = make_context(line_graph, tmp_path, node=B, planner=PriorityFirst(),
-                       serve_within_s=120.0, overdue_order="oldest")
-    journal(ctx, make_instruction(1, B, gamma=5.0, beta=0.96, duration=60, function=1,
-                                  start_time=0.0))
-    journal(ctx, make_instruction(2, D, gamma=8.0, beta=0.98, duration=30, function=1,
-                                  start_time=100.0), now=100.0)
-    journal(ctx, make_instruction(3, B, gamma=3.0, beta=0.94, duration=10, function=1,
-                                  start_time=200.0), now=200.0)
-    problem, available = fetch_and_decode(ctx, 400.0)
-    assert [int(problem.ids[k]) for k in available] == [1]
+                       serve_within_s=120.0)
+    launches = {2: 0.0, 1: 100.0, 3: 200.0}     # the chat, the call, the check
+    for k, (place, gamma, beta, duration) in {2: (B, 5.0, 0.96, 60), 1: (D, 8.0, 0.98, 30),
+                                               3: (B, 3.0, 0.94, 10)}.items():
+        journal(ctx, make_instruction(k, place, gamma=gamma, beta=beta, duration=duration,
+                                      function=1, start_time=launches[k]), now=launches[k])
+    orders = {}
+    for order in ("smith", "oldest"):
+        ctx.config = replace(ctx.config, overdue_order=order)
+        problem, available = fetch_and_decode(ctx, 400.0)
+        orders[order] = [int(problem.ids[k]) for k in available]
+    assert orders == {"smith": [3], "oldest": [2]}
     (tmp_path / "together").mkdir()
     together = make_context(line_graph, tmp_path / "together", node=B, planner=PriorityFirst(),
                             serve_within_s=120.0, overdue_order="oldest")
