@@ -70,7 +70,7 @@ class VisualParams:
     sure_distance: float = 80.0           # ~sure_distance: a colour match this far (mean
                                           # Eq. 3-10) or farther that the schedules contradict
                                           # is doubted: published as a stranger, the robot asks
-                                          # (human_db.schedule.expected_instead); 0: never
+                                          # (human_db.schedule.doubted_match); 0: never
 
 
 def read_params():
@@ -229,9 +229,10 @@ class VisualNode:
         if not reply.found:
             return "", ""
         with self._lock:
-            humans = list(self._humans.values())
+            humans = self._humans   # _on_humans replaces the table, never changes it
         instead = doubted_match(reply.name, reply.distance, self.params.sure_distance,
-                                result.place, time_of_day(stamp, self.params.utc_offset), humans)
+                                result.place, time_of_day(stamp, self.params.utc_offset),
+                                humans.values())
         if not instead:
             return reply.name, ""
         rospy.loginfo_throttle(30.0, "visual: a shirt %.0f from %s's in the %s, where the "

@@ -54,8 +54,8 @@ def free_point(ctx: Context, now: float) -> tuple[int, float]:
     if ctx.mode == MOVING:
         record = ctx.buffer.get(ctx.goal_for) if ctx.goal_for else None
         if record is None or not record.is_open:   # driving idle: to its waiting place, if any
-            waiting = ctx.waiting_for is not None and ctx.patrol_goal is None
-            goal = ctx.waiting_for[1] if waiting else ctx.goal_now()   # type: ignore[index]
+            kept = ctx.waiting_for
+            goal = kept[1] if kept is not None and ctx.patrol_goal is None else ctx.goal_now()
             return goal, now + travel_s(ctx, ctx.node, goal)
         place = where(ctx, record.instruction)
         return place, now + travel_s(ctx, ctx.node, place) + record.instruction.duration
