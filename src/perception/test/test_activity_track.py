@@ -26,7 +26,7 @@ def test_too_rare_a_score_falls_back_to_the_posture_most_frames_read():
 
 
 def test_old_frames_leave_the_window_and_a_new_place_starts_a_new_one():
-    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0))
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=0.0))
     tracks.update("Alice", 0.0, "office", "work", {"work": 1.0}, "sitting")
     assert tracks.update("Alice", 1.0, "office", "sitting", {}, "sitting") == "work"
     assert tracks.update("Alice", 2.5, "office", "sitting", {}, "sitting") == "sitting"
@@ -47,6 +47,35 @@ def test_window_zero_is_the_seeds_framewise_reading():
     assert tracks.update("Carol", 0.2, "dining_room", "sitting", {}, "sitting") == "sitting"
 
 
+def test_an_activity_read_close_up_is_kept_while_the_person_sits_at_the_place():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=60.0))
+    assert tracks.update("Carol", 0.0, "dining_room", "drink", DRINK, "sitting") == "drink"
+    # seen from across the room: no cup, the posture alone, or no posture at all
+    assert tracks.update("Carol", 30.0, "dining_room", "sitting", {}, "sitting") == "drink"
+    assert tracks.update("Carol", 59.0, "dining_room", "unknown", {}, "unknown") == "drink"
+    assert tracks.update("Carol", 60.5, "dining_room", "sitting", {}, "sitting") == "sitting"
+
+
+def test_a_kept_activity_ends_when_the_posture_changes_or_the_person_moves():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=60.0))
+    tracks.update("Bob", 0.0, "dining_room", "eat", {"eat": 1.0}, "sitting")
+    assert tracks.update("Bob", 5.0, "dining_room", "standing", {}, "standing") == "standing"
+    assert tracks.update("Bob", 8.0, "dining_room", "sitting", {}, "sitting") == "sitting"
+    tracks.update("Bob", 10.0, "dining_room", "eat", {"eat": 1.0}, "unknown")
+    tracks.update("Bob", 10.2, "dining_room", "eat", {"eat": 1.0}, "sitting")
+    assert tracks.update("Bob", 20.0, "living_room", "sitting", {}, "sitting") == "sitting"
+
+
+def test_hold_zero_keeps_nothing_and_a_later_reading_replaces_the_kept_one():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=0.0))
+    tracks.update("Alice", 0.0, "office", "work", {"work": 1.0}, "sitting")
+    assert tracks.update("Alice", 3.0, "office", "sitting", {}, "sitting") == "sitting"
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=60.0))
+    tracks.update("Alice", 0.0, "office", "work", {"work": 1.0}, "sitting")
+    tracks.update("Alice", 10.0, "office", "read", {"read": 1.0}, "sitting")
+    assert tracks.update("Alice", 20.0, "office", "sitting", {}, "sitting") == "read"
+
+
 def test_a_window_or_threshold_that_cannot_work_is_named():
     import pytest
     with pytest.raises(ValueError, match=r"activity_window must be a finite time >= 0 \[s\]; "
@@ -54,3 +83,6 @@ def test_a_window_or_threshold_that_cannot_work_is_named():
         ActivityTrackConfig(window_s=-1.0)
     with pytest.raises(ValueError, match=r"activity_min_probability must be in \[0, 1\]; got 2"):
         ActivityTrackConfig(min_probability=2)
+    with pytest.raises(ValueError, match=r"activity_hold must be a finite time >= 0 \[s\]; "
+                                         r"got inf"):
+        ActivityTrackConfig(hold_s=float("inf"))

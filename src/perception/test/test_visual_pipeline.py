@@ -1,6 +1,8 @@
 """Frame -> per-person results on simulator frames; self-generated instructions (Sec. 4.2.1)."""
+import math
 import os
 
+import numpy as np
 import pytest
 from human_db.model import ScheduleEntry
 from human_db.schedule import check_schedule
@@ -12,7 +14,10 @@ from perception.activity import load_affordances
 from perception.requests import load_keyword_config
 from perception.self_instructions import (
     Observation, SelfInstructionConfig, SelfInstructionGenerator)
-from perception.visual_pipeline import ObjectBox, unknown_classes
+from perception.keypoints import L_ANKLE, NECK, NUM_KEYPOINTS, R_HIP
+from perception.localisation import Intrinsics, optical_to_map_transform
+from perception.visual_pipeline import (ObjectBox, PersonView, StackedCameras, joints_in_map,
+                                        unknown_classes)
 from tamp_resources import resource
 
 CONFIG = resource("config")
@@ -95,3 +100,30 @@ def test_reminder_when_a_schedule_entry_starts(generator):
     # across midnight: 23:00 lies in (22:59:59, 00:00:01]
     [late] = gen.due_reminders([Bob()], 23 * 3600 - 1, 1.0, 700.0)
     assert late.text == "remind Bob: time to sleep in the bedroom"
+
+
+def test_joints_come_back_to_where_they_are_in_the_map():
+    """Neck and hips projected into the top camera, an ankle into the bottom one (the stitched
+    frame's lower half), through Eqs. 3-3..3-5 and the cameras' poses, and back: the joints in
+    the map; a joint without depth or confidence stays unknown."""
+    intr = Intrinsics(583.9, 588.5, 320.0, 240.0, 640, 480)
+    robot = (1.0, 2.0, math.pi / 2)
+    to_map = {"top": optical_to_map_transform(robot, 0.09, 1.15, 0.1),
+              "bottom": optical_to_map_transform(robot, 0.09, 1.05, 0.8)}
+    cameras = StackedCameras(480, {"top": intr, "bottom": intr}, to_map)
+    where = {NECK: ("top", (1.0, 4.0, 1.03)), R_HIP: ("top", (0.9, 4.0, 0.48)),
+             L_ANKLE: ("bottom", (1.1, 3.2, 0.08))}
+    points, depth = np.zeros((NUM_KEYPOINTS, 2)), np.full(NUM_KEYPOINTS, np.nan)
+    confidence = np.zeros(NUM_KEYPOINTS)
+    for joint, (which, xyz) in where.items():
+        x, y, z = (np.linalg.inv(to_map[which]) @ np.append(xyz, 1.0))[:3]
+        points[joint] = (intr.fx * x / z + intr.cx,
+                         intr.fy * y / z + intr.cy + (480 if which == "bottom" else 0))
+        depth[joint], confidence[joint] = z, 0.9
+    body = joints_in_map(PersonView(points, confidence, depth, np.zeros((3, 3))), cameras, 0.3)
+    for joint, (_, xyz) in where.items():
+        assert body[joint] == pytest.approx(xyz, abs=1e-9)
+    assert np.isnan(np.delete(body, list(where), axis=0)).all()
+    depth[NECK] = 0.1                                          # below the valid depth
+    body = joints_in_map(PersonView(points, confidence, depth, np.zeros((3, 3))), cameras, 0.3)
+    assert np.isnan(body[NECK]).all()

@@ -14,7 +14,12 @@ lying on a bed is sleeping); the top of the torso falls back from the neck to th
 head so a lying person whose neck is out of the frame still has a posture; another person's
 skeleton standing near the person and facing them is a person in the eyesight (a chat partner,
 Table 5-4) even when no 'person' box lies in the gaze cone, e.g. when the person faces the camera
-or turns away from it (the body's heading is read from the shoulders' depths).
+or turns away from it (the body's heading is read from the shoulders' depths); with the joints in
+the map (an RGB-D camera at a known pose), the posture comes from the body in 3-D -- the torso's
+slope and the height of the neck above the floor -- so a person lying seen from the feet, or
+sitting behind a table that hides the hips, still has a posture; and an activity the affordance
+table allows only in some postures (`postures:`: putting things in the fridge or going out is
+done standing) scores nothing in another one.
 """
 import math
 from collections.abc import Collection, Iterable, Mapping, Sequence
@@ -62,6 +67,12 @@ class ActivityConfig:
     hand_depth_gap: float = 0.6        # [m] an object whose depth is this much beyond or before
     #                                    the hands' is not near them, whatever the image says
     #                                    (0: image distance only, as the seed)
+    # Posture from the joints in the map (False: from the image alone, as the seed). Heights of
+    # the neck above the floor: an adult's is about 1.45 m standing, 1.0-1.1 m sitting on a chair
+    # or sofa, about 0.6 m lying on a bed.
+    posture_3d: bool = True
+    standing_height: float = 1.25      # [m] neck (else mid-shoulders) at least this high: standing
+    lying_height: float = 0.8          # [m] below this: lying
 
 
 @dataclass
@@ -74,6 +85,7 @@ class AffordanceTable:
     looking_at_hands: dict = field(default_factory=dict)   # {activity: P_E(a|E)}
     support: dict = field(default_factory=dict)   # posture -> label -> {activity: P_s(a|o,pose)}
     no_affordance: frozenset = frozenset()        # labels known to say nothing of the activity
+    postures: dict = field(default_factory=dict)  # activity -> postures it is done in (absent: any)
 
     def known(self, label: str) -> bool:
         """True for a class the table has an entry for (or knows to carry no affordance)."""
@@ -160,7 +172,15 @@ def load_affordances(path: str | Path) -> AffordanceTable:
             raise ValueError(f"{path} support: unknown posture '{posture}' (one of {POSTURES})")
         _check_probabilities(f"{path} support.{posture}", rows, activities)
     no_affordance = frozenset(doc.get("no_affordance") or ())
-    return AffordanceTable(activities, hands, eyes, looking, support, no_affordance)
+    postures = {a: tuple(v) for a, v in (doc.get("postures") or {}).items()}
+    for activity, allowed in postures.items():
+        if activity not in activities:
+            raise ValueError(f"{path} postures: unknown activity '{activity}'")
+        wrong = [x for x in allowed if x not in POSTURES]
+        if wrong or not allowed:
+            raise ValueError(f"{path} postures.{activity}: {wrong or 'no posture'} "
+                             f"(each one of {POSTURES})")
+    return AffordanceTable(activities, hands, eyes, looking, support, no_affordance, postures)
 
 
 def _min_angle(skeleton: Skeleton, targets: ArrayLike) -> float:
@@ -347,7 +367,8 @@ def activity_scores(near: Iterable[SeenObject], seen: Iterable[SeenObject], look
                     table: AffordanceTable, config: ActivityConfig,
                     resting_on: Iterable[SeenObject] = (), posture: str = "") -> dict[str, float]:
     """Eqs. 3-11 ... 3-13: Score(a) = w_h sum_Oh P_h(a|o)P(o) + w_e sum_Oe P_e(a|o)P(o) + w_E P_E,
-    plus our support term w_s sum_Os P_s(a|o, posture)P(o) for the furniture rested on.
+    plus our support term w_s sum_Os P_s(a|o, posture)P(o) for the furniture rested on; 0 for an
+    activity the table's `postures` does not allow in a known `posture`.
     """
     score = dict.fromkeys(table.activities, 0.0)
     for obj in resting_on:
@@ -362,6 +383,10 @@ def activity_scores(near: Iterable[SeenObject], seen: Iterable[SeenObject], look
     if looking:
         for a, p in table.looking_at_hands.items():
             score[a] += config.weight_looking * p
+    if posture in POSTURES:      # beyond the seed: not done in this posture
+        for a, allowed in table.postures.items():
+            if posture not in allowed:
+                score[a] = 0.0
     return score
 
 
@@ -392,19 +417,46 @@ def posture_from_skeleton(skeleton: Skeleton, config: ActivityConfig) -> str:
     return UNKNOWN_POSTURE
 
 
+def posture_from_body(points: ArrayLike, config: ActivityConfig) -> str:
+    """General activity from the joints in the map (18, 3) [m], z up, NaN rows unknown (beyond
+    the seed): lying when the torso (neck, else mid-shoulders, to mid-hips) runs more across than
+    up (`lying_ratio`) or the neck is below `lying_height`; standing from `standing_height`;
+    else sitting; unknown without a neck or both shoulders."""
+    body = np.asarray(points, dtype=float)
+    top = body[NECK] if np.isfinite(body[NECK]).all() else (
+        body[list(SHOULDERS)].mean(axis=0) if np.isfinite(body[list(SHOULDERS)]).all() else None)
+    if top is None:
+        return UNKNOWN_POSTURE
+    hips = body[list(HIPS)]
+    hips = hips[np.isfinite(hips).all(axis=1)]
+    if len(hips):
+        across, up = top[:2] - hips.mean(axis=0)[:2], top[2] - hips.mean(axis=0)[2]
+        if up <= 0.0 or float(np.hypot(*across)) > config.lying_ratio * up:
+            return "lying"
+    if top[2] < config.lying_height:
+        return "lying"
+    return "standing" if top[2] >= config.standing_height else "sitting"
+
+
 def recognise_activity(skeleton: Skeleton, objects: Sequence[SeenObject], table: AffordanceTable,
                        config: ActivityConfig, depth: ArrayLike | None = None,
-                       others: Sequence[BodyView] = ()) -> ActivityResult:
+                       others: Sequence[BodyView] = (),
+                       body: ArrayLike | None = None) -> ActivityResult:
     """Algorithm 3-3 with the hierarchical fallback: detailed activity or posture.
 
     Args:
         depth: (18,) joint depths [m] of the person (None: no chat partners from skeletons).
         others: [BodyView] the other people of the frame.
+        body: (18, 3) the joints in the map [m], NaN rows unknown (None: the posture is read
+            from the image alone).
     """
     near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config, depth)
     if config.partners_from_skeletons and depth is not None and others:
         seen = seen + partner_objects(chat_partners(skeleton, depth, others, config), seen)
-    posture = posture_from_skeleton(skeleton, config)
+    posture = (posture_from_body(body, config) if config.posture_3d and body is not None
+               else UNKNOWN_POSTURE)
+    if posture == UNKNOWN_POSTURE:
+        posture = posture_from_skeleton(skeleton, config)
     resting = (support_objects(skeleton, objects, posture, table, config)
                if config.weight_support > 0 else [])
     probabilities = activity_probabilities(

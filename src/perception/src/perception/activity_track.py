@@ -5,10 +5,17 @@ A real detector misses a cup or a fork in most frames (docs/perception/camera_ca
 so a framewise reading flickers between the detailed activity and the posture. Per identified
 person, the frames of the last `window_s` seconds at the same place are fused: the mean of each
 detailed activity's probability over those frames (a frame without a score adds 0) decides when
-it reaches `min_probability`; else the posture most frames read; else "unknown". A person seen at
-another place starts a new window (they moved, so they may do something else).
+it reaches `min_probability` and no other activity ties with it; else the posture most frames
+read; else "unknown". A person seen at another place starts a new window (they moved, so they
+may do something else).
 
-`window_s` 0 is the seed's framewise reading.
+The robot mostly sees people from across a room, where a cup or a bowl is too small for the
+detector: a detailed activity read is kept for `hold_s` seconds after the last window that read
+it, while the person stays at the place and no frame reads another posture than the one it was
+read in (someone who stood up has stopped eating). A window that reads a detailed activity
+replaces the one kept.
+
+`window_s` 0 is the seed's framewise reading (nothing is kept either).
 """
 import math
 from collections import Counter, deque
@@ -22,6 +29,8 @@ from perception.activity import POSTURES, UNKNOWN_POSTURE
 class ActivityTrackConfig:
     window_s: float = 8.0          # [s] frames of a person this recent are fused (0: framewise)
     min_probability: float = 0.2   # [-] mean P(a) over the window for a detailed activity
+    hold_s: float = 60.0           # [s] a detailed activity is kept this long after the last
+    #                                window that read it (same place and posture; 0: not kept)
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.window_s) and self.window_s >= 0):
@@ -30,6 +39,8 @@ class ActivityTrackConfig:
         if not 0.0 <= self.min_probability <= 1.0:
             raise ValueError(f"activity_min_probability must be in [0, 1]; "
                              f"got {self.min_probability}")
+        if not (math.isfinite(self.hold_s) and self.hold_s >= 0):
+            raise ValueError(f"activity_hold must be a finite time >= 0 [s]; got {self.hold_s}")
 
 
 @dataclass
@@ -40,9 +51,27 @@ class _Frame:
 
 
 @dataclass
+class _Held:
+    activity: str
+    posture: str     # the posture it was read in (the last known one; "unknown": none)
+    stamp: float     # [s] the last frame whose window read it
+
+
+@dataclass
 class _Track:
     place: str
     frames: deque = field(default_factory=deque)
+    held: _Held | None = None
+
+
+def is_detailed(activity: str) -> bool:
+    """True for a detailed activity, False for a posture or "unknown"."""
+    return activity not in POSTURES and activity != UNKNOWN_POSTURE
+
+
+def same_posture(a: str, b: str) -> bool:
+    """False only when both are postures and differ (an unknown posture contradicts nothing)."""
+    return a not in POSTURES or b not in POSTURES or a == b
 
 
 def fuse(frames: Sequence[_Frame] | deque, config: ActivityTrackConfig) -> str:
@@ -51,8 +80,10 @@ def fuse(frames: Sequence[_Frame] | deque, config: ActivityTrackConfig) -> str:
     for frame in frames:
         total.update(frame.probabilities)
     if total:
-        best, score = max(total.items(), key=lambda kv: (kv[1], kv[0]))
-        if score / len(frames) >= config.min_probability:
+        ranked = sorted(total.items(), key=lambda kv: (-kv[1], kv[0]))
+        (best, score), runner_up = ranked[0], ranked[1][1] if len(ranked) > 1 else 0.0
+        # a tie singles out nothing (a chair near the hands spreads over the seated activities)
+        if score / len(frames) >= config.min_probability and not math.isclose(score, runner_up):
             return best
     postures = Counter(f.posture for f in frames if f.posture in POSTURES)
     if postures:
@@ -70,7 +101,8 @@ class ActivityTracks:
     def update(self, name: str, stamp: float, place: str, framewise: str,
                probabilities: Mapping[str, float], posture: str) -> str:
         """Add one frame of `name` (time [s], place, the frame's own reading) -> the activity
-        of their window; `framewise` is returned unchanged when fusion is off."""
+        of their window, else the detailed activity kept for them; `framewise` is returned
+        unchanged when fusion is off."""
         if self.config.window_s <= 0:
             return framewise
         track = self._tracks.get(name)
@@ -81,4 +113,22 @@ class ActivityTracks:
                           or frames[0].stamp > stamp):    # old, or a clock that went back
             frames.popleft()
         frames.append(_Frame(stamp, dict(probabilities), posture))
-        return fuse(frames, self.config)
+        activity = fuse(frames, self.config)
+        if is_detailed(activity):
+            held = track.held
+            read_in = held.posture if held is not None and held.activity == activity \
+                else UNKNOWN_POSTURE
+            track.held = _Held(activity, posture if posture in POSTURES else read_in, stamp)
+            return activity
+        return self._kept(track, stamp, posture) or activity
+
+    def _kept(self, track: _Track, stamp: float, posture: str) -> str | None:
+        """The detailed activity kept for the track at `stamp` in `posture`, or None."""
+        held = track.held
+        if held is None:
+            return None
+        if not same_posture(held.posture, posture) or not (
+                0.0 <= stamp - held.stamp <= self.config.hold_s):
+            track.held = None
+            return None
+        return held.activity

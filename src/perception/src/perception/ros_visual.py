@@ -67,6 +67,9 @@ class VisualParams:
                                           # (activity_track; 0: framewise, the seed)
     activity_min_probability: float = 0.2  # ~activity_min_probability: mean P(a) over the
                                            # window for a detailed activity
+    activity_hold: float = 60.0           # ~activity_hold [s]: a detailed activity read is kept
+                                          # this long while the person stays at the place in
+                                          # the same posture (0: not kept)
     sure_distance: float = 80.0           # ~sure_distance: a colour match this far (mean
                                           # Eq. 3-10) or farther that the schedules contradict
                                           # is doubted: published as a stranger, the robot asks
@@ -118,7 +121,8 @@ class VisualNode:
             functions, priority, self.graph.place_ids(), codes)
         self.config = ActivityConfig()
         self.tracks = ActivityTracks(ActivityTrackConfig(
-            float(p.activity_window), float(p.activity_min_probability)))
+            float(p.activity_window), float(p.activity_min_probability),
+            float(p.activity_hold)))
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.identify = rospy.ServiceProxy("human_db/identify", IdentifyHuman)

@@ -123,6 +123,18 @@ def locate(skeleton: Skeleton, depth: float | None,
     return float(x), float(y)
 
 
+def joints_in_map(person: PersonView, cameras: StackedCameras,
+                  min_depth: float) -> np.ndarray:
+    """(18, 3) map position [m] of every joint detected with a valid depth; NaN rows else."""
+    body = np.full((len(person.points), 3), np.nan)
+    for j, ((u, v), conf, d) in enumerate(zip(person.points, person.confidence, person.depth)):
+        if conf > 0 and np.isfinite(d) and d >= min_depth and np.isfinite([u, v]).all():
+            which, u_cam, v_cam = stitched_pixel(float(u), float(v), cameras.top_height)
+            point = pixel_to_camera(u_cam, v_cam, float(d), cameras.intrinsics[which])
+            body[j] = transform_point(cameras.to_map[which], point)
+    return body
+
+
 def analyse_person(person: PersonView, objects: Sequence[ObjectBox], table: AffordanceTable,
                    config: ActivityConfig, cameras: StackedCameras | None,
                    graph: SemanticGraph | None, min_depth: float = 0.3,
@@ -130,9 +142,10 @@ def analyse_person(person: PersonView, objects: Sequence[ObjectBox], table: Affo
     """Activity, map position, semantic place and shirt colours of one person (`others`: the
     frame's other people as BodyView, possible chat partners)."""
     skeleton = as_skeleton(person.points, person.confidence)
+    body = joints_in_map(person, cameras, min_depth) if cameras is not None else None
     result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects), table,
                                              config, np.asarray(person.depth, dtype=float),
-                                             others))
+                                             others, body))
     if len(present(skeleton, range(len(skeleton)))) < len(skeleton):
         result.problems.append("skeleton has missing joints")
     if cameras is not None:

@@ -9,11 +9,11 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-from perception.visual_pipeline import FrameView
+from perception.visual_pipeline import FrameView, StackedCameras
 from sim2d.world import World
 from sim2d.world_config import WorldError
 
-from tamp_bringup.sim_activity_set import object_box, person_view
+from tamp_bringup.sim_activity_set import object_box, person_view, stacked_cameras
 
 STEP_S = 0.5    # [s] people are moved along their schedules in steps this long
 
@@ -26,6 +26,8 @@ class Viewing:
     activity: str
     robot_pose: tuple
     frames: list          # [(FrameView, [person name or "" per PersonView])]
+    cameras: StackedCameras   # the robot's cameras at robot_pose
+
 
 
 def frame_view(camera_frame) -> tuple[FrameView, list[str]]:
@@ -64,4 +66,5 @@ def viewings(world_file: str, times: Sequence[float], distances: Sequence[float]
                 if not robot.camera.in_line_of_sight(pose, [person.pose[:2]])[0]:
                     continue
                 seen = [frame_view(world.camera_frame(robot.name)) for _ in range(frames)]
-                yield Viewing(person.name, person.activity, pose, seen)
+                yield Viewing(person.name, person.activity, pose, seen,
+                              stacked_cameras(robot.camera, pose))

@@ -9,6 +9,7 @@ back until both torsos and heads are in the image. As in the simulator, a head t
 the robot hides its nose and eyes.
 """
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +20,8 @@ from sim2d.skeleton import (
     person_keypoints)
 from sim2d.world import SimObject
 
-from perception.visual_pipeline import FrameView, ObjectBox, PersonView
+from perception.localisation import Intrinsics, optical_to_map_transform
+from perception.visual_pipeline import FrameView, ObjectBox, PersonView, StackedCameras
 
 SHIRT = ((196, 38, 45), (180, 30, 40), (184, 33, 42))
 PARTNER_SHIRT = ((40, 90, 170), (35, 80, 160), (38, 85, 165))
@@ -85,6 +87,18 @@ def make_camera(config, seed):
     top = CameraConfig(tilt=0.1)
     bottom = CameraConfig(mount_height=1.05, tilt=0.8)
     return Camera(top, bottom, DetectionConfig(**{**config, "seed": seed}), occluders=None)
+
+
+def stacked_cameras(camera, robot_pose: Sequence[float]) -> StackedCameras:
+    """sim2d Camera (top and bottom CameraConfig) at a robot pose -> StackedCameras, as the
+    visual node builds them from its camera parameters and tf."""
+    parts = {}
+    for which, spec in (("top", camera.top), ("bottom", camera.bottom)):
+        parts[which] = (Intrinsics(spec.fx, spec.fy, spec.cx, spec.cy, spec.width, spec.height),
+                        optical_to_map_transform(robot_pose, spec.mount_x, spec.mount_height,
+                                                 spec.tilt))
+    return StackedCameras(camera.top.height, {k: v[0] for k, v in parts.items()},
+                          {k: v[1] for k, v in parts.items()})
 
 
 def _pair_poses(distance, bearing, facing, separation):
@@ -156,7 +170,10 @@ def _add_person(frame, camera, name, keypoints, shirt, robot_pose):
         frame.objects.append(object_box(box))
 
 
-def scene_frame(scene, camera, distance, bearing, facing, robot_pose=(0.0, 0.0, 0.0)):
+ROBOT_POSE = (0.0, 0.0, 0.0)   # the robot of every scene, at the map origin facing +x
+
+
+def scene_frame(scene, camera, distance, bearing, facing, robot_pose=ROBOT_POSE):
     """One labelled frame: the person `distance` [m] ahead at `bearing` [rad], body yaw `facing`
     [rad] relative to looking back at the robot (with a partner: see `_pair_poses`). The
     labelled person is the frame's first person."""
@@ -184,7 +201,8 @@ def scene_frame(scene, camera, distance, bearing, facing, robot_pose=(0.0, 0.0, 
 
 
 def labelled_frames(distances, bearings, facings, detection, seed=0):
-    """[(label, FrameView)] over every scene x distance x bearing x facing."""
+    """[(label, FrameView)] over every scene x distance x bearing x facing, the robot at
+    ROBOT_POSE."""
     camera = make_camera(detection, seed)
-    return [(scene.label, scene_frame(scene, camera, d, b, f))
+    return [(scene.label, scene_frame(scene, camera, d, b, f, ROBOT_POSE))
             for scene in SCENES for d in distances for b in bearings for f in facings]

@@ -33,7 +33,8 @@ def evaluate(world_file, times, window_s, report=print):
     for viewing in viewings(world_file, times):
         tracks = ActivityTracks(ActivityTrackConfig(window_s=window_s))
         for k, (frame, names) in enumerate(viewing.frames):
-            for result, name in zip(analyse_frame(frame, table, config), names):
+            for result, name in zip(analyse_frame(frame, table, config, viewing.cameras),
+                                    names):
                 if name != viewing.person:
                     continue
                 act = result.activity
