@@ -179,3 +179,22 @@ def test_a_kept_waiting_place_another_robot_reports_itself_at_is_matched_afresh(
     assert decide(a, 1.0) == [Navigate(B, 0)] and a.waiting_for == (("a", "b"), B)
     b.mode = IDLE
     assert decide(b, 1.0) == [Navigate(C, 0)] and b.waiting_for == (("a", "b"), D)
+
+
+def test_a_waiting_place_out_of_reach_is_not_driven_to_again_for_corridor_wait(line_graph,
+                                                                              tmp_path):
+    """a drives from A to its waiting place B and gives up (something blocks B): matched
+    afresh, it gets B again, and waits on A instead of bumping into the block every tick; after
+    corridor_wait_s it tries again."""
+    from task_planner.behaviours.recovery import recover
+    from task_planner.executor_commands import Navigate
+    a, b = robots(line_graph, tmp_path, fleet_allocator="auction_waiting")
+    fleet_news(b, 0.0)
+    assert decide(a, 0.0) == [Navigate(B, 0)]
+    a.attempts = a.config.max_goal_attempts
+    recover(a, 3.0, "blocked")
+    assert a.mode == IDLE and a.wait_given_up == (B, 3.0) and a.node == A
+    wait = a.config.corridor_wait_s
+    assert decide(a, 4.0) == [] and decide(a, 3.0 + wait - 0.1) == [] and a.mode == IDLE
+    fleet_news(b, 3.0 + wait)                            # b still free on D
+    assert decide(a, 3.0 + wait) == [Navigate(B, 0)]

@@ -178,6 +178,8 @@ class Context:
     waiting_for: tuple[tuple[str, ...], int] | None = None  # (the fleet's robots, place) of
                                    # the waiting place the idle robot drives to
                                    # (fleet_allocation.wait_at_place)
+    wait_given_up: tuple[int, float] | None = None  # (node, when [s]) a drive to a waiting
+                                   # place was given up at (recovery.recover)
     given_back: dict[int, tuple[float, int]] = field(default_factory=dict)  # id -> (when [s],
                                    # times) the robot gave it back, its place out of reach
     taken: set[int] = field(default_factory=set)  # ids other robots held at this decision's

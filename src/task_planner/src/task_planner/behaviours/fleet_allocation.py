@@ -132,13 +132,31 @@ def fleet_positions(ctx: Context, now: float) -> tuple[list[str], dict]:
     return sorted(fleet), fleet
 
 
+def out_of_reach(ctx: Context, place: int, now: float) -> bool:
+    """The way to waiting place `place` leads through the node where a drive to a waiting place
+    was given up less than `corridor_wait_s` ago (recovery.recover): the robot waits where it
+    is, as an instruction given back to the fleet is left that long, instead of bumping into
+    whatever blocks that way again and again."""
+    given_up = ctx.wait_given_up
+    if given_up is None or now - given_up[1] >= ctx.config.corridor_wait_s:
+        return False
+    node, way = ctx.node, {ctx.node}
+    for _ in range(ctx.graph.size):
+        if node == place:
+            break
+        node = int(ctx.graph.next_hop[node, place])
+        way.add(node)
+    return given_up[0] in way
+
+
 def wait_at_place(ctx: Context, now: float) -> list[Command]:
     """A robot of the fleet's auction with nothing to do drives to its waiting place: the live
     robots, each where its last report to the pool says it will be free (this robot too, so
     every robot matches on the same table), are matched by least travel to the k-median places
     of the graph, k the live robots, corridors left out (fleet_waiting; found once per k); []
     when it is there. The place is kept until the robot serves again, the fleet changes, its
-    drive there is given up (recovery.recover) or another robot reports itself there: matched
+    drive there is given up (recovery.recover; then it waits where it is while the way leads
+    through where it gave up, `out_of_reach`) or another robot reports itself there: matched
     again on the way, on reports of different ages, two robots could pick one place. A
     robot that hears from no other waits one renew period of the fleet link before it decides
     alone: robots started together each see only themselves until the others' first reports."""
@@ -175,7 +193,7 @@ def wait_at_place(ctx: Context, now: float) -> list[Command]:
                                  list(range(len(names))), ctx.waiting_places[len(names)],
                                  ctx.graph.shortest)
         ctx.waiting_for = None if place is None else (tuple(names), place)
-    if place is None or place == ctx.node:
+    if place is None or place == ctx.node or out_of_reach(ctx, place, now):
         return []
     commands = drive_idle(ctx, place, f"wait at {ctx.graph.names[place]}", now)
     ctx.patrol_goal = None    # no look around on arrival: decide again at each node

@@ -36,8 +36,8 @@ def recover(ctx: Context, now: float, reason: str) -> list[Command]:
     goal, ctx.mode, ctx.goal = ctx.goal_now(), IDLE, None
     if not ctx.goal_for and ctx.patrol_goal is not None:  # patrol elsewhere for now
         ctx.looked_s[ctx.patrol_goal], ctx.patrol_goal = now, None
-    if not ctx.goal_for:   # a waiting place out of reach: matched afresh
-        ctx.waiting_for = None
+    if not ctx.goal_for and ctx.waiting_for is not None:   # a waiting place out of reach:
+        ctx.waiting_for, ctx.wait_given_up = None, (goal, now)   # matched afresh, not via goal
     if ctx.goal_for and ctx.buffer.get(ctx.goal_for).is_open:
         why = (f"navigation to {ctx.graph.names[goal]} aborted "
                f"{ctx.config.max_goal_attempts} times: {reason}")
