@@ -238,6 +238,35 @@ def test_the_body_in_the_map_decides_the_posture_and_the_image_is_the_fallback()
         "standing"
 
 
+def test_near_the_hands_in_metres_when_the_joints_and_boxes_are_in_the_map():
+    """Seen from the front the forearms point at the camera: a few pixels long, so the image
+    test finds no book in the hands that hold it. In the map the hands are inside the book's
+    box; a cup 0.5 m beside them is beyond the 0.26 m forearm (the elbows hidden behind the
+    book, the adult's forearm length), and a fridge 1.2 m behind them is not near at all."""
+    image = skeleton(**{str(NECK): (320, 100), str(R_SHOULDER): (300, 110),
+                        str(L_SHOULDER): (340, 110), str(R_WRIST): (315, 200),
+                        str(L_WRIST): (325, 200), str(R_HIP): (310, 260),
+                        str(L_HIP): (330, 260)})
+    body = np.full((NUM_KEYPOINTS, 3), np.nan)
+    body[R_WRIST], body[L_WRIST] = (2.0, 2.95, 0.7), (2.0, 3.05, 0.7)
+    book = SeenObject("book", 0.8, 500, 500, 10, 10, 1.0, ((1.95, 2.9, 0.65), (2.1, 3.1, 0.75)))
+    cup = SeenObject("cup", 0.8, 500, 500, 10, 10, 1.0, ((2.0, 3.5, 0.7), (2.05, 3.55, 0.8)))
+    fridge = SeenObject("refrigerator", 0.9, 500, 500, 10, 10, 2.2,
+                        ((3.2, 2.6, 0.0), (3.9, 3.3, 1.8)))
+    config = ActivityConfig()
+    near, _, _ = hand_object_eyesight_sets(image, [book, cup, fridge], config, body=body)
+    assert [o.label for o in near] == ["book"]
+    near, _, _ = hand_object_eyesight_sets(image, [book, cup, fridge],
+                                           ActivityConfig(reach_3d=False), body=body)
+    assert near == []                              # in the image: 300 px away, no forearm
+    body[R_ELBOW] = (2.0, 2.95 - 0.6, 0.7)         # a 0.6 m forearm seen: the cup is in reach
+    near, _, _ = hand_object_eyesight_sets(image, [book, cup, fridge], config, body=body)
+    assert [o.label for o in near] == ["book", "cup"]
+    no_box = dataclasses.replace(book, extent=None)   # no depth at the box: the image decides
+    near, _, _ = hand_object_eyesight_sets(image, [no_box], config, body=body)
+    assert near == []
+
+
 def test_an_activity_scores_nothing_in_a_posture_it_is_not_done_in():
     """A fridge in view of someone sitting at the dining table: not store (postures: store is
     done standing); standing by it, store."""

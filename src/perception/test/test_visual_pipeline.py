@@ -17,7 +17,7 @@ from perception.self_instructions import (
 from perception.keypoints import L_ANKLE, NECK, NUM_KEYPOINTS, R_HIP
 from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.visual_pipeline import (ObjectBox, PersonView, StackedCameras, joints_in_map,
-                                        unknown_classes)
+                                        object_extent, unknown_classes)
 from tamp_resources import resource
 
 CONFIG = resource("config")
@@ -127,3 +127,22 @@ def test_joints_come_back_to_where_they_are_in_the_map():
     depth[NECK] = 0.1                                          # below the valid depth
     body = joints_in_map(PersonView(points, confidence, depth, np.zeros((3, 3))), cameras, 0.3)
     assert np.isnan(body[NECK]).all()
+
+
+def test_an_objects_box_in_the_map_spans_its_image_box_at_its_depth():
+    """A 100 x 50 px box centred on the top camera's axis at 2 m, the robot at the origin facing
+    +x, the camera level: its front 100 / 583.9 x 2 = 0.34 m across (y) and 50 / 588.5 x 2 =
+    0.17 m high (z) at x = 2.09 m; it is as deep as its smaller side, t = 0.17 m, so its back,
+    at 2 + t from the camera, spans the image box at that depth. No box without a depth."""
+    intr = Intrinsics(583.9, 588.5, 320.0, 240.0, 640, 480)
+    to_map = {"top": optical_to_map_transform((0.0, 0.0, 0.0), 0.09, 1.15, 0.0),
+              "bottom": optical_to_map_transform((0.0, 0.0, 0.0), 0.09, 1.05, 0.8)}
+    cameras = StackedCameras(480, {"top": intr, "bottom": intr}, to_map)
+    box = ObjectBox("laptop", 0.9, 270.0, 215.0, 100.0, 50.0, 2.0)
+    low, high = object_extent(box, cameras, 0.3)
+    t = 50 / 588.5 * 2.0
+    back = 2.0 + t
+    assert low == pytest.approx([2.09, -50 / 583.9 * back, 1.15 - 25 / 588.5 * back], abs=1e-6)
+    assert high == pytest.approx([2.09 + t, 50 / 583.9 * back, 1.15 + 25 / 588.5 * back],
+                                 abs=1e-6)
+    assert object_extent(ObjectBox("cup", 0.9, 0, 0, 10, 10, float("nan")), cameras, 0.3) is None

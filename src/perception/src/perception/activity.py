@@ -71,6 +71,12 @@ class ActivityConfig:
     # the neck above the floor: an adult's is about 1.45 m standing, 1.0-1.1 m sitting on a chair
     # or sofa, about 0.6 m lying on a bed.
     posture_3d: bool = True
+    # With the joints and the object's box in the map, "near the hands" is measured in metres:
+    # a hand within range_factor x the longest forearm (elbow -> wrist, in 3-D) of the box
+    # (False: in the image, as the seed; a forearm pointing at the camera is short there).
+    reach_3d: bool = True
+    forearm_length: float = 0.26       # [m] an adult's forearm, for reach_3d when no elbow with
+    #                                    its wrist is seen (hidden behind what the hands hold)
     standing_height: float = 1.25      # [m] neck (else mid-shoulders) at least this high: standing
     lying_height: float = 0.8          # [m] below this: lying
 
@@ -104,6 +110,8 @@ class SeenObject:
     width: float = 0.0   # [px] box size; 0 = a point at the centre
     height: float = 0.0
     depth: float = math.nan   # [m] at the box (NaN: unknown)
+    extent: tuple | None = None   # (low, high) corners (3,) [m] of its box in the map (None:
+    #                               unknown): the image box back-projected at its depth
 
     def box_points(self) -> NDArray[np.float64]:
         """A BOX_GRID x BOX_GRID grid over the box, (n, 2) [px]; the centre for a point."""
@@ -219,9 +227,39 @@ def faces_camera(skeleton: Skeleton) -> bool:
     return lo < skeleton[NOSE, 0] < hi
 
 
+def forearm_length_3d(body: NDArray[np.float64]) -> float:
+    """Longest forearm (elbow -> wrist) [m] of the joints in the map, 0 if none."""
+    lengths = [float(np.linalg.norm(body[e] - body[w])) for e, w in FOREARMS
+               if np.isfinite(body[[e, w]]).all()]
+    return max(lengths, default=0.0)
+
+
+def distance_to_extent(point: NDArray[np.float64], extent: tuple) -> float:
+    """[m] from a map point to an axis-aligned box (low, high) of the map (0 inside)."""
+    low, high = np.asarray(extent[0], dtype=float), np.asarray(extent[1], dtype=float)
+    return float(np.linalg.norm(np.maximum(np.maximum(low - point, 0.0), point - high)))
+
+
+def near_hands_3d(body: ArrayLike | None, objects: Sequence[SeenObject],
+                  config: ActivityConfig) -> list[bool | None] | None:
+    """Per object, whether a hand is within range_factor x the longest 3-D forearm (else
+    `forearm_length`) of its box in the map; None for an object without an extent, or for all
+    when no hand is known in 3-D (the image test decides then)."""
+    if not config.reach_3d or body is None:
+        return None
+    joints = np.asarray(body, dtype=float)
+    hands = [joints[h] for h in HANDS if np.isfinite(joints[h]).all()]
+    reach = config.range_factor * (forearm_length_3d(joints) or config.forearm_length)
+    if not hands or reach <= 0.0:
+        return None
+    return [None if obj.extent is None else
+            min(distance_to_extent(h, obj.extent) for h in hands) < reach for obj in objects]
+
+
 def hand_object_eyesight_sets(
         skeleton: Skeleton, objects: Iterable[SeenObject], config: ActivityConfig,
-        depth: ArrayLike | None = None) -> tuple[list[SeenObject], list[SeenObject], bool]:
+        depth: ArrayLike | None = None,
+        body: ArrayLike | None = None) -> tuple[list[SeenObject], list[SeenObject], bool]:
     """Algorithm 3-2: objects near the hands O_h, in the eyesight O_e, and E_h,e.
 
     Beyond the seed (`config.hand_depth_gap`): with the joints' and the objects' depths, an
@@ -234,6 +272,8 @@ def hand_object_eyesight_sets(
         skeleton: (18, 2) keypoints [px], NaN rows for missing joints.
         objects: [SeenObject].
         depth: (18,) joint depths [m] (None: the image alone decides).
+        body: (18, 3) the joints in the map [m] (None: the image decides what is near the
+            hands; near_hands_3d).
     Returns:
         (O_h, O_e, E_h,e) as ([SeenObject], [SeenObject], bool).
     """
@@ -246,12 +286,14 @@ def hand_object_eyesight_sets(
                 if depth is not None and config.hand_depth_gap > 0 else None)
     near: list[SeenObject] = []
     seen: list[SeenObject] = []
-    for obj in objects:
+    objects = list(objects)
+    in_reach = near_hands_3d(body, objects, config) or [None] * len(objects)
+    for obj, metric in zip(objects, in_reach):
         shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
         d_hand = min((shape.distance_to(skeleton[h]) for h in hands), default=math.inf)
         apart = (hands_at is not None   # False, too, for an object without a depth (NaN)
                  and abs(obj.depth - hands_at) > config.hand_depth_gap)
-        if d_hand < reach and not apart:
+        if metric if metric is not None else (d_hand < reach and not apart):
             near.append(obj)
         if watching and abs(_min_angle(skeleton, shape.box_points())) < config.eyesight_angle \
                 and not (looking and apart):
@@ -450,7 +492,7 @@ def recognise_activity(skeleton: Skeleton, objects: Sequence[SeenObject], table:
         body: (18, 3) the joints in the map [m], NaN rows unknown (None: the posture is read
             from the image alone).
     """
-    near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config, depth)
+    near, seen, looking = hand_object_eyesight_sets(skeleton, objects, config, depth, body)
     if config.partners_from_skeletons and depth is not None and others:
         seen = seen + partner_objects(chat_partners(skeleton, depth, others, config), seen)
     posture = (posture_from_body(body, config) if config.posture_3d and body is not None

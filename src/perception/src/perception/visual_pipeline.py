@@ -19,6 +19,7 @@ from perception.keypoints import (HIPS, L_SHOULDER, NECK, R_SHOULDER, Skeleton, 
 from perception.localisation import pixel_to_camera, semantic_place, stitched_pixel, transform_point
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
+MIN_DEPTH = 0.3   # [m] nearer depth readings are invalid (analyse_person's default)
 
 
 @dataclass
@@ -74,19 +75,45 @@ def body_depth(person: PersonView, min_depth: float) -> float | None:
     return float(np.median(valid)) if valid.size else None
 
 
-def objects_for(skeleton: Skeleton, objects: Iterable[ObjectBox]) -> list[SeenObject]:
+def objects_for(skeleton: Skeleton, objects: Iterable[ObjectBox],
+                extents: Sequence[tuple | None] | None = None) -> list[SeenObject]:
     """Candidate objects for one person: everything except the person box around their neck (else
-    the top of their torso: shoulders or head)."""
+    the top of their torso: shoulders or head); `extents`: each object's box in the map
+    (object_extent), None where unknown."""
     keep: list[SeenObject] = []
     neck = torso_top(skeleton)
-    for obj in objects:
+    objects = list(objects)
+    for obj, extent in zip(objects, extents if extents is not None else [None] * len(objects)):
         own = obj.label == "person" and neck is not None and (
             obj.x <= neck[0] <= obj.x + obj.width and obj.y <= neck[1] <= obj.y + obj.height)
         if not own:
             keep.append(SeenObject(obj.label, float(obj.confidence), obj.x + obj.width / 2.0,
                                    obj.y + obj.height / 2.0, float(obj.width), float(obj.height),
-                                   float(obj.depth)))
+                                   float(obj.depth), extent))
     return keep
+
+
+def object_extent(obj: ObjectBox, cameras: StackedCameras,
+                  min_depth: float) -> tuple | None:
+    """(low, high) corners (3,) [m] of an object's box in the map: the image box's corners
+    back-projected at the object's depth and that far again as deep as the box's smaller side
+    (the depth is the front surface's); None without a valid depth."""
+    d = float(obj.depth)
+    if not (np.isfinite(d) and d >= min_depth):
+        return None
+    corners = [(obj.x, obj.y), (obj.x + obj.width, obj.y), (obj.x, obj.y + obj.height),
+               (obj.x + obj.width, obj.y + obj.height)]
+    top = cameras.intrinsics["top"]
+    thickness = min(obj.width / top.fx, obj.height / top.fy) * d
+    points = []
+    for u, v in corners:
+        which, u_cam, v_cam = stitched_pixel(float(u), float(v), cameras.top_height)
+        for z in (d, d + thickness):
+            points.append(transform_point(cameras.to_map[which],
+                                          pixel_to_camera(u_cam, v_cam, z,
+                                                          cameras.intrinsics[which])))
+    block = np.array(points)
+    return block.min(axis=0), block.max(axis=0)
 
 
 def body_view(person: PersonView, objects: Iterable[ObjectBox]) -> BodyView:
@@ -137,15 +164,18 @@ def joints_in_map(person: PersonView, cameras: StackedCameras,
 
 def analyse_person(person: PersonView, objects: Sequence[ObjectBox], table: AffordanceTable,
                    config: ActivityConfig, cameras: StackedCameras | None,
-                   graph: SemanticGraph | None, min_depth: float = 0.3,
-                   others: Sequence[BodyView] = ()) -> PersonResult:
+                   graph: SemanticGraph | None, min_depth: float = MIN_DEPTH,
+                   others: Sequence[BodyView] = (),
+                   extents: Sequence[tuple | None] | None = None) -> PersonResult:
     """Activity, map position, semantic place and shirt colours of one person (`others`: the
-    frame's other people as BodyView, possible chat partners)."""
+    frame's other people as BodyView, possible chat partners; `extents`: the objects' boxes in
+    the map, object_extent)."""
     skeleton = as_skeleton(person.points, person.confidence)
     body = joints_in_map(person, cameras, min_depth) if cameras is not None else None
-    result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects), table,
-                                             config, np.asarray(person.depth, dtype=float),
-                                             others, body))
+    result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects, extents),
+                                             table, config,
+                                             np.asarray(person.depth, dtype=float), others,
+                                             body))
     if len(present(skeleton, range(len(skeleton)))) < len(skeleton):
         result.problems.append("skeleton has missing joints")
     if cameras is not None:
@@ -165,6 +195,8 @@ def analyse_frame(frame: FrameView, table: AffordanceTable, config: ActivityConf
                   graph: SemanticGraph | None = None) -> list[PersonResult]:
     """Every person of a frame -> [PersonResult] in the frame's order."""
     bodies = [body_view(p, frame.objects) for p in frame.people]
+    extents = ([object_extent(o, cameras, MIN_DEPTH) for o in frame.objects]
+               if cameras is not None and frame.people else None)
     return [analyse_person(p, frame.objects, table, config, cameras, graph,
-                           others=bodies[:i] + bodies[i + 1:])
+                           others=bodies[:i] + bodies[i + 1:], extents=extents)
             for i, p in enumerate(frame.people)]
