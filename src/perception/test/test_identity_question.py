@@ -41,6 +41,21 @@ def test_silence_leaves_it_unanswered_after_the_timeout():
         asked.hear("Yes", 26.0)
 
 
+def test_an_answer_spoken_in_time_is_waited_for_while_it_is_transcribed():
+    """Asked at 10 s: a yes spoken at 21 s whose transcript takes the STT node 21 s on a busy
+    machine holds the question past the 15 s timeout, for at most transcript_wait more;
+    audio spoken before the question or after its timeout holds nothing."""
+    asked = question(ask_timeout=15.0, transcript_wait=15.0)
+    assert asked.tick(30.0, [21.0]).state == ASKED
+    assert asked.hear("Yes.", 42.0).state == YES
+    asked = question(ask_timeout=15.0, transcript_wait=15.0)
+    assert asked.tick(39.9, [21.0]).state == ASKED
+    assert asked.tick(40.0, [21.0]).state == UNANSWERED      # the transcript never came
+    for spoken in (9.0, 25.5):
+        asked = question(ask_timeout=15.0, transcript_wait=15.0)
+        assert asked.tick(25.0, [spoken]).state == UNANSWERED
+
+
 def test_a_question_needs_a_name_and_a_place():
     with pytest.raises(ValueError, match="name and a place"):
         IdentityQuestion(QuestionConfig(), "", "dining_room", 0.0)

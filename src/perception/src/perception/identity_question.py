@@ -16,6 +16,7 @@ shirt becomes Carol's. Two strangers there, or none seen whole, leave the shirt 
 robot never guesses whose shirt it saw.
 """
 from collections import deque
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -34,11 +35,15 @@ class QuestionConfig:
     mistaken: str = "I am sorry, I took you for someone else."
     ask_timeout: float = 15.0   # [s] without a yes or a no: nobody answered
     max_retries: int = 1           # re-asks after an answer that is neither yes nor no
+    transcript_wait: float = 15.0  # [s] at most this much longer for the transcript of an
+    #                                answer spoken in time: speech-to-text takes seconds on a
+    #                                busy machine, tens of seconds of a simulation run faster
 
     def __post_init__(self) -> None:
-        if not self.ask_timeout > 0 or self.max_retries < 0:
-            raise ValueError(f"~ask_timeout must be > 0 and max_retries >= 0, got "
-                             f"{self.ask_timeout} and {self.max_retries}")
+        if not self.ask_timeout > 0 or self.max_retries < 0 or not self.transcript_wait >= 0:
+            raise ValueError(f"~ask_timeout must be > 0, max_retries >= 0 and "
+                             f"~transcript_wait >= 0, got {self.ask_timeout}, "
+                             f"{self.max_retries} and {self.transcript_wait}")
 
 
 @dataclass(frozen=True)
@@ -86,9 +91,17 @@ class IdentityQuestion:
         return Reply(self.config.thanks.format(name=self.name) if yes else self.config.mistaken,
                      self.state)
 
-    def tick(self, now: float) -> Reply:
-        """UNANSWERED once `ask_timeout` passed since the question without an answer."""
-        if self.open and now - self.asked_at >= self.config.ask_timeout:
+    def tick(self, now: float, transcribing: Iterable[float] = ()) -> Reply:
+        """UNANSWERED once `ask_timeout` passed since the question without an answer, unless
+        an answer spoken in time is still being transcribed (`transcribing`: when the
+        utterances heard but not yet transcribed were spoken [s]); then at most
+        `transcript_wait` longer."""
+        waited = now - self.asked_at
+        if not self.open or waited < self.config.ask_timeout:
+            return Reply("", self.state)
+        spoken_in_time = any(self.asked_at <= t <= self.asked_at + self.config.ask_timeout
+                             for t in transcribing)
+        if not spoken_in_time or waited >= self.config.ask_timeout + self.config.transcript_wait:
             self.state = UNANSWERED
         return Reply("", self.state)
 

@@ -29,7 +29,10 @@ the last ~recall_window seconds, also that stranger's shirt, source "recall": NA
 clothes, identity_question.RecentStrangers, and the meeting asked for that stranger is
 cancelled with each executor's ~cancel); the executor's belief follows from human_db's table.
 The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait). The
-question holds ~dialogue_open like a dialogue.
+question holds ~dialogue_open like a dialogue. The node also hears the robot's microphone's
+audio on ~audio_topic (tamp_msgs/AudioUtterance, ip ""): an answer spoken within ~ask_timeout
+whose transcript has not come yet holds the question up to ~transcript_wait longer, so a busy
+speech-to-text node does not turn a yes into "unanswered".
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
 work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
@@ -50,7 +53,7 @@ from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AskWho, HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
-from tamp_msgs.msg import Utterance
+from tamp_msgs.msg import AudioUtterance, Utterance
 from tamp_msgs.srv import CancelInstruction, RegisterHuman, UpdateHuman
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
@@ -82,7 +85,10 @@ class IntroductionParams:
     state_topics: tuple = ("task_planner/state",)  # ~state_topics: the executors' states (one
                                           # per robot of a fleet)
     question: QuestionConfig = QuestionConfig()  # ~ask_timeout: [s] an "are you NAME?"
-                                          # waits for a yes or a no
+                                          # waits for a yes or a no; ~transcript_wait [s]
+                                          # more for the transcript of one spoken in time
+    audio_topic: str = "audio_utterance"  # ~audio_topic: the microphone's audio (the STT
+                                          # node's input): when answers were spoken
     recall_window: float = 10.0           # ~recall_window [s]: a yes takes the shirt of the
                                           # one stranger seen at the place this recently
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
@@ -102,10 +108,10 @@ def read_params():
     config = config_from_params(IntroductionConfig, only=(
         "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
         "retry_after", "seen_within", "gone_after"))
-    question = config_from_params(QuestionConfig, only=("ask_timeout",))
+    question = config_from_params(QuestionConfig, only=("ask_timeout", "transcript_wait"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
-        "period", "close_linger", "register_timeout", "state_topics"),
+        "period", "close_linger", "register_timeout", "state_topics", "audio_topic"),
         hint=" (see tamp_bringup's social_household.launch)", config=config, question=question)
 
 
@@ -115,6 +121,7 @@ class IntroductionNode:
         self._lock = threading.Lock()
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
+        self._transcribing = {}   # stamp [s] of microphone audio heard -> time [s] it came
         self._asks = collections.deque(maxlen=5)
         self.question = None      # the IdentityQuestion being asked, if any
         self._states = {}         # state topic -> latest TaskBufferState
@@ -164,6 +171,7 @@ class IntroductionNode:
         for topic in p.state_topics:
             sup.subscriber(beside_state(topic, "ask_who"), AskWho, self._on_ask, queue_size=5)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
+        sup.subscriber(p.audio_topic, AudioUtterance, self._on_audio, queue_size=10)
         self._publish_open(False)
         self.answers_until.publish(Time(rospy.Time(0)))
         self._timers = [sup.timer(p.period, self._on_work, worker="work",
@@ -198,6 +206,20 @@ class IntroductionNode:
     def _on_utterance(self, msg):
         with self._lock:
             self._utterances.append(msg)
+            self._transcribing.pop(utterance_time(msg), None)
+
+    def _on_audio(self, msg):
+        """Microphone audio heard: its transcript is on the way (the STT node keeps the stamp)."""
+        if msg.ip:
+            return
+        now = rospy.get_time()
+        spoken = msg.header.stamp.to_sec() if not msg.header.stamp.is_zero() else now
+        limit = self.params.question.ask_timeout + self.params.question.transcript_wait
+        with self._lock:
+            self._transcribing[spoken] = now
+            for stamp, came in list(self._transcribing.items()):
+                if now - came > 2.0 * limit:     # never transcribed (refused, or lost)
+                    del self._transcribing[stamp]
 
     def _on_ask(self, msg):
         with self._lock:
@@ -234,7 +256,9 @@ class IntroductionNode:
             else:
                 self._turn(self.dialogue.tick(now), now)
         if self.question is not None and self.question.open:
-            self._answer_question(self.question.tick(now), None)
+            with self._lock:
+                transcribing = list(self._transcribing)
+            self._answer_question(self.question.tick(now, transcribing), None)
         talking = any(d is not None and d.open for d in (self.dialogue, self.question))
         self._publish_open(self._open_until is not None and (talking or now < self._open_until))
 
