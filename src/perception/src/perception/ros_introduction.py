@@ -29,10 +29,11 @@ the last ~recall_window seconds, also that stranger's shirt, source "recall": NA
 clothes, identity_question.RecentStrangers, and the meeting asked for that stranger is
 cancelled with each executor's ~cancel); the executor's belief follows from human_db's table.
 The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait). The
-question holds ~dialogue_open like a dialogue. The node also hears the robot's microphone's
-audio on ~audio_topic (tamp_msgs/AudioUtterance, ip ""): an answer spoken within ~ask_timeout
-whose transcript has not come yet holds the question up to ~transcript_wait longer, so a busy
-speech-to-text node does not turn a yes into "unanswered".
+question holds ~dialogue_open like a dialogue. The speech-to-text node says on ~heard_topic
+(tamp_msgs/Utterance with its stamp and ip, no text) when it queues an utterance: one from the
+robot's microphone spoken within ~ask_timeout whose transcript has not come yet holds the
+question up to ~transcript_wait longer, so a busy speech-to-text node does not turn a yes into
+"unanswered".
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
 work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
@@ -53,7 +54,7 @@ from supervision.health import fault_text
 from supervision.ros_params import config_from_params
 from supervision.ros_supervisor import Supervisor
 from tamp_msgs.msg import AskWho, HumanArray, InstructionState, ObservedHumanArray, TaskBufferState
-from tamp_msgs.msg import AudioUtterance, Utterance
+from tamp_msgs.msg import Utterance
 from tamp_msgs.srv import CancelInstruction, RegisterHuman, UpdateHuman
 from task_planner.reward import load_priorities
 from task_planner.robot_functions import load_robot_functions
@@ -87,8 +88,8 @@ class IntroductionParams:
     question: QuestionConfig = QuestionConfig()  # ~ask_timeout: [s] an "are you NAME?"
                                           # waits for a yes or a no; ~transcript_wait [s]
                                           # more for the transcript of one spoken in time
-    audio_topic: str = "audio_utterance"  # ~audio_topic: the microphone's audio (the STT
-                                          # node's input): when answers were spoken
+    heard_topic: str = "stt/heard"        # ~heard_topic: the STT node's "utterance queued"
+                                          # (tamp_msgs/Utterance, no text): answers on the way
     recall_window: float = 10.0           # ~recall_window [s]: a yes takes the shirt of the
                                           # one stranger seen at the place this recently
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
@@ -111,7 +112,7 @@ def read_params():
     question = config_from_params(QuestionConfig, only=("ask_timeout", "transcript_wait"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
-        "period", "close_linger", "register_timeout", "state_topics", "audio_topic"),
+        "period", "close_linger", "register_timeout", "state_topics", "heard_topic"),
         hint=" (see tamp_bringup's social_household.launch)", config=config, question=question)
 
 
@@ -171,7 +172,7 @@ class IntroductionNode:
         for topic in p.state_topics:
             sup.subscriber(beside_state(topic, "ask_who"), AskWho, self._on_ask, queue_size=5)
         sup.subscriber("voice_message", Utterance, self._on_utterance, queue_size=10)
-        sup.subscriber(p.audio_topic, AudioUtterance, self._on_audio, queue_size=10)
+        sup.subscriber(p.heard_topic, Utterance, self._on_heard, queue_size=10)
         self._publish_open(False)
         self.answers_until.publish(Time(rospy.Time(0)))
         self._timers = [sup.timer(p.period, self._on_work, worker="work",
@@ -208,12 +209,13 @@ class IntroductionNode:
             self._utterances.append(msg)
             self._transcribing.pop(utterance_time(msg), None)
 
-    def _on_audio(self, msg):
-        """Microphone audio heard: its transcript is on the way (the STT node keeps the stamp)."""
+    def _on_heard(self, msg):
+        """The STT node queued an utterance of the robot's microphone: its transcript is on the
+        way, with the same stamp."""
         if msg.ip:
             return
         now = rospy.get_time()
-        spoken = msg.header.stamp.to_sec() if not msg.header.stamp.is_zero() else now
+        spoken = utterance_time(msg)
         limit = self.params.question.ask_timeout + self.params.question.transcript_wait
         with self._lock:
             self._transcribing[spoken] = now

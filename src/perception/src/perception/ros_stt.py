@@ -71,6 +71,9 @@ class SttNode:
                                 guard=self.sup.health.run)
         self.sup.worker(WORKER)
         self._publisher = rospy.Publisher("voice_message", Utterance, queue_size=10)
+        # an utterance queued for transcription: its stamp and ip, text "" (listeners such as
+        # the introduction node wait for the transcript of an answer spoken in time)
+        self._heard = rospy.Publisher("stt/heard", Utterance, queue_size=10)
         self._diagnostics = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
 
     def start_listening(self):
@@ -108,6 +111,7 @@ class SttNode:
                 rospy.logwarn_throttle(5.0, "stt: more than %d utterances waiting; dropping the "
                                        "oldest", self.params.max_queue)
             self._queue.append(msg)
+        self._heard.publish(Utterance(header=msg.header, text="", ip=msg.ip))
 
     def _on_work(self, _event):
         while True:
