@@ -28,7 +28,8 @@ yes or a no from the robot's microphone (ip "") and, on a yes, puts NAME at the 
 the last ~recall_window seconds, also that stranger's shirt, source "recall": NAME changed
 clothes, identity_question.RecentStrangers, and the meeting asked for that stranger is
 cancelled with each executor's ~cancel); the executor's belief follows from human_db's table.
-The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait). The
+The answer ("yes", "no", "unanswered") goes out on ~asked (a no ends the executor's wait); an
+ask the node cannot put (another dialogue is open) is "unanswered" at once. The
 question holds ~dialogue_open like a dialogue. The speech-to-text node says on ~heard_topic
 (tamp_msgs/Utterance with its stamp and ip, no text) when it queues an utterance: one from the
 robot's microphone spoken within ~ask_timeout whose transcript has not come yet holds the
@@ -61,7 +62,8 @@ from task_planner.robot_functions import load_robot_functions
 from task_planner.ros_submit import SubmitClient
 
 from perception.conversions import utterance_time
-from perception.identity_question import YES, IdentityQuestion, QuestionConfig, RecentStrangers
+from perception.identity_question import (UNANSWERED, YES, IdentityQuestion, QuestionConfig,
+                                          RecentStrangers)
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, answered_by_the_stranger, seen_shirt,
                                      shirts_known, walked_off)
@@ -271,6 +273,7 @@ class IntroductionNode:
             self._count("asks_not_taken")
             rospy.logwarn("introduction: not asking whether the person at %s is %s: another "
                           "dialogue is open", msg.place, msg.name)
+            self._not_asked(msg)
             return
         try:
             self.question = IdentityQuestion(self.params.question, msg.name, msg.place, now,
@@ -279,6 +282,7 @@ class IntroductionNode:
             self._count("asks_not_taken")
             self._last = f"ask_who refused: {error}"
             rospy.logwarn("introduction: %s", self._last)
+            self._not_asked(msg)
             return
         self._count("asked")
         self._open_until = now
@@ -286,6 +290,13 @@ class IntroductionNode:
         self.say.publish(String(self.question.question()))
         rospy.loginfo("introduction: %s", f"calling {msg.name} at {msg.place}" if msg.call else
                       f"asking whether the person at {msg.place} is {msg.name}")
+
+    def _not_asked(self, msg):
+        """An ask not put: "unanswered" on ~asked at once, so the executor turns on instead of
+        waiting its ~ask_wait for an answer that cannot come."""
+        answered = AskWho(name=msg.name, place=msg.place, call=msg.call, answer=UNANSWERED)
+        answered.header.stamp = rospy.Time.now()
+        self.asked.publish(answered)
 
     def _answer_question(self, reply, msg):
         """The question's reply to an answer (msg) or a tick (msg None): say it; on a yes put
