@@ -79,3 +79,14 @@ def test_the_shirt_of_the_one_stranger_seen_at_the_place_is_named():
     assert recent.one_at("bedroom", 102.0) is None                  # two strangers: no guess
     with pytest.raises(ValueError, match=r"~recall_window must be > 0 \[s\]; got 0"):
         RecentStrangers(window_s=0)
+
+
+def test_an_utterance_awaits_its_transcript_until_it_comes_or_is_forgotten():
+    from perception.identity_question import PendingTranscripts
+    pending = PendingTranscripts(forget_s=60.0)
+    pending.heard(21.0, now=22.0)
+    pending.heard(30.0, now=31.0)
+    pending.transcribed(21.0)
+    assert pending.spoken() == [30.0]
+    pending.heard(95.0, now=96.0)                  # 30 s's transcript never came: forgotten
+    assert pending.spoken() == [95.0]

@@ -290,10 +290,12 @@ def hand_object_eyesight_sets(
     in_reach = near_hands_3d(body, objects, config) or [None] * len(objects)
     for obj, metric in zip(objects, in_reach):
         shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
-        d_hand = min((shape.distance_to(skeleton[h]) for h in hands), default=math.inf)
         apart = (hands_at is not None   # False, too, for an object without a depth (NaN)
                  and abs(obj.depth - hands_at) > config.hand_depth_gap)
-        if metric if metric is not None else (d_hand < reach and not apart):
+        if metric is None:              # no 3-D reach for it: the image decides
+            metric = not apart and min((shape.distance_to(skeleton[h]) for h in hands),
+                                       default=math.inf) < reach
+        if metric:
             near.append(obj)
         if watching and abs(_min_angle(skeleton, shape.box_points())) < config.eyesight_angle \
                 and not (looking and apart):
@@ -472,7 +474,8 @@ def posture_from_body(points: ArrayLike, config: ActivityConfig) -> str:
     hips = body[list(HIPS)]
     hips = hips[np.isfinite(hips).all(axis=1)]
     if len(hips):
-        across, up = top[:2] - hips.mean(axis=0)[:2], top[2] - hips.mean(axis=0)[2]
+        hip = hips.mean(axis=0)
+        across, up = top[:2] - hip[:2], top[2] - hip[2]
         if up <= 0.0 or float(np.hypot(*across)) > config.lying_ratio * up:
             return "lying"
     if top[2] < config.lying_height:

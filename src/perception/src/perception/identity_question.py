@@ -106,6 +106,29 @@ class IdentityQuestion:
         return Reply("", self.state)
 
 
+class PendingTranscripts:
+    """Utterances of the robot's microphone heard but not transcribed yet: when each was spoken
+    [s] (the stamp the transcript will carry), forgotten after `forget_s` [s] without one (the
+    STT node refused or lost it)."""
+
+    def __init__(self, forget_s: float) -> None:
+        self.forget_s = forget_s
+        self._heard: dict[float, float] = {}   # spoken [s] -> when it was heard [s]
+
+    def heard(self, spoken: float, now: float) -> None:
+        self._heard[spoken] = now
+        for stamp, came in list(self._heard.items()):
+            if now - came > self.forget_s:
+                del self._heard[stamp]
+
+    def transcribed(self, spoken: float) -> None:
+        self._heard.pop(spoken, None)
+
+    def spoken(self) -> list[float]:
+        """When the utterances still awaiting their transcript were spoken [s]."""
+        return list(self._heard)
+
+
 @dataclass
 class RecentStrangers:
     """Shirts of the unidentified people the camera saw whole, per place, over the last

@@ -62,8 +62,8 @@ from task_planner.robot_functions import load_robot_functions
 from task_planner.ros_submit import SubmitClient
 
 from perception.conversions import utterance_time
-from perception.identity_question import (UNANSWERED, YES, IdentityQuestion, QuestionConfig,
-                                          RecentStrangers)
+from perception.identity_question import (UNANSWERED, YES, IdentityQuestion,
+                                          PendingTranscripts, QuestionConfig, RecentStrangers)
 from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, IntroductionDialogue,
                                      NewcomerWatch, answered_by_the_stranger, seen_shirt,
                                      shirts_known, walked_off)
@@ -124,7 +124,9 @@ class IntroductionNode:
         self._lock = threading.Lock()
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
-        self._transcribing = {}   # stamp [s] of microphone audio heard -> time [s] it came
+        question = params.question   # a transcript never coming is forgotten after twice the
+        self._transcribing = PendingTranscripts(   # longest a question waits for it
+            2.0 * (question.ask_timeout + question.transcript_wait))
         self._asks = collections.deque(maxlen=5)
         self.question = None      # the IdentityQuestion being asked, if any
         self._states = {}         # state topic -> latest TaskBufferState
@@ -209,21 +211,15 @@ class IntroductionNode:
     def _on_utterance(self, msg):
         with self._lock:
             self._utterances.append(msg)
-            self._transcribing.pop(utterance_time(msg), None)
+            self._transcribing.transcribed(utterance_time(msg))
 
     def _on_heard(self, msg):
         """The STT node queued an utterance of the robot's microphone: its transcript is on the
         way, with the same stamp."""
         if msg.ip:
             return
-        now = rospy.get_time()
-        spoken = utterance_time(msg)
-        limit = self.params.question.ask_timeout + self.params.question.transcript_wait
         with self._lock:
-            self._transcribing[spoken] = now
-            for stamp, came in list(self._transcribing.items()):
-                if now - came > 2.0 * limit:     # never transcribed (refused, or lost)
-                    del self._transcribing[stamp]
+            self._transcribing.heard(utterance_time(msg), rospy.get_time())
 
     def _on_ask(self, msg):
         with self._lock:
@@ -261,7 +257,7 @@ class IntroductionNode:
                 self._turn(self.dialogue.tick(now), now)
         if self.question is not None and self.question.open:
             with self._lock:
-                transcribing = list(self._transcribing)
+                transcribing = self._transcribing.spoken()
             self._answer_question(self.question.tick(now, transcribing), None)
         talking = any(d is not None and d.open for d in (self.dialogue, self.question))
         self._publish_open(self._open_until is not None and (talking or now < self._open_until))

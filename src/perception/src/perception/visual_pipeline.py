@@ -105,14 +105,8 @@ def object_extent(obj: ObjectBox, cameras: StackedCameras,
                (obj.x + obj.width, obj.y + obj.height)]
     top = cameras.intrinsics["top"]
     thickness = min(obj.width / top.fx, obj.height / top.fy) * d
-    points = []
-    for u, v in corners:
-        which, u_cam, v_cam = stitched_pixel(float(u), float(v), cameras.top_height)
-        for z in (d, d + thickness):
-            points.append(transform_point(cameras.to_map[which],
-                                          pixel_to_camera(u_cam, v_cam, z,
-                                                          cameras.intrinsics[which])))
-    block = np.array(points)
+    block = np.array([stitched_to_map(u, v, z, cameras)
+                      for u, v in corners for z in (d, d + thickness)])
     return block.min(axis=0), block.max(axis=0)
 
 
@@ -137,6 +131,15 @@ def unknown_classes(objects: Iterable[ObjectBox], table: AffordanceTable) -> lis
     return sorted({o.label for o in objects if o.label != "person" and not table.known(o.label)})
 
 
+def stitched_to_map(u: float, v: float, depth: float,
+                    cameras: StackedCameras) -> np.ndarray:
+    """Map (x, y, z) [m] of stitched-frame pixel (u, v) at `depth` (Eqs. 3-3..3-5 in the camera
+    that saw it, then that camera's pose)."""
+    which, u_cam, v_cam = stitched_pixel(float(u), float(v), cameras.top_height)
+    point = pixel_to_camera(u_cam, v_cam, float(depth), cameras.intrinsics[which])
+    return transform_point(cameras.to_map[which], point)
+
+
 def locate(skeleton: Skeleton, depth: float | None,
            cameras: StackedCameras) -> tuple[float, float] | None:
     """Map (x, y) [m] of the body from the neck (else hips) pixel and the body depth."""
@@ -144,9 +147,7 @@ def locate(skeleton: Skeleton, depth: float | None,
     if not anchor or depth is None:
         return None
     u, v = skeleton[anchor].mean(axis=0)
-    which, u, v = stitched_pixel(u, v, cameras.top_height)
-    point = pixel_to_camera(u, v, depth, cameras.intrinsics[which])
-    x, y = transform_point(cameras.to_map[which], point)[:2]
+    x, y = stitched_to_map(u, v, depth, cameras)[:2]
     return float(x), float(y)
 
 
@@ -156,9 +157,7 @@ def joints_in_map(person: PersonView, cameras: StackedCameras,
     body = np.full((len(person.points), 3), np.nan)
     for j, ((u, v), conf, d) in enumerate(zip(person.points, person.confidence, person.depth)):
         if conf > 0 and np.isfinite(d) and d >= min_depth and np.isfinite([u, v]).all():
-            which, u_cam, v_cam = stitched_pixel(float(u), float(v), cameras.top_height)
-            point = pixel_to_camera(u_cam, v_cam, float(d), cameras.intrinsics[which])
-            body[j] = transform_point(cameras.to_map[which], point)
+            body[j] = stitched_to_map(u, v, d, cameras)
     return body
 
 

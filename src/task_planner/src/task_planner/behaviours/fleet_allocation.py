@@ -140,13 +140,7 @@ def out_of_reach(ctx: Context, place: int, now: float) -> bool:
     given_up = ctx.wait_given_up
     if given_up is None or now - given_up[1] >= ctx.config.corridor_wait_s:
         return False
-    node, way = ctx.node, {ctx.node}
-    for _ in range(ctx.graph.size):
-        if node == place:
-            break
-        node = int(ctx.graph.next_hop[node, place])
-        way.add(node)
-    return given_up[0] in way
+    return given_up[0] in ctx.graph.path(ctx.node, place)
 
 
 def wait_at_place(ctx: Context, now: float) -> list[Command]:
