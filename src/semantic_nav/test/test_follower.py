@@ -314,6 +314,46 @@ def test_count_input_network_gets_the_corners_counted_from_the_live_scans(words)
     assert [c.corners for c in stops[47:50]] == [1, 1, 0] and policy.counts[-1] == 0
 
 
+class SelfCountingPolicy(ScriptedPolicy):
+    """A network that counts itself: it gets the counting mode, never a count."""
+
+    class config:
+        count_input = False
+        counting_input = True
+
+    def __init__(self, steps):
+        super().__init__([(0.5, 0.0)] * steps)
+        self.modes, self.z_ws = [], []
+        self.counted = 2
+
+    def classify(self, vectors):
+        return np.eye(10)[4]                  # class 5: turn right at the second corner
+
+    def step(self, z_w, scan, counts=None, counting=None):
+        assert counts is None
+        self.modes.append(counting.tolist())
+        self.z_ws.append(z_w)
+        return super().step(z_w, scan)
+
+
+@pytest.mark.parametrize("sentence, mode", [
+    ("turn right at the second corner", [1.0, 0.0]),    # corners over both sides
+    ("take the second right", [0.0, 1.0]),              # that side's branches
+])
+def test_a_network_that_counts_itself_gets_the_counting_mode_and_no_rule(words, sentence, mode):
+    """Learned counting: no corner counter and no pass-then-turn class 1 at run time; the
+    network gets the class Z_w read and the counting mode, and the command reports what its
+    count output says."""
+    policy = SelfCountingPolicy(5)
+    follower = DirectionFollower(policy, words, FollowerConfig(doors=DoorConfig(width=0.0)))
+    follower.start(sentence)
+    assert follower.counter is None and follower.classes == [5]
+    laser = urg()
+    commands = [follower.step(np.full(laser.beams, 2.0), laser) for _ in range(3)]
+    assert policy.modes == [mode] * 3 and [c.corners for c in commands] == [2] * 3
+    assert all(np.argmax(z) == 4 for z in policy.z_ws)
+
+
 def door_ahead_ranges(laser, door):
     """Ranges of `laser` facing a wall 2 m ahead; door=(y0, y1): an open door in it (no return
     through it), None: no door."""

@@ -7,11 +7,11 @@ import pytest
 
 keras = pytest.importorskip("keras")
 
-from semantic_nav.network import (CORNER_CLASSES, NetworkConfig, SequenceLSTM,  # noqa: E402
-                                  StepPolicy, add_count_input, add_heads, build_network,
-                                  has_count_input, has_head, has_stop_head,
-                                  interpolate_weights, load_network, ModelFileError, relu,
-                                  softmax)
+from semantic_nav.network import (CORNER_CLASSES, COUNTING_MODES, NetworkConfig,  # noqa: E402
+                                  SequenceLSTM, StepPolicy, add_heads, build_network,
+                                  has_count_input, has_counting_input, has_head, has_stop_head,
+                                  interpolate_weights, load_network, ModelFileError,
+                                  rebuild_fused_inputs, relu, softmax)
 from semantic_nav.follower import DEFAULT_MODEL  # noqa: E402
 
 
@@ -35,6 +35,11 @@ def _compare(model, config, rng):
         counts = np.eye(CORNER_CLASSES, dtype=np.float32)[np.minimum(
             np.cumsum(rng.random((3, 120)) < 0.03, axis=1), CORNER_CLASSES - 1)]
         inputs["counts"] = counts
+    counting = [[None] * 120] * 3
+    if has_counting_input(model):   # one counting mode per sequence
+        counting = np.repeat(np.eye(COUNTING_MODES, dtype=np.float32)[
+            rng.integers(0, COUNTING_MODES, 3)][:, None], 120, axis=1)
+        inputs["counting"] = counting
     out = model.predict_on_batch(inputs)
     policy = StepPolicy.from_keras(model)
     worst = 0.0
@@ -42,8 +47,8 @@ def _compare(model, config, rng):
         z_w = policy.classify(words[row, :n])
         worst = max(worst, np.abs(z_w - np.asarray(out["instruction_class"][row])).max())
         policy.reset()
-        steps = np.array([policy.step(z_w, scan, count)
-                          for scan, count in zip(scans[row], counts[row])])
+        steps = np.array([policy.step(z_w, scan, count, mode)
+                          for scan, count, mode in zip(scans[row], counts[row], counting[row])])
         worst = max(worst, np.abs(steps - np.asarray(out["velocity"][row])).max())
     return worst
 
@@ -124,12 +129,14 @@ def test_add_heads_keeps_the_velocity_outputs():
 
 
 def test_count_input_grows_the_network_without_changing_it_and_steps_match():
-    """add_count_input: zero weights for the count, so the grown network drives as before; once
-    the count has weights, the single-step path (with counts) still matches the sequence model."""
+    """rebuild_fused_inputs: zero weights for the count, so the grown network drives as before;
+    once the count has weights, the single-step path (with counts) still matches the sequence
+    model."""
     keras.utils.set_random_seed(8)
     config = NetworkConfig(word_units=4, scan_units=8, fused_units=6, decision_head=True)
     plain = build_network(config)
-    grown = add_count_input(plain, config)
+    config.count_input = True
+    grown = rebuild_fused_inputs(plain, config)
     assert has_count_input(grown) and not has_count_input(plain) and has_head(grown, "decision")
     rng = np.random.default_rng(5)
     words = rng.normal(size=(2, 4, config.word_dim)).astype(np.float32)
@@ -150,6 +157,46 @@ def test_count_input_grows_the_network_without_changing_it_and_steps_match():
     steps = np.array([policy.step(z_w, scans[0, i], counts[0, i]) for i in range(30)])
     np.testing.assert_allclose(steps, np.asarray(out["velocity"])[0], atol=1e-5)
     with pytest.raises(ValueError, match="needs counts"):
+        policy.step(z_w, scans[0, 0])
+
+
+def test_learned_counting_drops_the_count_input_and_adds_the_counting_input_and_head():
+    """From a count-input network to one that counts itself: the count's kernel rows dropped
+    (it drives as the old one given a count of all zeros), zero rows for the counting mode, a
+    softmax count output; the single-step path matches, reports what it counts and asks for
+    the mode."""
+    keras.utils.set_random_seed(9)
+    config = NetworkConfig(word_units=4, scan_units=8, fused_units=6, stop_head=True,
+                           count_input=True)
+    counted = build_network(config)
+    learned = NetworkConfig(counting_input=True, count_head=True)
+    model = rebuild_fused_inputs(counted, learned)
+    assert not has_count_input(model) and has_counting_input(model)
+    assert has_head(model, "count") and has_head(model, "stop")
+    assert (learned.word_units, learned.scan_units, learned.fused_units) == (4, 8, 6)
+    rng = np.random.default_rng(6)
+    words = rng.normal(size=(2, 4, config.word_dim)).astype(np.float32)
+    scans = rng.random((2, 25, config.beams)).astype(np.float32)
+    zeros = np.zeros((2, 25, CORNER_CLASSES), np.float32)
+    mode = np.zeros((2, 25, COUNTING_MODES), np.float32)
+    mode[:, :, 1] = 1.0
+    before = counted.predict_on_batch({"words": words, "scans": scans, "counts": zeros})
+    after = model.predict_on_batch({"words": words, "scans": scans, "counting": mode})
+    np.testing.assert_allclose(np.asarray(after["velocity"]), np.asarray(before["velocity"]),
+                               atol=1e-6)
+    assert np.asarray(after["count"]).shape == (2, 25, CORNER_CLASSES)
+    np.testing.assert_allclose(np.asarray(after["count"]).sum(axis=2), 1.0, atol=1e-5)
+    kernel, recurrent, bias = model.get_layer("lstm_fused").get_weights()
+    kernel[-COUNTING_MODES:] = rng.normal(0.0, 0.5, (COUNTING_MODES, kernel.shape[1]))
+    model.get_layer("lstm_fused").set_weights([kernel, recurrent, bias])
+    assert _compare(model, learned, rng) < 1e-5
+    policy = StepPolicy.from_keras(model)
+    assert policy.config.counting_input and not policy.config.count_input
+    z_w = policy.classify(words[0])
+    policy.step(z_w, scans[0, 0], counting=mode[0, 0])
+    out = model.predict_on_batch({"words": words, "scans": scans[:, :1], "counting": mode[:, :1]})
+    assert policy.counted == int(np.argmax(np.asarray(out["count"])[0, 0]))
+    with pytest.raises(ValueError, match="needs counting"):
         policy.step(z_w, scans[0, 0])
 
 

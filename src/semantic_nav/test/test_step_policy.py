@@ -24,9 +24,30 @@ def test_weight_groups_follow_keras_naming():
         "lstm_fused": "layers/sequence_lstm", "velocity": "layers/dense_2"}
 
 
+def _learned_counting_model(directory):
+    """A small network that counts itself (counting input, count head), saved."""
+    import keras
+    from semantic_nav.network import NetworkConfig, build_network
+    keras.utils.set_random_seed(4)
+    path = directory / "learned_counting.keras"
+    build_network(NetworkConfig(word_units=4, scan_units=8, fused_units=6, stop_head=True,
+                                counting_input=True, count_head=True)).save(path)
+    return path
+
+
 @pytest.mark.skipif(not MODELS, reason="no committed models")
 @pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
 def test_weights_and_commands_equal_those_read_through_keras(path):
+    _same_through_keras(path)
+
+
+def test_a_network_that_counts_itself_reads_the_same_without_keras(tmp_path):
+    policy = _same_through_keras(_learned_counting_model(tmp_path))
+    assert policy.config.counting_input and not policy.config.count_input
+    assert "count/kernel" in policy.w and policy.counted in range(4)
+
+
+def _same_through_keras(path):
     from semantic_nav.network import load_network
     through_keras = StepPolicy.from_keras(load_network(path))
     without = load_step_policy(path)
@@ -39,9 +60,13 @@ def test_weights_and_commands_equal_those_read_through_keras(path):
     z_a, z_b = through_keras.classify(words), without.classify(words)
     assert np.array_equal(z_a, z_b)
     counts = np.eye(4)[1] if without.config.count_input else None
+    counting = np.eye(2)[1] if without.config.counting_input else None
     for _ in range(5):
         scan = rng.random(through_keras.config.beams)
-        assert through_keras.step(z_a, scan, counts) == without.step(z_b, scan, counts)
+        assert through_keras.step(z_a, scan, counts, counting) == \
+            without.step(z_b, scan, counts, counting)
+        assert through_keras.counted == without.counted
+    return without
 
 
 def test_bad_files_are_named(tmp_path):

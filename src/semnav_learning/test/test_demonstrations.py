@@ -133,3 +133,28 @@ def test_counting_plan_takes_only_starts_where_the_other_side_counts():
     plan = plan_counting_demonstrations(oracle, starts, 3, np.random.default_rng(0))
     assert plan == [(spine, 5), (spine, 7), (spine, 8)]
     assert plan_counting_demonstrations(oracle, starts, 0, np.random.default_rng(0)) == []
+
+
+def test_side_plan_takes_starts_where_one_side_counts_elsewhere_and_drives_there():
+    """The spine of office_comb from its south end: counting the right-hand branches, the
+    second right (class 5) is the crossroad at 13 m, where counting every corner gives the
+    branch at 9 m; the third right / left (7, 8) lie at 22 m / 19 m, not at the crossroad. A
+    demonstration counted on one side ends at that side's branch."""
+    from semnav_learning.demonstrations import plan_side_demonstrations
+    from semnav_learning.episodes import chain_goals
+    from semantic_nav.instruction_classes import COUNT_SIDE
+    from floorplan.occupancy_map import load_map
+    oracle = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml"))
+    spine = (18.0, 5.0, math.pi / 2)
+    starts = [spine, (4.0, 11.0, math.pi / 2), (32.0, 16.0, math.pi / 2), (6.0, 18.0, 0.0)]
+    plan = plan_side_demonstrations(oracle, starts, 3, np.random.default_rng(0))
+    assert plan == [(spine, 5), (spine, 7), (spine, 8)]
+    assert plan_side_demonstrations(oracle, starts, 0, np.random.default_rng(0)) == []
+    world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml",
+                            ROOT / "maps" / "office_comb.yaml", cache_dir=None)
+    demo = demonstrate(world, "penguin", oracle, spine, 5, record_rate=10.0,
+                       counting=COUNT_SIDE)
+    side_goal = chain_goals(oracle, spine, (5,), (COUNT_SIDE,))[-1].goal
+    corner_goal = chain_goals(oracle, spine, (5,))[-1].goal
+    assert demo.ok and side_goal.contains(*demo.final_pose)
+    assert not corner_goal.contains(*demo.final_pose)

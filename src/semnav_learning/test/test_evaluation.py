@@ -14,6 +14,7 @@ from semnav_learning.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationC
                                      load_plan, mcnemar_exact, paired_comparison,
                                      plan_chain_episodes,
                                      plan_episodes, success_table)
+from floorplan.occupancy_map import load_map
 from semnav_learning.episodes import chain_goals
 from semnav_learning.phrase_sets import load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle, branches_on_side
@@ -67,6 +68,27 @@ def test_plan_of_chosen_classes_only(l_floor, sets):
     config = EvaluationConfig(candidates=40, batch=20, min_starts=2)
     specs = plan_episodes(oracles, 5, sets, np.random.default_rng(1), config, classes=(4, 1))
     assert sorted(s.labels[0] for s in specs) == [1] * 5 + [4] * 5
+
+
+def test_a_side_share_splits_the_counting_classes_between_both_counts(sets):
+    """--side-share 0.5 on office_comb: classes 5 and 7 get 4 episodes counted on their side
+    ("take the second right", from starts where that side has the branches) and 4 over both
+    sides; a class that counts nothing is drawn as before."""
+    from semantic_nav.instruction_classes import COUNT_SIDE
+    floor = str(ROOT / "maps" / "office_comb.yaml")
+    oracles = {floor: RouteOracle(load_map(floor))}
+    config = EvaluationConfig(candidates=80, batch=40, side_share=0.5)
+    specs = plan_episodes(oracles, 8, sets, np.random.default_rng(2), config, classes=(1, 5, 7))
+    for label in (5, 7):
+        modes = [s.countings for s in specs if s.labels == (label,)]
+        assert sorted(modes) == [("corners",)] * 4 + [("side",)] * 4
+    for spec in specs:
+        if spec.countings == (COUNT_SIDE,):
+            chain_goals(oracles[floor], spec.start, spec.labels, spec.countings)  # applies
+    assert len([s for s in specs if s.labels == (1,)]) == 8
+    with pytest.raises(ValueError, match="side_share must lie in"):
+        plan_episodes(oracles, 2, sets, np.random.default_rng(2),
+                      EvaluationConfig(candidates=40, batch=40, side_share=1.5), classes=(5,))
 
 
 def test_census_finds_the_l_corner_is_the_corridors_end(l_floor):

@@ -236,7 +236,8 @@ def test_the_command_line_exits_naming_the_key(tmp_path):
 
 def test_the_workspace_recipe_loads():
     recipe = load_recipe(ROOT / "config" / "semnav_recipe.yaml", ROOT)
-    assert recipe.stages() == ["datasets", "seed_faithful", "default", "evaluation"]
+    assert recipe.stages() == ["datasets", "seed_faithful", "default", "learned_counting",
+                               "evaluation"]
     assert recipe.install == {"bc": "bc", "default": "default_zw"}
     scratch = recipe.unit("default_scratch").args
     assert scratch["stop_head"] and scratch["decision_head"] and scratch["count_input"]
@@ -244,6 +245,10 @@ def test_the_workspace_recipe_loads():
     assert recipe.unit("default_aggregate").args["init"] == "default_scratch"
     assert not any(u.kind in ("train", "dagger") and "office_ring" in str(u.args)
                    for u in recipe.units)
+    learned = recipe.unit("counting_learned").args      # a committed model as its init
+    assert learned["count_head"] and "count_input" not in learned
+    assert learned["init"] == "models/semantic_nav/default.keras"
+    assert recipe.unit("side_counts").args["side_counting"] > 0
 
 
 def test_sigterm_stops_the_run_but_only_ends_a_pool_worker():

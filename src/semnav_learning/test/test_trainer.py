@@ -97,6 +97,22 @@ def test_init_continues_from_the_saved_model(inputs, first_run):
     assert summary["history"][0]["velocity_loss"] < 0.8 * first[0]["velocity_loss"]
 
 
+def test_learned_counting_drops_the_init_count_input_and_learns_the_count(inputs):
+    """--count-head from a count-input model: the count input goes, the counting input and the
+    count output come, and the count's cross-entropy falls over the epochs."""
+    from semantic_nav.network import (has_count_input, has_counting_input, has_head,
+                                      load_network)
+    counted = tiny(inputs, "counted", count_input=True, epochs=1)
+    Trainer(counted, report=lambda line: None).run()
+    assert has_count_input(load_network(counted.work_dir / "current.keras"))
+    learned = tiny(inputs, "learned", init=counted.work_dir / "current.keras", count_head=True,
+                   epochs=3)
+    history = Trainer(learned, report=lambda line: None).run()["history"]
+    model = load_network(learned.work_dir / "current.keras")
+    assert not has_count_input(model) and has_counting_input(model) and has_head(model, "count")
+    assert history[-1]["count_loss"] < history[0]["count_loss"]
+
+
 def test_an_interrupt_saves_the_current_model(inputs):
     from semantic_nav.network import load_network
 

@@ -191,6 +191,44 @@ def test_count_inputs_join_the_batches_and_survive_mirroring():
                      sentences=[np.ones((3, 2), np.float32)])
 
 
+def test_count_targets_and_the_counting_input_follow_each_records_mode():
+    """Learned counting: the count target is the counter over the record's side ranges in its
+    own mode (a one-side count looks at the turning side only), the counting input one-hot that
+    mode; mirrored, the turning side is the other column, the count the same."""
+    sides = np.ones((45, 2), np.float32)
+    sides[3:13, 1] = 4.0            # a right-hand opening from 0.15 to 0.6 m of travel
+    sides[20:35, 0] = 4.0           # then a left-hand one from 0.9 m (0.03 m a step)
+    commands = _corner_commands()
+
+    class Words:
+        dim = 2
+    config = TrainingConfig(hold_steps=0, count_targets=True, counting_inputs=True,
+                            mirror_probability=1.0)
+    config.corners.min_width = 0.28
+    both = [0] * 9 + [1] * 21 + [2] * 15      # each counted once 0.28 m long (steps 9, 30)
+    right_only = [0] * 9 + [1] * 36           # class 5 turns right: the left one is not looked at
+    for mode, expected, column in (("corners", both, 0), ("side", right_only, 1)):
+        episode = Episode(5, np.ones((45, 3), np.float32), commands, rate=10.0, sides=sides,
+                          counting=mode)
+        for phases in ([0], None):  # validation, and training (mirrored)
+            (batch,) = make_batches([episode], None, Words(), np.random.default_rng(0), config,
+                                    phases=phases, sentences=[np.ones((3, 2), np.float32)])
+            inputs, targets, weights = batch
+            assert targets["count"][0].tolist() == expected
+            assert inputs["counting"][0].tolist() == [[1.0 - column, float(column)]] * 45
+            assert weights["count"].tolist() == [[1.0] * 45] and "counts" not in inputs
+
+
+def test_record_countings_read_beside_the_records(tmp_path):
+    from semnav_learning.training import record_countings
+    records = tmp_path / "floor.records"
+    assert record_countings(records, 2) == ["corners", "corners"]     # none written: corners
+    records.with_suffix(".json").write_text('{"entry": {}, "countings": ["side", "corners"]}')
+    assert record_countings(records, 2) == ["side", "corners"]
+    with pytest.raises(ValueError, match="2 counting modes for 3 records"):
+        record_countings(records, 3)
+
+
 def test_step_weights_single_out_turning_and_standing_steps():
     commands = np.array([[0.5, 0.0], [0.5, 0.1], [0.3, 0.15], [0.2, -0.3], [0.0, 0.0]],
                         np.float32)

@@ -25,6 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from semantic_nav.instruction_classes import COUNTINGS
+
 
 @dataclass
 class CornerCountConfig:
@@ -118,10 +120,12 @@ class CornerCounter:
 
 def count_inputs(sides: Iterable[Sequence[float] | np.ndarray],
                  commands: Sequence[Sequence[float]] | np.ndarray, rate: float,
-                 config: CornerCountConfig | None) -> NDArray[np.int64]:
-    """The `counts` input of a recorded sequence: CornerCounter over its side ranges, travel from
-    the expert's v -> (N,) int64."""
+                 config: CornerCountConfig | None, side: str | None = None) -> NDArray[np.int64]:
+    """The `counts` input (or count target) of a recorded sequence: CornerCounter over its side
+    ranges (`side`: that side's branches only, CornerCounter.reset), travel from the expert's v
+    -> (N,) int64."""
     counter = CornerCounter(config)
+    counter.reset(side=side)
     counts = np.zeros(len(commands), np.int64)
     for step, (row, v) in enumerate(zip(sides, np.asarray(commands, dtype=np.float64)[:, 0])):
         counts[step] = counter.observe(row)
@@ -133,3 +137,11 @@ def one_hot_counts(counts: ArrayLike, max_count: int) -> NDArray[np.float32]:
 
     """(N,) counts -> (N, max_count + 1) float32 one-hot rows."""
     return np.eye(max_count + 1, dtype=np.float32)[np.asarray(counts)]
+
+
+def one_hot_counting(mode: str) -> NDArray[np.float32]:
+    """A counting mode (instruction_classes.COUNTINGS) -> the `counting` input row of a network
+    that counts itself (network.FUSED_EXTRAS)."""
+    if mode not in COUNTINGS:
+        raise ValueError(f"counting mode must be one of {COUNTINGS}, got {mode!r}")
+    return np.eye(len(COUNTINGS), dtype=np.float32)[COUNTINGS.index(mode)]

@@ -21,7 +21,7 @@ from semantic_nav.asking_back import AskConfig
 from semantic_nav.collision_guard import (GUARD_ACTIONS, GuardConfig, guard_action,
                                           scan_points, steer_around)
 from semantic_nav.doorways import DoorConfig, close_doorways, cut_beam_ends
-from semantic_nav.corner_count import CornerCounter, one_hot_counts, side_ranges
+from semantic_nav.corner_count import CornerCounter, one_hot_counting, one_hot_counts, side_ranges
 from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, SIDE,
                                               STRAIGHT, TURN_CLASSES, get, ids)
 from semantic_nav.instruction_layer import (SentenceVector, check_followable, counting_mode,
@@ -222,6 +222,9 @@ class DirectionFollower:
         # beyond the seed: a network with the count input gets the corners counted so far
         counts = getattr(getattr(self.policy, "config", None), "count_input", False)
         self.counter = CornerCounter() if counts else None
+        # beyond the seed: a network that counts itself gets the counting mode instead
+        self._counting_input = getattr(getattr(self.policy, "config", None), "counting_input",
+                                       False)
         self._sent_w = 0.0      # ω of the last command sent (the guard's estimate of the base's)
         self.guard_actions = dict.fromkeys(GUARD_ACTIONS, 0)   # in the current sentence
         self.doorway_points = np.zeros((0, 2))   # ends of the beams cut at a doorway, last step
@@ -390,6 +393,9 @@ class DirectionFollower:
                                     if self.config.corner_count else 0,
                                     self.counter.config.max_count)
             output = self.policy.step(self.z_now, scan, counts)
+        elif self._counting_input:       # learned counting: the network counts itself
+            output = self.policy.step(self.z_now, scan,
+                                      counting=one_hot_counting(self.countings[self.index]))
         else:
             output = self.policy.step(self.z_now, scan)
         raw_v, raw_w = apply_stop(*output, getattr(self.policy, "stop_probability", None),
@@ -404,7 +410,9 @@ class DirectionFollower:
             self.index += 1             # §2.2.5.2: next simple instruction, memory cleared
             self._reset_memory()
         # the count of the instruction the command's index names (0 when one just began)
-        return self._command(v, w, None if self.counter is None else self.counter.count)
+        counted = self.counter.count if self.counter is not None else \
+            getattr(self.policy, "counted", None)
+        return self._command(v, w, counted)
 
     def _close_doorways(self, ranges: np.ndarray, laser: LaserModel) -> np.ndarray:
         """doorways.close_doorways on the raw scan; keeps the cut beams' ends (laser frame) in

@@ -30,6 +30,13 @@ beams (corner_count.CornerCounter, the same counter in training and control), jo
 at LSTM_fused. Counting is then done outside the network: it only has to tie the count to the
 instruction's corner number.
 
+Beyond the seed, learned counting (optional, `NetworkConfig.counting_input` and `count_head`):
+the network counts the corners itself. A third input `counting` (batch, T, COUNTING_MODES)
+says how "the second right" counts (instruction_classes.COUNTINGS: the corners over both sides
+or the branches on the turning side only), and a softmax output `count` (batch, T,
+CORNER_CLASSES), trained on the corners the counter finds in the demonstrations' scans in that
+mode (supervision at training time only; control ignores it), makes LSTM_fused keep the count.
+
 `step_policy.StepPolicy` (re-exported here) re-implements the trained network in numpy for
 control: classify a simple instruction once, then one scan in, one command out, with the
 LSTM_fused state kept between steps; `step_policy.load_step_policy` reads a saved model without
@@ -48,9 +55,9 @@ os.environ.setdefault("KERAS_BACKEND", "torch")
 import keras  # noqa: E402  (the backend must be chosen before the import)
 
 from semantic_nav.instruction_classes import NUM_CLASSES  # noqa: E402  (Table 3.1-1: ten)
-from semantic_nav.step_policy import (CORNER_CLASSES, ModelFileError,  # noqa: E402,F401
-                                      NetworkConfig, StepPolicy, check_model_file,
-                                      lstm_step, relu, sigmoid, softmax)
+from semantic_nav.step_policy import (CORNER_CLASSES, COUNTING_MODES,  # noqa: E402,F401
+                                      ModelFileError, NetworkConfig, StepPolicy,
+                                      check_model_file, lstm_step, relu, sigmoid, softmax)
 
 if TYPE_CHECKING:
     import torch
@@ -138,9 +145,10 @@ def build_network(config: NetworkConfig | None = None) -> keras.Model:
     z_s = keras.layers.Dense(config.scan_units, activation="relu", name="fc_scan")(scans)
     fused = ConcatOverTime(name="concat")([z_w, z_s])
     inputs = {"words": words, "scans": scans}
-    if config.count_input:
-        inputs["counts"] = keras.Input((None, CORNER_CLASSES), name="counts")
-        fused = keras.layers.Concatenate(name="concat_counts")([fused, inputs["counts"]])
+    for name, size, layer in FUSED_EXTRAS:
+        if getattr(config, f"{name}_input"):
+            inputs[INPUT_NAMES[name]] = keras.Input((None, size), name=INPUT_NAMES[name])
+            fused = keras.layers.Concatenate(name=layer)([fused, inputs[INPUT_NAMES[name]]])
     h_f = SequenceLSTM(config.fused_units, name="lstm_fused")(fused)
     velocity = keras.layers.Dense(2, name="velocity")(h_f)
     outputs = {"velocity": velocity, "instruction_class": z_w}
@@ -151,37 +159,62 @@ def build_network(config: NetworkConfig | None = None) -> keras.Model:
     return model
 
 
+# Inputs joined to [Z_w, Z_s] at LSTM_fused, in order: (NetworkConfig field prefix, width,
+# Concatenate layer); INPUT_NAMES: the model's input names.
+FUSED_EXTRAS = (("count", CORNER_CLASSES, "concat_counts"),
+                ("counting", COUNTING_MODES, "concat_counting"))
+INPUT_NAMES = {"count": "counts", "counting": "counting"}
+
+
 def has_count_input(model: keras.Model) -> bool:
     return isinstance(model.input, dict) and "counts" in model.input
 
 
-def add_count_input(model: keras.Model, config: NetworkConfig) -> keras.Model:
-    """A model of build_network -> the same network with the `counts` input, compiled: every
-    weight copied, LSTM_fused's kernel grown by zero rows for the count, so the new model drives
-    exactly as `model` until training gives the count a weight. A model that has the input is
-    only recompiled."""
-    if has_count_input(model):
-        compile_network(model, config)
-        return model
-    config.count_input = True
+def has_counting_input(model: keras.Model) -> bool:
+    return isinstance(model.input, dict) and "counting" in model.input
+
+
+def rebuild_fused_inputs(model: keras.Model, config: NetworkConfig) -> keras.Model:
+    """A model of build_network -> the network of `config` with the inputs beside [Z_w, Z_s]
+    that `config` asks for (count_input, counting_input), compiled: every weight copied,
+    LSTM_fused's kernel rows of an input kept, dropped or added as zeros, so a grown network
+    drives exactly as `model` until training gives the new input a weight. The model's sizes
+    and heads are kept (`config` is updated with them); a model with the asked inputs is only
+    recompiled."""
     config.stop_head = config.stop_head or has_head(model, "stop")
     config.decision_head = config.decision_head or has_head(model, "decision")
+    config.count_head = config.count_head or has_head(model, "count")
+    has = {"count": has_count_input(model), "counting": has_counting_input(model)}
+    if all(has[name] == getattr(config, f"{name}_input") for name in has):
+        return add_heads(model, config)
     config.word_dim, config.beams = (model.get_layer(name).input.shape[-1]
                                      for name in ("word_mask", "fc_scan"))
     config.word_units = model.get_layer("lstm_w").units
     config.scan_units = model.get_layer("fc_scan").units
     config.fused_units = model.get_layer("lstm_fused").units
-    grown = build_network(config)
+    rebuilt = build_network(config)
     for layer in model.layers:
         weights = layer.get_weights()
         if not weights:
             continue
         if layer.name == "lstm_fused":
-            kernel = weights[0]
-            weights[0] = np.concatenate(
-                [kernel, np.zeros((CORNER_CLASSES, kernel.shape[1]), kernel.dtype)])
-        grown.get_layer(layer.name).set_weights(weights)
-    return grown
+            weights[0] = _fused_kernel_rows(weights[0], has, config)
+        rebuilt.get_layer(layer.name).set_weights(weights)
+    return rebuilt
+
+
+def _fused_kernel_rows(kernel: np.ndarray, has: dict[str, bool],
+                       config: NetworkConfig) -> np.ndarray:
+    """LSTM_fused's kernel of a model with the inputs `has` -> the rows of `config`'s inputs."""
+    start = NUM_CLASSES + config.scan_units
+    blocks = [kernel[:start]]
+    for name, size, _ in FUSED_EXTRAS:
+        old = kernel[start:start + size] if has[name] else None
+        start += size if has[name] else 0
+        if getattr(config, f"{name}_input"):
+            blocks.append(old if old is not None else np.zeros((size, kernel.shape[1]),
+                                                                kernel.dtype))
+    return np.concatenate(blocks)
 
 
 def interpolate_weights(base: keras.Model, tuned: keras.Model,
@@ -214,12 +247,14 @@ def interpolate_weights(base: keras.Model, tuned: keras.Model,
     return mixed
 
 
-# Optional outputs on LSTM_fused (beyond the seed): name -> (activation, loss)
-HEADS = {"stop": ("sigmoid", "binary_crossentropy"), "decision": (None, "mse")}
+# Optional outputs on LSTM_fused (beyond the seed): name -> (width, activation, loss)
+HEADS = {"stop": (1, "sigmoid", "binary_crossentropy"), "decision": (1, None, "mse"),
+         "count": (CORNER_CLASSES, "softmax", "sparse_categorical_crossentropy")}
 
 
 def _head_layer(name: str) -> keras.layers.Dense:
-    return keras.layers.Dense(1, activation=HEADS[name][0], name=name)
+    width, activation, _ = HEADS[name]
+    return keras.layers.Dense(width, activation=activation, name=name)
 
 
 def wanted_heads(config: NetworkConfig) -> list[str]:
@@ -243,8 +278,9 @@ def add_heads(model: keras.Model, config: NetworkConfig) -> keras.Model:
     if missing:
         inputs = {"words": model.get_layer("word_mask").input,
                   "scans": model.get_layer("fc_scan").input}
-        if has_count_input(model):
-            inputs["counts"] = model.input["counts"]
+        for name in INPUT_NAMES.values():
+            if isinstance(model.input, dict) and name in model.input:
+                inputs[name] = model.input[name]
         fused = model.get_layer("lstm_fused").output
         outputs = {name: model.get_layer(name).output for name in
                    ("velocity", "instruction_class", *HEADS) if has_head(model, name)}
@@ -256,10 +292,10 @@ def add_heads(model: keras.Model, config: NetworkConfig) -> keras.Model:
 
 def compile_network(model: keras.Model, config: NetworkConfig) -> None:
     """§4.1.1: MSE on (v, ω); cross-entropy on Z_w; Adam (+ the losses of the optional heads the
-    model has: binary cross-entropy on stop, MSE on decision)."""
+    model has: binary cross-entropy on stop, MSE on decision, cross-entropy on count)."""
     loss = {"velocity": "mse", "instruction_class": "sparse_categorical_crossentropy"}
     weights = {"velocity": 1.0, "instruction_class": config.class_loss_weight}
-    for name, (_, head_loss) in HEADS.items():
+    for name, (_, _, head_loss) in HEADS.items():
         if has_head(model, name):
             loss[name] = head_loss
             weights[name] = getattr(config, f"{name}_loss_weight")

@@ -18,12 +18,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from semantic_nav.instruction_classes import NUM_CLASSES
+from semantic_nav.instruction_classes import COUNTINGS, NUM_CLASSES
 
 if TYPE_CHECKING:
     import keras
 
 CORNER_CLASSES = 4  # count input: 0, 1, 2, 3 or more (corner_count.CornerCountConfig.max_count)
+COUNTING_MODES = len(COUNTINGS)   # counting input: corners over both sides, one side's branches
 
 
 @dataclass
@@ -42,6 +43,9 @@ class NetworkConfig:
     decision_head: bool = False      # beyond the seed: "distance to the decision" output
     decision_loss_weight: float = 0.05  # weight of its MSE (targets in [0, 1])
     count_input: bool = False        # beyond the seed: corners counted so far as an input
+    counting_input: bool = False     # beyond the seed: the counting mode as an input (one-hot)
+    count_head: bool = False         # beyond the seed: softmax "corners passed so far" output
+    count_loss_weight: float = 0.1   # weight of its cross-entropy
 
 
 def sigmoid(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -86,8 +90,8 @@ class StepPolicy:
             weights.update({f"{layer}/kernel": kernel, f"{layer}/recurrent": recurrent,
                             f"{layer}/bias": bias})
         names = {layer.name for layer in model.layers}
-        heads = ("instruction_class", "fc_scan", "velocity") + (
-            ("stop",) if "stop" in names else ())
+        heads = ("instruction_class", "fc_scan", "velocity") + tuple(
+            head for head in ("stop", "count") if head in names)
         for layer in heads:
             kernel, bias = model.get_layer(layer).get_weights()
             weights.update({f"{layer}/kernel": kernel, f"{layer}/bias": bias})
@@ -106,8 +110,8 @@ class StepPolicy:
                 scan_units=weights["fc_scan/kernel"].shape[1],
                 fused_units=weights["lstm_fused/recurrent"].shape[0],
                 stop_head="stop/kernel" in weights,
-                count_input=weights["lstm_fused/kernel"].shape[0] == (
-                    NUM_CLASSES + weights["fc_scan/kernel"].shape[1] + CORNER_CLASSES))
+                **fused_extras(weights["lstm_fused/kernel"].shape[0]
+                               - NUM_CLASSES - weights["fc_scan/kernel"].shape[1]))
         return cls(weights, config)
 
     def reset(self) -> None:
@@ -115,6 +119,7 @@ class StepPolicy:
         units = self.config.fused_units
         self.h, self.c = np.zeros(units), np.zeros(units)
         self.stop_probability: float | None = None
+        self.counted: int | None = None      # the count head's corners passed (None: no head)
 
     def classify(self, word_vectors: ArrayLike) -> NDArray[np.float64]:
         """LSTM_w over the word vectors (n, word_dim) of one simple instruction -> Z_w (10,)."""
@@ -125,10 +130,13 @@ class StepPolicy:
         return softmax(h @ w["instruction_class/kernel"] + w["instruction_class/bias"])
 
     def step(self, z_w: NDArray[np.float64], scan: ArrayLike,
-             counts: ArrayLike | None = None) -> tuple[float, float]:
+             counts: ArrayLike | None = None,
+             counting: ArrayLike | None = None) -> tuple[float, float]:
         """One control step: Z_w and one preprocessed scan (beams,) -> (v, ω); state kept.
-        With a stop head, `stop_probability` holds its output for this step (else None).
-        A network with the count input needs `counts` (one-hot, CORNER_CLASSES)."""
+        With a stop head, `stop_probability` holds its output for this step (else None), with
+        a count head `counted` the corners it has passed. A network with the count input needs
+        `counts` (one-hot, CORNER_CLASSES), one with the counting input `counting` (one-hot,
+        COUNTING_MODES: instruction_classes.COUNTINGS)."""
         w = self.w
         z_s = relu(np.asarray(scan, dtype=np.float64) @ w["fc_scan/kernel"] + w["fc_scan/bias"])
         parts = [z_w, z_s]
@@ -136,13 +144,31 @@ class StepPolicy:
             if counts is None:
                 raise ValueError("this network has the corner-count input: step() needs counts")
             parts.append(np.asarray(counts, dtype=np.float64))
+        if self.config.counting_input:
+            if counting is None:
+                raise ValueError("this network has the counting-mode input: step() needs "
+                                 "counting")
+            parts.append(np.asarray(counting, dtype=np.float64))
         x = np.concatenate(parts)
         self.h, self.c = lstm_step(x, self.h, self.c, w["lstm_fused/kernel"],
                                    w["lstm_fused/recurrent"], w["lstm_fused/bias"])
         out = self.h @ w["velocity/kernel"] + w["velocity/bias"]
         if "stop/kernel" in w:
             self.stop_probability = float(sigmoid(self.h @ w["stop/kernel"] + w["stop/bias"])[0])
+        if "count/kernel" in w:      # what the network counts (diagnostics; control ignores it)
+            self.counted = int(np.argmax(self.h @ w["count/kernel"] + w["count/bias"]))
         return float(out[0]), float(out[1])
+
+
+def fused_extras(rows: int) -> dict[str, bool]:
+    """The inputs beside [Z_w, Z_s] that `rows` extra rows of LSTM_fused's kernel hold ->
+    NetworkConfig fields (count_input, counting_input); ValueError for another number."""
+    for count in (False, True):
+        for counting in (False, True):
+            if rows == CORNER_CLASSES * count + COUNTING_MODES * counting:
+                return {"count_input": count, "counting_input": counting}
+    raise ValueError(f"LSTM_fused has {rows} input rows beyond Z_w and Z_s: not one of our "
+                     "networks")
 
 
 class ModelFileError(ValueError):
@@ -175,7 +201,9 @@ def check_model_file(path: str | os.PathLike[str]) -> str:
     return FIX
 
 
-CONTROL_LAYERS = ("lstm_w", "lstm_fused", "instruction_class", "fc_scan", "velocity", "stop")
+# the layers the node runs (the count head for what it reports: control ignores it)
+CONTROL_LAYERS = ("lstm_w", "lstm_fused", "instruction_class", "fc_scan", "velocity", "stop",
+                  "count")
 RECURRENT = ("lstm_w", "lstm_fused")
 
 

@@ -26,9 +26,10 @@ from tqdm import tqdm
 
 from floorplan.occupancy_map import save_map
 from penguin_base.record_format import write_records
-from semantic_nav.instruction_classes import CLASS_IDS
+from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE
 from semnav_learning.demonstrations import (demonstrate, plan_counting_demonstrations,
-                                            plan_demonstrations, world_for_floor)
+                                            plan_demonstrations, plan_side_demonstrations,
+                                            world_for_floor)
 from semnav_learning.episodes import STRAIGHT_TO_END, TURN_AT_END, chain_applies
 from semnav_learning.floor_generator import FloorGeneratorConfig, random_floor
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
@@ -54,6 +55,7 @@ class DatasetConfig:
     classes: list = field(default_factory=lambda: list(CLASS_IDS))
     after_end: int = 0            # per floor, classes 2/3 standing at a corridor's end
     counting: int = 0             # per floor, each of classes 5-8 where counting matters
+    side_counting: int = 0        # per floor, each of classes 5-8 counted on its side only
     candidates: int = 80          # candidate start poses sampled per floor
     generated: int = 0            # random office floors added to the training split
     corridors: tuple = FloorGeneratorConfig.corridors    # generated floors: per direction
@@ -119,13 +121,15 @@ def plan_after_end(oracle, starts, per_class, rng):
 
 
 def floor_plan(oracle, starts, config, rng):
-    """Demonstrations of one floor -> [(start, class, classes driven before it)]."""
+    """Demonstrations of one floor -> [(start, class, classes driven before it, counting)]."""
     plan = [(start, label, ()) for start, label in
             plan_demonstrations(oracle, starts, config.per_class, rng) if label in config.classes]
     plan += plan_after_end(oracle, starts, config.after_end, rng)
     plan += [(start, label, ()) for start, label in
              plan_counting_demonstrations(oracle, starts, config.counting, rng)]
-    return plan
+    plan = [(*item, COUNT_CORNERS) for item in plan]
+    return plan + [(start, label, (), COUNT_SIDE) for start, label in
+                   plan_side_demonstrations(oracle, starts, config.side_counting, rng)]
 
 
 def build_floor(job, config):
@@ -146,23 +150,26 @@ def build_floor(job, config):
     except (WorldError, OracleError) as error:     # a floor without usable corridors
         return split, floor, {"records": 0, "samples": 0, "per_class": {}, "bytes": 0,
                               "error": str(error)}, []
-    sequences, counts, failures = [], Counter(), []
-    for start, label, after in floor_plan(oracle, starts, config, rng):
+    sequences, countings, counts, failures = [], [], Counter(), []
+    for start, label, after, counting in floor_plan(oracle, starts, config, rng):
         offset = (rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.14, 0.14))
         demo = demonstrate(world, "penguin", oracle, start, label, rng=rng, start_offset=offset,
-                           record_rate=config.record_rate, after=after)
+                           record_rate=config.record_rate, after=after, counting=counting)
         if demo.ok:              # planned from starts where the class applies: never None
             sequences.append(demo.sequence)
+            countings.append(counting)
             counts[label] += 1
         else:
             failures.append({"start": [round(float(v), 2) for v in start], "class": label,
-                             "after": list(after), "reached": demo.reached,
-                             "bumps": demo.bumps})
+                             "after": list(after), "counting": counting,
+                             "reached": demo.reached, "bumps": demo.bumps})
     path.parent.mkdir(parents=True, exist_ok=True)
     write_records(path, sequences)
     entry = {"records": len(sequences), "samples": sum(len(s.samples) for s in sequences),
              "per_class": dict(sorted(counts.items())), "bytes": path.stat().st_size}
-    entry_path.write_text(json.dumps({"entry": entry, "failures": failures}))
+    # each record's counting mode (training.record_countings): the record format has no field
+    entry_path.write_text(json.dumps({"entry": entry, "failures": failures,
+                                      "countings": countings}))
     return split, floor, entry, failures
 
 

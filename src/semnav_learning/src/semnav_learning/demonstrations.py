@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from penguin_base.recording import SequenceBuilder
-from semnav_learning.episodes import EpisodeError, chain_goals
+from semnav_learning.episodes import EpisodeError, chain_applies, chain_goals
 from semnav_learning.expert import ExpertConfig, ExpertDriver, recorded_stop_steps
-from semantic_nav.instruction_classes import CLASS_IDS, COUNTING_IDS
+from semantic_nav.instruction_classes import CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, COUNTING_IDS
 from semnav_learning.route_oracle import RouteOracle, counting_matters
 from sim2d.kinematics import RobotState
 from floorplan.occupancy_map import load_map
@@ -72,16 +72,19 @@ def _reset(world, robot, pose, laser_index):
 
 
 def demonstrate(world, robot_name, oracle, start, label, config=None, rng=None, laser_index=0,
-                start_offset=(0.0, 0.0, 0.0), record_rate=None, after=()):
+                start_offset=(0.0, 0.0, 0.0), record_rate=None, after=(),
+                counting=COUNT_CORNERS):
     """Drive class `label` from `start` in the world, recording every scan (or, with
     `record_rate` [Hz], one scan cast per period: the 10 Hz of control instead of the laser's
     40 Hz); None if the class is not applicable from this start.
 
     after: classes of the earlier parts of a chained instruction (episodes.chain_goals), not
     driven: the demonstration starts where they end (e.g. after=(1,), label 3: "turn left",
-    standing at the end of the corridor that "go straight to the end" followed)."""
+    standing at the end of the corridor that "go straight to the end" followed); `counting`:
+    how class `label` counts (instruction_classes.COUNTINGS, route_oracle.goal_branch)."""
     try:
-        parts = chain_goals(oracle, start, (*after, label))
+        parts = chain_goals(oracle, start, (*after, label),
+                            (COUNT_CORNERS,) * len(after) + (counting,))
     except EpisodeError:
         return None
     goal, route = parts[-1].goal, parts[-1].route
@@ -141,6 +144,22 @@ def plan_counting_demonstrations(oracle, starts, per_class, rng):
     for label in COUNTING_IDS:
         candidates = [start for start, walk in zip(starts, walks)
                       if counting_matters(walk, label)]
+        chosen = rng.permutation(len(candidates))[:per_class]
+        plan.extend((candidates[i], label) for i in sorted(chosen))
+    return plan
+
+
+def plan_side_demonstrations(oracle, starts, per_class, rng):
+    """Beyond the seed: classes 5-8 counted on their side only ("take the second right") from
+    starts where that reaches another branch than counting the corners over both sides, so a
+    network given the counting mode learns both counts: for each class, up to `per_class` of
+    those starts, drawn at random. Returns [(start, class)] in class order."""
+    plan = []
+    walks = [oracle.walk(start) for start in starts]
+    for label in COUNTING_IDS:
+        candidates = [start for start, walk in zip(starts, walks)
+                      if counting_matters(walk, label)
+                      and chain_applies(oracle, start, (label,), (COUNT_SIDE,))]
         chosen = rng.permutation(len(candidates))[:per_class]
         plan.extend((candidates[i], label) for i in sorted(chosen))
     return plan

@@ -24,7 +24,7 @@ from semnav_learning.episodes import (EpisodeConfig, EpisodeError, ExpertPolicy,
                                    chain_goals, run_episode)
 from semnav_learning.floor_structure import floor_structure, sample_corridor_starts
 from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, COUNTING_IDS,
-                                              END_TURN, STRAIGHT, TURN, get, ids)
+                                              COUNTINGS, END_TURN, STRAIGHT, TURN, get, ids)
 from semnav_learning.phrase_sets import sample_sentence
 from semnav_learning.route_oracle import (OracleError, RouteOracle, branches_on_side,
                                        counting_matters, goal_branch)
@@ -42,6 +42,9 @@ class EvaluationConfig:
     start_yaw_offset: float = 8.0    # and up to ± this in heading [deg]
     start_clearance: float = 0.4     # displaced start must have this clearance [m]
     max_redraws: int = 50            # displacements tried per episode before skipping [-]
+    side_share: float = None         # classes 5-8: this share of each class's episodes counted
+    #                                  on one side, the rest over both sides (None: as the
+    #                                  phrase sets' sentences fall) [0, 1]
 
 
 @dataclass
@@ -81,8 +84,9 @@ class EpisodeOutcome:
     step_seconds: float = 0.0                   # wall time per control step [s]
 
 
-def _displaced(oracle, start, labels, rng, config):
-    """start moved at random (clear of walls, classes still applicable) -> (pose, parts)."""
+def _displaced(oracle, start, labels, rng, config, countings=()):
+    """start moved at random (clear of walls, classes still applicable as `countings` count)
+    -> (pose, parts)."""
     for _ in range(config.max_redraws):
         pose = (start[0] + rng.uniform(-config.start_offset, config.start_offset),
                 start[1] + rng.uniform(-config.start_offset, config.start_offset),
@@ -91,7 +95,7 @@ def _displaced(oracle, start, labels, rng, config):
         if oracle.field.at(pose[0], pose[1]) < config.start_clearance:
             continue
         try:
-            return pose, chain_goals(oracle, pose, labels)
+            return pose, chain_goals(oracle, pose, labels, countings)
         except (EpisodeError, OracleError):
             continue
     return None, None
@@ -146,29 +150,56 @@ def plan_episodes(oracles, per_class, sets, rng, config=None, classes=CLASS_IDS)
         held = np.zeros(per_class, dtype=bool)
         held[:int(round(config.held_out_fraction * per_class))] = True
         rng.shuffle(held)
-        order = rng.permutation(len(candidates))
-        for i in range(per_class):
-            floor, start = candidates[order[i % len(order)]]
-            pose, _ = _displaced(oracles[floor], start, (label,), rng, config)
+        modes = counting_shares(label, per_class, config.side_share, rng)
+        starts = {mode: [c for c in candidates if mode != COUNT_SIDE
+                         or chain_applies(oracles[c[0]], c[1], (label,), (COUNT_SIDE,))]
+                  for mode in dict.fromkeys(modes)}    # in a seeded order
+        orders = {mode: rng.permutation(len(pool)) for mode, pool in starts.items()}
+        used = dict.fromkeys(starts, 0)
+        for i, mode in enumerate(modes):
+            if not starts[mode]:
+                raise EpisodeError(f"class {label}: no start of the floors has enough branches "
+                                   "on its side to count one side")
+            floor, start = starts[mode][orders[mode][used[mode] % len(orders[mode])]]
+            used[mode] += 1
+            countings = () if mode is None else (mode,)
+            pose, _ = _displaced(oracles[floor], start, (label,), rng, config, countings)
             if pose is None:
                 pose = start
             split = "held_out" if held[i] else "train"
-            sentence = applicable_sentence(sets, label, rng, split, oracles[floor], pose)
+            sentence = applicable_sentence(sets, label, rng, split, oracles[floor], pose, mode)
             specs.append(EpisodeSpec(str(floor), tuple(float(v) for v in pose), (label,),
                                      sentence.text, bool(held[i]), (sentence.counting,)))
     return specs
 
 
-def applicable_sentence(sets, label, rng, split, oracle, pose, tries=50):
+def counting_shares(label, count, side_share, rng):
+    """How each of `count` episodes of class `label` counts: None (as its sentence falls) for
+    every class when `side_share` is None or the class counts nothing, else COUNT_SIDE for
+    round(side_share * count) of them and COUNT_CORNERS for the rest, in random order."""
+    if side_share is None or label not in COUNTING_IDS:
+        return [None] * count
+    if not 0.0 <= side_share <= 1.0:
+        raise ValueError(f"side_share must lie in [0, 1], got {side_share}")
+    side = int(round(side_share * count))
+    return [COUNTINGS[k] for k in rng.permutation([1] * side + [0] * (count - side))]
+
+
+def applicable_sentence(sets, label, rng, split, oracle, pose, counting=None, tries=200):
     """A sentence of class `label` (phrase_sets.sample_sentence) whose counting applies at
     `pose`: one that counts the branches on one side ("take the second right") is redrawn
-    where that side has too few branches (counting corners applies: the start was drawn so)."""
+    where that side has too few branches (counting corners applies: the start was drawn so);
+    `counting` (COUNT_CORNERS / COUNT_SIDE): redrawn until the sentence counts so."""
     for _ in range(tries):
         sentence = sample_sentence(sets, label, rng, split)
+        if counting is not None and sentence.counting != counting:
+            continue
         if sentence.counting == COUNT_CORNERS or chain_applies(oracle, pose, (label,),
                                                                  (sentence.counting,)):
             return sentence
-    raise EpisodeError(f"class {label}: no {split} sentence applies at {pose} in {tries} draws")
+    raise EpisodeError(f"class {label}: no {split} sentence"
+                       f"{'' if counting is None else ' counting ' + counting} applies at "
+                       f"{pose} in {tries} draws")
 
 
 def plan_chain_episodes(oracles, labels, sentence, count, rng, config=None, per_start=4):

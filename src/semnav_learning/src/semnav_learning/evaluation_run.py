@@ -14,7 +14,7 @@ from tqdm import tqdm
 
 from floorplan.occupancy_map import load_map
 from semantic_nav.instruction_classes import CLASS_IDS, COUNTING_IDS
-from semnav_learning.episodes import chain_goals
+from semnav_learning.episodes import EpisodeError, chain_goals
 from semnav_learning.eval_plot import plot_episodes
 from semnav_learning.evaluation import (EpisodeOutcome, EvaluationConfig, PolicySpec, breakdown,
                                         counting_breakdown, evaluate, failure_places,
@@ -67,6 +67,8 @@ class EvaluationRun:
     stt_config: Path = field(default_factory=lambda: resource("config", "semnav_stt.yaml"))
     plan: Path | None = None          # reused when the file exists, else written
     phrases: Path = field(default_factory=lambda: resource("config", "semnav_phrases.yaml"))
+    side_share: float | None = None   # a new plan's classes 5-8 counted on one side (None: as
+    #                                   the sentences fall; EvaluationConfig.side_share)
 
 
 def drive(specs, policy_spec, template, workers, label):
@@ -136,7 +138,7 @@ def episode_specs(run):
         return specs, floors, {f: RouteOracle(load_map(f)) for f in floors}
     rng = np.random.default_rng(run.seed)
     batch = min(EvaluationConfig().batch, run.candidates)      # starts sampled per round
-    config = EvaluationConfig(candidates=run.candidates, batch=batch)
+    config = EvaluationConfig(candidates=run.candidates, batch=batch, side_share=run.side_share)
     floors = [str(Path(p).resolve()) for p in run.maps]
     oracles = {f: RouteOracle(load_map(f)) for f in floors}
     if run.chain:
@@ -150,7 +152,11 @@ def episode_specs(run):
             sets = load_phrase_sets(run.phrases)
         except (OSError, PhraseSetError) as error:
             raise EvaluationRunError(f"phrases {run.phrases}: {error}") from error
-        specs = plan_episodes(oracles, run.episodes_per_class, sets, rng, config, run.classes)
+        try:
+            specs = plan_episodes(oracles, run.episodes_per_class, sets, rng, config,
+                                  run.classes)
+        except (EpisodeError, ValueError) as error:
+            raise EvaluationRunError(f"plan: {error}") from error
     if run.plan:
         Path(run.plan).parent.mkdir(parents=True, exist_ok=True)
         Path(run.plan).write_text(json.dumps([asdict(s) for s in specs]))

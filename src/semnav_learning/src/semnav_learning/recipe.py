@@ -110,12 +110,15 @@ def _check_overrides(overrides, where):
 
 
 def _check_references(unit, done, where):
-    """Names of earlier units in `unit`'s arguments, and dataset floors ("unit:floor")."""
+    """Names of earlier units in `unit`'s arguments (a model may also be a workspace path
+    ending in .keras), and dataset floors ("unit:floor")."""
     for (kind, key), kinds in REFERENCES.items():
         if unit.kind != kind or key not in unit.args:
             continue
         names = unit.args[key]
         for name in names if isinstance(names, list) else [names]:
+            if kinds == MODEL_KINDS and str(name).endswith(".keras"):
+                continue            # a committed model, a workspace path (model_path)
             if done.get(name) not in kinds:
                 raise RecipeError(f"{where}.{kind}.{key}: {name!r} is not an earlier unit of kind "
                                   f"{' / '.join(kinds)}")

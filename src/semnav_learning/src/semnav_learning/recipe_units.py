@@ -93,6 +93,8 @@ class UnitRunner:
                 args[key] = [path(name) for name in args[key]]
         if "init" in args:
             args["init"] = self.model_path(args["init"])
+        if "follower_config" in args:      # a workspace path, e.g. config/semnav_follower_*.yaml
+            args["follower_config"] = self.recipe.root / args["follower_config"]
         config = resource("config")
         return TrainerConfig(**{**args, **fields}, work_dir=self.work / "train" / unit.name,
                              out=self.work / "models" / f"{unit.name}.keras",

@@ -65,6 +65,9 @@ class TrainerConfig:
     decision_horizon: float = None  # [m]
     decision_loss_weight: float = None
     count_input: bool = False     # corners counted so far as an input of LSTM_fused
+    count_head: bool = False      # learned counting: no count input (an init's is dropped), the
+    #                               counting mode as an input and the count as an output
+    follower_config: Path = None  # follower YAML of the closed-loop monitor (None: default)
     balance_classes: int = 1      # rare classes' records repeated up to this many times
     batch_size: int = None
     scan_units: int = None
@@ -254,8 +257,14 @@ class Trainer:
             if getattr(c, f"{head}_head") or (initial is not None and has_head(initial, head)):
                 setattr(net_config, f"{head}_head", True)
                 setattr(config, f"{head}_targets", True)
-        if c.count_input or (initial is not None and has_count_input(initial)):
+        if c.count_head:        # learned counting: the network counts, no counter feeds it
+            net_config.count_head = net_config.counting_input = True
+            config.count_targets = config.counting_inputs = True
+        elif c.count_input or (initial is not None and has_count_input(initial)):
             net_config.count_input = config.count_inputs = True
+        if initial is not None and has_head(initial, "count"):
+            net_config.count_head = net_config.counting_input = True
+            config.count_targets = config.counting_inputs = True
 
     def load_data(self):
         """-> (training episodes, validation episodes, training files, validation files)."""
@@ -312,7 +321,9 @@ class Trainer:
         # spawned workers, one per training thread (idle meanwhile): a pool forked from the
         # training process (torch threads running) hung
         outcomes = evaluate(specs, self.config.world_template,
-                            PolicySpec(model_path=str(path)), workers=self.config.threads,
+                            PolicySpec(model_path=str(path), config=self.config.follower_config
+                                       and str(self.config.follower_config)),
+                            workers=self.config.threads,
                             start_method="spawn")
         rows, total = success_table(outcomes)
         return total[2], {label: successes for label, _, successes, _ in rows}
@@ -328,14 +339,11 @@ class Trainer:
         return {"epoch": 0, "closed_loop": reached, "closed_loop_classes": per_class}
 
     def build_model(self, initial):
-        """The init model with the asked heads and count input, or a new network."""
-        from semantic_nav.network import add_count_input, add_heads, build_network
+        """The init model with the asked heads and inputs beside [Z_w, Z_s], or a new network."""
+        from semantic_nav.network import build_network, rebuild_fused_inputs
         if initial is None:
             return build_network(self.net)
-        model = add_heads(initial, self.net)
-        if self.net.count_input:
-            model = add_count_input(model, self.net)
-        return model
+        return rebuild_fused_inputs(initial, self.net)
 
     def warm_up_classifier(self, classifier):
         """LSTM_w first, on phrase-set sentences alone (cheap: no scans), so Z_w is meaningful
@@ -351,26 +359,28 @@ class Trainer:
 
     def train_epoch(self, epoch, model, classifier, train_eps):
         """One epoch's batches in a random order and its Z_w batches -> (velocity loss, class
-        loss, [decision losses])."""
+        loss, {head: mean loss} of the decision and count heads the model has)."""
         from semnav_learning.training import batch_arrays, batch_chunks, class_batch
         config, rng = self.training, self.rng
         chunks = batch_chunks(train_eps, self.sets, self.words, rng, config)
         order = rng.permutation(len(chunks))
-        losses, decision_losses = [], []
+        losses, head_losses = [], {}
         progress = StageProgress(f"Epoch {epoch}/{config.epochs}", len(order), "batches",
                                  self.report)
         for index in order:
             logs = model.train_on_batch(*batch_arrays(chunks[index], self.words.dim, config),
                                         return_dict=True)
             losses.append((logs["velocity_loss"], logs["instruction_class_loss"]))
-            if "decision_loss" in logs:
-                decision_losses.append(logs["decision_loss"])
+            for head in ("decision", "count"):
+                if f"{head}_loss" in logs:
+                    head_losses.setdefault(head, []).append(logs[f"{head}_loss"])
             progress.step(f"loss {logs['velocity_loss']:.5f}")
         for _ in range(config.class_batches):
             classifier.train_on_batch(*class_batch(self.sets, self.words, rng,
                                                    config.class_batch_size))
         velocity_loss, class_loss = (float(np.mean(x)) for x in zip(*losses))
-        return velocity_loss, class_loss, decision_losses
+        return velocity_loss, class_loss, {head: float(np.mean(values))
+                                           for head, values in head_losses.items()}
 
     def train(self, model, classifier, data, initial=None, checkpoint=None):
         """The epoch loop with the monitors; appends one entry per epoch to self.history.
@@ -391,7 +401,7 @@ class Trainer:
             first = checkpoint["epoch"] + 1
         for epoch in range(first, config.epochs + 1):
             began = time.perf_counter()
-            velocity_loss, class_loss, decision_losses = self.train_epoch(
+            velocity_loss, class_loss, head_losses = self.train_epoch(
                 epoch, model, classifier, train_eps)
             valid, valid_accuracy = validate(model, valid_batches, self.thresholds,
                                              config.control_rate)
@@ -402,8 +412,7 @@ class Trainer:
             entry = {"epoch": epoch, "velocity_loss": velocity_loss, "class_loss": class_loss,
                      "valid": valid, "valid_class_accuracy": valid_accuracy,
                      "loss_monitor": loss_monitor.best, "valid_monitor": valid_monitor.best}
-            if decision_losses:
-                entry["decision_loss"] = float(np.mean(decision_losses))
+            entry.update({f"{head}_loss": loss for head, loss in head_losses.items()})
             closed = ""
             if closed_specs:
                 reached, per_class = self.closed_loop_success(model, closed_specs)

@@ -7,6 +7,7 @@ standing still at the goal (zero labels) for `hold_steps`, and pairs each with a
 its class (§3.4), so every epoch sees new (phase, sentence) pairings.
 """
 import hashlib
+import json
 import zipfile
 from collections import Counter
 from dataclasses import dataclass, field
@@ -15,9 +16,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from semantic_nav.corner_count import CornerCountConfig, count_inputs, one_hot_counts, side_ranges
+from semantic_nav.corner_count import (CornerCountConfig, count_inputs, one_hot_counting,
+                                       one_hot_counts, side_ranges)
 from semantic_nav.doorways import close_doorways
-from semantic_nav.instruction_classes import CLASS_IDS, MIRRORED_CLASS
+from semantic_nav.instruction_classes import (CLASS_IDS, COUNT_CORNERS, COUNT_SIDE, COUNTINGS,
+                                              MIRRORED_CLASS, SIDE)
 from semantic_nav.instruction_layer import sentence_vector
 from semantic_nav.laser_layer import preprocess_scan
 from semnav_learning.phrase_sets import sample_sentence
@@ -49,6 +52,8 @@ class TrainingConfig:
     decision_horizon: float = 15.0  # decision distances are clipped here and scaled by it [m]
     decision_turn_seconds: float = 2.0  # a turn lasts this long; shorter ones are steering [s]
     count_inputs: bool = False      # add the "counts" input (network with the count input)
+    counting_inputs: bool = False   # add the "counting" input (counting mode, learned counting)
+    count_targets: bool = False     # add the "count" target (network with a count head)
     corners: CornerCountConfig = field(default_factory=CornerCountConfig)  # their side beams
 
 
@@ -72,6 +77,7 @@ class Episode:
     source: str = ""        # file the sequence came from
     rate: float = 40.0      # record rate [Hz] (demonstrations: laser rate; DAgger: control rate)
     sides: np.ndarray = None  # (N, 2) float32 raw side ranges, left / right (corner_count)
+    counting: str = COUNT_CORNERS   # how a class 5-8 demonstration counted (COUNTINGS)
 
 
 def split_record_files(datasets, split):
@@ -139,11 +145,27 @@ def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0
                 np.savez(partial, **arrays)
                 partial.replace(cache)     # an interrupted write never leaves a cache behind
         bounds = np.cumsum(np.concatenate([[0], arrays["lengths"]])).astype(int)
+        countings = record_countings(path, len(arrays["labels"]))
         episodes.extend(
             Episode(int(label), arrays["scans"][a:b], arrays["commands"][a:b], str(path), rate,
-                    arrays["sides"][a:b])
-            for label, a, b in zip(arrays["labels"], bounds[:-1], bounds[1:]))
+                    arrays["sides"][a:b], counting)
+            for label, a, b, counting in zip(arrays["labels"], bounds[:-1], bounds[1:],
+                                             countings))
     return episodes
+
+
+def record_countings(path, records):
+    """Each record's counting mode: the `countings` list the dataset build writes beside a
+    record file (<floor>.json; the record format has no field for it), COUNT_CORNERS for
+    records without one (DAgger records, datasets built before side counting)."""
+    entry = Path(path).with_suffix(".json")
+    countings = json.loads(entry.read_text()).get("countings") if entry.is_file() else None
+    if countings is None:
+        return [COUNT_CORNERS] * records
+    if len(countings) != records or not set(countings) <= set(COUNTINGS):
+        raise ValueError(f"{entry}: {len(countings)} counting modes for {records} records, or "
+                         f"one not in {COUNTINGS}")
+    return countings
 
 
 def _read_cache(cache):
@@ -314,7 +336,7 @@ def make_batches(episodes, sets, word_vectors, rng, config, phases=None, sentenc
 def batch_chunks(episodes, sets, word_vectors, rng, config, phases=None, sentences=None):
     """The random part of make_batches: per episode its control-rate sequence (views of the
     episode's arrays where possible), mirroring and sentence -> the epoch's batches as lists of
-    (scans, commands, word vectors, class, side ranges or None), sorted by length."""
+    (scans, commands, word vectors, class, side ranges or None, counting), sorted by length."""
     noise = config.word_noise if phases is None else 0.0
     items = []
     for index, episode in enumerate(episodes):
@@ -329,7 +351,7 @@ def batch_chunks(episodes, sets, word_vectors, rng, config, phases=None, sentenc
             sides = None if sides is None else sides[:, ::-1]
         words = (sentence_vectors(label, sets, word_vectors, rng, noise=noise)
                  if sentences is None else sentences[index])
-        items.append((scans, commands, words, label, sides))
+        items.append((scans, commands, words, label, sides, episode.counting))
     items.sort(key=lambda item: len(item[0]))
     return [items[start:start + config.batch_size]
             for start in range(0, len(items), config.batch_size)]
@@ -345,18 +367,22 @@ def batch_arrays(chunk, word_dim, config):
     stop = np.zeros((len(chunk), steps, 1), np.float32)
     decision = np.zeros((len(chunk), steps, 1), np.float32)
     counts = np.zeros((len(chunk), steps), np.int64)
-    for row, (s, c, _, _, sides) in enumerate(chunk):
+    counting = np.zeros((len(chunk), steps, len(COUNTINGS)), np.float32)
+    for row, (s, c, _, label, sides, mode) in enumerate(chunk):
         scans[row, :len(s)], commands[row, :len(c)] = s, c
         standing = np.all(c == 0.0, axis=1)
         weights[row, :len(s)] = step_weights(c, config)
         stop[row, :len(s), 0] = standing
         if config.decision_targets:
             decision[row, :len(s), 0] = decision_distance(c, config.control_rate, config)
-        if config.count_inputs:      # beyond the seed: corners counted so far, an input
+        counting[row, :len(s)] = one_hot_counting(mode)
+        if config.count_inputs or config.count_targets:  # beyond the seed: corners so far
             if sides is None:
-                raise ValueError("count inputs need the side ranges of the records "
-                                 "(training.load_episodes)")
-            counts[row, :len(s)] = count_inputs(sides, c, config.control_rate, config.corners)
+                raise ValueError("count inputs and targets need the side ranges of the "
+                                 "records (training.load_episodes)")
+            side = SIDE[label] if mode == COUNT_SIDE else None
+            counts[row, :len(s)] = count_inputs(sides, c, config.control_rate, config.corners,
+                                                side)
     words = pad_words([item[2] for item in chunk], word_dim)
     labels = np.array([item[3] - 1 for item in chunk])
     targets = {"velocity": commands, "instruction_class": labels}
@@ -367,9 +393,14 @@ def batch_arrays(chunk, word_dim, config):
     if config.decision_targets:  # beyond the seed: distance to the expert's decision
         targets["decision"] = decision
         sample_weights["decision"] = (weights > 0).astype(np.float32)
+    if config.count_targets:     # beyond the seed: corners passed so far (learned counting)
+        targets["count"] = counts
+        sample_weights["count"] = (weights > 0).astype(np.float32)
     inputs = {"words": words, "scans": scans}
     if config.count_inputs:
         inputs["counts"] = one_hot_counts(counts, config.corners.max_count)
+    if config.counting_inputs:
+        inputs["counting"] = counting
     return inputs, targets, sample_weights
 
 

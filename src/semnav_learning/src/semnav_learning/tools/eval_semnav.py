@@ -25,6 +25,11 @@ def argument_parser(description=None):
     parser.add_argument("--candidates", type=int, default=defaults.candidates,
                         help="corridor starts a new plan samples per floor at most (fewer: a "
                              "floor where some classes never apply is sampled sooner)")
+    parser.add_argument("--side-share", type=float, metavar="SHARE",
+                        help="a new plan's classes 5-8: this share of each class's episodes "
+                             "counted on one side (\"take the second right\"), the rest over "
+                             "both sides, e.g. 0.5 for equal shares (default: as the phrase "
+                             "sets' sentences fall)")
     parser.add_argument("--json", type=Path, help="write every episode and the table here")
     parser.add_argument("--model", help="model file of the follower (default: its default)")
     parser.add_argument("--follower-config", type=Path,

@@ -72,6 +72,15 @@ def argument_parser(description=None):
     parser.add_argument("--resume", action="store_true",
                         help="go on from WORK_DIR/checkpoint (written after every epoch) when it "
                              "is there: an interrupted run ends as the uninterrupted one would")
+    parser.add_argument("--count-head", action="store_true",
+                        help="beyond the seed, learned counting: no count input (an --init "
+                             "model's is dropped); the counting mode as an input and a count "
+                             "output trained on the corners the counter finds in each record's "
+                             "scans in its mode")
+    parser.add_argument("--follower-config", type=Path, metavar="YAML",
+                        help="follower config of the closed-loop monitor's episodes (default: "
+                             "config/semnav_follower.yaml), e.g. "
+                             "config/semnav_follower_no_count.yaml for a network that counts")
     parser.add_argument("--closed-loop-plan", type=Path, nargs="+", metavar="PLAN",
                         help="eval_semnav plan(s) (JSON) on validation floors, their episodes "
                              "driven after each epoch; never a test floor or a training floor")
