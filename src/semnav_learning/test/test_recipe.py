@@ -9,6 +9,7 @@ import pytest
 import yaml
 
 from semnav_learning.recipe import (RecipeError, RecipeRun, Schedule, Unit, UnitProgress,
+                                    unit_inputs,
                                     load_recipe)
 from semnav_learning.tools.train_recipe import main
 from semnav_learning.recipe_format import RESUME_LINE
@@ -248,6 +249,10 @@ def test_the_workspace_recipe_loads():
     learned = recipe.unit("counting_learned").args      # a committed model as its init
     assert learned["count_head"] and "count_input" not in learned
     assert learned["init"] == "models/semantic_nav/default.keras"
+    # --only counting_learned needs its datasets and plans, not a unit named after the model
+    needs = unit_inputs(recipe.unit("counting_learned"), recipe)
+    assert "side_counts" in needs and "plan_long" in needs and not any(
+        name.endswith(".keras") for name in needs)
     assert recipe.unit("side_counts").args["side_counting"] > 0
 
 

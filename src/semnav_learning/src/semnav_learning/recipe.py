@@ -109,6 +109,12 @@ def _check_overrides(overrides, where):
                         {f.name for f in dataclasses.fields(config)}, f"{where}.{key}")
 
 
+def committed_model(kinds, name):
+    """A model reference that names a workspace file (models/semantic_nav/*.keras, read by
+    RecipeUnits.model_path), not an earlier unit."""
+    return kinds == MODEL_KINDS and str(name).endswith(".keras")
+
+
 def _check_references(unit, done, where):
     """Names of earlier units in `unit`'s arguments (a model may also be a workspace path
     ending in .keras), and dataset floors ("unit:floor")."""
@@ -117,8 +123,8 @@ def _check_references(unit, done, where):
             continue
         names = unit.args[key]
         for name in names if isinstance(names, list) else [names]:
-            if kinds == MODEL_KINDS and str(name).endswith(".keras"):
-                continue            # a committed model, a workspace path (model_path)
+            if committed_model(kinds, name):
+                continue
             if done.get(name) not in kinds:
                 raise RecipeError(f"{where}.{kind}.{key}: {name!r} is not an earlier unit of kind "
                                   f"{' / '.join(kinds)}")
@@ -199,12 +205,14 @@ def load_recipe(path, root):
 
 
 def unit_inputs(unit, recipe):
-    """Names of the earlier units `unit` reads (references, dataset floors, a unit's model)."""
+    """Names of the earlier units `unit` reads (references, dataset floors, a unit's model; a
+    committed model, a path ending in .keras, is none)."""
     names = []
-    for (kind, key) in REFERENCES:
+    for (kind, key), kinds in REFERENCES.items():
         if unit.kind == kind and key in unit.args:
             value = unit.args[key]
-            names += value if isinstance(value, list) else [value]
+            names += [name for name in (value if isinstance(value, list) else [value])
+                      if not committed_model(kinds, name)]
     names += [str(f).partition(":")[0] for f in unit.args.get("floors", []) if ":" in str(f)]
     if unit.kind == "evaluate" and unit.args["model"] in {u.name for u in recipe.units}:
         names.append(unit.args["model"])
