@@ -10,6 +10,7 @@ import pytest
 import semnav_learning.evaluation as evaluation
 from semnav_learning.evaluation import (EpisodeOutcome, EpisodeSpec, EvaluationConfig, PolicySpec,
                                      breakdown, class_census, counting_breakdown, episode_seed,
+                                     mode_breakdown,
                                      evaluate, failure_place, failure_places, format_table,
                                      load_plan, mcnemar_exact, paired_comparison,
                                      plan_chain_episodes,
@@ -243,6 +244,17 @@ def test_counting_breakdown_splits_classes_5_to_8_by_the_other_side():
                                list(labels)) for start, labels, ok in cases]
     assert counting_breakdown(outcomes, oracles) == {
         "matters": {"tests": 3, "successes": 1}, "alike": {"tests": 2, "successes": 2}}
+
+
+def test_mode_breakdown_counts_each_counting_class_per_mode():
+    start = (0.0, 0.0, 0.0)
+    cases = [((5,), ("side",), True), ((5,), ("side",), False), ((5,), (), True),
+             ((8,), ("corners",), False), ((1,), (), True), ((5, 3), ("side",), True)]
+    outcomes = [EpisodeOutcome(EpisodeSpec("f", start, labels, "s", False, countings), ok, "r",
+                               1.0, 1, list(labels)) for labels, countings, ok in cases]
+    assert mode_breakdown(outcomes) == {      # no counting given: corners; chains left out
+        5: {"corners": {"tests": 1, "successes": 1}, "side": {"tests": 2, "successes": 1}},
+        8: {"corners": {"tests": 1, "successes": 0}}}
 
 
 def test_failure_places_tell_one_side_counting_from_overshooting():

@@ -350,6 +350,21 @@ def format_table(rows, total, title=""):
     return "\n".join(lines)
 
 
+def mode_breakdown(outcomes):
+    """Classes 5-8 (single-part episodes) per counting mode -> {class: {mode: {"tests",
+    "successes"}}}, classes and modes in order (what "both counting modes" is judged on)."""
+    table = {}
+    for outcome in sorted(outcomes, key=lambda o: o.spec.labels):
+        labels = outcome.spec.labels
+        if len(labels) != 1 or labels[0] not in COUNTING_IDS:
+            continue
+        mode = (outcome.spec.countings or (COUNT_CORNERS,))[0]
+        cell = table.setdefault(labels[0], {}).setdefault(mode, {"tests": 0, "successes": 0})
+        cell["tests"] += 1
+        cell["successes"] += bool(outcome.success)
+    return {label: dict(sorted(modes.items())) for label, modes in table.items()}
+
+
 def counting_breakdown(outcomes, oracles):
     """Classes 5-8 (single-part episodes) split by whether counting the corners over both sides
     matters from their start (route_oracle.counting_matters) -> {"matters" / "alike":

@@ -18,7 +18,7 @@ from semnav_learning.episodes import EpisodeError, chain_goals
 from semnav_learning.eval_plot import plot_episodes
 from semnav_learning.evaluation import (EpisodeOutcome, EvaluationConfig, PolicySpec, breakdown,
                                         counting_breakdown, evaluate, failure_places,
-                                        format_table, load_plan, outcome_record,
+                                        format_table, load_plan, mode_breakdown, outcome_record,
                                         plan_chain_episodes, plan_episodes, success_table)
 from semnav_learning.phrase_sets import PhraseSetError, load_phrase_sets
 from semnav_learning.route_oracle import RouteOracle
@@ -84,6 +84,7 @@ def report(outcomes, seconds, title, oracles):
     rows, total = success_table(outcomes)
     table = format_table(rows, total, title)
     extra = {**breakdown(outcomes), "by_counting": counting_breakdown(outcomes, oracles),
+             "by_mode": mode_breakdown(outcomes),
              "failure_places": failure_places(outcomes, oracles)}
     step = float(np.median([o.step_seconds for o in outcomes if o.steps] or [0.0])) * 1e3
     print(table)
@@ -91,6 +92,11 @@ def report(outcomes, seconds, title, oracles):
     if extra["by_counting"]:
         print(f"classes {COUNTING_IDS[0]}-{COUNTING_IDS[-1]} by whether corners on the other "
               f"side count: {extra['by_counting']}")
+    if extra["by_mode"]:
+        print(f"classes {COUNTING_IDS[0]}-{COUNTING_IDS[-1]} by counting mode: " + "; ".join(
+            f"{label} " + ", ".join(f"{mode} {c['successes']}/{c['tests']}"
+                                    for mode, c in modes.items())
+            for label, modes in extra["by_mode"].items()))
     for label, places in extra["failure_places"].items():
         print(f"class {label} failures ended: "
               + "; ".join(f"{n} {place}" for place, n in sorted(places.items(),
