@@ -307,6 +307,18 @@ def test_silence_is_asked_again_after_the_timeout_then_given_up():
     assert turn.state == FAILED and turn.say.startswith("Sorry, I did not hear you. I am sorry")
 
 
+def test_an_answer_still_being_transcribed_holds_the_question_a_while():
+    """Spoken at 110 s (after the question at 100 s), its transcript not in at 120 s: the
+    question waits up to transcript_wait longer; an utterance spoken before the question does
+    not hold it."""
+    talk = dialogue(answer_timeout=20.0, transcript_wait=15.0)
+    assert talk.tick(120.0, transcribing=[99.0]).say.startswith("Sorry, I did not hear you.")
+    talk = dialogue(answer_timeout=20.0, transcript_wait=15.0)
+    assert talk.tick(120.0, transcribing=[110.0]).say == ""
+    assert talk.tick(134.0, transcribing=[110.0]).say == ""
+    assert talk.tick(135.0, transcribing=[110.0]).say.startswith("Sorry, I did not hear you.")
+
+
 def test_an_aborted_dialogue_is_failed_and_says_it_gives_up():
     talk = dialogue()
     talk.hear("My name is Frank.", "", 1.0)

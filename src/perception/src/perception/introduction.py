@@ -52,6 +52,8 @@ class IntroductionConfig:
     min_sightings: int = 3         # frames a stranger is seen in before the robot goes to meet
     max_retries: int = 2           # re-asks of one question before the dialogue is given up
     answer_timeout: float = 45.0   # [s] without an answer before a question is asked again
+    transcript_wait: float = 15.0  # [s] longer while an answer spoken since the question is
+                                   # still being transcribed (the STT node's stt/heard)
     retry_after: float = 300.0     # [s] a stranger not met (dialogue or trip failed) is left alone
     name_question: str = "What is your name?"
     thanks: str = "Thank you, {name}."      # said before the next question after the name
@@ -336,9 +338,17 @@ class IntroductionDialogue:
             return Turn(f"{self.config.thanks.format(name=value)} {self._question()}", GENDER)
         return Turn(self._question(), self.state)
 
-    def tick(self, now: float) -> Turn:
-        """Ask again after `answer_timeout` without an answer; Turn() when nothing is due."""
-        if not self.open or now - self.asked_at < self.config.answer_timeout:
+    def tick(self, now: float, transcribing: Iterable[float] = ()) -> Turn:
+        """Ask again after `answer_timeout` without an answer; Turn() when nothing is due. An
+        answer spoken since the question and still being transcribed (`transcribing`: when the
+        utterances heard but not yet transcribed were spoken [s]) holds the question up to
+        `transcript_wait` longer: asked again, the person would answer a question already
+        answered."""
+        waited = now - self.asked_at
+        if not self.open or waited < self.config.answer_timeout:
+            return Turn("", self.state)
+        if any(t >= self.asked_at for t in transcribing) and \
+                waited < self.config.answer_timeout + self.config.transcript_wait:
             return Turn("", self.state)
         return self._ask_again("Sorry, I did not hear you.", now)
 

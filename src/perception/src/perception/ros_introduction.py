@@ -96,7 +96,8 @@ class IntroductionParams:
                                           # one stranger seen at the place this recently
     config: IntroductionConfig = IntroductionConfig()  # ~threshold, ~ambiguity_margin,
                                           # ~min_sightings,
-                                          # ~max_retries, ~answer_timeout, ~retry_after,
+                                          # ~max_retries, ~answer_timeout,
+                                          # ~transcript_wait, ~retry_after,
                                           # ~seen_within, ~gone_after
 
 
@@ -110,7 +111,7 @@ def read_params():
     """Node parameters; KeyError names a missing required one."""
     config = config_from_params(IntroductionConfig, only=(
         "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
-        "retry_after", "seen_within", "gone_after"))
+        "transcript_wait", "retry_after", "seen_within", "gone_after"))
     question = config_from_params(QuestionConfig, only=("ask_timeout", "transcript_wait"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
@@ -124,9 +125,10 @@ class IntroductionNode:
         self._lock = threading.Lock()
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
-        question = params.question   # a transcript never coming is forgotten after twice the
-        self._transcribing = PendingTranscripts(   # longest a question waits for it
-            2.0 * (question.ask_timeout + question.transcript_wait))
+        question, config = params.question, params.config   # a transcript never coming is
+        self._transcribing = PendingTranscripts(2.0 * max(   # forgotten after twice the longest
+            question.ask_timeout + question.transcript_wait,  # a question waits for it
+            config.answer_timeout + config.transcript_wait))
         self._asks = collections.deque(maxlen=5)
         self.question = None      # the IdentityQuestion being asked, if any
         self._states = {}         # state topic -> latest TaskBufferState
@@ -250,14 +252,14 @@ class IntroductionNode:
                 self._answer(msg, now)
             elif self.question is not None and self.question.open and not msg.ip:
                 self._answer_question(self.question.hear(msg.text, now), msg)
+        with self._lock:
+            transcribing = self._transcribing.spoken()
         if self.dialogue is not None and self.dialogue.open:
             if walked_off(self.stranger, self.dialogue, now):
                 self._gone(now)
             else:
-                self._turn(self.dialogue.tick(now), now)
+                self._turn(self.dialogue.tick(now, transcribing), now)
         if self.question is not None and self.question.open:
-            with self._lock:
-                transcribing = self._transcribing.spoken()
             self._answer_question(self.question.tick(now, transcribing), None)
         talking = any(d is not None and d.open for d in (self.dialogue, self.question))
         self._publish_open(self._open_until is not None and (talking or now < self._open_until))
