@@ -166,6 +166,24 @@ def test_only_runs_the_named_units_and_install_copies_with_cards(first_run, caps
             f"`scripts/train_recipe --recipe {path} --only tiny_eval` |") in card
 
 
+def test_install_copies_the_models_whose_units_ran_and_names_the_others(first_run, tmp_path):
+    folder, path, _, _, _ = first_run
+    recipe = yaml.safe_load(path.read_text())
+    recipe["install"]["other"] = "tiny_tuned"
+    recipe["install_dir"] = str(tmp_path / "installed")
+    lines = []
+    run = RecipeRun(load_recipe(write(folder, recipe), ROOT), report=lines.append)
+    (folder / "work" / "done" / "tiny_tuned.json").rename(tmp_path / "tiny_tuned.json")
+    try:
+        assert run.install() == [tmp_path / "installed" / "tiny.keras"]
+        assert "not installed: other (unit tiny_tuned has not run yet)" in lines
+        recipe["install"] = {"other": "tiny_tuned"}
+        with pytest.raises(RecipeError, match="none of the models' units \\(tiny_tuned\\)"):
+            RecipeRun(load_recipe(write(folder, recipe), ROOT), report=print).install()
+    finally:
+        (tmp_path / "tiny_tuned.json").rename(folder / "work" / "done" / "tiny_tuned.json")
+
+
 def test_only_refuses_a_unit_whose_inputs_have_not_run(tmp_path):
     path = tiny_recipe(tmp_path)
     with pytest.raises(RecipeError, match="unit tiny_bc needs l_records, which has not run"):
@@ -239,7 +257,7 @@ def test_the_workspace_recipe_loads():
     recipe = load_recipe(ROOT / "config" / "semnav_recipe.yaml", ROOT)
     assert recipe.stages() == ["datasets", "seed_faithful", "default", "learned_counting",
                                "evaluation"]
-    assert recipe.install == {"bc": "bc", "default": "default_zw"}
+    assert recipe.install == {"bc": "bc", "default": "default_zw", "counting": "counting_tuned"}
     scratch = recipe.unit("default_scratch").args
     assert scratch["stop_head"] and scratch["decision_head"] and scratch["count_input"]
     assert scratch["door_width"] == 1.4 and scratch["mirror"] == 0.5 and "init" not in scratch

@@ -360,18 +360,23 @@ class RecipeRun:
         self.report(f"evaluations so far -> {path}")
 
     def install(self, date=None):
-        """Copy the `install` models (+ their training records, with the recipe and unit named)
-        to the install directory and write each one's card (`<model>.md`, model_card.py: data,
-        command, commit, `date` (default today), evaluations) -> [installed paths]; RecipeError
-        if one has not been trained."""
+        """Copy the `install` models whose units are done (+ their training records, with the
+        recipe and unit named) to the install directory and write each one's card
+        (`<model>.md`, model_card.py: data, command, commit, `date` (default today),
+        evaluations) -> [installed paths]; a model whose unit has not run is left as it is
+        (said so); RecipeError if none has been trained."""
         done, installed = self.done(), []
         date = date or datetime.date.today().isoformat()
         commit = source_commit(self.recipe.root)
-        missing = [unit for unit in self.recipe.install.values() if unit not in done]
-        if missing:
-            raise RecipeError(f"--install: unit {missing[0]} has not run yet")
-        self.recipe.install_dir.mkdir(parents=True, exist_ok=True)
+        ready = {model: unit for model, unit in self.recipe.install.items() if unit in done}
         for model, unit in self.recipe.install.items():
+            if model not in ready:
+                self.report(f"not installed: {model} (unit {unit} has not run yet)")
+        if not ready:
+            raise RecipeError("--install: none of the models' units "
+                              f"({', '.join(self.recipe.install.values())}) has run yet")
+        self.recipe.install_dir.mkdir(parents=True, exist_ok=True)
+        for model, unit in ready.items():
             source = Path(done[unit]["model"])
             target = self.recipe.install_dir / f"{model}.keras"
             shutil.copyfile(source, target)
