@@ -122,39 +122,38 @@ def test_plan_balances_classes_over_starts():
     assert len(per_class[1]) == 2 and len(per_class[4]) == 2
 
 
-def test_counting_plan_takes_only_starts_where_the_other_side_counts():
-    from semnav_learning.demonstrations import plan_counting_demonstrations
+# office_comb's spine from its south end, the side corridors and the west branch
+SPINE = (18.0, 5.0, math.pi / 2)
+COMB_STARTS = [SPINE, (4.0, 11.0, math.pi / 2), (32.0, 16.0, math.pi / 2), (6.0, 18.0, 0.0)]
+
+
+@pytest.mark.parametrize("planner", ["plan_counting_demonstrations", "plan_side_demonstrations"])
+def test_counting_plans_take_only_starts_where_the_other_side_counts(planner):
+    """From the spine the crossroad is the 3rd corner but the 2nd on either side, so counting
+    over both sides and counting one side differ for classes 5, 7 and 8 (the side plan
+    drives the one-side counts there); from the side corridors and the west branch classes 5
+    and 6 apply, but one side counts alike."""
+    import semnav_learning.demonstrations as demonstrations
     from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml"))
-    # the spine from its south end: the crossroad is the 3rd corner but the 2nd on either side;
-    # the side corridors and the west branch: classes 5 and 6 apply, but one side counts alike
-    spine = (18.0, 5.0, math.pi / 2)
-    starts = [spine, (4.0, 11.0, math.pi / 2), (32.0, 16.0, math.pi / 2), (6.0, 18.0, 0.0)]
-    plan = plan_counting_demonstrations(oracle, starts, 3, np.random.default_rng(0))
-    assert plan == [(spine, 5), (spine, 7), (spine, 8)]
-    assert plan_counting_demonstrations(oracle, starts, 0, np.random.default_rng(0)) == []
+    plan = getattr(demonstrations, planner)
+    assert plan(oracle, COMB_STARTS, 3, np.random.default_rng(0)) == [
+        (SPINE, 5), (SPINE, 7), (SPINE, 8)]
+    assert plan(oracle, COMB_STARTS, 0, np.random.default_rng(0)) == []
 
 
-def test_side_plan_takes_starts_where_one_side_counts_elsewhere_and_drives_there():
-    """The spine of office_comb from its south end: counting the right-hand branches, the
-    second right (class 5) is the crossroad at 13 m, where counting every corner gives the
-    branch at 9 m; the third right / left (7, 8) lie at 22 m / 19 m, not at the crossroad. A
-    demonstration counted on one side ends at that side's branch."""
-    from semnav_learning.demonstrations import plan_side_demonstrations
+def test_a_demonstration_counted_on_one_side_ends_at_that_sides_branch():
+    """Counting the right-hand branches from the spine, the second right (class 5) is the
+    crossroad at 13 m; counting every corner gives the branch at 9 m."""
     from semnav_learning.episodes import chain_goals
     from semantic_nav.instruction_classes import COUNT_SIDE
     from floorplan.occupancy_map import load_map
     oracle = RouteOracle(load_map(ROOT / "maps" / "office_comb.yaml"))
-    spine = (18.0, 5.0, math.pi / 2)
-    starts = [spine, (4.0, 11.0, math.pi / 2), (32.0, 16.0, math.pi / 2), (6.0, 18.0, 0.0)]
-    plan = plan_side_demonstrations(oracle, starts, 3, np.random.default_rng(0))
-    assert plan == [(spine, 5), (spine, 7), (spine, 8)]
-    assert plan_side_demonstrations(oracle, starts, 0, np.random.default_rng(0)) == []
     world = world_for_floor(ROOT / "config" / "worlds" / "office_penguin.yaml",
                             ROOT / "maps" / "office_comb.yaml", cache_dir=None)
-    demo = demonstrate(world, "penguin", oracle, spine, 5, record_rate=10.0,
+    demo = demonstrate(world, "penguin", oracle, SPINE, 5, record_rate=10.0,
                        counting=COUNT_SIDE)
-    side_goal = chain_goals(oracle, spine, (5,), (COUNT_SIDE,))[-1].goal
-    corner_goal = chain_goals(oracle, spine, (5,))[-1].goal
+    side_goal = chain_goals(oracle, SPINE, (5,), (COUNT_SIDE,))[-1].goal
+    corner_goal = chain_goals(oracle, SPINE, (5,))[-1].goal
     assert demo.ok and side_goal.contains(*demo.final_pose)
     assert not corner_goal.contains(*demo.final_pose)
