@@ -73,6 +73,17 @@ def test_first_of_each_class_keeps_plan_order_within_a_class():
     assert [(s.labels[0], s.start[0]) for s in after] == [(1, 3.0), (3, 2.0), (3, 4.0)]
 
 
+@pytest.mark.parametrize("argv, message", [
+    (["--first", "0"], "--first: must be an integer of at least 1; got '0'"),
+    (["--skip", "-1"], "--skip: must be an integer of at least 0; got '-1'"),
+    (["--first", "two"], "--first: must be an integer of at least 1; got 'two'"),
+])
+def test_a_count_of_episodes_that_selects_nothing_is_refused(argv, message, capsys):
+    with pytest.raises(SystemExit):
+        argument_parser().parse_args(argv)
+    assert message in capsys.readouterr().err
+
+
 def test_chain_without_a_sentence_is_refused(tmp_path):
     write_l_floor(tmp_path)
     with pytest.raises(SystemExit, match="eval_semnav: a chain needs its sentence"):

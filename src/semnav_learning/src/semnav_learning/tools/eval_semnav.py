@@ -12,6 +12,21 @@ from semnav_learning.spoken import DEFAULT_VOICES
 COMMAND = "scripts/eval_semnav"
 
 
+def counted(least):
+    """An argparse type: an integer of at least `least`, else a message naming what was given
+    ("--first 0" ran every episode)."""
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or value < least:
+            raise argparse.ArgumentTypeError(f"must be an integer of at least {least}; got "
+                                             f"{text!r}")
+        return value
+    return parse
+
+
 def argument_parser(description=None):
     """The options of eval_semnav: the fields of EvaluationRun, with its defaults."""
     defaults = EvaluationRun()
@@ -42,9 +57,9 @@ def argument_parser(description=None):
                         default=list(CLASS_IDS))
     parser.add_argument("--name", default=None, help="name of the docs outputs (table, plot)")
     parser.add_argument("--docs", type=Path, default=defaults.docs)
-    parser.add_argument("--first", type=int, help="run only the first N episodes of each class "
-                        "of the plan")
-    parser.add_argument("--skip", type=int, default=0, metavar="K",
+    parser.add_argument("--first", type=counted(1), help="run only the first N (at least 1) "
+                        "episodes of each class of the plan")
+    parser.add_argument("--skip", type=counted(0), default=0, metavar="K",
                         help="leave out the first K episodes of each class of the plan (before "
                              "--first): another subset of the same plan")
     parser.add_argument("--chain", type=int, nargs="+", metavar="CLASS",
