@@ -99,11 +99,20 @@ class IdentityQuestion:
         waited = now - self.asked_at
         if not self.open or waited < self.config.ask_timeout:
             return Reply("", self.state)
-        spoken_in_time = any(self.asked_at <= t <= self.asked_at + self.config.ask_timeout
-                             for t in transcribing)
-        if not spoken_in_time or waited >= self.config.ask_timeout + self.config.transcript_wait:
+        if not transcript_on_the_way(transcribing, self.asked_at,
+                                     self.asked_at + self.config.ask_timeout, waited,
+                                     self.config.ask_timeout + self.config.transcript_wait):
             self.state = UNANSWERED
         return Reply("", self.state)
+
+
+def transcript_on_the_way(transcribing: Iterable[float], asked_at: float, spoken_by: float,
+                          waited: float, longest: float) -> bool:
+    """Whether a question asked at `asked_at` and `waited` [s] ago waits on for a transcript:
+    an utterance spoken between `asked_at` and `spoken_by` still has none (`transcribing`:
+    when those heard but not yet transcribed were spoken [s]) and `waited` is below
+    `longest`."""
+    return waited < longest and any(asked_at <= t <= spoken_by for t in transcribing)
 
 
 class PendingTranscripts:

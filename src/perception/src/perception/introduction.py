@@ -37,6 +37,7 @@ from task_planner.reward import Priority
 
 from perception.answers import (AnswerError, closest_name, parse_age, parse_gender, parse_name,
                                 parse_yes_no)
+from perception.identity_question import transcript_on_the_way
 
 # Dialogue states: the question being waited for, then the end states.
 NAME, GENDER, AGE, COMPLETE, FAILED = "name", "gender", "age", "complete", "failed"
@@ -347,8 +348,8 @@ class IntroductionDialogue:
         waited = now - self.asked_at
         if not self.open or waited < self.config.answer_timeout:
             return Turn("", self.state)
-        if any(t >= self.asked_at for t in transcribing) and \
-                waited < self.config.answer_timeout + self.config.transcript_wait:
+        if transcript_on_the_way(transcribing, self.asked_at, now, waited,
+                                 self.config.answer_timeout + self.config.transcript_wait):
             return Turn("", self.state)
         return self._ask_again("Sorry, I did not hear you.", now)
 

@@ -16,10 +16,11 @@ from perception.activity import (ActivityConfig, ActivityResult, AffordanceTable
                                  SeenObject, recognise_activity, torso_top)
 from perception.keypoints import (HIPS, L_SHOULDER, NECK, R_SHOULDER, Skeleton, as_skeleton,
                                   present)
-from perception.localisation import pixel_to_camera, semantic_place, stitched_pixel, transform_point
+from perception.localisation import (DepthWindowConfig, pixel_to_camera, semantic_place,
+                                     stitched_pixel, transform_point)
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
-MIN_DEPTH = 0.3   # [m] nearer depth readings are invalid (analyse_person's default)
+MIN_DEPTH = DepthWindowConfig.min_depth   # [m] nearer depth readings are invalid
 
 
 @dataclass

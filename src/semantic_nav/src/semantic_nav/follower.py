@@ -342,6 +342,8 @@ class DirectionFollower:
         if self.index >= len(self.instructions):
             return
         self.z_now = self.z_w[self.index]
+        if self._counting_input:    # the counting mode of this instruction, fixed while it runs
+            self._counting_row = one_hot_counting(self.countings[self.index])
         if self.counter is not None:
             label, side = self.classes[self.index], None
             one_side = self.countings[self.index] == COUNT_SIDE
@@ -394,8 +396,7 @@ class DirectionFollower:
                                     self.counter.config.max_count)
             output = self.policy.step(self.z_now, scan, counts)
         elif self._counting_input:       # learned counting: the network counts itself
-            output = self.policy.step(self.z_now, scan,
-                                      counting=one_hot_counting(self.countings[self.index]))
+            output = self.policy.step(self.z_now, scan, counting=self._counting_row)
         else:
             output = self.policy.step(self.z_now, scan)
         raw_v, raw_w = apply_stop(*output, getattr(self.policy, "stop_probability", None),
