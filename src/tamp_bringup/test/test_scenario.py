@@ -55,7 +55,7 @@ def test_the_demo_scenario(tmp_path):
         "Frank", "male", 72, "192.168.1.150", "living_room")
     assert scenario.requests[3].ip == "192.168.1.150"
     assert scenario.requests[0].ip == "192.168.1.102"  # Bob's phone, config/household.yaml
-    # world poses: Alice (0.85, 10.3) office, Bob (1.2, 1.35) and Carol (2.6, 2.9) living room,
+    # world poses: Alice (0.85, 10.75) office, Bob (1.2, 1.35) and Carol (2.6, 2.9) living room,
     # David (5.0, 7.6) bedroom
     assert scenario.initial == {"Alice": ("office", "work"), "Bob": ("living_room", "watch TV"),
                                 "Carol": ("living_room", "read"),
