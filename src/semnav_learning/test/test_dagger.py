@@ -25,3 +25,18 @@ def test_states_end_where_the_policy_drives_past_the_corner():
     assert on_route_steps(turned, [ROUTE], 1.0) == len(turned)
     # With a second part's route the union counts: the east leg continued is on route.
     assert on_route_steps(path, [ROUTE, np.array([[10.0, 0.0], [20.0, 0.0]])], 1.0) == 30
+
+
+def test_a_round_keeps_each_sequence_counting_mode_for_training(tmp_path):
+    from penguin_base.record_format import RecordSequence, Sample, read_records
+    from semantic_nav.instruction_classes import COUNT_CORNERS, COUNT_SIDE
+    from semnav_learning.dagger import write_round
+    from semnav_learning.training import record_countings
+    ranges = (1.0, 2.0, 3.0)
+    sequences = [RecordSequence(8, [Sample(0.3, 0.0, ranges)] * 3),
+                 RecordSequence(5, [Sample(0.2, 0.5, ranges)] * 2)]
+    path = tmp_path / "round.records"
+    write_round(path, sequences, [COUNT_SIDE, COUNT_CORNERS])
+    assert [s.instruction_class for s in read_records(path)] == [8, 5]
+    # training reads the modes beside the records, as for a dataset build's floor
+    assert record_countings(path, 2) == [COUNT_SIDE, COUNT_CORNERS]

@@ -7,6 +7,7 @@ import re
 
 import pytest
 import yaml
+from penguin_base.record_format import read_records
 
 from semnav_learning.recipe import (RecipeError, RecipeRun, Schedule, Unit, UnitProgress,
                                     unit_inputs,
@@ -53,7 +54,8 @@ def tiny_recipe(folder):
                            "stop_head": True, "training": {"epochs": 1}}},
                 {"name": "tiny_dagger", "minutes": 0.2,
                  "dagger": {"model": "tiny_tuned", "floors": ["l_floor"], "per_class": 1,
-                            "classes": [4]}},         # turn around: at most 30 s
+                            "classes": [4],           # turn around: at most 30 s
+                            "follower_config": "config/semnav_follower_no_guard.yaml"}},
                 {"name": "tiny_zw", "minutes": 0.05,
                  "classifier": {"init": "tiny_tuned", "batches": 2}}]},
             {"name": "evaluation", "units": [
@@ -94,6 +96,9 @@ def test_the_units_run_in_order_and_write_their_outputs(first_run):
         assert (work / "models" / f"{model}.json").is_file(), model
     assert done["tiny_dagger"]["episodes"] == 1
     assert (work / "dagger" / "tiny_dagger.records").is_file()
+    # each sequence's counting mode beside the records (class 4 counts nothing: corners)
+    assert json.loads((work / "dagger" / "tiny_dagger.json").read_text()) == {
+        "countings": ["corners"] * len(read_records(work / "dagger" / "tiny_dagger.records"))}
     assert done["tiny_eval"]["episodes"] == 1 and done["tiny_eval"]["successes"] in (0, 1)
     followed = json.loads((work / "eval" / "tiny_eval.json").read_text())["args"]
     assert followed["follower_config"] == str(ROOT / "config" / "semnav_follower_no_guard.yaml")

@@ -7,12 +7,15 @@ expert's clean command (episodes.ExpertLabeller) is recorded as the label next t
 policy saw. The visited states are written in penguin_base's record format at the control rate
 and added to the training set for the next training round.
 """
+import json
+from pathlib import Path
+
 import numpy as np
 
 from penguin_base.record_format import RecordSequence, Sample, write_records
 from semnav_learning.episodes import ExpertLabeller, chain_goals, run_episode
 from semnav_learning.demonstrations import world_for_floor
-from semnav_learning.evaluation import plan_episodes
+from semnav_learning.evaluation import EvaluationConfig, plan_episodes
 from semantic_nav.instruction_classes import CLASS_IDS
 from semnav_learning.route_oracle import RouteOracle
 
@@ -66,24 +69,31 @@ def visited_states(world, oracle, policy, spec, max_route_offset=None):
 
 
 def collect_round(floors, template, policy, sets, per_class, rng, progress=None,
-                  classes=CLASS_IDS, max_route_offset=None):
+                  classes=CLASS_IDS, max_route_offset=None, side_share=None):
     """One DAgger round on `floors` (map YAML paths) over `classes` -> ([RecordSequence],
-    [EpisodeResult]); max_route_offset as in visited_states."""
+    [EpisodeResult], [counting mode of each sequence]); max_route_offset as in visited_states;
+    side_share: the share of each of classes 5-8's episodes counted on one side
+    (evaluation.counting_shares; None: as the sentences fall)."""
     worlds = {str(f): world_for_floor(template, f) for f in floors}
     oracles = {floor: RouteOracle(world.grid) for floor, world in worlds.items()}
-    specs = plan_episodes(oracles, per_class, sets, rng, classes=classes)
-    sequences, results = [], []
+    specs = plan_episodes(oracles, per_class, sets, rng, EvaluationConfig(side_share=side_share),
+                          classes=classes)
+    sequences, results, countings = [], [], []
     for spec in specs:
         sequence, result = visited_states(worlds[spec.floor], oracles[spec.floor], policy, spec,
                                           max_route_offset)
         if sequence.samples:
             sequences.append(sequence)
+            countings.append(spec.countings[-1])
         results.append(result)
         if progress:
             progress(result)
-    return sequences, results
+    return sequences, results, countings
 
 
-def write_round(path, sequences):
-    """The aggregated states of one round as a record file (read back at the control rate)."""
+def write_round(path, sequences, countings):
+    """The aggregated states of one round as a record file (read back at the control rate), and
+    each sequence's counting mode beside it (<path>.json, as a dataset build writes them:
+    training.record_countings)."""
     write_records(path, sequences)
+    Path(path).with_suffix(".json").write_text(json.dumps({"countings": list(countings)}))

@@ -145,8 +145,11 @@ class UnitRunner:
         from semantic_nav.instruction_classes import CLASS_IDS
         args = unit.args
         torch.set_num_threads(1)
+        follower = args.get("follower_config")     # a workspace path, as an evaluation's
         policy = DirectionFollower.from_files(str(self.model_path(args["model"])),
-                                              word_vectors=self.recipe.words)
+                                              word_vectors=self.recipe.words,
+                                              config=self.recipe.root / follower if follower
+                                              else None)
         sets = load_phrase_sets(resource("config", "semnav_phrases.yaml"))
         classes = args.get("classes", list(CLASS_IDS))
         rng = np.random.default_rng(args.get("seed", 0) * 1000 + 1)  # seed * 1000 + round 1
@@ -157,13 +160,13 @@ class UnitRunner:
             if count[0] % 10 == 0 or count[0] == total:     # a line per 10 episodes
                 progress(count[0], total, "episodes")
 
-        sequences, results = collect_round(
+        sequences, results, countings = collect_round(
             floor_paths(self.recipe, args["floors"]), self.recipe.world, policy, sets,
             args.get("per_class", 4), rng, progress=episode_done, classes=classes,
-            max_route_offset=args.get("max_route_offset"))
+            max_route_offset=args.get("max_route_offset"), side_share=args.get("side_share"))
         path = self.work / "dagger" / f"{unit.name}.records"
         path.parent.mkdir(parents=True, exist_ok=True)
-        write_round(path, sequences)
+        write_round(path, sequences, countings)
         figures = {"records": str(path), "episodes": len(results),
                    "successes": sum(r.success for r in results),
                    "states": sum(len(s.samples) for s in sequences)}
