@@ -262,7 +262,8 @@ def test_the_workspace_recipe_loads():
     recipe = load_recipe(ROOT / "config" / "semnav_recipe.yaml", ROOT)
     assert recipe.stages() == ["datasets", "seed_faithful", "default", "learned_counting",
                                "evaluation"]
-    assert recipe.install == {"bc": "bc", "default": "default_zw", "counting": "counting_tuned"}
+    assert recipe.install == {"bc": "bc", "default": "default_zw",
+                              "counting": "counting_aggregate"}
     scratch = recipe.unit("default_scratch").args
     assert scratch["stop_head"] and scratch["decision_head"] and scratch["count_input"]
     assert scratch["door_width"] == 1.4 and scratch["mirror"] == 0.5 and "init" not in scratch
@@ -277,6 +278,14 @@ def test_the_workspace_recipe_loads():
     assert "side_counts" in needs and "plan_long" in needs and not any(
         name.endswith(".keras") for name in needs)
     assert recipe.unit("side_counts").args["side_counting"] > 0
+    # the DAgger round aimed at counting drives the network with no counter, half on one side,
+    # on training floors only, and its states feed the installed fine-tune
+    dagger = recipe.unit("counting_dagger").args
+    assert dagger["side_share"] == 0.5 and dagger["classes"] == [5, 6, 7, 8]
+    assert dagger["follower_config"] == "config/semnav_follower_no_count.yaml"
+    assert all(f.split(":")[0] in recipe.unit("counting_learned").args["dataset"]
+               for f in dagger["floors"])
+    assert recipe.unit("counting_aggregate").args["dagger_records"] == ["counting_dagger"]
 
 
 def test_sigterm_stops_the_run_but_only_ends_a_pool_worker():
