@@ -58,7 +58,7 @@ def test_every_committed_model_has_one_card_in_the_recipe_format():
             assert re.search(rf"^- {re.escape(field)}", card, re.M), (name, field)
         assert all(f"\n{section}\n" in card for section in SECTIONS), name
         # bc and default do not come from the recipe as it stands: their cards say what make
-        # train does instead; counting.keras is the recipe's counting_tuned
+        # train does instead; counting.keras is the recipe's counting_aggregate
         assert ("\n## How `make train` differs\n" in card) == (name != "counting"), name
     # the training record holds settings and monitors, not the model's story
     for name in models:
