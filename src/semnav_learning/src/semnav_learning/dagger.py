@@ -8,7 +8,6 @@ policy saw. The visited states are written in penguin_base's record format at th
 and added to the training set for the next training round.
 """
 import json
-from pathlib import Path
 
 import numpy as np
 
@@ -18,6 +17,7 @@ from semnav_learning.demonstrations import world_for_floor
 from semnav_learning.evaluation import EvaluationConfig, plan_episodes
 from semantic_nav.instruction_classes import CLASS_IDS
 from semnav_learning.route_oracle import RouteOracle
+from semnav_learning.training import countings_path
 
 RANGE_DECIMALS = 3   # as the demonstrations: ranges to the millimetre
 
@@ -93,7 +93,7 @@ def collect_round(floors, template, policy, sets, per_class, rng, progress=None,
 
 def write_round(path, sequences, countings):
     """The aggregated states of one round as a record file (read back at the control rate), and
-    each sequence's counting mode beside it (<path>.json, as a dataset build writes them:
-    training.record_countings)."""
+    each sequence's counting mode beside it (training.countings_path, where
+    training.record_countings reads them)."""
     write_records(path, sequences)
-    Path(path).with_suffix(".json").write_text(json.dumps({"countings": list(countings)}))
+    countings_path(path).write_text(json.dumps({"countings": list(countings)}))

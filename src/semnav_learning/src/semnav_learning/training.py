@@ -154,11 +154,17 @@ def load_episodes(paths, laser, canonical, preprocess, cache_dir=None, rate=40.0
     return episodes
 
 
+def countings_path(path):
+    """Where the counting modes of a record file's records lie: beside it, <name>.json (the
+    record format has no field for them)."""
+    return Path(path).with_suffix(".json")
+
+
 def record_countings(path, records):
-    """Each record's counting mode: the `countings` list the dataset build writes beside a
-    record file (<floor>.json; the record format has no field for it), COUNT_CORNERS for
-    records without one (DAgger records, datasets built before side counting)."""
-    entry = Path(path).with_suffix(".json")
+    """Each record's counting mode: the `countings` list a dataset build (<floor>.json) or a
+    DAgger round (dagger.write_round) writes beside a record file (countings_path),
+    COUNT_CORNERS for records without one (datasets built before side counting)."""
+    entry = countings_path(path)
     countings = json.loads(entry.read_text()).get("countings") if entry.is_file() else None
     if countings is None:
         return [COUNT_CORNERS] * records
