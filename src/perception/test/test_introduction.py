@@ -234,7 +234,8 @@ def test_answers_count_as_the_strangers_only_if_they_were_seen_there_lately(watc
 def test_a_silent_stranger_out_of_sight_walked_off(watch):
     """Greeted at 30 s in the welcome hall after sightings at 0-2 s: nothing heard and not seen
     there since, the stranger walked off once `gone_after` (20 s) passed; seen there during
-    the dialogue, or once an answer came, the robot waits for the answers' timeouts."""
+    the dialogue, once an answer came, or while an answer spoken since the greeting is being
+    transcribed, the robot waits for the answers' timeouts."""
     for t in range(3):
         watch.observe(WHITE, "welcome", float(t), [])
     stranger = watch.taken(30)
@@ -247,6 +248,9 @@ def test_a_silent_stranger_out_of_sight_walked_off(watch):
     assert not walked_off(stranger, talk, 50.0)
     watch.observe(WHITE, "living_room", 40.0, [])   # seen elsewhere: gone
     assert walked_off(stranger, talk, 50.0)
+    assert not walked_off(stranger, talk, 50.0, transcribing=[44.0])  # an answer on the way
+    assert walked_off(stranger, talk, 50.0, transcribing=[29.0])   # spoken before the greeting
+    assert walked_off(stranger, talk, 90.0, transcribing=[44.0])   # past answer_timeout + wait
     talk.hear("Mumble.", "", 45.0)                  # someone answered: not gone
     assert not walked_off(stranger, talk, 50.0)
 

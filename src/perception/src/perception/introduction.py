@@ -244,16 +244,22 @@ def seen_there_since(stranger: Stranger, place: str, since: float) -> bool:
     return stranger.place == place and stranger.last_seen >= since
 
 
-def walked_off(stranger: Stranger, dialogue: "IntroductionDialogue", now: float) -> bool:
+def walked_off(stranger: Stranger, dialogue: "IntroductionDialogue", now: float,
+               transcribing: Iterable[float] = ()) -> bool:
     """Whether the stranger of a dialogue walked off before answering: nothing was heard
     `gone_after` [s] after the greeting and perception has not seen them in the dialogue's
     place since it began. An answer takes about 5 s through the speech-to-text node (16 s on
     a loaded machine), so a silent stranger who is out of sight is not waited for to the
-    end of the robot function's 60 s."""
+    end of the robot function's 60 s. An answer spoken since the greeting whose transcript
+    is still on the way (`transcribing`: when the utterances heard but not yet transcribed
+    were spoken [s]) was heard: at 20x real time one transcript takes 20 s of simulated time,
+    and the stranger who gave it had not walked off."""
     config = dialogue.config
-    return (config.gone_after > 0 and not dialogue.heard
-            and now - dialogue.started >= config.gone_after
-            and not seen_there_since(stranger, dialogue.place, dialogue.started))
+    waited = now - dialogue.started
+    return (config.gone_after > 0 and not dialogue.heard and waited >= config.gone_after
+            and not seen_there_since(stranger, dialogue.place, dialogue.started)
+            and not transcript_on_the_way(transcribing, dialogue.started, now, waited,
+                                          config.answer_timeout + config.transcript_wait))
 
 
 @dataclass(frozen=True)

@@ -71,6 +71,15 @@ from perception.introduction import (COMPLETE, FAILED, IntroductionConfig, Intro
 ENDED = (InstructionState.DONE, InstructionState.FAILED, InstructionState.CANCELLED)
 
 
+def greeted_at(states, record, now: float) -> float:
+    """When the executor greeted the stranger of `record` (an active instruction): the stamp
+    of the state that reports it, said as the function starts, so an answer may come before
+    that state reaches this node; `now` [s] when the state carries no stamp."""
+    stamp = next(state.header.stamp.to_sec() for state in states
+                 if any(r is record for r in state.instructions))
+    return min(now, stamp) if stamp > 0 else now
+
+
 @dataclass(frozen=True)
 class IntroductionParams:
     graph: str                            # ~graph: maps/<map>.graph.yaml
@@ -255,7 +264,7 @@ class IntroductionNode:
         with self._lock:
             transcribing = self._transcribing.spoken()
         if self.dialogue is not None and self.dialogue.open:
-            if walked_off(self.stranger, self.dialogue, now):
+            if walked_off(self.stranger, self.dialogue, now, transcribing):
                 self._gone(now)
             else:
                 self._turn(self.dialogue.tick(now, transcribing), now)
@@ -406,7 +415,7 @@ class IntroductionNode:
                           next((r for r in records if r.state in ENDED), records[0]))
             if record.state == InstructionState.ACTIVE and not (
                     self.dialogue is not None and self.dialogue.open):
-                self._meet(stranger, now)
+                self._meet(stranger, greeted_at(states, record, now))
             elif record.state in ENDED:
                 self._last = (f"#{stranger.instruction_id} ended unmet: "
                               f"{record.reason or 'no reason'}")
@@ -415,6 +424,7 @@ class IntroductionNode:
                 rospy.logwarn("introduction: %s", self._last)
 
     def _meet(self, stranger, now):
+        """Open the dialogue with `stranger`, greeted at `now` [s]."""
         self.stranger, self._met_id = stranger, stranger.instruction_id
         with self._lock:
             residents = tuple(self._known or ())
