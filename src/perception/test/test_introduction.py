@@ -191,6 +191,24 @@ def test_a_stranger_walking_by_is_met_once_seen_often_enough_in_one_place(watch)
     assert made is not None and made.destination == PLACES["living_room"]
 
 
+def test_a_stranger_in_a_place_people_pass_through_is_met_only_once_they_stay():
+    """In the alley (pass_through), seen at 5 Hz while walking through for 4 s: no meeting;
+    in the living room after it, the usual three sightings; a stranger who stays in the alley
+    is met there once seen there `settle_after` (10 s)."""
+    functions = {f.name: f for f in load_robot_functions(CONFIG / "robot_functions.yaml").values()}
+    introduce = functions["introduce"]
+    priority = load_priorities(CONFIG / "priorities.yaml")["self_generated"]
+    places = {**PLACES, "alley": 1}
+    watch = NewcomerWatch(IntroductionConfig(min_sightings=3, pass_through=("alley",)),
+                          (introduce.code, introduce.duration_s), priority, places)
+    walk = [watch.observe(WHITE, "alley", 20.0 + 0.2 * k, []) for k in range(20)]
+    assert walk == [None] * 20
+    made = [watch.observe(WHITE, "living_room", 25.0 + k, []) for k in range(3)]
+    assert made[:2] == [None, None] and made[2].destination == places["living_room"]
+    stays = [watch.observe(np.full((3, 3), 30), "alley", 30.0 + k, []) for k in range(11)]
+    assert stays[:10] == [None] * 10 and stays[10].destination == places["alley"]
+
+
 def test_a_stranger_who_walked_off_before_the_meeting_is_met_where_they_settled(watch):
     """Seen walking through the welcome hall, met there in vain; they had walked on to the
     living room, where their later sightings count at once."""

@@ -72,6 +72,9 @@ class IntroductionConfig:
     gone_after: float = 20.0       # [s] with nothing heard and the stranger not seen in the
                                    # place since the greeting: they walked off, the meeting
                                    # ends (0: wait for the answers' timeouts)
+    pass_through: tuple = ()       # places people only pass through (an alley): a stranger
+                                   # there is met only once seen there `settle_after` [s]
+    settle_after: float = 10.0     # [s] (walking by, they are met in the room they settle in)
 
 
 @dataclass
@@ -83,6 +86,7 @@ class Stranger:
     first_seen: float          # [s]
     last_seen: float           # [s]
     sightings: int = 1
+    place_since: float = 0.0   # [s] first sighting in `place` since they were last elsewhere
     instruction_id: int = 0    # the introduce instruction given for them (SUBMITTING until the
                                # task buffer allocated its id); 0 = none
     left_until: float = 0.0    # [s] not met again before this (after a failed meeting)
@@ -157,10 +161,13 @@ class NewcomerWatch:
             return None   # identified since visual perception asked human_db
         stranger = self.matching(colours)
         if stranger is None:
-            self.strangers.append(Stranger(np.array(colours), place, stamp, stamp))
+            self.strangers.append(Stranger(np.array(colours), place, stamp, stamp,
+                                           place_since=stamp))
             stranger = self.strangers[-1]
         else:
             moved = place != stranger.place
+            if moved:
+                stranger.place_since = stamp
             stranger.colours, stranger.place, stranger.last_seen = np.array(colours), place, stamp
             if stamp < stranger.left_until and place == stranger.left_in:
                 return None   # left alone there: sightings count again after retry_after
@@ -168,7 +175,7 @@ class NewcomerWatch:
             stranger.sightings = 1 if moved else stranger.sightings + 1
         if stranger.name or stranger.instruction_id:
             return None
-        if stranger.sightings < self.config.min_sightings:
+        if stranger.sightings < self.config.min_sightings or passing_by(stranger, self.config):
             return None
         return self._introduce(stranger, stamp)
 
@@ -237,6 +244,14 @@ def answered_by_the_stranger(stranger: Stranger, place: str, started: float,
     during it. §3.2.3 stores the shirt of the person asked; a stranger who walked off before the
     robot came is not the one who answered (someone else in the room did)."""
     return seen_there_since(stranger, place, started - config.seen_within)
+
+
+def passing_by(stranger: Stranger, config: IntroductionConfig) -> bool:
+    """Whether the stranger is only passing through their place (`config.pass_through`): seen
+    there for less than `settle_after` [s]. A meeting asked for a person walking down the alley
+    finds nobody there."""
+    return (stranger.place in config.pass_through
+            and stranger.last_seen - stranger.place_since < config.settle_after)
 
 
 def seen_there_since(stranger: Stranger, place: str, since: float) -> bool:

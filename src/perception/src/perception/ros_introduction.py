@@ -107,7 +107,8 @@ class IntroductionParams:
                                           # ~min_sightings,
                                           # ~max_retries, ~answer_timeout,
                                           # ~transcript_wait, ~retry_after,
-                                          # ~seen_within, ~gone_after
+                                          # ~seen_within, ~gone_after,
+                                          # ~pass_through, ~settle_after
 
 
 def beside_state(state_topic, name):
@@ -120,7 +121,8 @@ def read_params():
     """Node parameters; KeyError names a missing required one."""
     config = config_from_params(IntroductionConfig, only=(
         "threshold", "ambiguity_margin", "min_sightings", "max_retries", "answer_timeout",
-        "transcript_wait", "retry_after", "seen_within", "gone_after"))
+        "transcript_wait", "retry_after", "seen_within", "gone_after", "pass_through",
+        "settle_after"))
     question = config_from_params(QuestionConfig, only=("ask_timeout", "transcript_wait"))
     return config_from_params(IntroductionParams, only=(
         "graph", "priorities_file", "robot_functions", "function", "priority", "humans_topic",
