@@ -148,6 +148,8 @@ class IntroductionNode:
         self.watch = self.dialogue = self.stranger = None
         self._met_id = 0          # id of the introduce instruction the last dialogue was for
         self._open_until = None   # ~dialogue_open is true until this time [s]; None = closed
+        self._free_since = 0.0    # [s] when the last dialogue or question ended: a greeting
+                                  # said before then was answered into that one
         self._published_open = None
         self._counts = {"instructions": 0, "not_submitted": 0, "dialogues": 0, "registered": 0,
                         "recalled": 0, "not_met": 0, "asked": 0, "asked_yes": 0,
@@ -322,7 +324,8 @@ class IntroductionNode:
         if msg is not None:
             self.answers_until.publish(Time(rospy.Time.from_sec(utterance_time(msg))))
         self._count(f"asked_{reply.state}")
-        self._open_until = rospy.get_time() + self.params.close_linger
+        self._free_since = rospy.get_time()
+        self._open_until = self._free_since + self.params.close_linger
         answered = AskWho(name=question.name, place=question.place, answer=reply.state)
         answered.header.stamp = rospy.Time.now()
         self.asked.publish(answered)
@@ -417,7 +420,7 @@ class IntroductionNode:
                           next((r for r in records if r.state in ENDED), records[0]))
             if record.state == InstructionState.ACTIVE and not (
                     self.dialogue is not None and self.dialogue.open):
-                self._meet(stranger, greeted_at(states, record, now))
+                self._meet(stranger, max(greeted_at(states, record, now), self._free_since))
             elif record.state in ENDED:
                 self._last = (f"#{stranger.instruction_id} ended unmet: "
                               f"{record.reason or 'no reason'}")
@@ -530,6 +533,7 @@ class IntroductionNode:
             self.watch.not_met(self.stranger, now)
             self._count("not_met")
         self._last = what
+        self._free_since = now
         self._open_until = now + self.params.close_linger
         (rospy.loginfo if met else rospy.logwarn)("introduction: %s", what)
 
