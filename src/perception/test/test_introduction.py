@@ -93,11 +93,15 @@ def test_the_visitor_shirt_matches_no_household_shirt():
 
 @pytest.fixture
 def watch():
+    return make_watch(PLACES, min_sightings=3, retry_after=300.0)
+
+
+def make_watch(places, **config):
     functions = {f.name: f for f in load_robot_functions(CONFIG / "robot_functions.yaml").values()}
     introduce = functions["introduce"]
     priority = load_priorities(CONFIG / "priorities.yaml")["self_generated"]
-    return NewcomerWatch(IntroductionConfig(min_sightings=3, retry_after=300.0),
-                         (introduce.code, introduce.duration_s), priority, PLACES)
+    return NewcomerWatch(IntroductionConfig(**config), (introduce.code, introduce.duration_s),
+                         priority, places)
 
 
 def test_a_stranger_seen_three_times_is_met_where_they_were_seen(watch):
@@ -195,12 +199,8 @@ def test_a_stranger_in_a_place_people_pass_through_is_met_only_once_they_stay():
     """In the alley (pass_through), seen at 5 Hz while walking through for 4 s: no meeting;
     in the living room after it, the usual three sightings; a stranger who stays in the alley
     is met there once seen there `settle_after` (10 s)."""
-    functions = {f.name: f for f in load_robot_functions(CONFIG / "robot_functions.yaml").values()}
-    introduce = functions["introduce"]
-    priority = load_priorities(CONFIG / "priorities.yaml")["self_generated"]
     places = {**PLACES, "alley": 1}
-    watch = NewcomerWatch(IntroductionConfig(min_sightings=3, pass_through=("alley",)),
-                          (introduce.code, introduce.duration_s), priority, places)
+    watch = make_watch(places, min_sightings=3, pass_through=("alley",))
     walk = [watch.observe(WHITE, "alley", 20.0 + 0.2 * k, []) for k in range(20)]
     assert walk == [None] * 20
     made = [watch.observe(WHITE, "living_room", 25.0 + k, []) for k in range(3)]
