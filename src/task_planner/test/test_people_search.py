@@ -50,6 +50,19 @@ def test_search_order_is_last_seen_then_schedule_then_stalest():
                         distance_m=[6, 5, 3, 0]) == [D, C, B, A]
 
 
+def test_places_the_schedule_ever_names_go_before_the_others_of_equal_staleness():
+    """Bob, never seen, has nothing scheduled now; at other times of day his schedule puts him
+    at D (TV in the evening): D before the nearer A, B and C, none of them looked at; a place
+    looked at since stays behind the unlooked ones."""
+    people = PeopleAtPlaces()
+    people.predict({"Bob": [(68400.0, 75600.0, D)]}, day_s=45000.0)
+    assert people.predicted["Bob"] is None and people.habitual["Bob"] == {D}
+    assert search_order("Bob", people, {}, range(4), [],
+                        distance_m=[0, 1, 3, 6]) == [D, A, B, C]
+    assert search_order("Bob", people, {D: 30.0}, range(4), [],
+                        distance_m=[0, 1, 3, 6]) == [A, B, C, D]
+
+
 def test_places_people_only_pass_through_are_searched_last_unless_pointed_at():
     """D is a passage: Zoe, never seen, is looked for in it after every other place even though
     it is the nearest; Bob, last seen in D, is looked for there first."""

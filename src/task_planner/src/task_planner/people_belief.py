@@ -31,6 +31,8 @@ class PeopleAtPlaces:
         # name -> earlier nodes, most recent first
         self.seen_s: dict[str, float] = {}  # name -> when perception last saw them [s]
         self.predicted: dict[str, int | None] = {}  # name -> node their schedule puts them at now
+        self.habitual: dict[str, set[int]] = {}  # name -> nodes their schedule puts them at at
+        #                                          any time of day
         self.frames: deque[float] = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames
                                                  # perception analysed, oldest first
         self.unidentified: dict[int, deque[tuple[float, float, float]]] = {}
@@ -122,9 +124,12 @@ class PeopleAtPlaces:
 
     def predict(self, schedules: Mapping[str, Iterable[tuple[float, float, int | None]]],
                 day_s: float) -> None:
-        """Where each person's schedule puts them at time of day `day_s` [s since midnight]."""
+        """Where each person's schedule puts them at time of day `day_s` [s since midnight],
+        and at any time of day."""
         for name, entries in schedules.items():
+            entries = list(entries)
             self.predicted[name] = scheduled_place(entries, day_s)
+            self.habitual[name] = {place for _, _, place in entries if place not in (None, "")}
 
     def missed(self, name: str, node: int) -> None:
         """A look at `node` did not find `name`: they are no longer believed there."""
@@ -168,8 +173,10 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     """Where to look for `name` next: where the belief and the schedule point first (the place
     they were last seen, the place their schedule predicts, then the places they were seen
     before, most recent first), then every other place: first those not looked at since the
-    person was last seen (a look before says nothing of where they went since), the nearest
-    first (`distance_m[n]`: from the robot [m]), then those looked at since, the longest
+    person was last seen (a look before says nothing of where they went since), those their
+    schedule puts them at at some time of day first (`habitual`: the living room of someone
+    who watches TV in the evenings before an office they never work in), the nearest first
+    (`distance_m[n]`: from the robot [m]), then those looked at since, the longest
     unlooked-at first, the nearest first among equally stale ones. For someone
     never seen (not met yet: perception cannot tell them) the places where anyone's schedule
     puts someone now come before the others: the household gathers there, and a stranger seen
@@ -194,7 +201,9 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
     first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
     scheduled = set() if people.knows(name) else set(people.predicted.values())
+    habitual = people.habitual.get(name, ())
     rest = sorted(places, key=lambda n: (n in last, n not in scheduled, looked_since_seen(n),
+                                         bool(habitual) and n not in habitual,
                                          0.0 if distance_m is None else distance_m[n], n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]
 
