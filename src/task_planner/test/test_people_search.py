@@ -50,17 +50,25 @@ def test_search_order_is_last_seen_then_schedule_then_stalest():
                         distance_m=[6, 5, 3, 0]) == [D, C, B, A]
 
 
-def test_places_the_schedule_ever_names_go_before_the_others_of_equal_staleness():
+def test_for_someone_never_seen_a_place_their_schedule_names_counts_as_twice_as_likely():
     """Bob, never seen, has nothing scheduled now; at other times of day his schedule puts him
-    at D (TV in the evening): D before the nearer A, B and C, none of them looked at; a place
-    looked at since stays behind the unlooked ones."""
+    at D (TV in the evening). Among places not looked at, the order is distance over
+    likelihood: D at 4 m (2 m) before C at 3 m, but after C at 1 m (he may be anywhere, and
+    a look there is cheap); a place looked at stays behind the unlooked ones. Once seen
+    (and missed there), the nearest first again after the place he was seen at."""
     people = PeopleAtPlaces()
     people.predict({"Bob": [(68400.0, 75600.0, D)]}, day_s=45000.0)
     assert people.predicted["Bob"] is None and people.habitual["Bob"] == {D}
     assert search_order("Bob", people, {}, range(4), [],
-                        distance_m=[0, 1, 3, 6]) == [D, A, B, C]
+                        distance_m=[6, 5, 3, 4]) == [D, C, B, A]
+    assert search_order("Bob", people, {}, range(4), [],
+                        distance_m=[6, 5, 1, 4]) == [C, D, B, A]
     assert search_order("Bob", people, {D: 30.0}, range(4), [],
-                        distance_m=[0, 1, 3, 6]) == [A, B, C, D]
+                        distance_m=[6, 5, 3, 4]) == [C, B, A, D]
+    people.seen("Bob", A, stamp=40.0)
+    people.missed("Bob", A)
+    assert search_order("Bob", people, {A: 41.0}, range(4), [],
+                        distance_m=[6, 5, 3, 4]) == [A, C, D, B]   # A: seen there before
 
 
 def test_places_people_only_pass_through_are_searched_last_unless_pointed_at():

@@ -18,6 +18,8 @@ DAY_S = 86400.0   # [s]
 FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
 UNIDENTIFIED_KEPT = 30  # sightings of people perception could not tell kept per place
 APART_M = 1.0      # [m] sightings this close are taken for one person
+HABITUAL_WEIGHT = 2.0  # [-] how much likelier a search takes a place the person's schedule
+#                        names at some time of day than one it never names
 
 
 class PeopleAtPlaces:
@@ -173,14 +175,17 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     """Where to look for `name` next: where the belief and the schedule point first (the place
     they were last seen, the place their schedule predicts, then the places they were seen
     before, most recent first), then every other place: first those not looked at since the
-    person was last seen (a look before says nothing of where they went since), those their
-    schedule puts them at at some time of day first (`habitual`: the living room of someone
-    who watches TV in the evenings before an office they never work in), the nearest first
-    (`distance_m[n]`: from the robot [m]), then those looked at since, the longest
+    person was last seen (a look before says nothing of where they went since), the nearest
+    first (`distance_m[n]`: from the robot [m]), then those looked at since, the longest
     unlooked-at first, the nearest first among equally stale ones. For someone
     never seen (not met yet: perception cannot tell them) the places where anyone's schedule
     puts someone now come before the others: the household gathers there, and a stranger seen
-    there is met, perhaps the person looked for. A place where
+    there is met, perhaps the person looked for; and with nothing seen of them, the places are
+    taken by distance over likelihood (the search rule of the most probability per cost
+    first), a place their schedule names at some time of day (`habitual`: the living room of
+    someone who watches TV in the evenings) HABITUAL_WEIGHT times as likely as another. Once
+    seen, where they were seen says more (someone who left the living room is likelier in
+    the hall next door than in a room of their schedule). A place where
     they were seen that was looked all around after their last sighting (`swept[n]`: (start,
     end) [s] of the latest look all around n) missed them: it ranks with the other places.
     Places people only pass through (`last`: an alley, the robot's dock) come after every other
@@ -201,10 +206,14 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
     first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
     first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
     scheduled = set() if people.knows(name) else set(people.predicted.values())
-    habitual = people.habitual.get(name, ())
+    habitual = () if people.knows(name) else people.habitual.get(name, ())
+
+    def likelihood(node: int) -> float:
+        return HABITUAL_WEIGHT if node in habitual else 1.0
+
     rest = sorted(places, key=lambda n: (n in last, n not in scheduled, looked_since_seen(n),
-                                         bool(habitual) and n not in habitual,
-                                         0.0 if distance_m is None else distance_m[n], n))
+                                         (0.0 if distance_m is None else distance_m[n])
+                                         / likelihood(n), -likelihood(n), n))
     return [n for n in dict.fromkeys([*first, *rest]) if n is not None and n not in searched]
 
 
