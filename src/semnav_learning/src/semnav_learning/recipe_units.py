@@ -52,6 +52,12 @@ class UnitRunner:
             return self.work / "models" / f"{name}.keras"
         return self.recipe.root / name
 
+    def follower_config(self, args):
+        """A unit's `follower_config` (a workspace path, e.g. config/semnav_follower_*.yaml) as
+        a path, None when it names none (the follower's defaults)."""
+        follower = args.get("follower_config")
+        return self.recipe.root / follower if follower else None
+
     def run_build(self, unit, progress):
         from semnav_learning.dataset_build import DatasetConfig, build_dataset, summary_lines
         out = self.work / "datasets" / unit.name
@@ -93,8 +99,8 @@ class UnitRunner:
                 args[key] = [path(name) for name in args[key]]
         if "init" in args:
             args["init"] = self.model_path(args["init"])
-        if "follower_config" in args:      # a workspace path, e.g. config/semnav_follower_*.yaml
-            args["follower_config"] = self.recipe.root / args["follower_config"]
+        if "follower_config" in args:
+            args["follower_config"] = self.follower_config(args)
         config = resource("config")
         return TrainerConfig(**{**args, **fields}, work_dir=self.work / "train" / unit.name,
                              out=self.work / "models" / f"{unit.name}.keras",
@@ -145,11 +151,9 @@ class UnitRunner:
         from semantic_nav.instruction_classes import CLASS_IDS
         args = unit.args
         torch.set_num_threads(1)
-        follower = args.get("follower_config")     # a workspace path, as an evaluation's
         policy = DirectionFollower.from_files(str(self.model_path(args["model"])),
                                               word_vectors=self.recipe.words,
-                                              config=self.recipe.root / follower if follower
-                                              else None)
+                                              config=self.follower_config(args))
         sets = load_phrase_sets(resource("config", "semnav_phrases.yaml"))
         classes = args.get("classes", list(CLASS_IDS))
         rng = np.random.default_rng(args.get("seed", 0) * 1000 + 1)  # seed * 1000 + round 1
@@ -178,7 +182,6 @@ class UnitRunner:
         from semnav_learning.evaluation_run import EvaluationRun, EvaluationRunError, evaluate_run
         args, eval_dir = unit.args, self.work / "eval"
         result = eval_dir / f"{unit.name}.json"
-        follower = args.get("follower_config")     # a workspace path, e.g. the seed's follower
         run = EvaluationRun(
             model=str(self.model_path(args["model"])),
             plan=eval_dir / f"plan_{args['plan']}.json",
@@ -187,7 +190,7 @@ class UnitRunner:
             laser=args.get("laser", "utm30lx"), workers=args.get("workers", 2), name=unit.name,
             docs=eval_dir / "docs", json=result,
             classes=args.get("classes", EvaluationRun().classes),
-            follower_config=self.recipe.root / follower if follower else None)
+            follower_config=self.follower_config(args))
         try:
             evaluate_run(run, f"{self.recipe.path} unit {unit.name}")
         except EvaluationRunError as error:
