@@ -84,7 +84,7 @@ def test_a_patrol_gives_way_at_once(posed_line_graph, tmp_path):
     ctx = make_context(posed_line_graph, tmp_path, node=B, look_headings=2)
     ctx.mode, ctx.looking = "looking", [0, [], 0.0, None, None, None]   # looking (patrol)
     journal(ctx, make_instruction(1, D, function=1))
-    assert redecide(ctx, 1.0) == [StopMotion(), Navigate(C, 1)]
+    assert redecide(ctx, 1.0) == [StopMotion(), Navigate(C, 1, through=0.0)]
 
 
 def test_heading_picks_the_strongest_eq_4_2_term_through_the_neighbour(star_graph):

@@ -14,7 +14,7 @@ def test_the_patrol_drives_toward_the_place_someone_is_expected(posed_line_graph
     people.predicted["Carol"] = C
     ctx = make_context(posed_line_graph, tmp_path, people=people, patrol_interval_s=30.0)
     ctx.looked_s.update({A: 0.0, B: 0.0, C: 0.0, D: 0.0})
-    assert patrol(ctx, 100.0) == [Navigate(B, 0)]           # the first edge on the way to C
+    assert patrol(ctx, 100.0) == [Navigate(B, 0, through=0.0)]  # the first edge on the way to C
     assert (ctx.mode, ctx.goal, ctx.goal_for, ctx.patrol_goal) == (MOVING, B, 0, C)
     assert ctx.log[-1] == (100.0, "patrol to C")
 
@@ -43,7 +43,7 @@ def test_in_a_fleet_an_idle_robot_leaves_a_corridor_and_never_patrols_one(posed_
     ctx.fleet = FleetLink(FleetPool(tmp_path / "pool.sqlite"), "a")
     ctx.looked_s.update({n: 90.0 for n in range(4)})
     assert patrol(ctx, 100.0) == []
-    assert clear_corridor(ctx, 100.0) == [Navigate(B, 0)]          # on the way to A
+    assert clear_corridor(ctx, 100.0) == [Navigate(B, 0, through=math.pi)]  # on the way to A
     assert ctx.patrol_goal == A and ctx.mode == MOVING
     assert ctx.log[-1] == (100.0, "clear the corridor C for A")
     (tmp_path / "stale").mkdir()

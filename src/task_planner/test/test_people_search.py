@@ -237,22 +237,22 @@ def test_idle_robot_patrols_and_drops_the_patrol_for_an_instruction(graph, tmp_p
     people.predicted["Carol"] = C
     executor = executor_for(graph, tmp_path, people, patrol=True, patrol_interval_s=30.0)
     executor.state.looked_s.update({A: 0.0, B: 0.0, C: 0.0, D: 0.0})
-    assert executor.tick(100.0) == [Navigate(B, 0)]          # on the way to C
+    assert executor.tick(100.0) == [Navigate(B, 0, through=0.0)]  # on the way to C
     assert executor.arrived(102.0) == [Navigate(C, 0)]
     assert executor.arrived(106.0) == [Navigate(C, 0, yaw=math.pi / 2)]
     visit = make_instruction(1, A, gamma=2.0, beta=0.9, duration=4, function=1,
                              start_time=107.0)
     _, commands = executor.receive([visit], 107.0)
-    assert commands == [StopMotion(), Navigate(B, 1)] and executor.mode == "moving"
+    assert commands == [StopMotion(), Navigate(B, 1, through=math.pi)] and executor.mode == "moving"
 
 
 def test_blocked_robot_asks_to_pass_waits_then_retries(graph, tmp_path):
     executor = executor_for(graph, tmp_path, PeopleAtPlaces(), pass_wait_s=5.0)
     visit = make_instruction(1, C, gamma=2.0, beta=0.9, duration=4, function=1)
-    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1, through=0.0)]
     assert executor.aborted(1.0, "blocked") == [Say("Excuse me, may I pass?"), Wait(6.0)]
     assert executor.tick(5.9) == []
-    assert executor.tick(6.0) == [Navigate(B, 1)]
+    assert executor.tick(6.0) == [Navigate(B, 1, through=0.0)]
 
 
 def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
@@ -261,7 +261,7 @@ def test_following_the_belief_serves_where_the_person_was_seen(graph, tmp_path):
     visit = make_instruction(1, B, gamma=2.0, beta=0.9, duration=4, function=1, target="Bob")
     executor.state.looked_s.update({A: 0.0, B: 0.0, C: 0.0})
     # never seen, no schedule: his search is planned once, stalest place first (D)
-    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1)]   # on the way to D
+    assert executor.receive([visit], 0.0)[1] == [Navigate(B, 1, through=0.0)]  # on the way to D
     assert executor.state.search[1] == [D, A, B, C]
     executor.node = B                          # the plan does not change as the robot moves
     assert where(executor.state, visit) == D

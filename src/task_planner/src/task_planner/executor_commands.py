@@ -9,11 +9,14 @@ IDLE, MOVING, EXECUTING, VERIFYING, LOOKING = "idle", "moving", "executing", "ve
 @dataclass(frozen=True)
 class Navigate:
     """Send the robot to graph node `node` (a neighbour of where it is, or the node just left),
-    or, with `yaw`, turn in place on its own node to that heading [rad] (a look around)."""
+    or, with `yaw`, turn in place on its own node to that heading [rad] (a look around). With
+    `through`, `node` is a waypoint on the way to another place: the robot may pass it without
+    stopping, heading `through` [rad] (towards the node after it)."""
 
     node: int
     instruction_id: int  # the instruction this move is for (0 when none)
     yaw: float | None = None
+    through: float | None = None
 
 
 @dataclass(frozen=True)

@@ -121,6 +121,11 @@ class NodeParams:
     plan_view_max: int = 40        # markers show the plan only up to this many open instructions
     state_recent: int = 50         # /task_planner/state carries this many finished instructions
                                    # (the most recent) besides the open ones
+    pass_radius: float = 0.6       # a waypoint (a graph node on the way to the place a move is
+                                   # for) counts as reached once move_base reports the robot
+                                   # this near it, and the robot drives on without stopping,
+                                   # facing the node after it [m]; 0 = stop at every node,
+                                   # facing its own yaw (the seed's node-by-node moves)
     goal_silence: float = 5.0      # no feedback from move_base this long on an active goal: the
                                    # server is taken as gone and the goal as lost [s of wall
                                    # time: a restarting server is no faster in a faster sim]
@@ -163,7 +168,7 @@ class NodeParams:
                     "corridor_wait", "look_frames_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
                          "look_dwell", "look_frames", "look_again", "stranger_fresh", "pass_wait",
-                         "ask_wait",
+                         "ask_wait", "pass_radius",
                          "patrol_interval", "serve_within",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions", "max_handbacks")
@@ -233,7 +238,9 @@ class ExecutorNode:
         self._schedules, self._predicted_at = {}, -float("inf")  # schedules, last prediction
         self.refused, self.nav_goal, self.goal_seq = 0, None, 0
         self._goal_heard = 0.0      # wall time of the last feedback on the goal we follow [s]
-        self._last_goal = None      # (node, heading) of the goal we follow, to send it again
+        self._last_goal = None      # (node, heading, through) of the goal we follow, to send
+        #                             it again
+        self._passing = None        # (goal seq, x, y) of a waypoint goal not yet passed
         self._preemptions = 0       # times another sender preempted the goal we follow
         self.events = deque(maxlen=20)  # (wall time, text): shown on diagnostics for event_hold
         self.sup = None
@@ -347,8 +354,19 @@ class ExecutorNode:
             self.results.put((goal_seq, handle.get_goal_status(),
                               handle.get_goal_status_text()))
 
-    def _on_goal_heard(self, *_):
+    def _on_goal_feedback(self, goal_seq, feedback):
+        """move_base's feedback on goal `goal_seq`: it is alive; near enough a waypoint, the
+        waypoint is passed (queued as reached; the goal that follows replaces it on the move)."""
         self._goal_heard = time.monotonic()
+        passing = self._passing
+        if passing is None or passing[0] != goal_seq:
+            return
+        here = feedback.base_position.pose.position
+        distance = math.hypot(here.x - passing[1], here.y - passing[2])
+        if distance <= self.params.pass_radius:
+            self._passing = None
+            self.results.put((goal_seq, GoalStatus.SUCCEEDED,
+                              f"waypoint passed {distance:.2f} m from it"))
 
     # ---- services: journal before answering ----
 
@@ -563,7 +581,7 @@ class ExecutorNode:
     def _carry_out(self, commands):
         for command in commands:
             if isinstance(command, Navigate):
-                self._send_goal(command.node, command.yaw)
+                self._send_goal(command.node, command.yaw, command.through)
             elif isinstance(command, StopMotion):
                 self.nav_goal = None
                 self._cancel_goal()   # this goal only: a new one may follow at once
@@ -596,9 +614,13 @@ class ExecutorNode:
             if handle.get_comm_state() != actionlib.CommState.DONE:
                 handle.cancel()
 
-    def _send_goal(self, node, heading=None, again=False):
+    def _send_goal(self, node, heading=None, through=None, again=False):
+        """A move_base goal to graph node `node`: facing `heading` (a turn of a look around),
+        else, for a waypoint passed on the way (`through` with `~pass_radius`), facing on to
+        the node after it, else facing the node's own yaw."""
         x, y, yaw = self.graph.poses[node]
-        yaw = yaw if heading is None else heading
+        passing = through is not None and self.params.pass_radius > 0
+        yaw = heading if heading is not None else through if passing else yaw
         goal = MoveBaseGoal()
         goal.target_pose.header.frame_id = self.params.frame_id
         goal.target_pose.header.stamp = rospy.Time.now()
@@ -607,14 +629,17 @@ class ExecutorNode:
         goal.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
         self.goal_seq += 1
         self.nav_goal = self.goal_seq   # results of earlier (replaced) goals are ignored
-        self._last_goal, self._goal_heard = (node, heading), time.monotonic()
+        self._last_goal, self._goal_heard = (node, heading, through), time.monotonic()
+        self._passing = (self.goal_seq, x, y) if passing else None
         if not again:
             self._preemptions = 0
         self.goal_handle = self.move_base.send_goal(
             goal, transition_cb=lambda handle, n=self.goal_seq: self._on_goal_transition(n, handle),
-            feedback_cb=self._on_goal_heard)
+            feedback_cb=lambda _, feedback, n=self.goal_seq: self._on_goal_feedback(n, feedback))
         rospy.loginfo("task_planner: move_base goal %s%s", self.graph.names[node],
-                      "" if heading is None else f" (look, heading {heading:.2f} rad)")
+                      f" (look, heading {heading:.2f} rad)" if heading is not None else
+                      f" (waypoint, passed within {self.params.pass_radius:.2f} m)" if passing
+                      else "")
 
     def _publish_view(self):
         """Markers of the ripple, next node and plan, when something they show has changed."""

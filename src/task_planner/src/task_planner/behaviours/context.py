@@ -12,7 +12,8 @@ import py_trees
 from py_trees.common import Status
 
 from task_planner.battery import BatteryModel
-from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, Command
+from task_planner.executor_commands import (EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, Command,
+                                           Navigate)
 from task_planner.fleet_auction import SequentialAuction
 from task_planner.fleet_link import FleetLink
 from task_planner.graph import TopologicalGraph
@@ -259,6 +260,18 @@ class Context:
         if self.goal is None:
             raise RuntimeError(f"executor in mode {self.mode}: no navigation goal")
         return self.goal
+
+    def navigate(self) -> Navigate:
+        """The move to the goal node; a waypoint (a node on the way to the place the move is
+        for: the instruction's or the patrol's) carries the heading on to the node after it,
+        so navigation may pass it without stopping (when the graph has poses)."""
+        goal = self.goal_now()
+        bound = self.serve_at if self.goal_for else self.patrol_goal
+        if bound is None or bound == goal or self.graph.poses is None:
+            return Navigate(goal, self.goal_for)
+        after = int(self.graph.next_hop[goal, bound])
+        (x0, y0, _), (x1, y1, _) = self.graph.poses[goal], self.graph.poses[after]
+        return Navigate(goal, self.goal_for, through=math.atan2(y1 - y0, x1 - x0))
 
     def left_to_others(self, now: float) -> set[int]:
         """Ids the robot gave back to its fleet within corridor_wait_s: not for it now."""

@@ -23,7 +23,7 @@ from task_planner.behaviours.looking import serve_here
 from task_planner.behaviours.patrolling import clear_corridor, patrol
 from task_planner.behaviours.searching import served_where
 from task_planner.executor_commands import EXECUTING, IDLE, LOOKING, MOVING, VERIFYING, \
-    Command, Navigate, StopMotion
+    Command, StopMotion
 from task_planner.instruction import HUMAN, Instruction
 from task_planner.planner_api import NodePlanner, TargetPlanner
 from task_planner.problem import Problem
@@ -114,7 +114,7 @@ def redecide_here(ctx: Context, now: float) -> list[Command]:
     ctx.goal_for, ctx.attempts = int(problem.ids[index]), 1
     ctx.serve_at = int(problem.node[index])
     ctx.log.append((now, f"turn back to {ctx.graph.names[ctx.goal]} for {ctx.goal_for}"))
-    return [Navigate(ctx.goal, ctx.goal_for)]
+    return [ctx.navigate()]
 
 
 def seen_elsewhere(ctx: Context, now: float) -> list[Command]:

@@ -7,7 +7,7 @@ from py_trees.common import Status
 from task_planner.behaviours.charging import check_battery
 from task_planner.behaviours.context import ARRIVED, Context, Leaf, still_busy
 from task_planner.behaviours.looking import look_step, start_look
-from task_planner.executor_commands import IDLE, LOOKING, MOVING, Command, Navigate, Wait
+from task_planner.executor_commands import IDLE, LOOKING, MOVING, Command, Wait
 
 
 def drive(ctx: Context, now: float) -> list[Command]:
@@ -30,7 +30,7 @@ def drive(ctx: Context, now: float) -> list[Command]:
         ctx.log.append((now, f"drive on after {now - since:.0f} s: {holder} stays in "
                              f"{', '.join(sorted(needed))}"))
     ctx.corridor_wait = None
-    return [Navigate(ctx.goal_now(), ctx.goal_for)]
+    return [ctx.navigate()]
 
 
 def arrive(ctx: Context, now: float) -> list[Command]:

@@ -3,7 +3,7 @@ around it (thesis 000 §4.2.1: the robot wanders and observes the household when
 fleet an idle robot never stays in a corridor: it would block the robots that drive through."""
 from task_planner.behaviours.looking import start_look
 from task_planner.behaviours.context import Context
-from task_planner.executor_commands import MOVING, Command, Navigate
+from task_planner.executor_commands import MOVING, Command
 from task_planner.people_belief import patrol_target
 
 
@@ -50,4 +50,4 @@ def drive_idle(ctx: Context, target: int, why: str, now: float) -> list[Command]
         ctx.log.append((now, why))
     ctx.patrol_goal = target
     ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = MOVING, step, 0, 1
-    return [Navigate(step, 0)]
+    return [ctx.navigate()]

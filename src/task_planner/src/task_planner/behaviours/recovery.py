@@ -11,8 +11,7 @@ from py_trees.common import Status
 from task_planner.behaviours.context import ABORTED, Context, Leaf
 from task_planner.behaviours.looking import look_step
 from task_planner.behaviours.serving import fail
-from task_planner.executor_commands import IDLE, LOOKING, MOVING, Command, Navigate, Say, \
-    StopMotion, Wait
+from task_planner.executor_commands import IDLE, LOOKING, MOVING, Command, Say, StopMotion, Wait
 from task_planner.task_buffer import ACTIVE
 
 
@@ -29,7 +28,7 @@ def recover(ctx: Context, now: float, reason: str) -> list[Command]:
         if ctx.config.pass_wait_s > 0:  # perhaps someone stands in the way
             ctx.retry_at = now + ctx.config.pass_wait_s
             return [Say(ctx.config.pass_request), Wait(ctx.retry_at)]
-        return [Navigate(ctx.goal_now(), ctx.goal_for)]
+        return [ctx.navigate()]
     waiting = wait_for_robot_in_the_way(ctx, now)
     if waiting:
         return waiting
