@@ -131,8 +131,8 @@ def asked_look(posed_line_graph, tmp_path, instruction=None, **config):
     people = PeopleAtPlaces()
     people.analysed(0.5)
     ctx = make_context(posed_line_graph, tmp_path, node=B, people=people, look_headings=3,
-                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0, ask_wait_s=8.0,
-                       **config)
+                       look_dwell_s=0.6, look_frames=2, look_frames_wait_s=5.0,
+                       **{"ask_wait_s": 8.0, **config})
     journal(ctx, instruction or make_instruction(1, B, duration=20, function=3, target="Bob"))
     serve_here(ctx, 1, 1.0)
     leaf = LookingAround(ctx)
@@ -194,6 +194,39 @@ def test_a_no_ends_the_wait_for_a_yes(posed_line_graph, tmp_path):
     leaf.tick_once()
     assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] is None
     assert not not_answered(ctx, "Bob", place, 9.5)        # no longer waiting
+
+
+def test_someone_faced_whom_perception_then_tells_as_another_is_asked_at_once(
+        posed_line_graph, tmp_path):
+    ctx, people, leaf = asked_look(posed_line_graph, tmp_path)    # faced (1.0, 1.0) at 2.0
+    people.take_frame(1.5, [("Carol", B, 1.0, 1.0)], [])          # told while turning: not yet
+    ctx.now, ctx.out = 2.6, []
+    leaf.tick_once()
+    assert ctx.out == [] and ctx.looking[5] == "facing"           # watched (up to 7.0)
+    people.take_frame(2.7, [("Carol", B, 1.2, 0.8)], [])          # her shirt seen at last
+    ctx.now = 2.8
+    leaf.tick_once()
+    place = ctx.graph.names[B]     # Carol, or Bob in new clothes that match hers: asked
+    assert ctx.out == [Ask(1, "Bob", place), Wait(10.8)] and ctx.looking[5] == "asking"
+    assert (2.8, f"perception tells the person faced at {place} as someone other than "
+                 f"Bob") in ctx.log
+
+
+def test_without_questions_someone_told_as_another_ends_the_watch(posed_line_graph, tmp_path):
+    ctx, people, leaf = asked_look(posed_line_graph, tmp_path, ask_wait_s=0.0)
+    people.take_frame(2.7, [("Carol", B, 1.2, 0.8)], [])
+    ctx.now, ctx.out = 2.8, []
+    leaf.tick_once()
+    assert ctx.out == [Navigate(B, 1, yaw=math.pi)] and ctx.looking[5] is None
+
+
+def test_someone_faced_whom_perception_then_tells_as_the_one_looked_for_is_served(
+        posed_line_graph, tmp_path):
+    ctx, people, leaf = asked_look(posed_line_graph, tmp_path)
+    people.take_frame(2.7, [("Bob", B, 1.0, 1.1)], [])
+    ctx.now, ctx.out = 2.8, []
+    leaf.tick_once()
+    assert ctx.out[:2] == [StopMotion(), Execute(1, "check_status", 20.0)]
 
 
 def called_look(posed_line_graph, tmp_path, seen_at):

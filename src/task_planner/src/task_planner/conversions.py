@@ -29,11 +29,11 @@ def people_from_msg(msg, names):
 
 
 def sightings_from_observed(msg, names):
-    """One analysed camera frame (/humans/observed) -> (its stamp [s], [(name, node)] of the
-    people perception identified at a place of the graph, [(node, x, y, whole shirt seen)] of
-    those it saw at a place but could not tell)."""
+    """One analysed camera frame (/humans/observed) -> (its stamp [s], [(name, node, x, y)] of
+    the people perception identified at a place of the graph, [(node, x, y, whole shirt seen)]
+    of those it saw at a place but could not tell)."""
     placed = [h for h in msg.humans if h.localised and h.location in names]
-    seen = [(h.name, names.index(h.location)) for h in placed if h.name]
+    seen = [(h.name, names.index(h.location), h.x, h.y) for h in placed if h.name]
     unidentified = [(names.index(h.location), h.x, h.y, any(bytearray(h.shirt_color)))
                     for h in placed if not h.name]
     return msg.header.stamp.to_sec(), seen, unidentified

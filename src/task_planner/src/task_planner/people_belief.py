@@ -18,6 +18,8 @@ DAY_S = 86400.0   # [s]
 FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
 UNIDENTIFIED_KEPT = 30  # sightings of people perception could not tell kept per place
 APART_M = 1.0      # [m] sightings this close are taken for one person
+SAME_M = 0.5       # [m] someone perception could not tell this close to where it told someone
+#                    is that person (a seat's neighbour sits farther off)
 HABITUAL_WEIGHT = 2.0  # [-] how much likelier a search takes a place the person's schedule
 #                        names at some time of day than one it never names
 
@@ -43,14 +45,19 @@ class PeopleAtPlaces:
         self.unidentified_shirt: dict[int, tuple[float, float, float]] = {}
         # the same for those whose whole shirt (joints 1, 2, 5) it saw: someone new, or in
         # new clothes, whom the introduction node can meet
+        self.identified: dict[int, deque[tuple[float, str, float, float]]] = {}
+        # node -> (stamp [s], name, x, y [m]) of the latest people perception told there,
+        # oldest first
 
-    def take_frame(self, stamp: float, seen: Iterable[tuple[str, int]],
+    def take_frame(self, stamp: float, seen: Iterable[tuple[str, int, float, float]],
                    unidentified: Iterable[tuple[int, float, float, bool]]) -> None:
         """One camera frame perception analysed, taken at `stamp` [s]: the people it identified
-        ([(name, node)]) and those it saw at a place but could not tell
+        ([(name, node, x, y)]) and those it saw at a place but could not tell
         ([(node, x, y, whole shirt seen)])."""
-        for name, node in seen:
+        for name, node, x, y in seen:
             self.seen(name, node, stamp)
+            self.identified.setdefault(node, deque(maxlen=UNIDENTIFIED_KEPT)).append(
+                (stamp, name, x, y))
         for node, x, y, shirt in unidentified:
             self.someone_unidentified(node, x, y, stamp, shirt)
         self.analysed(stamp)
@@ -79,6 +86,12 @@ class PeopleAtPlaces:
             if all(math.hypot(x - ax, y - ay) > APART_M for ax, ay in away_from):
                 return x, y
         return None
+
+    def told_near(self, node: int, x: float, y: float, since: float) -> set[str]:
+        """Names of the people perception identified at `node` within SAME_M of (x, y) at or
+        after `since` [s]: whom someone it could not tell there is likely to be."""
+        return {name for stamp, name, px, py in self.identified.get(node, ())
+                if stamp >= since and math.hypot(px - x, py - y) <= SAME_M}
 
     def analysed(self, stamp: float) -> None:
         """Perception finished a camera frame taken at `stamp` [s] (whoever it saw was

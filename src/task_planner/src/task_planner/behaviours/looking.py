@@ -22,6 +22,7 @@ from task_planner.robot_functions import RobotFunctionError, function_for, is_me
 
 FACING, ASKING, FACED = "facing", "asking", "faced"   # a look's turn toward someone
 #                                                      perception cannot tell, then the question
+TOLD = "told"   # perception told the person faced as someone other than the one looked for
 CALLING, CALLED = "calling", "called"   # the look's end: the person called by name
 MAX_FACED = 3   # people one look faces and asks at most (a crowded room, noisy positions)
 
@@ -125,7 +126,7 @@ def look_step(ctx: Context, now: float) -> list[Command]:
         end = now + ctx.config.look_dwell_s
         looking[3], looking[4] = end, now
         return [Wait(end)]
-    if looking[5] == FACING and ctx.config.ask_wait_s > 0:
+    if looking[5] in (FACING, TOLD) and ctx.config.ask_wait_s > 0:
         question = ask_who(ctx, now)
         if question:
             return question
@@ -133,12 +134,12 @@ def look_step(ctx: Context, now: float) -> list[Command]:
     if looking[5] == CALLING:
         looking[5] = CALLED
         return end_look(ctx, now)
-    if looking[5] == ASKING and len(ctx.faced) < MAX_FACED:
+    if looking[5] in (ASKING, TOLD) and len(ctx.faced) < MAX_FACED:
         looking[5] = None   # not them: someone else here may be, faced before turning on
         someone_else = face_someone(ctx, now)
         if someone_else:
             return someone_else
-    elif looking[5] in (FACING, ASKING):
+    elif looking[5] in (FACING, ASKING, TOLD):
         looking[5] = FACED
     instruction_id, headings = looking[:2]
     if headings:
@@ -238,6 +239,8 @@ def dwell_over(ctx: Context, now: float) -> bool:
     end, reached = looking[3], looking[4]
     if end is None or now < end:
         return False
+    if looking[5] == TOLD:
+        return True
     if looking[5] == FACING:
         return now - reached >= ctx.config.look_frames_wait_s
     if looking[5] in (ASKING, CALLING):
@@ -267,6 +270,25 @@ def face_someone(ctx: Context, now: float) -> list[Command]:
     looking[3:] = [None, None, FACING]
     ctx.log.append((now, f"face someone at {ctx.graph.names[ctx.node]} perception cannot tell"))
     return [Navigate(ctx.node, instruction_id, yaw=yaw)]
+
+
+def told_faced(ctx: Context, now: float) -> None:
+    """While facing someone perception could not tell: once it tells them, where they stand,
+    as someone other than the person looked for (their shirt seen at last), the watch is over
+    and they are asked at once (look_found serves the person looked for). They are asked
+    rather than taken for that someone: a resident in new clothes may match another's shirt
+    (Carol in pyjamas told as Alice, who was working in the office), and the seed resolves
+    similar shirts by asking, never by guessing."""
+    looking = ctx.looking_now()
+    if looking[5] != FACING or looking[4] is None or not ctx.faced:
+        return
+    target = ctx.buffer.get(looking[0]).instruction.target
+    x, y = ctx.faced[-1]
+    if ctx.people.told_near(ctx.node, x, y, looking[4]) - {target}:
+        looking[5] = TOLD
+        ctx.log.append((now, f"perception tells the person faced at "
+                             f"{ctx.graph.names[ctx.node]} as someone other than "
+                             f"{target or 'the stranger'}"))
 
 
 def look_found(ctx: Context, now: float) -> list[Command]:
@@ -311,6 +333,7 @@ class LookingAround(Leaf):
         ctx.out += look_found(ctx, ctx.now)
         if ctx.mode == LOOKING:
             ctx.out += face_someone(ctx, ctx.now)
+            told_faced(ctx, ctx.now)
         if ctx.mode == LOOKING and dwell_over(ctx, ctx.now):
             ctx.out += look_step(ctx, ctx.now)
         return still_busy(ctx, LOOKING)
