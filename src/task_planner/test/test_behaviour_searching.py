@@ -24,6 +24,16 @@ def test_following_the_belief_serves_where_the_person_was_seen(line_graph, tmp_p
     assert where(ctx, visit) == D and served_where(ctx, visit).destination == D
 
 
+def test_a_meeting_is_planned_with_the_time_its_dialogue_is_expected_to_take(line_graph,
+                                                                             tmp_path):
+    ctx = make_context(line_graph, tmp_path)
+    meeting = make_instruction(1, B, function=9, duration=60)   # introduce: expected_s 10
+    planned = served_where(ctx, meeting)
+    assert (planned.destination, planned.duration, meeting.duration) == (B, 10, 60)
+    short = make_instruction(2, B, function=9, duration=5)
+    assert served_where(ctx, short) is short                   # never longer than its own
+
+
 def test_a_miss_searches_the_last_known_places_then_fails(line_graph, tmp_path):
     people = PeopleAtPlaces()
     people.seen("Bob", C, stamp=0.0)

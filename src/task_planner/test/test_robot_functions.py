@@ -53,6 +53,8 @@ def test_subject_is_the_about_prefix_else_the_source(text, subject):
     ("functions: {a: {code: 1, duration_s: 1, say: x}, b: {code: 1, duration_s: 1, say: y}}",
      "'b' reuses code 1 of 'a'"),
     ("functions: {a: {code: 1, duration_s: -1, say: x}}", "duration_s must be >= 0"),
+    ("functions: {a: {code: 1, duration_s: 10, expected_s: 20, say: x}}",
+     r"'a': expected_s must lie in 0..duration_s \(10 s\)"),
 ])
 def test_bad_files_are_named(tmp_path, text, message):
     path = tmp_path / "functions.yaml"

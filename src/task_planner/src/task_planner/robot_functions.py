@@ -31,6 +31,9 @@ class RobotFunction:
     name: str
     duration_s: float  # execution time for self-generated instructions [s]
     say: str           # spoken on start; {target}, {source}, {about}, {place} are filled in
+    expected_s: float | None = None  # what planning takes a function that usually ends early
+    #                                  to last (a meeting's dialogue), the duration staying its
+    #                                  time limit [s]; None: its duration
 
     def speech(self, instruction: Instruction, place: str) -> str:
         """The sentence the robot speaks when it starts this function for `instruction`."""
@@ -64,7 +67,8 @@ def load_robot_functions(path: str | Path) -> dict[int, RobotFunction]:
     for name, row in table.items():
         try:
             function = RobotFunction(int(row["code"]), str(name), float(row["duration_s"]),
-                                     str(row["say"]))
+                                     str(row["say"]), None if row.get("expected_s") is None
+                                     else float(row["expected_s"]))
         except (TypeError, KeyError, ValueError) as error:
             raise RobotFunctionError(f"{path}: function '{name}' needs code, duration_s and "
                                      f"say") from error
@@ -73,6 +77,10 @@ def load_robot_functions(path: str | Path) -> dict[int, RobotFunction]:
                                      f"of '{functions[function.code].name}'")
         if function.duration_s < 0:
             raise RobotFunctionError(f"{path}: function '{name}': duration_s must be >= 0")
+        if function.expected_s is not None and not 0 <= function.expected_s <= \
+                function.duration_s:
+            raise RobotFunctionError(f"{path}: function '{name}': expected_s must lie in "
+                                     f"0..duration_s ({function.duration_s:g} s)")
         functions[function.code] = function
     return functions
 

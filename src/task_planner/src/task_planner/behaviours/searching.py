@@ -36,11 +36,17 @@ def where(ctx: Context, instruction: Instruction) -> int:
 
 
 def served_where(ctx: Context, instruction: Instruction) -> Instruction:
-    """The instruction with the destination it is served at (copied only when that differs:
-    a flood of instructions is decoded at every decision)."""
+    """The instruction as the planner takes it: with the destination it is served at, and
+    for a function that usually ends early (a meeting's dialogue) the time it is expected to
+    take (`RobotFunction.expected_s`), not its time limit. Copied only when either differs: a
+    flood of instructions is decoded at every decision."""
     place = where(ctx, instruction)
-    return instruction if place == instruction.destination else \
-        replace(instruction, destination=place)
+    function = ctx.functions.get(instruction.function)
+    duration = instruction.duration if function is None or function.expected_s is None else \
+        min(instruction.duration, int(function.expected_s))
+    return instruction if place == instruction.destination and \
+        duration == instruction.duration else \
+        replace(instruction, destination=place, duration=duration)
 
 
 def search_next(ctx: Context, instruction: Instruction, now: float) -> list[Command]:
