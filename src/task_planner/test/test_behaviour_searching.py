@@ -13,7 +13,7 @@ def test_without_the_belief_an_instruction_is_served_at_its_destination(line_gra
     people.seen("Bob", D, stamp=0.0)
     ctx = make_context(line_graph, tmp_path, people=people)
     visit = make_instruction(1, B, function=3, target="Bob")
-    assert where(ctx, visit) == B and served_where(ctx, visit) is visit
+    assert where(ctx, visit) == B and served_where(ctx, visit, 0.0) is visit
 
 
 def test_following_the_belief_serves_where_the_person_was_seen(line_graph, tmp_path):
@@ -21,17 +21,33 @@ def test_following_the_belief_serves_where_the_person_was_seen(line_graph, tmp_p
     people.seen("Bob", D, stamp=0.0)
     ctx = make_context(line_graph, tmp_path, people=people, follow_belief=True)
     visit = make_instruction(1, B, function=3, target="Bob")
-    assert where(ctx, visit) == D and served_where(ctx, visit).destination == D
+    assert where(ctx, visit) == D and served_where(ctx, visit, 0.0).destination == D
 
 
 def test_a_meeting_is_planned_with_the_time_its_dialogue_is_expected_to_take(line_graph,
                                                                              tmp_path):
     ctx = make_context(line_graph, tmp_path)
     meeting = make_instruction(1, B, function=9, duration=60)   # introduce: expected_s 10
-    planned = served_where(ctx, meeting)
+    planned = served_where(ctx, meeting, 0.0)
     assert (planned.destination, planned.duration, meeting.duration) == (B, 10, 60)
     short = make_instruction(2, B, function=9, duration=5)
-    assert served_where(ctx, short) is short                   # never longer than its own
+    assert served_where(ctx, short, 0.0) is short                   # never longer than its own
+
+
+def test_the_planner_weighs_the_expected_cost_of_a_miss(line_graph, tmp_path):
+    people = PeopleAtPlaces()
+    people.seen("Bob", D, stamp=0.0)
+    ctx = make_context(line_graph, tmp_path, people=people, follow_belief=True,
+                       search_miss_s=40.0, stay_s=600.0)
+    visit = make_instruction(1, B, function=3, target="Bob", duration=20)
+    assert served_where(ctx, visit, 0.0).duration == 20        # just seen there
+    # seen 300 s ago: 1 - exp(-0.5) = 0.39 of a 40 s miss, 15.7 s, planned as 15 s
+    assert served_where(ctx, visit, 300.0).duration == 35
+    people.missed("Bob", D)                                     # not where he was believed:
+    assert served_where(ctx, visit, 300.0).duration == 40       # UNSEEN_MISS 0.5 of 40 s
+    (tmp_path / "off").mkdir()
+    off = make_context(line_graph, tmp_path / "off", people=people, follow_belief=True)
+    assert served_where(off, visit, 300.0).duration == 20       # search_miss_s 0: the seed
 
 
 def test_a_miss_searches_the_last_known_places_then_fails(line_graph, tmp_path):

@@ -20,6 +20,8 @@ UNIDENTIFIED_KEPT = 30  # sightings of people perception could not tell kept per
 APART_M = 1.0      # [m] sightings this close are taken for one person
 SAME_M = 0.5       # [m] someone perception could not tell this close to where it told someone
 #                    is that person (a seat's neighbour sits farther off)
+UNSEEN_MISS = 0.5  # [-] chance a person is not at a place no sighting puts them at (their
+#                    schedule's, a search's next)
 HABITUAL_WEIGHT = 2.0  # [-] how much likelier a search takes a place the person's schedule
 #                        names at some time of day than one it never names
 
@@ -162,6 +164,18 @@ class PeopleAtPlaces:
             self.before[name] = [previous] + [p for p in self.before.get(name, [])
                                               if p != previous]
         self.now[name] = node
+
+
+def miss_chance(people: PeopleAtPlaces, name: str, node: int, now: float,
+                stay_s: float) -> float:
+    """Chance that `name` is no longer at `node` when the robot looks there, for the expected
+    cost of a search (beyond the seed): a person stays at a place for an exponentially
+    distributed time of mean `stay_s` [s], counted from their last sighting there; at a place
+    no sighting puts them at, UNSEEN_MISS."""
+    seen_s = people.seen_s.get(name)
+    if people.now.get(name) != node or seen_s is None:
+        return UNSEEN_MISS
+    return 1.0 - math.exp(-max(0.0, now - seen_s) / stay_s)
 
 
 def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],

@@ -102,6 +102,12 @@ class NodeParams:
     search_all_places: bool = True  # search every place (else only the last known ones)
     follow_belief: bool = True     # serve people where perception last saw them (or their
                                    # schedule puts them), not where the request said
+    search_miss: float = 40.0      # following the belief, what finding a person not there costs
+                                   # (a look around, a call, the drive on): the planner adds
+                                   # the chance of a miss times this to their instruction [s];
+                                   # 0 = the planner ignores misses (the seed)
+    stay: float = 600.0            # the mean time a person stays at a place, for that chance
+                                   # (a sighting ages exponentially) [s]
     pass_wait: float = 4.0         # after an abort ask to pass and wait this long [s]; 0 = no
     patrol: bool = False           # look at stale places while idle
     own_yields: bool = True        # a person's request interrupts the robot's own instruction
@@ -164,11 +170,11 @@ class NodeParams:
     def check(self):
         """ValueError naming the parameter when a number cannot work (a tick period of 0 would
         spin, a goal silence of 0 would drop every goal)."""
-        positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease",
+        positive = ("tick_period", "goal_silence", "event_hold", "fresh", "fleet_lease", "stay",
                     "corridor_wait", "look_frames_wait")
         at_least_zero = ("max_goal_attempts", "latency_warn_ms", "verify_wait", "look_headings",
                          "look_dwell", "look_frames", "look_again", "stranger_fresh", "pass_wait",
-                         "ask_wait", "pass_radius",
+                         "ask_wait", "pass_radius", "search_miss",
                          "patrol_interval", "serve_within",
                          "marker_period", "plan_view_max", "state_recent", "max_preemptions",
                          "max_open_instructions", "max_handbacks")
@@ -211,6 +217,7 @@ class ExecutorNode:
                            fresh_s=params.fresh, stranger_fresh_s=params.stranger_fresh,
                            search_all_places=params.search_all_places,
                            follow_belief=params.follow_belief,
+                           search_miss_s=params.search_miss, stay_s=params.stay,
                            pass_wait_s=params.pass_wait, patrol=params.patrol,
                            own_yields=params.own_yields,
                            meetings_inherit=params.meetings_inherit,

@@ -57,6 +57,11 @@ class ExecutorConfig:
     search_all_places: bool = False  # search every place, not only the last known ones
     follow_belief: bool = False   # serve a person where the robot believes them (else: where
                                   # the instruction says, until a search begins)
+    search_miss_s: float = 0.0    # following the belief, what a miss costs (the look around,
+                                  # the call, the drive on) [s]: the planner takes a person's
+                                  # instruction to last the chance of one times this longer
+                                  # (searching.served_where; 0: it ignores misses, as the seed)
+    stay_s: float = 600.0         # the mean time a person stays at a place (miss_chance) [s]
     pass_wait_s: float = 0.0      # after an abort ask to pass and wait this long [s] (0: no)
     pass_request: str = "Excuse me, may I pass?"
     patrol: bool = False          # look at stale places while idle

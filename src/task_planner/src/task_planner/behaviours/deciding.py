@@ -174,7 +174,7 @@ def fetch_and_decode(ctx: Context, now: float) -> tuple[Problem, np.ndarray]:
     if not any(r.instruction.type == HUMAN for r in pending):
         ctx.deferred.clear()
     waiting = waiting_for_a_meeting(ctx, pending)
-    instructions = tuple(served_where(ctx, r.instruction) for r in pending)
+    instructions = tuple(served_where(ctx, r.instruction, now) for r in pending)
     if ctx.config.meetings_inherit and waiting:
         instructions = meetings_inherit(ctx, pending, instructions, waiting)
     if instructions != ctx.problem_key or ctx.problem is None:

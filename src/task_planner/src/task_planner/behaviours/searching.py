@@ -8,8 +8,12 @@ from dataclasses import replace
 from task_planner.behaviours.context import Context
 from task_planner.behaviours.serving import end_search, fail
 from task_planner.executor_commands import Command
-from task_planner.instruction import Instruction
-from task_planner.people_belief import search_order
+from task_planner.instruction import DURATION_MAX_S, Instruction
+from task_planner.people_belief import miss_chance, search_order
+from task_planner.robot_functions import is_meeting
+
+MISS_STEP_S = 5   # [s] the expected cost of a miss is planned in steps of this: the planner is
+#                   reset only when an instruction's copy changes, not as a sighting ages
 
 
 def where(ctx: Context, instruction: Instruction) -> int:
@@ -35,15 +39,22 @@ def where(ctx: Context, instruction: Instruction) -> int:
     return queue[0] if queue else instruction.destination
 
 
-def served_where(ctx: Context, instruction: Instruction) -> Instruction:
-    """The instruction as the planner takes it: with the destination it is served at, and
-    for a function that usually ends early (a meeting's dialogue) the time it is expected to
-    take (`RobotFunction.expected_s`), not its time limit. Copied only when either differs: a
-    flood of instructions is decoded at every decision."""
+def served_where(ctx: Context, instruction: Instruction, now: float) -> Instruction:
+    """The instruction as the planner takes it at `now` [s]: with the destination it is
+    served at, and the time it is expected to take there: for a function that usually ends
+    early (a meeting's dialogue) `RobotFunction.expected_s`, not its time limit; for a
+    person's, following the belief, plus the expected cost of finding them not there
+    (beyond the seed: miss_chance x search_miss_s, in steps of MISS_STEP_S). Copied only when
+    either differs: a flood of instructions is decoded at every decision."""
     place = where(ctx, instruction)
     function = ctx.functions.get(instruction.function)
     duration = instruction.duration if function is None or function.expected_s is None else \
         min(instruction.duration, int(function.expected_s))
+    if ctx.config.follow_belief and ctx.config.search_miss_s > 0 and instruction.target \
+            and not is_meeting(ctx.functions, instruction):
+        chance = miss_chance(ctx.people, instruction.target, place, now, ctx.config.stay_s)
+        miss_s = MISS_STEP_S * round(chance * ctx.config.search_miss_s / MISS_STEP_S)
+        duration = min(DURATION_MAX_S, duration + miss_s)
     return instruction if place == instruction.destination and \
         duration == instruction.duration else \
         replace(instruction, destination=place, duration=duration)
