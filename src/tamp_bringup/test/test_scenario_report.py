@@ -139,6 +139,23 @@ def test_arrivals_are_shifted_to_the_scenario_start(tmp_path, line_graph):
     assert problem.launch.tolist() == [4.0, 4.0, 4.0]
 
 
+def test_the_model_serves_a_person_where_the_simulator_had_them_at_the_launch(tmp_path,
+                                                                             line_graph):
+    path = tmp_path / "tasks.sqlite"
+    buffer = TaskBuffer(path, BufferConfig(node_count=line_graph.size))
+    buffer.submit_many([instruction(1, 1, 2.0, 0.5, 1, target="Bob", start_time=10.0),
+                        instruction(2, 1, 2.0, 0.5, 1, target="Cy", start_time=10.0),
+                        instruction(3, 1, 2.0, 0.5, 1, target="Al", start_time=10.0),
+                        instruction(4, 1, 2.0, 0.5, 1, start_time=10.0)], 10.0)
+    buffer.close()
+    truth = {"Bob": [[0.0, "C"], [9.0, "D"], [11.0, "A"]],   # on D at the launch
+             "Cy": [[0.0, "hall"]]}                          # in no place of the graph
+    problem = arrivals_problem(line_graph, read_journal(path), 1.0, 0, 0.0, truth)
+    assert problem.node.tolist() == [3, 1, 1, 1]
+    assert arrivals_problem(line_graph, read_journal(path), 1.0, 0, 0.0).node.tolist() == \
+        [1, 1, 1, 1]
+
+
 def test_markdown_lists_every_instruction(tmp_path, line_graph):
     entries = read_journal(journal(tmp_path, line_graph, first_served=2))
     problem = arrivals_problem(line_graph, entries, 1.0, 0, 0.0)

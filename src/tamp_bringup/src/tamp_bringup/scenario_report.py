@@ -20,7 +20,7 @@ from tamp_resources import resource
 from task_planner.baselines import PlannerTooLarge
 from tamp_bringup.activity_report import activity_markdown
 from tamp_bringup.belief_report import (belief_markdown, history_sources, people_accuracy,
-                                        read_searches)
+                                        place_at, read_searches)
 from tamp_bringup.goals_report import goals_markdown, run_goals
 from tamp_bringup.time_report import plot_time, robot_shares, time_markdown
 from task_planner.exact import SolverTimeout, exact_optimum
@@ -107,14 +107,23 @@ class ModelFigures:
     starts: dict = None     # instruction id -> start of its service [s from the scenario start]
 
 
-def arrivals_problem(graph, entries, speed_mps, start_node, t0):
+def arrivals_problem(graph, entries, speed_mps, start_node, t0, truth=None):
     """The run's instructions as a Problem whose launches are their start times minus `t0`.
 
     Cancelled instructions are left out (nobody wanted them served); chains to them are cut.
+    With `truth` (the record's true places, {name: [[time, place], ...]} on the instructions'
+    clock), an instruction for a person is served where the simulator had that person at its
+    launch (ground truth, for the model only): the place an instruction names is where the
+    robot believed its person, and verbal perception names the welcome hall for someone the
+    robot has not met, where nobody is, so the model served such requests back to back there.
     """
     kept = [e.instruction for e in entries if e.state != "cancelled"]
     ids = {i.id for i in kept}
-    shifted = tuple(replace(i, start_time=max(0.0, i.start_time - t0),
+
+    def true_place(i):
+        place = place_at((truth or {}).get(i.target, ()), i.start_time) if i.target else ""
+        return graph.index(place) if place in graph.names else i.destination
+    shifted = tuple(replace(i, start_time=max(0.0, i.start_time - t0), destination=true_place(i),
                             previous_id=i.previous_id if i.previous_id in ids else 0)
                     for i in kept)
     return Problem(graph, shifted, speed_mps, start_node)
@@ -346,8 +355,9 @@ def report_markdown(record, entries, figures, run, order_problems, files, sectio
              f"![reward]({files['rewards']})", "",
              "The black curve is this run, measured in the simulator (rewards from the "
              "executor's journal). The others are **the planners' model figures** on the same "
-             "arrivals (each instruction launched at its recorded launch time, robot starting at "
-             "the same place): `task_planner.problem`'s timing rule (graph edges measured by A* "
+             "arrivals (each instruction launched at its recorded launch time and served where "
+             "the simulator had its person at the launch, robot starting at the same place): "
+             "`task_planner.problem`'s timing rule (graph edges measured by A* "
              "driven at `speed_mps`, service = the instruction's `duration`, nothing else), "
              "computed offline by `tamp_bringup.scenario_report` with `simulate.run_planner` "
              "(FCFS, the seed's planner: online, instructions revealed at their launch) and "
@@ -403,7 +413,7 @@ def write_report(record_path, journal_paths, graph, settings, map_path, graph_pa
     entries = read_fleet_journals(journal_paths)
     t0 = float(record["t0"])
     problem = arrivals_problem(graph, entries, float(settings["speed_mps"]),
-                               graph.index(record["start_place"]), t0)
+                               graph.index(record["start_place"]), t0, record.get("truth"))
     figures = model_figures(problem, settings, exact_time_limit_s)
     single = [f.reward for f in figures if f.name == EXACT_LABEL]
     fleet = fleet_figures(problem, settings, single[0] if single else None)
