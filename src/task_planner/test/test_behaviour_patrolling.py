@@ -3,7 +3,7 @@ import math
 
 from behaviour_factories import A, B, C, D, make_context
 from task_planner.behaviours.patrolling import clear_corridor, patrol
-from task_planner.executor_commands import LOOKING, MOVING, Navigate
+from task_planner.executor_commands import LOOKING, MOVING, Navigate, Wait
 from task_planner.fleet_link import FleetLink
 from task_planner.fleet_pool import FleetPool
 from task_planner.people_belief import PeopleAtPlaces
@@ -74,3 +74,19 @@ def test_the_patrol_passes_over_places_people_only_pass_through(posed_line_graph
                             pass_through=(B,), patrol_interval_s=30.0, look_headings=1)
     patrol(expected, 0.0)
     assert expected.mode == LOOKING
+
+
+def test_a_patrol_waits_for_a_corridor_another_robot_holds(posed_line_graph, tmp_path):
+    """An idle move takes the corridor lock as any move: two robots meeting head-on in the
+    alley block each other."""
+    pool = tmp_path / "pool.sqlite"
+    FleetLink(FleetPool(pool), "b").enter({"B"}, 100.0)
+    people = PeopleAtPlaces()
+    people.predicted["Carol"] = C
+    ctx = make_context(posed_line_graph, tmp_path, people=people, corridors=(B,),
+                       patrol=True, patrol_interval_s=30.0, corridor_poll_s=1.0)
+    ctx.fleet = FleetLink(FleetPool(pool), "a")
+    ctx.looked_s.update({A: 0.0, B: 0.0, C: 0.0, D: 0.0})
+    assert patrol(ctx, 100.0) == [Wait(101.0)]                 # through B to C: b is in B
+    assert (ctx.mode, ctx.goal, ctx.patrol_goal) == (MOVING, B, C)
+    assert ctx.log[-1] == (100.0, "wait: b is in B")

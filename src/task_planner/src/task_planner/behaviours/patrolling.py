@@ -1,8 +1,9 @@
 """Patrol (ROS-free): an idle robot drives to the stalest, likeliest occupied place and looks
 around it (thesis 000 §4.2.1: the robot wanders and observes the household when unoccupied). In a
 fleet an idle robot never stays in a corridor: it would block the robots that drive through."""
-from task_planner.behaviours.looking import start_look
 from task_planner.behaviours.context import Context
+from task_planner.behaviours.driving import drive
+from task_planner.behaviours.looking import start_look
 from task_planner.executor_commands import MOVING, Command
 from task_planner.people_belief import patrol_target
 
@@ -44,10 +45,11 @@ def fleet_corridors(ctx: Context) -> tuple[int, ...]:
 
 
 def drive_idle(ctx: Context, target: int, why: str, now: float) -> list[Command]:
-    """Drive towards `target` with no instruction (a patrol's move: looks around on arrival)."""
+    """Drive towards `target` with no instruction (a patrol's move: looks around on arrival),
+    once the robot holds the corridor it drives into, as any move (driving.drive)."""
     step = int(ctx.graph.next_hop[ctx.node, target])
     if ctx.patrol_goal != target:
         ctx.log.append((now, why))
     ctx.patrol_goal = target
     ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = MOVING, step, 0, 1
-    return [ctx.navigate()]
+    return drive(ctx, now)
