@@ -16,7 +16,8 @@ Place = TypeVar("Place")   # a schedule's place: a graph node or a place name
 
 DAY_S = 86400.0   # [s]
 FRAMES_KEPT = 100  # stamps of analysed camera frames kept for frames_since
-UNIDENTIFIED_KEPT = 30  # sightings of people perception could not tell kept per place
+SIGHTINGS_KEPT = 30  # sightings kept per place, of the people perception told and of those it
+#                      could not tell
 APART_M = 1.0      # [m] sightings this close are taken for one person
 SAME_M = 0.5       # [m] someone perception could not tell this close to where it told someone
 #                    is that person (a seat's neighbour sits farther off)
@@ -58,7 +59,7 @@ class PeopleAtPlaces:
         ([(node, x, y, whole shirt seen)])."""
         for name, node, x, y in seen:
             self.seen(name, node, stamp)
-            self.identified.setdefault(node, deque(maxlen=UNIDENTIFIED_KEPT)).append(
+            self.identified.setdefault(node, deque(maxlen=SIGHTINGS_KEPT)).append(
                 (stamp, name, x, y))
         for node, x, y, shirt in unidentified:
             self.someone_unidentified(node, x, y, stamp, shirt)
@@ -69,7 +70,7 @@ class PeopleAtPlaces:
         """Perception saw a person at `node`, at map position (x, y), whose shirt named nobody
         (seen from behind, half hidden, or in clothes nobody registered; `shirt`: all three
         shirt joints seen): they may be the one looked for."""
-        self.unidentified.setdefault(node, deque(maxlen=UNIDENTIFIED_KEPT)).append((stamp, x, y))
+        self.unidentified.setdefault(node, deque(maxlen=SIGHTINGS_KEPT)).append((stamp, x, y))
         if shirt and stamp >= self.unidentified_shirt.get(node, (-math.inf,))[0]:
             self.unidentified_shirt[node] = (stamp, x, y)
 

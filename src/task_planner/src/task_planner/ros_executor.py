@@ -60,6 +60,7 @@ from task_planner.robot_functions import load_robot_functions
 from task_planner.settings import BATTERY, REQUIRED, load_settings
 from task_planner.task_buffer import (JOURNAL_FAILED, PENDING, STATE_NAMES, BufferConfig,
                                       TaskBuffer, TaskBufferError)
+from task_planner.waypoint_watch import WaypointWatch
 from tamp_resources import resource
 
 ROOT = resource()
@@ -247,7 +248,7 @@ class ExecutorNode:
         self._goal_heard = 0.0      # wall time of the last feedback on the goal we follow [s]
         self._last_goal = None      # (node, heading, through) of the goal we follow, to send
         #                             it again
-        self._passing = None        # (goal seq, x, y) of a waypoint goal not yet passed
+        self.waypoint = WaypointWatch(params.pass_radius)  # the waypoint goal not yet passed
         self._preemptions = 0       # times another sender preempted the goal we follow
         self.events = deque(maxlen=20)  # (wall time, text): shown on diagnostics for event_hold
         self.sup = None
@@ -365,13 +366,9 @@ class ExecutorNode:
         """move_base's feedback on goal `goal_seq`: it is alive; near enough a waypoint, the
         waypoint is passed (queued as reached; the goal that follows replaces it on the move)."""
         self._goal_heard = time.monotonic()
-        passing = self._passing
-        if passing is None or passing[0] != goal_seq:
-            return
         here = feedback.base_position.pose.position
-        distance = math.hypot(here.x - passing[1], here.y - passing[2])
-        if distance <= self.params.pass_radius:
-            self._passing = None
+        distance = self.waypoint.passed(goal_seq, here.x, here.y)
+        if distance is not None:
             self.results.put((goal_seq, GoalStatus.SUCCEEDED,
                               f"waypoint passed {distance:.2f} m from it"))
 
@@ -626,7 +623,7 @@ class ExecutorNode:
         else, for a waypoint passed on the way (`through` with `~pass_radius`), facing on to
         the node after it, else facing the node's own yaw."""
         x, y, yaw = self.graph.poses[node]
-        passing = through is not None and self.params.pass_radius > 0
+        passing = self.waypoint.passing(through)
         yaw = heading if heading is not None else through if passing else yaw
         goal = MoveBaseGoal()
         goal.target_pose.header.frame_id = self.params.frame_id
@@ -637,7 +634,7 @@ class ExecutorNode:
         self.goal_seq += 1
         self.nav_goal = self.goal_seq   # results of earlier (replaced) goals are ignored
         self._last_goal, self._goal_heard = (node, heading, through), time.monotonic()
-        self._passing = (self.goal_seq, x, y) if passing else None
+        self.waypoint.sent(self.goal_seq, x, y, passing)
         if not again:
             self._preemptions = 0
         self.goal_handle = self.move_base.send_goal(
