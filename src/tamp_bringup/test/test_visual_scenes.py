@@ -8,6 +8,7 @@ import pytest
 from sim2d.camera import CameraConfig, camera_points
 from perception.activity import ActivityConfig, load_affordances
 from perception.localisation import Intrinsics, optical_to_map_transform, transform_point
+from perception.object_memory import ObjectMemory, ObjectMemoryConfig
 from perception.visual_pipeline import StackedCameras, analyse_frame
 
 from tamp_resources import resource
@@ -86,3 +87,22 @@ def test_transform_inverts_the_simulator_camera():
     T = optical_to_map_transform(pose, cam.mount_x, cam.mount_height, cam.tilt)
     for p_opt, p_map in zip(optical, points):
         assert transform_point(T, p_opt) == pytest.approx(p_map, abs=1e-9)
+
+
+def test_an_umbrella_the_next_frame_misses_is_remembered_within_reach():
+    """The umbrella by the door, detected in three frames, is still at the person's hand when the
+    detector misses it: with the object memory the person still reads as going out; without,
+    standing."""
+    camera = make_camera(NO_NOISE, seed=1)
+    frame = scene_frame(scene("go out"), camera, distance=2.0, bearing=0.0, facing=0.6)
+    cameras = cameras_of(camera)
+    memory = ObjectMemory(ObjectMemoryConfig(confirm=3))
+    for stamp in (0.0, 0.1, 0.2):
+        [seen] = analyse_frame(frame, TABLE, ActivityConfig(), cameras, memory=memory,
+                               stamp=stamp)
+        assert seen.activity.activity == "go out" and seen.activity.near_hands == ["umbrella"]
+    frame.objects = [o for o in frame.objects if o.label != "umbrella"]
+    [missed] = analyse_frame(frame, TABLE, ActivityConfig(), cameras, memory=memory, stamp=1.0)
+    assert missed.activity.activity == "go out" and missed.activity.near_hands == ["umbrella"]
+    [alone] = analyse_frame(frame, TABLE, ActivityConfig(), cameras)
+    assert alone.activity.activity == "standing"

@@ -113,6 +113,11 @@ class SeenObject:
     extent: tuple | None = None   # (low, high) corners (3,) [m] of its box in the map (None:
     #                               unknown): the image box back-projected at its depth
 
+    @property
+    def in_image(self) -> bool:
+        """False for an object with no box in this image (remembered: object_memory)."""
+        return math.isfinite(self.cx) and math.isfinite(self.cy)
+
     def box_points(self) -> NDArray[np.float64]:
         """A BOX_GRID x BOX_GRID grid over the box, (n, 2) [px]; the centre for a point."""
         if self.width <= 0 and self.height <= 0:
@@ -292,6 +297,10 @@ def hand_object_eyesight_sets(
         shape = obj if config.to_box else SeenObject(obj.label, obj.confidence, obj.cx, obj.cy)
         apart = (hands_at is not None   # False, too, for an object without a depth (NaN)
                  and abs(obj.depth - hands_at) > config.hand_depth_gap)
+        if not obj.in_image:            # remembered (object_memory): the 3-D reach alone
+            if metric:
+                near.append(obj)
+            continue
         if metric is None:              # no 3-D reach for it: the image decides
             metric = not apart and min((shape.distance_to(skeleton[h]) for h in hands),
                                        default=math.inf) < reach

@@ -29,6 +29,7 @@ from task_planner.ros_submit import SubmitClient
 
 from perception.activity import ActivityConfig, load_affordances
 from perception.activity_track import ActivityTrackConfig, ActivityTracks
+from perception.object_memory import ObjectMemory, ObjectMemoryConfig
 from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.requests import keyword_config_from_dict
 from perception.self_instructions import (
@@ -70,6 +71,11 @@ class VisualParams:
     activity_hold: float = 60.0           # ~activity_hold [s]: a detailed activity read is kept
                                           # this long while the person stays at the place in
                                           # the same posture (0: not kept)
+    object_memory: float = 1800.0         # ~object_memory [s]: a spot of the map of detected
+                                          # objects is kept this long after its last detection;
+                                          # a fixed object a frame misses is offered to the
+                                          # people within reach (object_memory; 0: each frame
+                                          # alone, the seed)
     sure_distance: float = 80.0           # ~sure_distance: a colour match this far (mean
                                           # Eq. 3-10) or farther that the schedules contradict
                                           # is doubted: published as a stranger, the robot asks
@@ -123,6 +129,7 @@ class VisualNode:
         self.tracks = ActivityTracks(ActivityTrackConfig(
             float(p.activity_window), float(p.activity_min_probability),
             float(p.activity_hold)))
+        self.memory = ObjectMemory(ObjectMemoryConfig(float(p.object_memory)))
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.identify = rospy.ServiceProxy("human_db/identify", IdentifyHuman)
@@ -188,10 +195,11 @@ class VisualNode:
         self._analysing = msg
         started = time.perf_counter()
         frame = frame_from_msg(msg)   # ValueError on a malformed frame: _refuse_frame
-        results = analyse_frame(frame, self.table, self.config, self._cameras(), self.graph)
+        stamp = msg.header.stamp.to_sec() if not msg.header.stamp.is_zero() else rospy.get_time()
+        results = analyse_frame(frame, self.table, self.config, self._cameras(), self.graph,
+                                self.memory, stamp)
         self._warn_unknown_classes(frame.objects)
         out = ObservedHumanArray(header=msg.header)
-        stamp = msg.header.stamp.to_sec() if not msg.header.stamp.is_zero() else rospy.get_time()
         for result in results:
             for problem in result.problems:
                 rospy.logwarn_throttle(10.0, "visual: %s", problem)
@@ -308,7 +316,8 @@ class VisualNode:
             values=[KeyValue(k, str(v)) for k, v in sorted(counts.items())]
             + [KeyValue("mean_latency_ms", f"{mean * 1000:.2f}"),
                KeyValue("last_bad_frame", last_bad or "none"),
-               KeyValue("busy_with_a_request", str(busy))])
+               KeyValue("busy_with_a_request", str(busy)),
+               KeyValue("object_memory_spots", str(len(self.memory.spots)))])
         array = DiagnosticArray(status=[status])
         array.header.stamp = rospy.Time.now()
         self.diagnostics.publish(array)

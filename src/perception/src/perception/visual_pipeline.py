@@ -18,6 +18,7 @@ from perception.keypoints import (HIPS, L_SHOULDER, NECK, R_SHOULDER, Skeleton, 
                                   present)
 from perception.localisation import (DepthWindowConfig, pixel_to_camera, semantic_place,
                                      stitched_pixel, transform_point)
+from perception.object_memory import ObjectMemory
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
 MIN_DEPTH = DepthWindowConfig.min_depth   # [m] nearer depth readings are invalid
@@ -166,14 +167,15 @@ def analyse_person(person: PersonView, objects: Sequence[ObjectBox], table: Affo
                    config: ActivityConfig, cameras: StackedCameras | None,
                    graph: SemanticGraph | None, min_depth: float = MIN_DEPTH,
                    others: Sequence[BodyView] = (),
-                   extents: Sequence[tuple | None] | None = None) -> PersonResult:
+                   extents: Sequence[tuple | None] | None = None,
+                   remembered: Sequence[SeenObject] = ()) -> PersonResult:
     """Activity, map position, semantic place and shirt colours of one person (`others`: the
     frame's other people as BodyView, possible chat partners; `extents`: the objects' boxes in
-    the map, object_extent)."""
+    the map, object_extent; `remembered`: objects this frame missed, ObjectMemory.recall)."""
     skeleton = as_skeleton(person.points, person.confidence)
     body = joints_in_map(person, cameras, min_depth) if cameras is not None else None
-    result = PersonResult(recognise_activity(skeleton, objects_for(skeleton, objects, extents),
-                                             table, config,
+    candidates = objects_for(skeleton, objects, extents) + list(remembered)
+    result = PersonResult(recognise_activity(skeleton, candidates, table, config,
                                              np.asarray(person.depth, dtype=float), others,
                                              body))
     if len(present(skeleton, range(len(skeleton)))) < len(skeleton):
@@ -192,11 +194,21 @@ def analyse_person(person: PersonView, objects: Sequence[ObjectBox], table: Affo
 
 def analyse_frame(frame: FrameView, table: AffordanceTable, config: ActivityConfig,
                   cameras: StackedCameras | None = None,
-                  graph: SemanticGraph | None = None) -> list[PersonResult]:
-    """Every person of a frame -> [PersonResult] in the frame's order."""
+                  graph: SemanticGraph | None = None, memory: ObjectMemory | None = None,
+                  stamp: float = 0.0) -> list[PersonResult]:
+    """Every person of a frame -> [PersonResult] in the frame's order; with a `memory`, the
+    frame's fixed objects are remembered at `stamp` [s] and those it missed are offered to the
+    people within reach of them."""
     bodies = [body_view(p, frame.objects) for p in frame.people]
+    remembering = memory if memory is not None and memory.config.keep_s > 0 else None
     extents = ([object_extent(o, cameras, MIN_DEPTH) for o in frame.objects]
-               if cameras is not None and frame.people else None)
+               if cameras is not None and (frame.people or remembering) else None)
+    remembered: list[SeenObject] = []
+    if remembering is not None and extents is not None:
+        remembering.update(stamp, [(o.label, o.confidence, e)
+                                   for o, e in zip(frame.objects, extents)])
+        remembered = remembering.recall(stamp)
     return [analyse_person(p, frame.objects, table, config, cameras, graph,
-                           others=bodies[:i] + bodies[i + 1:], extents=extents)
+                           others=bodies[:i] + bodies[i + 1:], extents=extents,
+                           remembered=remembered)
             for i, p in enumerate(frame.people)]
