@@ -17,6 +17,7 @@ from perception.self_instructions import (
 from perception.keypoints import L_ANKLE, NECK, NUM_KEYPOINTS, R_HIP
 from perception.localisation import Intrinsics, optical_to_map_transform
 from perception.visual_pipeline import (ObjectBox, PersonView, StackedCameras, joints_in_map,
+                                        stitched_points_to_map, stitched_to_map,
                                         object_extent, unknown_classes)
 from tamp_resources import resource
 
@@ -146,3 +147,19 @@ def test_an_objects_box_in_the_map_spans_its_image_box_at_its_depth():
     assert high == pytest.approx([2.09 + t, 50 / 583.9 * back, 1.15 + 25 / 588.5 * back],
                                  abs=1e-6)
     assert object_extent(ObjectBox("cup", 0.9, 0, 0, 10, 10, float("nan")), cameras, 0.3) is None
+
+
+def test_many_stitched_pixels_go_to_the_map_as_one_at_a_time():
+    """stitched_points_to_map (one matrix product per camera) gives stitched_to_map's point for
+    pixels of the top camera, of the bottom one and on the seam."""
+    intr = Intrinsics(583.9, 588.5, 320.0, 240.0, 640, 480)
+    robot = (1.0, 2.0, 0.7)
+    to_map = {"top": optical_to_map_transform(robot, 0.09, 1.15, 0.1),
+              "bottom": optical_to_map_transform(robot, 0.09, 1.05, 0.8)}
+    cameras = StackedCameras(480, {"top": intr, "bottom": intr}, to_map)
+    u = np.array([10.0, 320.0, 600.0, 100.0, 479.0])
+    v = np.array([5.0, 479.9, 480.0, 900.0, 240.0])
+    depth = np.array([0.5, 2.0, 1.2, 3.5, 7.0])
+    many = stitched_points_to_map(u, v, depth, cameras)
+    for point, one in zip(many, (stitched_to_map(*p, cameras) for p in zip(u, v, depth))):
+        assert point == pytest.approx(one, abs=1e-12)

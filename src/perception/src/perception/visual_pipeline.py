@@ -10,6 +10,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 from floorplan.semantic_graph import SemanticGraph
 
 from perception.activity import (ActivityConfig, ActivityResult, AffordanceTable, BodyView,
@@ -103,12 +104,11 @@ def object_extent(obj: ObjectBox, cameras: StackedCameras,
     d = float(obj.depth)
     if not (np.isfinite(d) and d >= min_depth):
         return None
-    corners = [(obj.x, obj.y), (obj.x + obj.width, obj.y), (obj.x, obj.y + obj.height),
-               (obj.x + obj.width, obj.y + obj.height)]
     top = cameras.intrinsics["top"]
     thickness = min(obj.width / top.fx, obj.height / top.fy) * d
-    block = np.array([stitched_to_map(u, v, z, cameras)
-                      for u, v in corners for z in (d, d + thickness)])
+    u = np.array([obj.x, obj.x + obj.width, obj.x, obj.x + obj.width]).repeat(2)
+    v = np.array([obj.y, obj.y, obj.y + obj.height, obj.y + obj.height]).repeat(2)
+    block = stitched_points_to_map(u, v, np.tile([d, d + thickness], 4), cameras)
     return block.min(axis=0), block.max(axis=0)
 
 
@@ -142,6 +142,22 @@ def stitched_to_map(u: float, v: float, depth: float,
     return transform_point(cameras.to_map[which], point)
 
 
+def stitched_points_to_map(u: NDArray[np.float64], v: NDArray[np.float64],
+                           depth: NDArray[np.float64], cameras: StackedCameras) -> np.ndarray:
+    """stitched_to_map of n pixels at once: (n, 3) map points [m] (one matrix product per
+    camera: an object's box in the map is made for every object of every frame)."""
+    out = np.empty((len(u), 3))
+    in_top = v < cameras.top_height
+    for which, mask, shift in (("top", in_top, 0.0), ("bottom", ~in_top, cameras.top_height)):
+        if not mask.any():
+            continue
+        intr, d = cameras.intrinsics[which], depth[mask]
+        camera = np.stack([(u[mask] - intr.cx) / intr.fx * d,
+                           (v[mask] - shift - intr.cy) / intr.fy * d, d, np.ones_like(d)])
+        out[mask] = (np.asarray(cameras.to_map[which], dtype=float) @ camera)[:3].T
+    return out
+
+
 def locate(skeleton: Skeleton, depth: float | None,
            cameras: StackedCameras) -> tuple[float, float] | None:
     """Map (x, y) [m] of the body from the neck (else hips) pixel and the body depth."""
@@ -156,10 +172,15 @@ def locate(skeleton: Skeleton, depth: float | None,
 def joints_in_map(person: PersonView, cameras: StackedCameras,
                   min_depth: float) -> np.ndarray:
     """(18, 3) map position [m] of every joint detected with a valid depth; NaN rows else."""
-    body = np.full((len(person.points), 3), np.nan)
-    for j, ((u, v), conf, d) in enumerate(zip(person.points, person.confidence, person.depth)):
-        if conf > 0 and np.isfinite(d) and d >= min_depth and np.isfinite([u, v]).all():
-            body[j] = stitched_to_map(u, v, d, cameras)
+    points = np.asarray(person.points, dtype=float)
+    depth = np.asarray(person.depth, dtype=float)
+    body = np.full((len(points), 3), np.nan)
+    valid = ((np.asarray(person.confidence) > 0) & np.isfinite(depth)
+             & np.isfinite(points).all(axis=1))
+    valid[valid] = depth[valid] >= min_depth
+    if valid.any():
+        body[valid] = stitched_points_to_map(points[valid, 0], points[valid, 1], depth[valid],
+                                             cameras)
     return body
 
 
