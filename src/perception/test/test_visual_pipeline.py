@@ -15,7 +15,8 @@ from perception.requests import load_keyword_config
 from perception.self_instructions import (
     Observation, SelfInstructionConfig, SelfInstructionGenerator)
 from perception.keypoints import L_ANKLE, NECK, NUM_KEYPOINTS, R_HIP
-from perception.localisation import Intrinsics, optical_to_map_transform
+from perception.localisation import (Intrinsics, optical_to_map_transform, pixel_to_camera,
+                                     stitched_pixel, transform_point)
 from perception.visual_pipeline import (ObjectBox, PersonView, StackedCameras, joints_in_map,
                                         stitched_points_to_map, stitched_to_map,
                                         object_extent, unknown_classes)
@@ -150,8 +151,9 @@ def test_an_objects_box_in_the_map_spans_its_image_box_at_its_depth():
 
 
 def test_many_stitched_pixels_go_to_the_map_as_one_at_a_time():
-    """stitched_points_to_map (one matrix product per camera) gives stitched_to_map's point for
-    pixels of the top camera, of the bottom one and on the seam."""
+    """stitched_points_to_map (one matrix product per camera) gives, for pixels of the top
+    camera, of the bottom one and on the seam, the point of Eqs. 3-3..3-5 in the camera that saw
+    it (stitched_pixel, pixel_to_camera) moved by that camera's pose (transform_point)."""
     intr = Intrinsics(583.9, 588.5, 320.0, 240.0, 640, 480)
     robot = (1.0, 2.0, 0.7)
     to_map = {"top": optical_to_map_transform(robot, 0.09, 1.15, 0.1),
@@ -161,5 +163,9 @@ def test_many_stitched_pixels_go_to_the_map_as_one_at_a_time():
     v = np.array([5.0, 479.9, 480.0, 900.0, 240.0])
     depth = np.array([0.5, 2.0, 1.2, 3.5, 7.0])
     many = stitched_points_to_map(u, v, depth, cameras)
-    for point, one in zip(many, (stitched_to_map(*p, cameras) for p in zip(u, v, depth))):
+    for point, pixel in zip(many, zip(u, v, depth)):
+        which, u_cam, v_cam = stitched_pixel(pixel[0], pixel[1], 480)
+        one = transform_point(to_map[which], pixel_to_camera(u_cam, v_cam, pixel[2], intr))
         assert point == pytest.approx(one, abs=1e-12)
+        assert stitched_to_map(*pixel, cameras) == pytest.approx(one, abs=1e-12)
+    assert [p[0] for p in zip(u, v) if stitched_pixel(*p, 480)[0] == "bottom"] == [600.0, 100.0]

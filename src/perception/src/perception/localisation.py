@@ -37,12 +37,14 @@ class DepthWindowConfig:
     max_depth: float = 8.0      # [m] farther readings are invalid
 
 
-def pixel_to_camera(px: float, py: float, depth: float,
+def pixel_to_camera(px: ArrayLike, py: ArrayLike, depth: ArrayLike,
                     intrinsics: Intrinsics) -> NDArray[np.float64]:
-    """Eqs. 3-3, 3-4, 3-5: pixel (px, py) at depth d -> (x_r, y_r, z_r) [m], optical frame."""
-    x = (px - intrinsics.cx) / intrinsics.fx * depth
-    y = (py - intrinsics.cy) / intrinsics.fy * depth
-    return np.array([x, y, depth], dtype=float)
+    """Eqs. 3-3, 3-4, 3-5: pixel (px, py) at depth d -> (x_r, y_r, z_r) [m], optical frame;
+    arrays of n pixels give (3, n)."""
+    d = np.asarray(depth, dtype=float)
+    x = (np.asarray(px, dtype=float) - intrinsics.cx) / intrinsics.fx * d
+    y = (np.asarray(py, dtype=float) - intrinsics.cy) / intrinsics.fy * d
+    return np.array([x, y, d], dtype=float)
 
 
 def depth_window(box: Sequence[float], config: DepthWindowConfig,

@@ -17,8 +17,7 @@ from perception.activity import (ActivityConfig, ActivityResult, AffordanceTable
                                  SeenObject, recognise_activity, torso_top)
 from perception.keypoints import (HIPS, L_SHOULDER, NECK, R_SHOULDER, Skeleton, as_skeleton,
                                   present)
-from perception.localisation import (DepthWindowConfig, pixel_to_camera, semantic_place,
-                                     stitched_pixel, transform_point)
+from perception.localisation import DepthWindowConfig, pixel_to_camera, semantic_place
 from perception.object_memory import ObjectMemory
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
@@ -137,24 +136,24 @@ def stitched_to_map(u: float, v: float, depth: float,
                     cameras: StackedCameras) -> np.ndarray:
     """Map (x, y, z) [m] of stitched-frame pixel (u, v) at `depth` (Eqs. 3-3..3-5 in the camera
     that saw it, then that camera's pose)."""
-    which, u_cam, v_cam = stitched_pixel(float(u), float(v), cameras.top_height)
-    point = pixel_to_camera(u_cam, v_cam, float(depth), cameras.intrinsics[which])
-    return transform_point(cameras.to_map[which], point)
+    return stitched_points_to_map(np.array([u], dtype=float), np.array([v], dtype=float),
+                                  np.array([depth], dtype=float), cameras)[0]
 
 
 def stitched_points_to_map(u: NDArray[np.float64], v: NDArray[np.float64],
                            depth: NDArray[np.float64], cameras: StackedCameras) -> np.ndarray:
-    """stitched_to_map of n pixels at once: (n, 3) map points [m] (one matrix product per
-    camera: an object's box in the map is made for every object of every frame)."""
+    """Map points (n, 3) [m] of n stitched-frame pixels at their depths: Eqs. 3-3..3-5 in the
+    camera that saw each, then that camera's pose, one matrix product per camera (an object's
+    box in the map is made for every object of every frame)."""
     out = np.empty((len(u), 3))
     in_top = v < cameras.top_height
     for which, mask, shift in (("top", in_top, 0.0), ("bottom", ~in_top, cameras.top_height)):
         if not mask.any():
             continue
-        intr, d = cameras.intrinsics[which], depth[mask]
-        camera = np.stack([(u[mask] - intr.cx) / intr.fx * d,
-                           (v[mask] - shift - intr.cy) / intr.fy * d, d, np.ones_like(d)])
-        out[mask] = (np.asarray(cameras.to_map[which], dtype=float) @ camera)[:3].T
+        camera = pixel_to_camera(u[mask], v[mask] - shift, depth[mask],
+                                 cameras.intrinsics[which])          # (3, m), Eqs. 3-3..3-5
+        homogeneous = np.vstack([camera, np.ones(camera.shape[1])])
+        out[mask] = (np.asarray(cameras.to_map[which], dtype=float) @ homogeneous)[:3].T
     return out
 
 
