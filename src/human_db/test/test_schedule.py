@@ -5,7 +5,7 @@ from human_factories import make_human
 from human_db.errors import InvalidHuman
 from human_db.model import ScheduleEntry
 from human_db.schedule import (check_schedule, doubted_match, entry_in_force,
-                               expected_instead, same_label, time_of_day)
+                               expected_instead, not_met_yet, same_label, time_of_day)
 
 H = 3600.0  # [s]
 WORK = ScheduleEntry(9 * H, 12 * H, "office", "work")
@@ -119,3 +119,21 @@ def test_only_a_weak_match_is_doubted():
     assert doubted_match("Alice", 60.0, 80.0, "bedroom", 14.5 * H, people) == ""
     assert doubted_match("Alice", 120.0, 0.0, "bedroom", 14.5 * H, people) == ""
     assert doubted_match("Alice", 120.0, 80.0, "office", 14.5 * H, people) == ""
+
+
+def test_a_weak_match_may_be_a_resident_not_met_yet():
+    """David met, Alice not yet (no shirt), nothing in force in their schedules: a sighting in the
+    office 120 from David's shirt may be Alice, wherever it is; a close one stands, and once
+    everyone is met a weak match stands unless the schedules doubt it."""
+    david = make_human("David", colour=((228, 205, 52),) * 3,
+                       schedules=(ScheduleEntry(16 * H, 18 * H, "office", "read"),))
+    alice = make_human("Alice", colour=None,
+                       schedules=(ScheduleEntry(13 * H, 17.5 * H, "office", "work"),))
+    assert not_met_yet("David", [david, alice]) == "Alice"
+    assert not_met_yet("Alice", [david, alice]) == ""        # herself
+    assert doubted_match("David", 120.0, 80.0, "office", 18.5 * H, [david, alice]) == "Alice"
+    assert doubted_match("David", 120.0, 80.0, "bedroom", 18.5 * H, (h for h in [david, alice])) \
+        == "Alice"
+    assert doubted_match("David", 60.0, 80.0, "office", 18.5 * H, [david, alice]) == ""
+    met = make_human("Alice", schedules=alice.schedules)
+    assert doubted_match("David", 120.0, 80.0, "office", 18.5 * H, [david, met]) == ""

@@ -84,11 +84,22 @@ def expected_instead(name: str, place: str, seconds_since_midnight: float,
     return ""
 
 
+def not_met_yet(name: str, humans: Iterable[Human]) -> str:
+    """The first resident other than `name` whose shirt is not known yet, or "".
+
+    Recall (thesis 000 §3.2.3) chooses among the shirts learned so far: while a resident has not
+    been met, a weak match may be them, whatever the schedules say."""
+    return next((h.name for h in humans if h.name != name and h.shirt_colour is None), "")
+
+
 def doubted_match(name: str, distance: float, sure_distance: float, place: str,
                   seconds_since_midnight: float, humans: Iterable[Human]) -> str:
-    """Who the schedules expect instead of `name` when a colour match `distance` (mean Eq. 3-10)
-    from `name`'s shirt is `sure_distance` or farther and `expected_instead` doubts it; "" when
-    the match stands (a close one always does; `sure_distance` <= 0: every match stands)."""
+    """Who else a colour match `distance` (mean Eq. 3-10) from `name`'s shirt may be when it is
+    `sure_distance` or farther: the resident `expected_instead` names, else one not met yet
+    (`not_met_yet`); "" when the match stands (a close one always does; `sure_distance` <= 0:
+    every match stands)."""
     if sure_distance <= 0 or distance < sure_distance:
         return ""
-    return expected_instead(name, place, seconds_since_midnight, humans)
+    humans = list(humans)
+    return (expected_instead(name, place, seconds_since_midnight, humans)
+            or not_met_yet(name, humans))

@@ -77,8 +77,9 @@ class VisualParams:
                                           # people within reach (object_memory; 0: each frame
                                           # alone, the seed)
     sure_distance: float = 80.0           # ~sure_distance: a colour match this far (mean
-                                          # Eq. 3-10) or farther that the schedules contradict
-                                          # is doubted: published as a stranger, the robot asks
+                                          # Eq. 3-10) or farther that the schedules contradict,
+                                          # or while a resident is not met yet, is doubted:
+                                          # published as a stranger, the robot asks
                                           # (human_db.schedule.doubted_match); 0: never
 
 
@@ -247,10 +248,9 @@ class VisualNode:
                                 humans.values())
         if not instead:
             return reply.name, ""
-        rospy.loginfo_throttle(30.0, "visual: a shirt %.0f from %s's in the %s, where the "
-                               "schedules expect %s and not %s: not taken for %s",
-                               reply.distance, reply.name, result.place, instead, reply.name,
-                               reply.name)
+        rospy.loginfo_throttle(30.0, "visual: a shirt %.0f from %s's in the %s may be %s "
+                               "(schedules, or not met yet): not taken for %s",
+                               reply.distance, reply.name, result.place, instead, reply.name)
         with self._lock:
             self._counts["doubted"] += 1
         return "", reply.name
