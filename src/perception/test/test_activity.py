@@ -267,6 +267,44 @@ def test_near_the_hands_in_metres_when_the_joints_and_boxes_are_in_the_map():
     assert near == []
 
 
+def test_what_a_hand_holds_decides_over_what_lies_within_reach():
+    """Seated at the dining table with a bowl in the hands and a bottle standing 0.2 m from them:
+    within the 0.26 m forearm both are near the hands, and the seed's sum over O_h ties eat with
+    drink; the bowl is held (a hand inside its box), so eat alone. The chair under a hand is not
+    held: furniture is not in the table's `handheld`."""
+    image = skeleton(**{str(NECK): (320, 100), str(R_SHOULDER): (300, 110),
+                        str(L_SHOULDER): (340, 110), str(R_WRIST): (315, 200),
+                        str(L_WRIST): (325, 200), str(R_HIP): (310, 260),
+                        str(L_HIP): (330, 260)})
+    body = _body((1.4, 4.95, 1.05))
+    body[R_WRIST], body[L_WRIST] = (1.35, 5.40, 0.8), (1.45, 5.40, 0.8)
+    bowl = SeenObject("bowl", 0.8, 500, 500, 10, 10, 1.0, ((1.32, 5.37, 0.75), (1.48, 5.53, 0.82)))
+    bottle = SeenObject("bottle", 0.8, 520, 500, 10, 10, 1.0,
+                        ((1.07, 5.47, 0.75), (1.14, 5.54, 1.03)))
+    chair = SeenObject("chair", 0.9, 500, 600, 10, 10, 1.0, ((1.2, 4.7, 0.0), (1.6, 5.4, 0.9)))
+    table = load_affordances(AFFORDANCES)
+    held = recognise_activity(image, [bowl, bottle], table, ActivityConfig(), body=body)
+    assert (held.activity, held.holding) == ("eat", ["bowl"])
+    assert held.probabilities == {"eat": pytest.approx(1.0)}
+    assert sorted(held.near_hands) == ["bottle", "bowl"]
+    seed = recognise_activity(image, [bowl, bottle], table, ActivityConfig(hold_distance=0.0),
+                              body=body)
+    assert seed.holding == []
+    assert seed.probabilities == {"eat": pytest.approx(0.5), "drink": pytest.approx(0.5)}
+    bottle_alone = recognise_activity(image, [bottle, chair], table, ActivityConfig(), body=body)
+    assert bottle_alone.holding == []                 # not the chair; the bottle 0.2 m off
+    assert bottle_alone.activity == "drink"           # within reach, alone: the seed's reading
+
+
+def test_a_handheld_class_without_a_hand_affordance_is_named(tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text("activities: [eat]\nhands: {fork: {eat: 1.0}}\neyes: {}\n"
+                    "looking_at_hands: {}\nhandheld: [fork, spoon]\n")
+    with pytest.raises(ValueError, match=r"handheld: \['spoon'\] not in 'hands'"):
+        load_affordances(str(path))
+    assert load_affordances(AFFORDANCES).handheld >= {"cup", "bowl", "fork", "bottle"}
+
+
 def test_an_activity_scores_nothing_in_a_posture_it_is_not_done_in():
     """A fridge in view of someone sitting at the dining table: not store (postures: store is
     done standing); standing by it, store."""

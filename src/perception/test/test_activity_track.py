@@ -76,6 +76,49 @@ def test_hold_zero_keeps_nothing_and_a_later_reading_replaces_the_kept_one():
     assert tracks.update("Alice", 20.0, "office", "sitting", {}, "sitting") == "read"
 
 
+def test_an_activity_read_from_a_held_thing_stands_in_windows_where_other_things_outnumber_it():
+    """The bowl in Bob's hands is found in one frame of three, the bottle standing on the table
+    within reach in the other two: the window's mean reads drink, but eat was read from the
+    held bowl, and nothing held shows drink."""
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=8.0))
+    read = []
+    for k in range(12):
+        held = k % 3 == 0
+        read.append(tracks.update("Bob", 0.2 * k, "dining_room", "eat" if held else "drink",
+                                  {"eat": 1.0} if held else {"drink": 1.0}, "sitting",
+                                  ("bowl",) if held else ()))
+    assert read[:4] == ["eat", "eat", "drink", "eat"]   # one held frame is not enough to stand
+    assert read[4:] == ["eat"] * 8
+    plain = ActivityTracks(ActivityTrackConfig(window_s=8.0))   # the same frames, none held
+    for k in range(12):
+        last = plain.update("Bob", 0.2 * k, "dining_room", "eat" if k % 3 == 0 else "drink",
+                            {"eat": 1.0} if k % 3 == 0 else {"drink": 1.0}, "sitting")
+    assert last == "drink"
+
+
+def test_an_activity_read_from_a_held_thing_stands_against_windows_that_saw_nothing_held():
+    tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=60.0))
+    for k in range(2):   # the bowl held in two frames
+        tracks.update("Bob", 0.2 * k, "dining_room", "eat", {"eat": 1.0}, "sitting", ["bowl"])
+    # later, from across the room: only the bottle on the table, never anything held
+    assert tracks.update("Bob", 30.0, "dining_room", "drink", {"drink": 1.0}, "sitting") == "eat"
+    assert tracks.update("Bob", 59.0, "dining_room", "drink", {"drink": 1.0}, "sitting") == "eat"
+    assert tracks.update("Bob", 61.0, "dining_room", "drink", {"drink": 1.0},
+                         "sitting") == "drink"       # kept 60 s, then what is seen
+
+
+def test_one_off_held_boxes_do_not_stand_against_what_the_frames_after_them_read():
+    """False boxes at a sleeper's hand, a "laptop" and then a "mouse": no thing is held twice,
+    so the next window reads sleep from the bed; the same "laptop" twice would stand."""
+    for second, expected in (("mouse", "sleep"), ("laptop", "work")):
+        tracks = ActivityTracks(ActivityTrackConfig(window_s=2.0, hold_s=60.0))
+        tracks.update("Alice", 0.0, "bedroom", "work", {"work": 1.0}, "lying", ["laptop"])
+        assert tracks.update("Alice", 0.2, "bedroom", "work", {"work": 1.0}, "lying",
+                             [second]) == "work"
+        assert tracks.update("Alice", 3.0, "bedroom", "sleep", {"sleep": 1.0},
+                             "lying") == expected
+
+
 def test_a_window_or_threshold_that_cannot_work_is_named():
     import pytest
     with pytest.raises(ValueError, match=r"activity_window must be a finite time >= 0 \[s\]; "

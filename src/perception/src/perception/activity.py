@@ -19,7 +19,10 @@ the map (an RGB-D camera at a known pose), the posture comes from the body in 3-
 slope and the height of the neck above the floor -- so a person lying seen from the feet, or
 sitting behind a table that hides the hips, still has a posture; and an activity the affordance
 table allows only in some postures (`postures:`: putting things in the fridge or going out is
-done standing) scores nothing in another one.
+done standing) scores nothing in another one; and what a hand holds (a hand within
+`hold_distance` of a hand-held thing's box in the map: the cup at the lips, the bowl in the
+hands) is what the hands are doing, so when a frame shows one, the things that only lie within
+reach (the bottle beside the plate) leave the hand term (Eq. 3-12 over O_h, held).
 """
 import math
 from collections.abc import Collection, Iterable, Mapping, Sequence
@@ -79,6 +82,12 @@ class ActivityConfig:
     #                                    its wrist is seen (hidden behind what the hands hold)
     standing_height: float = 1.25      # [m] neck (else mid-shoulders) at least this high: standing
     lying_height: float = 0.8          # [m] below this: lying
+    # What the hands hold decides over what only lies within their reach: a hand within this
+    # of the box in the map of a thing the table lists as `handheld` holds it, and when a frame
+    # shows something held, only the held things enter the hand term (0: every object within
+    # reach does, as the seed). A held cup or fork is 0-0.05 m from a hand; a bottle, a laptop
+    # or an umbrella standing within reach 0.1-0.4 m (docs/perception/visual.md).
+    hold_distance: float = 0.08
 
 
 @dataclass
@@ -92,6 +101,8 @@ class AffordanceTable:
     support: dict = field(default_factory=dict)   # posture -> label -> {activity: P_s(a|o,pose)}
     no_affordance: frozenset = frozenset()        # labels known to say nothing of the activity
     postures: dict = field(default_factory=dict)  # activity -> postures it is done in (absent: any)
+    handheld: frozenset = frozenset()   # labels of things a hand holds or works (a cup, a mouse;
+    #                                     not a chair or a fridge): held within hold_distance
 
     def known(self, label: str) -> bool:
         """True for a class the table has an entry for (or knows to carry no affordance)."""
@@ -151,6 +162,7 @@ class ActivityResult:
     in_eyesight: list             # labels in O_e
     looking_at_hands: bool
     resting_on: list = field(default_factory=list)   # labels in O_s (furniture under the hips)
+    holding: list = field(default_factory=list)   # labels of O_h held (hold_distance)
 
 
 def _check_probabilities(where: str, table: Mapping[str, Mapping[str, float]],
@@ -193,7 +205,12 @@ def load_affordances(path: str | Path) -> AffordanceTable:
         if wrong or not allowed:
             raise ValueError(f"{path} postures.{activity}: {wrong or 'no posture'} "
                              f"(each one of {POSTURES})")
-    return AffordanceTable(activities, hands, eyes, looking, support, no_affordance, postures)
+    handheld = frozenset(doc.get("handheld") or ())
+    unknown = sorted(handheld - set(hands))
+    if unknown:
+        raise ValueError(f"{path} handheld: {unknown} not in 'hands' (a held thing needs P_h)")
+    return AffordanceTable(activities, hands, eyes, looking, support, no_affordance, postures,
+                           handheld)
 
 
 def _min_angle(skeleton: Skeleton, targets: ArrayLike) -> float:
@@ -259,6 +276,20 @@ def near_hands_3d(body: ArrayLike | None, objects: Sequence[SeenObject],
         return None
     return [None if obj.extent is None else
             min(distance_to_extent(h, obj.extent) for h in hands) < reach for obj in objects]
+
+
+def held_objects(body: ArrayLike | None, near: Sequence[SeenObject], table: AffordanceTable,
+                 config: ActivityConfig) -> list[SeenObject]:
+    """The objects of O_h a hand holds (beyond the seed): hand-held things (`table.handheld`)
+    whose box in the map a hand is within `config.hold_distance` of; none without the joints
+    or boxes in the map, or with hold_distance 0."""
+    if config.hold_distance <= 0.0 or body is None:
+        return []
+    joints = np.asarray(body, dtype=float)
+    hands = [joints[h] for h in HANDS if np.isfinite(joints[h]).all()]
+    return [obj for obj in near if obj.label in table.handheld and obj.extent is not None
+            and min((distance_to_extent(h, obj.extent) for h in hands), default=math.inf)
+            <= config.hold_distance]
 
 
 def hand_object_eyesight_sets(
@@ -513,12 +544,14 @@ def recognise_activity(skeleton: Skeleton, objects: Sequence[SeenObject], table:
         posture = posture_from_skeleton(skeleton, config)
     resting = (support_objects(skeleton, objects, posture, table, config)
                if config.weight_support > 0 else [])
+    held = held_objects(body, near, table, config)
     probabilities = activity_probabilities(
-        activity_scores(near, seen, looking, table, config, resting, posture))
+        activity_scores(held or near, seen, looking, table, config, resting, posture))
     activity = posture
     if probabilities:
         best = max(probabilities, key=probabilities.__getitem__)
         if probabilities[best] >= config.probability_threshold:
             activity = best
     return ActivityResult(activity, probabilities, posture, [o.label for o in near],
-                          [o.label for o in seen], looking, [o.label for o in resting])
+                          [o.label for o in seen], looking, [o.label for o in resting],
+                          [o.label for o in held])

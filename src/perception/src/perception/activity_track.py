@@ -15,6 +15,12 @@ it, while the person stays at the place and no frame reads another posture than 
 read in (someone who stood up has stopped eating). A window that reads a detailed activity
 replaces the one kept.
 
+What the hands hold outranks what lies within their reach (perception.activity's
+`hold_distance`): when at least FIRM_FRAMES frames of the window read an activity holding the
+same thing, that is the window's reading, whatever the other frames read (the bowl in Bob's hands,
+found now and then, against the bottle standing on the table within reach, found more often);
+and while it is kept, a window whose reading nothing held showed does not replace it.
+
 `window_s` 0 is the seed's framewise reading (nothing is kept either).
 """
 import math
@@ -23,6 +29,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from perception.activity import POSTURES, UNKNOWN_POSTURE
+
+FIRM_FRAMES = 2   # frames of a window showing the same thing held that an activity read from
+#                   it must stand on: a false box at a hand (a "cup", then a "laptop", at a
+#                   sleeper's) is a one-off, a cup really held shows again
 
 
 @dataclass
@@ -48,6 +58,7 @@ class _Frame:
     stamp: float
     probabilities: Mapping[str, float]
     posture: str
+    holding: tuple = ()     # labels of the things held (the hand term came from them)
 
 
 @dataclass
@@ -55,6 +66,7 @@ class _Held:
     activity: str
     posture: str     # the posture it was read in (the last known one; "unknown": none)
     stamp: float     # [s] the last frame whose window read it
+    holding: bool = False   # read from frames showing the same thing held
 
 
 @dataclass
@@ -74,8 +86,25 @@ def same_posture(a: str, b: str) -> bool:
     return a not in POSTURES or b not in POSTURES or a == b
 
 
+def held_reading(frames: Sequence[_Frame] | deque) -> str | None:
+    """The detailed activity that at least FIRM_FRAMES frames of the window read while holding
+    the same thing (the most such frames; None when there is none)."""
+    reads: Counter = Counter()
+    for frame in frames:
+        if frame.holding and frame.probabilities:
+            activity = max(frame.probabilities, key=frame.probabilities.__getitem__)
+            reads.update((activity, label) for label in set(frame.holding))
+    if not reads:
+        return None
+    (activity, _), count = max(reads.items(), key=lambda kv: (kv[1], kv[0]))
+    return activity if count >= FIRM_FRAMES else None
+
+
 def fuse(frames: Sequence[_Frame] | deque, config: ActivityTrackConfig) -> str:
     """The activity of a window of frames (the rule of the module docstring)."""
+    held = held_reading(frames)
+    if held is not None:
+        return held
     total: Counter = Counter()
     for frame in frames:
         total.update(frame.probabilities)
@@ -99,10 +128,12 @@ class ActivityTracks:
         self._tracks: dict[str, _Track] = {}
 
     def update(self, name: str, stamp: float, place: str, framewise: str,
-               probabilities: Mapping[str, float], posture: str) -> str:
-        """Add one frame of `name` (time [s], place, the frame's own reading) -> the activity
-        of their window, else the detailed activity kept for them; `framewise` is returned
-        unchanged when fusion is off."""
+               probabilities: Mapping[str, float], posture: str,
+               holding: Sequence[str] = ()) -> str:
+        """Add one frame of `name` (time [s], place, the frame's own reading; `holding`: the
+        labels of the things held, whose hand term it is) -> the activity of their window, else
+        the detailed activity kept for them; `framewise` is returned unchanged when fusion is
+        off."""
         if self.config.window_s <= 0:
             return framewise
         track = self._tracks.get(name)
@@ -112,13 +143,20 @@ class ActivityTracks:
         while frames and (frames[0].stamp <= stamp - self.config.window_s
                           or frames[0].stamp > stamp):    # old, or a clock that went back
             frames.popleft()
-        frames.append(_Frame(stamp, dict(probabilities), posture))
+        frames.append(_Frame(stamp, dict(probabilities), posture, tuple(holding)))
         activity = fuse(frames, self.config)
         if is_detailed(activity):
+            firm = held_reading(frames) == activity
             held = track.held
+            if not firm and held is not None and held.holding and held.activity != activity:
+                kept = self._kept(track, stamp, posture)   # read from a held thing: it stands
+                if kept is not None:
+                    return kept
             read_in = held.posture if held is not None and held.activity == activity \
                 else UNKNOWN_POSTURE
-            track.held = _Held(activity, posture if posture in POSTURES else read_in, stamp)
+            track.held = _Held(activity, posture if posture in POSTURES else read_in, stamp,
+                               firm or (held is not None and held.activity == activity
+                                        and held.holding))
             return activity
         return self._kept(track, stamp, posture) or activity
 

@@ -71,6 +71,9 @@ class VisualParams:
     activity_hold: float = 60.0           # ~activity_hold [s]: a detailed activity read is kept
                                           # this long while the person stays at the place in
                                           # the same posture (0: not kept)
+    hold_distance: float = 0.08           # ~hold_distance [m]: a hand this close to a hand-held
+                                          # thing holds it, and what is held decides the hand
+                                          # term (ActivityConfig; 0: all within reach, the seed)
     object_memory: float = 1800.0         # ~object_memory [s]: a spot of the map of detected
                                           # objects is kept this long after its last detection;
                                           # a fixed object a frame misses is offered to the
@@ -126,7 +129,7 @@ class VisualNode:
                                   timed_reminders=bool(p.timed_reminders),
                                   repeat_after=float(p.repeat_after)),
             functions, priority, self.graph.place_ids(), codes)
-        self.config = ActivityConfig()
+        self.config = ActivityConfig(hold_distance=float(p.hold_distance))
         self.tracks = ActivityTracks(ActivityTrackConfig(
             float(p.activity_window), float(p.activity_min_probability),
             float(p.activity_hold)))
@@ -208,7 +211,8 @@ class VisualNode:
             if name:
                 act = result.activity
                 act.activity = self.tracks.update(name, stamp, result.place, act.activity,
-                                                  act.probabilities, act.posture)
+                                                  act.probabilities, act.posture,
+                                                  act.holding)
             out.humans.append(observed_to_msg(result, name, doubted_as))
             if name:
                 self._record(name, result, msg.header.stamp)

@@ -40,7 +40,8 @@ def evaluate(world_file, times, window_s, report=print):
                 act = result.activity
                 framewise[viewing.activity][act.activity] += 1
                 fused[viewing.activity][tracks.update(name, k * FRAME_S, "here", act.activity,
-                                                      act.probabilities, act.posture)] += 1
+                                                      act.probabilities, act.posture,
+                                                      act.holding)] += 1
         count += 1
         if count % 20 == 0:
             report(f"  {count} viewpoints, {time.perf_counter() - started:.0f} s")
