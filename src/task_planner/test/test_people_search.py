@@ -10,8 +10,8 @@ from task_planner.executor import Executor, ExecutorConfig
 from task_planner.executor_commands import Execute, Navigate, Say, StopMotion, Wait
 from task_planner.executor_sim import NavigationModel, run_executor
 from task_planner.graph import graph_from_edges
-from task_planner.people_belief import (PeopleAtPlaces, patrol_target, scheduled_place,
-                                        search_order)
+from task_planner.people_belief import (UPCOMING_S, PeopleAtPlaces, patrol_target,
+                                        scheduled_place, search_order)
 from task_planner.robot_functions import load_robot_functions
 from task_planner.instruction import ROBOT
 from task_planner.task_buffer import FAILED, PENDING, BufferConfig, TaskBuffer
@@ -343,6 +343,28 @@ def test_the_table_gives_sightings_and_the_schedules_predictions():
     assert people.now == {"Bob": B} and people.predicted == {"Bob": None, "Zoe": None}
     people.predict(schedules, 18.6 * 3600)
     assert people.predicted["Bob"] == C
+
+
+def test_a_schedule_entry_starting_within_ten_minutes_is_searched_after_the_current_one():
+    """Carol's bedtime is at 14:00. At 13:58 nothing is scheduled, and she was last seen at B
+    (missed there now) and before at D; her bed at C comes next, before D: people go to bed
+    a few minutes early. At 13:40 the entry is 20 minutes off and C is only the nearest of
+    the rest. An entry that runs now is not upcoming; the next one wraps past midnight."""
+    schedules = {"Carol": [(14 * 3600, 15 * 3600, C)]}
+    people = PeopleAtPlaces()
+    people.seen("Carol", D, stamp=1.0)
+    people.seen("Carol", B, stamp=2.0)
+    people.predict(schedules, 13 * 3600 + 58 * 60)
+    assert (people.predicted["Carol"], people.upcoming["Carol"]) == (None, C)
+    assert search_order("Carol", people, {}, range(4), searched=[B]) == [C, D, A]
+    people.predict(schedules, 13 * 3600 + 40 * 60)
+    assert people.upcoming["Carol"] is None
+    assert search_order("Carol", people, {}, range(4), searched=[B],
+                        distance_m=[1, 0, 2, 5]) == [D, A, C]
+    people.predict(schedules, 14 * 3600 + 60)
+    assert (people.predicted["Carol"], people.upcoming["Carol"]) == (C, None)
+    assert scheduled_place([(0.0, 3600.0, A)], 86400.0 - 300.0 + UPCOMING_S,
+                           starting_after=86400.0 - 300.0) == A
 
 
 def test_the_latest_person_not_told_apart_from_those_already_faced():

@@ -25,6 +25,8 @@ UNSEEN_MISS = 0.5  # [-] chance a person is not at a place no sighting puts them
 #                    schedule's, a search's next)
 HABITUAL_WEIGHT = 2.0  # [-] how much likelier a search takes a place the person's schedule
 #                        names at some time of day than one it never names
+UPCOMING_S = 600.0   # [s] a schedule entry starting this soon already draws its person: people
+#                      go to bed or to the table some minutes early
 
 
 class PeopleAtPlaces:
@@ -38,6 +40,8 @@ class PeopleAtPlaces:
         # name -> earlier nodes, most recent first
         self.seen_s: dict[str, float] = {}  # name -> when perception last saw them [s]
         self.predicted: dict[str, int | None] = {}  # name -> node their schedule puts them at now
+        self.upcoming: dict[str, int | None] = {}  # name -> node of their schedule's next entry
+        #                                            when it starts within UPCOMING_S
         self.habitual: dict[str, set[int]] = {}  # name -> nodes their schedule puts them at at
         #                                          any time of day
         self.frames: deque[float] = deque(maxlen=FRAMES_KEPT)  # stamps [s] of the camera frames
@@ -143,10 +147,12 @@ class PeopleAtPlaces:
     def predict(self, schedules: Mapping[str, Iterable[tuple[float, float, int | None]]],
                 day_s: float) -> None:
         """Where each person's schedule puts them at time of day `day_s` [s since midnight],
-        and at any time of day."""
+        where it puts them next when that starts within UPCOMING_S, and at any time of day."""
         for name, entries in schedules.items():
             entries = list(entries)
             self.predicted[name] = scheduled_place(entries, day_s)
+            self.upcoming[name] = scheduled_place(entries, day_s + UPCOMING_S,
+                                                  starting_after=day_s)
             self.habitual[name] = {place for _, _, place in entries if place not in (None, "")}
 
     def missed(self, name: str, node: int) -> None:
@@ -180,8 +186,11 @@ def miss_chance(people: PeopleAtPlaces, name: str, node: int, now: float,
 
 
 def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],
-                    seconds_since_midnight: float) -> Place | None:
-    """The place of the schedule entry covering the time of day, or None.
+                    seconds_since_midnight: float,
+                    starting_after: float | None = None) -> Place | None:
+    """The place of the schedule entry covering the time of day, or None; with
+    `starting_after` [s since midnight], only an entry that starts after that time (and by
+    the time of day: the next one).
 
     entries: (start, end, place) [s since midnight]; an entry whose end is before its start runs
     past midnight (as human_db's schedules). A place may be a name or a graph node; None and ""
@@ -190,6 +199,9 @@ def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],
     t = seconds_since_midnight % DAY_S
     for start, end, place in entries:
         inside = start <= t < end if start <= end else (t >= start or t < end)
+        if starting_after is not None:
+            inside = inside and 0.0 < (start - starting_after) % DAY_S <= \
+                (t - starting_after) % DAY_S
         if inside and place not in (None, ""):
             return place
     return None
@@ -201,8 +213,9 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
                  swept: Mapping[int, tuple[float, float]] | None = None,
                  last: Container[int] = ()) -> list[int]:
     """Where to look for `name` next: where the belief and the schedule point first (the place
-    they were last seen, the place their schedule predicts, then the places they were seen
-    before, most recent first), then every other place: first those not looked at since the
+    they were last seen, the place their schedule predicts, the place of its entry starting
+    within UPCOMING_S, then the places they were seen before, most recent first), then every
+    other place: first those not looked at since the
     person was last seen (a look before says nothing of where they went since), the nearest
     first (`distance_m[n]`: from the robot [m]), then those looked at since, the longest
     unlooked-at first, the nearest first among equally stale ones. For someone
@@ -231,8 +244,9 @@ def search_order(name: str, people: PeopleAtPlaces, looked_s: Mapping[int, float
         return looked if looked > last_seen else -math.inf
 
     seen_at = [people.now.get(name), *people.before.get(name, [])]
-    first = [seen_at[0], people.predicted.get(name), *seen_at[1:]]
-    first = [n for n in first if n == people.predicted.get(name) or not missed_since_seen(n)]
+    expected = {people.predicted.get(name), people.upcoming.get(name)} - {None}
+    first = [seen_at[0], people.predicted.get(name), people.upcoming.get(name), *seen_at[1:]]
+    first = [n for n in first if n in expected or not missed_since_seen(n)]
     scheduled = set() if people.knows(name) else set(people.predicted.values())
     habitual = () if people.knows(name) else people.habitual.get(name, ())
 
