@@ -10,10 +10,11 @@ read; else "unknown". A person seen at another place starts a new window (they m
 may do something else).
 
 The robot mostly sees people from across a room, where a cup or a bowl is too small for the
-detector: a detailed activity read is kept for `hold_s` seconds after the last window that read
-it, while the person stays at the place and no frame reads another posture than the one it was
-read in (someone who stood up has stopped eating). A window that reads a detailed activity
-replaces the one kept.
+detector, and someone at the front door from the dock 4 m away, too far for the umbrella beside
+them or their hands: a detailed activity read is kept for `hold_s` seconds after the last
+window that read it, while the person stays at the place and no frame reads another posture
+than the one it was read in (someone who stood up has stopped eating). A window that reads a
+detailed activity replaces the one kept.
 
 What the hands hold outranks what lies within their reach (perception.activity's
 `hold_distance`): when at least FIRM_FRAMES frames of the window read an activity holding the
@@ -39,7 +40,7 @@ FIRM_FRAMES = 2   # frames of a window showing the same thing held that an activ
 class ActivityTrackConfig:
     window_s: float = 8.0          # [s] frames of a person this recent are fused (0: framewise)
     min_probability: float = 0.2   # [-] mean P(a) over the window for a detailed activity
-    hold_s: float = 60.0           # [s] a detailed activity is kept this long after the last
+    hold_s: float = 600.0          # [s] a detailed activity is kept this long after the last
     #                                window that read it (same place and posture; 0: not kept)
 
     def __post_init__(self) -> None:

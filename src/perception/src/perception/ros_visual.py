@@ -68,7 +68,7 @@ class VisualParams:
                                           # (activity_track; 0: framewise, the seed)
     activity_min_probability: float = 0.2  # ~activity_min_probability: mean P(a) over the
                                            # window for a detailed activity
-    activity_hold: float = 60.0           # ~activity_hold [s]: a detailed activity read is kept
+    activity_hold: float = 600.0          # ~activity_hold [s]: a detailed activity read is kept
                                           # this long while the person stays at the place in
                                           # the same posture (0: not kept)
     hold_distance: float = 0.08           # ~hold_distance [m]: a hand this close to a hand-held
