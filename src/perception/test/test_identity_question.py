@@ -42,17 +42,19 @@ def test_silence_leaves_it_unanswered_after_the_timeout():
 
 
 def test_an_answer_spoken_in_time_is_waited_for_while_it_is_transcribed():
-    """Asked at 10 s: a yes spoken at 21 s whose transcript takes the STT node 21 s on a busy
-    machine holds the question past the 15 s timeout, for at most transcript_wait more;
-    audio spoken before the question or after its timeout holds nothing."""
-    asked = question(ask_timeout=15.0, transcript_wait=15.0)
+    """Asked at 10 s: a yes spoken at 21 s whose transcript is still awaited (at 20x real time
+    one took 37 s of simulated time) holds the question past the 15 s timeout; once it is no
+    longer awaited (PendingTranscripts gave up on it), silence is unanswered. Audio spoken
+    before the question or after its timeout holds nothing."""
+    asked = question(ask_timeout=15.0)
     assert asked.tick(30.0, [21.0]).state == ASKED
-    assert asked.hear("Yes.", 42.0).state == YES
-    asked = question(ask_timeout=15.0, transcript_wait=15.0)
+    assert asked.tick(50.0, [21.0]).state == ASKED
+    assert asked.hear("Yes.", 51.0).state == YES
+    asked = question(ask_timeout=15.0)
     assert asked.tick(39.9, [21.0]).state == ASKED
-    assert asked.tick(40.0, [21.0]).state == UNANSWERED      # the transcript never came
+    assert asked.tick(40.0, []).state == UNANSWERED          # the transcript never came
     for spoken in (9.0, 25.5):
-        asked = question(ask_timeout=15.0, transcript_wait=15.0)
+        asked = question(ask_timeout=15.0)
         assert asked.tick(25.0, [spoken]).state == UNANSWERED
 
 
@@ -83,10 +85,11 @@ def test_the_shirt_of_the_one_stranger_seen_at_the_place_is_named():
 
 def test_an_utterance_awaits_its_transcript_until_it_comes_or_is_forgotten():
     from perception.identity_question import PendingTranscripts
-    pending = PendingTranscripts(forget_s=60.0)
-    pending.heard(21.0, now=22.0)
-    pending.heard(30.0, now=31.0)
+    pending = PendingTranscripts(wait_s=15.0)      # times on the wall clock
+    pending.heard(21.0, now=1000.0)
+    pending.heard(30.0, now=1001.0)
     pending.transcribed(21.0)
-    assert pending.spoken() == [30.0]
-    pending.heard(95.0, now=96.0)                  # 30 s's transcript never came: forgotten
-    assert pending.spoken() == [95.0]
+    assert pending.spoken(now=1015.9) == [30.0]
+    pending.heard(95.0, now=1010.0)
+    assert pending.spoken(now=1016.0) == [95.0]    # 30 s's transcript never came: forgotten
+    assert pending.spoken(now=1025.0) == []

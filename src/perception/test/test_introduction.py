@@ -268,7 +268,7 @@ def test_a_silent_stranger_out_of_sight_walked_off(watch):
     assert walked_off(stranger, talk, 50.0)
     assert not walked_off(stranger, talk, 50.0, transcribing=[44.0])  # an answer on the way
     assert walked_off(stranger, talk, 50.0, transcribing=[29.0])   # spoken before the greeting
-    assert walked_off(stranger, talk, 90.0, transcribing=[44.0])   # past answer_timeout + wait
+    assert walked_off(stranger, talk, 90.0, transcribing=[])   # its transcript given up on
     talk.hear("Mumble.", "", 45.0)                  # someone answered: not gone
     assert not walked_off(stranger, talk, 50.0)
 
@@ -331,14 +331,14 @@ def test_silence_is_asked_again_after_the_timeout_then_given_up():
 
 def test_an_answer_still_being_transcribed_holds_the_question_a_while():
     """Spoken at 110 s (after the question at 100 s), its transcript not in at 120 s: the
-    question waits up to transcript_wait longer; an utterance spoken before the question does
-    not hold it."""
-    talk = dialogue(answer_timeout=20.0, transcript_wait=15.0)
+    question waits while it is awaited (PendingTranscripts: transcript_wait of the wall
+    clock); an utterance spoken before the question does not hold it."""
+    talk = dialogue(answer_timeout=20.0)
     assert talk.tick(120.0, transcribing=[99.0]).say.startswith("Sorry, I did not hear you.")
-    talk = dialogue(answer_timeout=20.0, transcript_wait=15.0)
+    talk = dialogue(answer_timeout=20.0)
     assert talk.tick(120.0, transcribing=[110.0]).say == ""
-    assert talk.tick(134.0, transcribing=[110.0]).say == ""
-    assert talk.tick(135.0, transcribing=[110.0]).say.startswith("Sorry, I did not hear you.")
+    assert talk.tick(160.0, transcribing=[110.0]).say == ""
+    assert talk.tick(161.0, transcribing=[]).say.startswith("Sorry, I did not hear you.")
 
 
 def test_an_aborted_dialogue_is_failed_and_says_it_gives_up():

@@ -35,9 +35,10 @@ class QuestionConfig:
     mistaken: str = "I am sorry, I took you for someone else."
     ask_timeout: float = 15.0   # [s] without a yes or a no: nobody answered
     max_retries: int = 1           # re-asks after an answer that is neither yes nor no
-    transcript_wait: float = 15.0  # [s] at most this much longer for the transcript of an
-    #                                answer spoken in time: speech-to-text takes seconds on a
-    #                                busy machine, tens of seconds of a simulation run faster
+    transcript_wait: float = 15.0  # [s] of the wall clock: how long the transcript of an
+    #                                answer spoken in time is waited for once the STT node
+    #                                queued it (PendingTranscripts): speech-to-text takes
+    #                                seconds on a busy machine, whatever the simulator's speed
 
     def __post_init__(self) -> None:
         if not self.ask_timeout > 0 or self.max_retries < 0 or not self.transcript_wait >= 0:
@@ -94,47 +95,47 @@ class IdentityQuestion:
     def tick(self, now: float, transcribing: Iterable[float] = ()) -> Reply:
         """UNANSWERED once `ask_timeout` passed since the question without an answer, unless
         an answer spoken in time is still being transcribed (`transcribing`: when the
-        utterances heard but not yet transcribed were spoken [s]); then at most
-        `transcript_wait` longer."""
+        utterances heard and still awaited were spoken [s], PendingTranscripts.spoken)."""
         waited = now - self.asked_at
         if not self.open or waited < self.config.ask_timeout:
             return Reply("", self.state)
         if not transcript_on_the_way(transcribing, self.asked_at,
-                                     self.asked_at + self.config.ask_timeout, waited,
-                                     self.config.ask_timeout + self.config.transcript_wait):
+                                     self.asked_at + self.config.ask_timeout):
             self.state = UNANSWERED
         return Reply("", self.state)
 
 
-def transcript_on_the_way(transcribing: Iterable[float], asked_at: float, spoken_by: float,
-                          waited: float, longest: float) -> bool:
-    """Whether a question asked at `asked_at` and `waited` [s] ago waits on for a transcript:
-    an utterance spoken between `asked_at` and `spoken_by` still has none (`transcribing`:
-    when those heard but not yet transcribed were spoken [s]) and `waited` is below
-    `longest`."""
-    return waited < longest and any(asked_at <= t <= spoken_by for t in transcribing)
+def transcript_on_the_way(transcribing: Iterable[float], asked_at: float,
+                          spoken_by: float) -> bool:
+    """Whether a question asked at `asked_at` [s] waits on for a transcript: an utterance
+    spoken between `asked_at` and `spoken_by` still has none (`transcribing`: when those
+    heard and still awaited were spoken [s])."""
+    return any(asked_at <= t <= spoken_by for t in transcribing)
 
 
 class PendingTranscripts:
     """Utterances of the robot's microphone heard but not transcribed yet: when each was spoken
-    [s] (the stamp the transcript will carry), forgotten after `forget_s` [s] without one (the
-    STT node refused or lost it)."""
+    [s] (the stamp the transcript will carry), awaited for `wait_s` after it was heard and
+    forgotten then (the STT node refused or lost it). `heard` and `spoken` take the time on
+    the clock the wait runs on: the visual node's is the wall clock, since transcription is
+    computation, as slow in simulated seconds as the simulator is fast (at 20x one transcript
+    on a busy machine took 37 s of simulated time)."""
 
-    def __init__(self, forget_s: float) -> None:
-        self.forget_s = forget_s
+    def __init__(self, wait_s: float) -> None:
+        self.wait_s = wait_s
         self._heard: dict[float, float] = {}   # spoken [s] -> when it was heard [s]
 
     def heard(self, spoken: float, now: float) -> None:
         self._heard[spoken] = now
-        for stamp, came in list(self._heard.items()):
-            if now - came > self.forget_s:
-                del self._heard[stamp]
 
     def transcribed(self, spoken: float) -> None:
         self._heard.pop(spoken, None)
 
-    def spoken(self) -> list[float]:
-        """When the utterances still awaiting their transcript were spoken [s]."""
+    def spoken(self, now: float) -> list[float]:
+        """When the utterances still awaited at `now` (heard within `wait_s`) were spoken [s]."""
+        for stamp, came in list(self._heard.items()):
+            if now - came >= self.wait_s:
+                del self._heard[stamp]
         return list(self._heard)
 
 

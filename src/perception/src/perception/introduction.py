@@ -53,8 +53,8 @@ class IntroductionConfig:
     min_sightings: int = 3         # frames a stranger is seen in before the robot goes to meet
     max_retries: int = 2           # re-asks of one question before the dialogue is given up
     answer_timeout: float = 45.0   # [s] without an answer before a question is asked again
-    transcript_wait: float = 15.0  # [s] longer while an answer spoken since the question is
-                                   # still being transcribed (the STT node's stt/heard)
+    transcript_wait: float = 15.0  # [s] of the wall clock an answer the STT node queued
+                                   # (stt/heard) is waited for (PendingTranscripts)
     retry_after: float = 300.0     # [s] a stranger not met (dialogue or trip failed) is left alone
     name_question: str = "What is your name?"
     thanks: str = "Thank you, {name}."      # said before the next question after the name
@@ -266,15 +266,14 @@ def walked_off(stranger: Stranger, dialogue: "IntroductionDialogue", now: float,
     place since it began. An answer takes about 5 s through the speech-to-text node (16 s on
     a loaded machine), so a silent stranger who is out of sight is not waited for to the
     end of the robot function's 60 s. An answer spoken since the greeting whose transcript
-    is still on the way (`transcribing`: when the utterances heard but not yet transcribed
-    were spoken [s]) was heard: at 20x real time one transcript takes 20 s of simulated time,
-    and the stranger who gave it had not walked off."""
+    is still on the way (`transcribing`: when the utterances heard and still awaited were
+    spoken [s], PendingTranscripts.spoken) was heard: at 20x real time one transcript takes
+    20 s of simulated time, and the stranger who gave it had not walked off."""
     config = dialogue.config
     waited = now - dialogue.started
     return (config.gone_after > 0 and not dialogue.heard and waited >= config.gone_after
             and not seen_there_since(stranger, dialogue.place, dialogue.started)
-            and not transcript_on_the_way(transcribing, dialogue.started, now, waited,
-                                          config.answer_timeout + config.transcript_wait))
+            and not transcript_on_the_way(transcribing, dialogue.started, now))
 
 
 @dataclass(frozen=True)
@@ -363,14 +362,12 @@ class IntroductionDialogue:
     def tick(self, now: float, transcribing: Iterable[float] = ()) -> Turn:
         """Ask again after `answer_timeout` without an answer; Turn() when nothing is due. An
         answer spoken since the question and still being transcribed (`transcribing`: when the
-        utterances heard but not yet transcribed were spoken [s]) holds the question up to
-        `transcript_wait` longer: asked again, the person would answer a question already
-        answered."""
+        utterances heard and still awaited were spoken [s], PendingTranscripts.spoken) holds
+        the question: asked again, the person would answer a question already answered."""
         waited = now - self.asked_at
         if not self.open or waited < self.config.answer_timeout:
             return Turn("", self.state)
-        if transcript_on_the_way(transcribing, self.asked_at, now, waited,
-                                 self.config.answer_timeout + self.config.transcript_wait):
+        if transcript_on_the_way(transcribing, self.asked_at, now):
             return Turn("", self.state)
         return self._ask_again("Sorry, I did not hear you.", now)
 

@@ -33,8 +33,9 @@ ask the node cannot put (another dialogue is open) is "unanswered" at once. The
 question holds ~dialogue_open like a dialogue. The speech-to-text node says on ~heard_topic
 (tamp_msgs/Utterance with its stamp and ip, no text) when it queues an utterance: one from the
 robot's microphone spoken within ~ask_timeout whose transcript has not come yet holds the
-question up to ~transcript_wait longer, so a busy speech-to-text node does not turn a yes into
-"unanswered".
+question for up to ~transcript_wait seconds of the wall clock after it was queued, so a busy
+speech-to-text node does not turn a yes into "unanswered" (at 20x real time a transcript
+takes tens of simulated seconds).
 
 Every timer and subscriber runs under one supervision.ros_supervisor.Supervisor: a fault in the
 work timer while a dialogue is open ends that dialogue as not met, with the reason (the robot
@@ -43,6 +44,7 @@ says it gives up; the stranger is left alone for `retry_after`), and raises
 """
 import collections
 import threading
+import time
 from dataclasses import dataclass
 
 import rospy
@@ -136,10 +138,9 @@ class IntroductionNode:
         self._lock = threading.Lock()
         self._frames = collections.deque(maxlen=50)
         self._utterances = collections.deque(maxlen=20)
-        question, config = params.question, params.config   # a transcript never coming is
-        self._transcribing = PendingTranscripts(2.0 * max(   # forgotten after twice the longest
-            question.ask_timeout + question.transcript_wait,  # a question waits for it
-            config.answer_timeout + config.transcript_wait))
+        self._transcribing = PendingTranscripts(   # on the wall clock: transcribing is
+            max(params.question.transcript_wait,   # computation, not simulated time
+                params.config.transcript_wait))
         self._asks = collections.deque(maxlen=5)
         self.question = None      # the IdentityQuestion being asked, if any
         self._states = {}         # state topic -> latest TaskBufferState
@@ -234,7 +235,7 @@ class IntroductionNode:
         if msg.ip:
             return
         with self._lock:
-            self._transcribing.heard(utterance_time(msg), rospy.get_time())
+            self._transcribing.heard(utterance_time(msg), time.monotonic())
 
     def _on_ask(self, msg):
         with self._lock:
@@ -266,7 +267,7 @@ class IntroductionNode:
             elif self.question is not None and self.question.open and not msg.ip:
                 self._answer_question(self.question.hear(msg.text, now), msg)
         with self._lock:
-            transcribing = self._transcribing.spoken()
+            transcribing = self._transcribing.spoken(time.monotonic())
         if self.dialogue is not None and self.dialogue.open:
             if walked_off(self.stranger, self.dialogue, now, transcribing):
                 self._gone(now)
