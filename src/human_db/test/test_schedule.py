@@ -4,7 +4,7 @@ from human_factories import make_human
 
 from human_db.errors import InvalidHuman
 from human_db.model import ScheduleEntry
-from human_db.schedule import (check_schedule, doubted_match, entry_in_force,
+from human_db.schedule import (check_schedule, doubted_match, entry_in_force, entry_upcoming,
                                expected_instead, not_met_yet, same_label, time_of_day)
 
 H = 3600.0  # [s]
@@ -99,12 +99,27 @@ def test_a_match_the_schedules_contradict_names_who_is_expected_instead():
     assert expected_instead("Alice", "bedroom", 14.5 * H, people) == "Carol"
     assert expected_instead("Alice", "office", 14.5 * H, people) == ""     # where she should be
     assert expected_instead("Alice", "bedroom", 13.5 * H, people) == ""    # nobody expected
+    # Carol goes to bed a few minutes early: from 13:50 her nap draws her to the bedroom
+    assert expected_instead("Alice", "bedroom", 13 * H + 55 * 60, people) == "Carol"
+    assert expected_instead("Alice", "bedroom", 13 * H + 49 * 60, people) == ""
     assert expected_instead("Carol", "office", 14.5 * H, people) == "Alice"
     # Bob's entry names no place: neither doubts nor is doubted; nor is an unknown name or place
     assert expected_instead("Bob", "bedroom", 14.5 * H, people) == ""
     assert expected_instead("Frank", "bedroom", 14.5 * H, people) == ""
     assert expected_instead("Alice", "", 14.5 * H, people) == ""
 
+
+
+def test_the_entry_starting_within_ten_minutes_is_upcoming():
+    nap = ScheduleEntry(14 * H, 15 * H, "bedroom", "sleep")
+    sleep = ScheduleEntry(23 * H, 6 * H, "bedroom", "sleep")
+    assert entry_upcoming((nap, sleep), 13 * H + 55 * 60) == nap
+    assert entry_upcoming((nap, sleep), 13 * H + 50 * 60) == nap         # 600 s ahead
+    assert entry_upcoming((nap, sleep), 13 * H + 49 * 60) is None
+    assert entry_upcoming((nap, sleep), 14 * H) is None                   # in force, not upcoming
+    assert entry_upcoming((nap, sleep), 22 * H + 55 * 60, lead_s=600.0) == sleep
+    assert entry_upcoming((ScheduleEntry(0.0, 1 * H, "bedroom", "sleep"),), 24 * H - 60) \
+        is not None                                                       # past midnight
 
 
 def test_only_a_weak_match_is_doubted():

@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 from human_db.model import DAY, Human, ScheduleEntry
 
+UPCOMING_S = 600.0   # [s] a schedule entry starting this soon already draws its person: people
+#                      go to bed or to the table some minutes early
 
 @dataclass(frozen=True)
 class ScheduleCheck:
@@ -30,6 +32,16 @@ def entry_in_force(schedules: Iterable[ScheduleEntry],
     """The schedule entry covering the given time of day, or None."""
     for entry in schedules:
         if entry.covers(seconds_since_midnight):
+            return entry
+    return None
+
+
+def entry_upcoming(schedules: Iterable[ScheduleEntry], seconds_since_midnight: float,
+                   lead_s: float = UPCOMING_S) -> ScheduleEntry | None:
+    """The schedule entry that starts within `lead_s` [s] after the time of day (the first
+    such in the list), or None."""
+    for entry in schedules:
+        if 0.0 < (entry.start - seconds_since_midnight) % DAY <= lead_s:
             return entry
     return None
 
@@ -66,8 +78,9 @@ def expected_instead(name: str, place: str, seconds_since_midnight: float,
     his/her clothes": a resident in new clothes may then fall within the threshold of someone
     else's shirt (magenta pyjamas under tungsten light near a red shirt). When `name`'s
     schedule puts them at another place now and another resident's puts that resident here,
-    the sighting is doubted and the robot asks rather than guess (the first such resident in
-    `humans`' order is named)."""
+    now or with an entry starting within UPCOMING_S (`entry_upcoming`: Carol goes to bed for her
+    14:00 nap at 13:55, in her pyjamas), the sighting is doubted and the robot asks rather than
+    guess (the first such resident in `humans`' order is named)."""
     humans = list(humans)
     matched = next((h for h in humans if h.name == name), None)
     if matched is None or not place:
@@ -78,9 +91,10 @@ def expected_instead(name: str, place: str, seconds_since_midnight: float,
     for human in humans:
         if human.name == name:
             continue
-        entry = entry_in_force(human.schedules, seconds_since_midnight)
-        if entry is not None and entry.place and same_label(entry.place, place):
-            return human.name
+        for entry in (entry_in_force(human.schedules, seconds_since_midnight),
+                      entry_upcoming(human.schedules, seconds_since_midnight)):
+            if entry is not None and entry.place and same_label(entry.place, place):
+                return human.name
     return ""
 
 

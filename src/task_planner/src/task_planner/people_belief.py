@@ -12,6 +12,8 @@ from collections import deque
 from collections.abc import Container, Iterable, Mapping, Sequence
 from typing import TypeVar
 
+from human_db.schedule import UPCOMING_S   # a schedule entry starting this soon draws its person
+
 Place = TypeVar("Place")   # a schedule's place: a graph node or a place name
 
 DAY_S = 86400.0   # [s]
@@ -25,8 +27,6 @@ UNSEEN_MISS = 0.5  # [-] chance a person is not at a place no sighting puts them
 #                    schedule's, a search's next)
 HABITUAL_WEIGHT = 2.0  # [-] how much likelier a search takes a place the person's schedule
 #                        names at some time of day than one it never names
-UPCOMING_S = 600.0   # [s] a schedule entry starting this soon already draws its person: people
-#                      go to bed or to the table some minutes early
 
 
 class PeopleAtPlaces:
