@@ -117,7 +117,7 @@ class PendingTranscripts:
     """Utterances of the robot's microphone heard but not transcribed yet: when each was spoken
     [s] (the stamp the transcript will carry), awaited for `wait_s` after it was heard and
     forgotten then (the STT node refused or lost it). `heard` and `spoken` take the time on
-    the clock the wait runs on: the visual node's is the wall clock, since transcription is
+    the clock the wait runs on: the introduction node's is the wall clock, since transcription is
     computation, as slow in simulated seconds as the simulator is fast (at 20x one transcript
     on a busy machine took 37 s of simulated time)."""
 
