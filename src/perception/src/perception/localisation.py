@@ -99,8 +99,10 @@ def optical_to_map_transform(robot_pose: Sequence[float], mount_x: float, mount_
 
 
 def transform_point(transform: ArrayLike, point: ArrayLike) -> NDArray[np.float64]:
-    """Apply a 4x4 homogeneous transform to a 3-D point."""
-    return (np.asarray(transform, dtype=float) @ np.append(np.asarray(point, dtype=float), 1.0))[:3]
+    """Apply a 4x4 homogeneous transform to a 3-D point (3,), or to n points (n, 3)."""
+    p = np.asarray(point, dtype=float)
+    homogeneous = np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1)
+    return (homogeneous @ np.asarray(transform, dtype=float).T)[..., :3]
 
 
 def point_in_polygon(x: float, y: float, polygon: Sequence[Sequence[float]]) -> bool:
@@ -122,11 +124,18 @@ def semantic_place(graph: SemanticGraph, x: float, y: float) -> str:
     return ""
 
 
+def stitched_rows(v: ArrayLike, top_height: int) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
+    """Rows v of the stitched pair (top camera's image over the bottom's): (seen by the top
+    camera, the row in the camera that saw it)."""
+    rows = np.asarray(v, dtype=float)
+    in_top = rows < top_height
+    return in_top, np.where(in_top, rows, rows - top_height)
+
+
 def stitched_pixel(u: float, v: float, top_height: int) -> tuple[str, float, float]:
     """Camera of the stitched pair that saw pixel (u, v): ('top'|'bottom', u, v_camera)."""
-    if v < top_height:
-        return "top", u, v
-    return "bottom", u, v - top_height
+    in_top, row = stitched_rows(v, top_height)
+    return ("top" if in_top else "bottom"), u, float(row)
 
 
 def localise_box(depth_image: ArrayLike, box: Sequence[float], intrinsics: Intrinsics,

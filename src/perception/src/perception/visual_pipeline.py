@@ -17,7 +17,8 @@ from perception.activity import (ActivityConfig, ActivityResult, AffordanceTable
                                  SeenObject, recognise_activity, torso_top)
 from perception.keypoints import (HIPS, L_SHOULDER, NECK, R_SHOULDER, Skeleton, as_skeleton,
                                   present)
-from perception.localisation import DepthWindowConfig, pixel_to_camera, semantic_place
+from perception.localisation import (DepthWindowConfig, pixel_to_camera, semantic_place,
+                                     stitched_rows, transform_point)
 from perception.object_memory import ObjectMemory
 
 DEPTH_JOINTS = (NECK, R_SHOULDER, L_SHOULDER) + HIPS   # torso joints: depth of the body
@@ -146,14 +147,12 @@ def stitched_points_to_map(u: NDArray[np.float64], v: NDArray[np.float64],
     camera that saw each, then that camera's pose, one matrix product per camera (an object's
     box in the map is made for every object of every frame)."""
     out = np.empty((len(u), 3))
-    in_top = v < cameras.top_height
-    for which, mask, shift in (("top", in_top, 0.0), ("bottom", ~in_top, cameras.top_height)):
-        if not mask.any():
-            continue
-        camera = pixel_to_camera(u[mask], v[mask] - shift, depth[mask],
-                                 cameras.intrinsics[which])          # (3, m), Eqs. 3-3..3-5
-        homogeneous = np.vstack([camera, np.ones(camera.shape[1])])
-        out[mask] = (np.asarray(cameras.to_map[which], dtype=float) @ homogeneous)[:3].T
+    in_top, rows = stitched_rows(v, cameras.top_height)
+    for which, mask in (("top", in_top), ("bottom", ~in_top)):
+        if mask.any():
+            camera = pixel_to_camera(u[mask], rows[mask], depth[mask],
+                                     cameras.intrinsics[which])      # (3, m), Eqs. 3-3..3-5
+            out[mask] = transform_point(cameras.to_map[which], camera.T)
     return out
 
 
