@@ -36,12 +36,18 @@ def entry_in_force(schedules: Iterable[ScheduleEntry],
     return None
 
 
+def starts_within(start: float, seconds_since_midnight: float, lead_s: float) -> bool:
+    """Whether an entry starting at `start` [s since midnight] starts after the time of day and
+    within `lead_s` [s] of it (across midnight too)."""
+    return 0.0 < (start - seconds_since_midnight) % DAY <= lead_s
+
+
 def entry_upcoming(schedules: Iterable[ScheduleEntry], seconds_since_midnight: float,
                    lead_s: float = UPCOMING_S) -> ScheduleEntry | None:
     """The schedule entry that starts within `lead_s` [s] after the time of day (the first
     such in the list), or None."""
     for entry in schedules:
-        if 0.0 < (entry.start - seconds_since_midnight) % DAY <= lead_s:
+        if starts_within(entry.start, seconds_since_midnight, lead_s):
             return entry
     return None
 

@@ -262,6 +262,11 @@ def distance_to_extent(point: NDArray[np.float64], extent: tuple) -> float:
     return float(np.linalg.norm(np.maximum(np.maximum(low - point, 0.0), point - high)))
 
 
+def hands_in_map(joints: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """The wrists of the joints in the map (18, 3) [m] that are known."""
+    return [joints[h] for h in HANDS if np.isfinite(joints[h]).all()]
+
+
 def near_hands_3d(body: ArrayLike | None, objects: Sequence[SeenObject],
                   config: ActivityConfig) -> list[bool | None] | None:
     """Per object, whether a hand is within range_factor x the longest 3-D forearm (else
@@ -270,7 +275,7 @@ def near_hands_3d(body: ArrayLike | None, objects: Sequence[SeenObject],
     if not config.reach_3d or body is None:
         return None
     joints = np.asarray(body, dtype=float)
-    hands = [joints[h] for h in HANDS if np.isfinite(joints[h]).all()]
+    hands = hands_in_map(joints)
     reach = config.range_factor * (forearm_length_3d(joints) or config.forearm_length)
     if not hands or reach <= 0.0:
         return None
@@ -285,8 +290,7 @@ def held_objects(body: ArrayLike | None, near: Sequence[SeenObject], table: Affo
     or boxes in the map, or with hold_distance 0."""
     if config.hold_distance <= 0.0 or body is None:
         return []
-    joints = np.asarray(body, dtype=float)
-    hands = [joints[h] for h in HANDS if np.isfinite(joints[h]).all()]
+    hands = hands_in_map(np.asarray(body, dtype=float))
     return [obj for obj in near if obj.label in table.handheld and obj.extent is not None
             and min((distance_to_extent(h, obj.extent) for h in hands), default=math.inf)
             <= config.hold_distance]

@@ -101,11 +101,9 @@ def held_reading(frames: Sequence[_Frame] | deque) -> str | None:
     return activity if count >= FIRM_FRAMES else None
 
 
-def fuse(frames: Sequence[_Frame] | deque, config: ActivityTrackConfig) -> str:
-    """The activity of a window of frames (the rule of the module docstring)."""
-    held = held_reading(frames)
-    if held is not None:
-        return held
+def mean_reading(frames: Sequence[_Frame] | deque, config: ActivityTrackConfig) -> str:
+    """The window's detailed activity by its frames' mean probabilities, else the posture most
+    frames read, else "unknown" (what nothing held decides)."""
     total: Counter = Counter()
     for frame in frames:
         total.update(frame.probabilities)
@@ -145,9 +143,10 @@ class ActivityTracks:
                           or frames[0].stamp > stamp):    # old, or a clock that went back
             frames.popleft()
         frames.append(_Frame(stamp, dict(probabilities), posture, tuple(holding)))
-        activity = fuse(frames, self.config)
+        held_now = held_reading(frames)   # the window's activity: what is held, else the mean
+        activity = held_now if held_now is not None else mean_reading(frames, self.config)
         if is_detailed(activity):
-            firm = held_reading(frames) == activity
+            firm = held_now == activity
             held = track.held
             if not firm and held is not None and held.holding and held.activity != activity:
                 kept = self._kept(track, stamp, posture)   # read from a held thing: it stands

@@ -12,7 +12,8 @@ from collections import deque
 from collections.abc import Container, Iterable, Mapping, Sequence
 from typing import TypeVar
 
-from human_db.schedule import UPCOMING_S   # a schedule entry starting this soon draws its person
+from human_db.schedule import UPCOMING_S, starts_within   # an entry starting within
+#                                                           UPCOMING_S draws its person
 
 Place = TypeVar("Place")   # a schedule's place: a graph node or a place name
 
@@ -200,8 +201,8 @@ def scheduled_place(entries: Iterable[tuple[float, float, Place | None]],
     for start, end, place in entries:
         inside = start <= t < end if start <= end else (t >= start or t < end)
         if starting_after is not None:
-            inside = inside and 0.0 < (start - starting_after) % DAY_S <= \
-                (t - starting_after) % DAY_S
+            inside = inside and starts_within(start, starting_after,
+                                              (t - starting_after) % DAY_S)
         if inside and place not in (None, ""):
             return place
     return None
