@@ -7,7 +7,7 @@ from behaviour_factories import A, B, C, D, make_context, journal
 from planner_factories import make_instruction
 from py_trees.common import Status
 
-from task_planner.baselines import PriorityFirst
+from task_planner.baselines import PriorityFirst, ShortestTimeFirst
 from task_planner.battery import BatteryConfig, BatteryModel
 from task_planner.behaviours.context import Charging, ExecutorConfig
 from task_planner.behaviours.deciding import (Deciding, decide, fetch_and_decode, heading,
@@ -46,6 +46,31 @@ def test_a_new_instruction_can_turn_the_robot_back_mid_edge(line_graph, tmp_path
     journal(ctx, make_instruction(2, A, gamma=9.0, function=1), now=1.0)
     assert redecide(ctx, 1.0) == [Navigate(B, 2)]     # back through the node just left
     assert (ctx.node, ctx.goal, ctx.goal_for) == (C, B, 2)
+
+
+def test_a_robot_nearer_the_node_it_left_decides_from_there(line_graph, tmp_path):
+    """Driving B -> C (2 m: 4 s), 0.5 s after leaving B, instructions at B and at C arrive:
+    the nearest (SF) from B is the one at B: the robot turns back, 0.5 s from B."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=ShortestTimeFirst())
+    journal(ctx, make_instruction(1, D, function=1))
+    decide(ctx, 0.0)
+    journal(ctx, make_instruction(2, B, function=1), make_instruction(3, C, function=1), now=0.5)
+    assert redecide(ctx, 0.5) == [Navigate(B, 2)]
+    assert (ctx.node, ctx.goal) == (C, B)
+    assert ctx.where_on_leg(0.5) == pytest.approx((3.5, 0.5))   # from C, to B
+    assert ctx.where_on_leg(9.0) == pytest.approx((4.0, 0.0))   # never past the goal
+
+
+def test_a_robot_nearly_at_the_next_node_decides_from_it(line_graph, tmp_path):
+    """The same instructions 0.5 s short of C: the nearest from C is the one at C, so the
+    robot drives on. Deciding from B, which it left 3.5 s before, turned it back, and the
+    next request, decided from C, which it never reached, sent it on again."""
+    ctx = make_context(line_graph, tmp_path, node=B, planner=ShortestTimeFirst())
+    journal(ctx, make_instruction(1, D, function=1))
+    decide(ctx, 0.0)
+    journal(ctx, make_instruction(2, B, function=1), make_instruction(3, C, function=1), now=3.5)
+    assert redecide(ctx, 3.5) == []
+    assert (ctx.node, ctx.goal, ctx.mode) == (B, C, MOVING)
 
 
 def test_the_person_driven_for_seen_elsewhere_turns_the_robot_back(line_graph, tmp_path):

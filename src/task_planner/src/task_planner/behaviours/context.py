@@ -149,6 +149,9 @@ class Context:
     rethought_on: tuple[int, int | None] | None = None  # (node, goal) of the leg on which
                                    # seen_elsewhere last decided again
     attempts: int = 0              # navigation attempts on the current goal
+    leg_start: tuple[float, float] = (0.0, 0.0)  # (when [s], travel time from `node` [s])
+                                   # the robot set off toward `goal` from: 0 from the node,
+                                   # more after a turn back mid-edge (where_on_leg)
     blocked: tuple[int, float] | None = None  # (goal, since [s]) while another robot of the
                                    # fleet at that goal keeps the path blocked
     executing: tuple[int, float] | None = None  # (instruction id, end time [s]) while EXECUTING
@@ -265,6 +268,20 @@ class Context:
         if self.goal is None:
             raise RuntimeError(f"executor in mode {self.mode}: no navigation goal")
         return self.goal
+
+    def set_off(self, now: float, from_node_s: float = 0.0) -> None:
+        """The robot sets off toward `goal` at `now` [s], `from_node_s` [s] of travel from
+        `node` (0: from the node itself)."""
+        self.leg_start = (now, from_node_s)
+
+    def where_on_leg(self, now: float) -> tuple[float, float]:
+        """(travel time back to `node`, on to `goal`) [s] while driving, estimated from the
+        time driven since the robot set off at `speed_mps` (waits after an abort count as
+        driven: the estimate never goes past the goal)."""
+        edge_s = float(self.graph.shortest[self.node, self.goal_now()]) / self.config.speed_mps
+        started, from_node_s = self.leg_start
+        back_s = min(max(from_node_s + now - started, 0.0), edge_s)
+        return back_s, edge_s - back_s
 
     def navigate(self) -> Navigate:
         """The move to the goal node; a waypoint (a node on the way to the place the move is

@@ -1,10 +1,11 @@
 """The decision (ROS-free), thesis 000 §4.2.5 Fig. 4-14: fetch the open instructions, decode
 them into a planning problem (reward, decay factor, destination, chains), ask the configured
 planner, then serve here or drive to the next neighbouring node. New instructions re-decide at
-once; while driving the decision is taken from the node just left and may turn the robot back
-mid-edge (§4 "dynamic"). With nothing to decide an idle robot may patrol. In a fleet the robot
-decides among the instructions no other robot holds (with the fleet's auction,
-behaviours.fleet_allocation, or its own planner) and claims its choice before it drives.
+once; while driving the decision is taken from the end of the edge the robot is nearer to (by
+the time it has driven) and may turn the robot back mid-edge (§4 "dynamic"). With nothing to
+decide an idle robot may patrol. In a fleet the robot decides among the instructions no other
+robot holds (with the fleet's auction, behaviours.fleet_allocation, or its own planner) and
+claims its choice before it drives.
 """
 import math
 import time
@@ -62,6 +63,7 @@ def decide_here(ctx: Context, now: float) -> list[Command]:
                 return commands
             continue  # failed, or the person is searched elsewhere: decide again
         ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = MOVING, step, instruction_id, 1
+        ctx.set_off(now)
         ctx.patrol_goal, ctx.serve_at = None, int(problem.node[index])
         ctx.log.append((now, f"move {ctx.graph.names[ctx.node]} -> "
                              f"{ctx.graph.names[step]} for {instruction_id}"))
@@ -87,7 +89,14 @@ def redecide_here(ctx: Context, now: float) -> list[Command]:
     if ctx.mode != MOVING or ctx.retry_at is not None:
         return []
     ctx.lost_claims.clear()
-    decision = timed_decision(ctx, now)
+    # Decide from the end of the edge the robot is nearer to, at the time it would get there
+    # (with the fleet's auction, from the node just left): deciding from the node just left
+    # while the robot was nearly at the other end turned it back and forth as requests came.
+    origin, goal = ctx.node, ctx.goal_now()
+    back_s, ahead_s = ctx.where_on_leg(now)
+    from_goal = ahead_s < back_s and fleet_allocator(ctx) is None
+    at, clock = (goal, now + ahead_s) if from_goal else (origin, now + back_s)
+    decision = timed_decision(ctx, now, at, clock)
     if decision is None:
         if ctx.goal_for and fleet_allocator(ctx) is not None and \
                 ctx.goal_for not in ctx.fleet_now().local:
@@ -100,7 +109,7 @@ def redecide_here(ctx: Context, now: float) -> list[Command]:
                                          int(problem.node[index])):
         return []  # another robot took it first: drive on, the next event decides again
     ctx.waiting_for = None   # serving: idle again, it chooses its waiting place afresh
-    if step == ctx.goal:
+    if (step != origin) if from_goal else (step == goal):
         # a patrol's move now serves the instruction; in a fleet the move serves the one
         # the robot claimed (the one before went back to the pool)
         if not ctx.goal_for or ctx.fleet:
@@ -110,7 +119,8 @@ def redecide_here(ctx: Context, now: float) -> list[Command]:
         return []
     # Any other decision goes through the node just left: turn back to it mid-edge.
     ctx.patrol_goal = None
-    ctx.node, ctx.goal = ctx.goal_now(), ctx.node
+    ctx.node, ctx.goal = goal, origin
+    ctx.set_off(now, ahead_s)
     ctx.goal_for, ctx.attempts = int(problem.ids[index]), 1
     ctx.serve_at = int(problem.node[index])
     ctx.log.append((now, f"turn back to {ctx.graph.names[ctx.goal]} for {ctx.goal_for}"))
@@ -139,10 +149,12 @@ def seen_elsewhere(ctx: Context, now: float) -> list[Command]:
     return ctx.redecide(now)
 
 
-def timed_decision(ctx: Context, now: float) -> tuple[Problem, int, int | None] | None:
-    """Fetch, decode and decide at the robot's node, timed (wall and thread CPU time, the
-    latter leaving out waiting for a core on a loaded machine): (problem, index, next node),
-    or None when nothing is eligible."""
+def timed_decision(ctx: Context, now: float, at: int | None = None,
+                   clock: float | None = None) -> tuple[Problem, int, int | None] | None:
+    """Fetch, decode and decide at node `at` (default: the robot's node) as of time `clock`
+    [s] (default: now), timed (wall and thread CPU time, the latter leaving out waiting for a
+    core on a loaded machine): (problem, index, next node from `at`, None: serve there), or
+    None when nothing is eligible. The fleet's auction decides at the robot's node, now."""
     started, started_cpu = time.perf_counter(), time.thread_time()
     problem, available = fetch_and_decode(ctx, now)
     decision = None
@@ -152,7 +164,8 @@ def timed_decision(ctx: Context, now: float) -> tuple[Problem, int, int | None] 
         decision = None if choice is None else (problem, *choice)
     elif len(available):   # with the auction, the robot's own (charging) come first
         chosen = np.array(own, dtype=int) if fleet_allocator(ctx) is not None else available
-        index, step = ask_planner(ctx, problem, ctx.node, now, chosen)
+        index, step = ask_planner(ctx, problem, ctx.node if at is None else at,
+                                  now if clock is None else clock, chosen)
         decision = problem, index, step
     ctx.decision_s.append(time.perf_counter() - started)
     ctx.decision_cpu_s.append(time.thread_time() - started_cpu)

@@ -52,4 +52,5 @@ def drive_idle(ctx: Context, target: int, why: str, now: float) -> list[Command]
         ctx.log.append((now, why))
     ctx.patrol_goal = target
     ctx.mode, ctx.goal, ctx.goal_for, ctx.attempts = MOVING, step, 0, 1
+    ctx.set_off(now)
     return drive(ctx, now)
